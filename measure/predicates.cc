@@ -1,0 +1,242 @@
+#include "measure/predicates.h"
+
+#include <cmath>
+
+namespace surfreg {
+namespace {
+
+// Floating-point expansions: a value represented exactly as a sum of
+// doubles with non-overlapping bits, stored from least to most significant.
+// Only the sign of the final sum matters, which is the sign of its most
+// significant non-zero component.
+
+constexpr double kEpsilon = 1.1102230246251565e-16;  // 2^-53, half an ulp of 1
+constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
+constexpr double kInCircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
+
+// a + b = sum + err exactly.
+inline void TwoSum(double a, double b, double& sum, double& err) {
+  sum = a + b;
+  const double b_virtual = sum - a;
+  const double a_virtual = sum - b_virtual;
+  err = (a - a_virtual) + (b - b_virtual);
+}
+
+// a * b = product + err exactly (fused multiply-add gives the rounding error).
+inline void TwoProduct(double a, double b, double& product, double& err) {
+  product = a * b;
+  err = std::fma(a, b, -product);
+}
+
+// h = e + f, both expansions; zero components dropped. Returns length of h.
+// h must not alias e or f and must have room for ne + nf components.
+int ExpansionSum(int ne, const double* e, int nf, const double* f, double* h) {
+  // Merge by magnitude, then accumulate with TwoSum (linear expansion sum).
+  int i = 0, j = 0, nh = 0;
+  double q = 0.0;
+  bool have_q = false;
+  while (i < ne || j < nf) {
+    double next;
+    if (j >= nf || (i < ne && std::fabs(e[i]) < std::fabs(f[j]))) {
+      next = e[i++];
+    } else {
+      next = f[j++];
+    }
+    if (!have_q) {
+      q = next;
+      have_q = true;
+      continue;
+    }
+    double sum, err;
+    TwoSum(q, next, sum, err);
+    if (err != 0.0) h[nh++] = err;
+    q = sum;
+  }
+  if (have_q && (q != 0.0 || nh == 0)) h[nh++] = q;
+  return nh;
+}
+
+// h = b * e exactly; zero components dropped. h needs room for 2 * ne.
+int ScaleExpansion(int ne, const double* e, double b, double* h) {
+  int nh = 0;
+  double q, err;
+  TwoProduct(e[0], b, q, err);
+  if (err != 0.0) h[nh++] = err;
+  for (int i = 1; i < ne; ++i) {
+    double p1, p0;
+    TwoProduct(e[i], b, p1, p0);
+    double s, e1;
+    TwoSum(q, p0, s, e1);
+    if (e1 != 0.0) h[nh++] = e1;
+    double s2, e2;
+    TwoSum(p1, s, s2, e2);
+    if (e2 != 0.0) h[nh++] = e2;
+    q = s2;
+  }
+  if (q != 0.0 || nh == 0) h[nh++] = q;
+  return nh;
+}
+
+// h = e * f exactly. h needs room for 2 * ne * nf; scratch for the same.
+int ExpansionProduct(int ne, const double* e, int nf, const double* f, double* h,
+                     double* scratch) {
+  double term[64];
+  int nh = 0;
+  for (int j = 0; j < nf; ++j) {
+    const int nt = ScaleExpansion(ne, e, f[j], term);
+    const int n = ExpansionSum(nh, h, nt, term, scratch);
+    for (int k = 0; k < n; ++k) h[k] = scratch[k];
+    nh = n;
+  }
+  return nh;
+}
+
+double MostSignificant(int n, const double* e) { return e[n - 1]; }
+
+// a - b as an exact two-component expansion; returns its length (1 or 2).
+int ExactDifference(double a, double b, double* h) {
+  double d, err;
+  TwoSum(a, -b, d, err);
+  if (err == 0.0) {
+    h[0] = d;
+    return 1;
+  }
+  h[0] = err;
+  h[1] = d;
+  return 2;
+}
+
+double Orient2DExact(const Point2& a, const Point2& b, const Point2& c) {
+  // Shift by c exactly (two-component differences), then the 2x2 determinant.
+  double acx[2], acy[2], bcx[2], bcy[2];
+  const int nacx = ExactDifference(a.x, c.x, acx);
+  const int nacy = ExactDifference(a.y, c.y, acy);
+  const int nbcx = ExactDifference(b.x, c.x, bcx);
+  const int nbcy = ExactDifference(b.y, c.y, bcy);
+  double left[8], right[8], scratch[8], det[16];
+  const int nl = ExpansionProduct(nacx, acx, nbcy, bcy, left, scratch);
+  const int nr = ExpansionProduct(nacy, acy, nbcx, bcx, right, scratch);
+  for (int k = 0; k < nr; ++k) right[k] = -right[k];
+  const int nd = ExpansionSum(nl, left, nr, right, det);
+  return MostSignificant(nd, det);
+}
+
+// 2x2 minor p.x * q.y - p.y * q.x of exact difference expansions.
+int Minor(int npx, const double* px, int npy, const double* py, int nqx, const double* qx, int nqy,
+          const double* qy, double* h) {
+  double l[8], r[8], scratch[8];
+  const int nl = ExpansionProduct(npx, px, nqy, qy, l, scratch);
+  const int nr = ExpansionProduct(npy, py, nqx, qx, r, scratch);
+  for (int k = 0; k < nr; ++k) r[k] = -r[k];
+  return ExpansionSum(nl, l, nr, r, h);
+}
+
+double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  double ax[2], ay[2], bx[2], by[2], cx[2], cy[2];
+  const int nax = ExactDifference(a.x, d.x, ax), nay = ExactDifference(a.y, d.y, ay);
+  const int nbx = ExactDifference(b.x, d.x, bx), nby = ExactDifference(b.y, d.y, by);
+  const int ncx = ExactDifference(c.x, d.x, cx), ncy = ExactDifference(c.y, d.y, cy);
+
+  double bc[16], ca[16], ab[16];
+  const int nbc = Minor(nbx, bx, nby, by, ncx, cx, ncy, cy, bc);
+  const int nca = Minor(ncx, cx, ncy, cy, nax, ax, nay, ay, ca);
+  const int nab = Minor(nax, ax, nay, ay, nbx, bx, nby, by, ab);
+
+  // lift(p) = px^2 + py^2 as an expansion (up to 16 components).
+  auto lift = [](int nx, const double* x, int ny, const double* y, double* h) {
+    double xx[8], yy[8], scratch[8];
+    const int nxx = ExpansionProduct(nx, x, nx, x, xx, scratch);
+    const int nyy = ExpansionProduct(ny, y, ny, y, yy, scratch);
+    return ExpansionSum(nxx, xx, nyy, yy, h);
+  };
+  double la[16], lb[16], lc[16];
+  const int nla = lift(nax, ax, nay, ay, la);
+  const int nlb = lift(nbx, bx, nby, by, lb);
+  const int nlc = lift(ncx, cx, ncy, cy, lc);
+
+  // det = la * bc + lb * ca + lc * ab; each product has at most 2*16*16 terms.
+  static thread_local double ta[512], tb[512], tc[512], scratch[512], sum1[1024], det[1536];
+  const int nta = ExpansionProduct(nla, la, nbc, bc, ta, scratch);
+  const int ntb = ExpansionProduct(nlb, lb, nca, ca, tb, scratch);
+  const int ntc = ExpansionProduct(nlc, lc, nab, ab, tc, scratch);
+  const int ns = ExpansionSum(nta, ta, ntb, tb, sum1);
+  const int nd = ExpansionSum(ns, sum1, ntc, tc, det);
+  return MostSignificant(nd, det);
+}
+
+}  // namespace
+
+PredicateCounters& ThreadPredicateCounters() {
+  static thread_local PredicateCounters counters;
+  return counters;
+}
+
+double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
+  const double left = (a.x - c.x) * (b.y - c.y);
+  const double right = (a.y - c.y) * (b.x - c.x);
+  const double det = left - right;
+  const double bound = kOrientBound * (std::fabs(left) + std::fabs(right));
+  if (det > bound || -det > bound) return det;
+  ++ThreadPredicateCounters().orient_exact;
+  return Orient2DExact(a, b, c);
+}
+
+double InCircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  const double cdxady = cdx * ady, adxcdy = adx * cdy;
+  const double adxbdy = adx * bdy, bdxady = bdx * ady;
+  const double alift = adx * adx + ady * ady;
+  const double blift = bdx * bdx + bdy * bdy;
+  const double clift = cdx * cdx + cdy * cdy;
+  const double det =
+      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
+                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
+                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
+  const double bound = kInCircleBound * permanent;
+  if (det > bound || -det > bound) return det;
+  ++ThreadPredicateCounters().incircle_exact;
+  return InCircleExact(a, b, c, d);
+}
+
+namespace {
+
+bool LexLess(const Point2& p, const Point2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); }
+
+}  // namespace
+
+int InCirclePerturbed(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  const double det = InCircle(a, b, c, d);
+  if (det > 0.0) return 1;
+  if (det < 0.0) return -1;
+  ++ThreadPredicateCounters().incircle_ties;
+  // The in-circle determinant is det[x y (x²+y²) 1] over rows a, b, c, d.
+  // Raising row r's lifted height by δ_r adds δ_r times its cofactor:
+  //   a: +orient(b,c,d)  b: -orient(a,c,d)  c: +orient(a,b,d)  d: -orient(a,b,c).
+  // The lexicographically largest point has the dominant δ, so the first
+  // non-zero cofactor in that order decides.
+  const Point2* p[4] = {&a, &b, &c, &d};
+  int order[4] = {0, 1, 2, 3};
+  for (int i = 1; i < 4; ++i) {  // insertion sort, largest first
+    for (int j = i; j > 0 && LexLess(*p[order[j - 1]], *p[order[j]]); --j) {
+      std::swap(order[j - 1], order[j]);
+    }
+  }
+  for (int k = 0; k < 4; ++k) {
+    double cofactor = 0.0;
+    switch (order[k]) {
+      case 0: cofactor = Orient2D(b, c, d); break;
+      case 1: cofactor = -Orient2D(a, c, d); break;
+      case 2: cofactor = Orient2D(a, b, d); break;
+      case 3: cofactor = -Orient2D(a, b, c); break;
+    }
+    if (cofactor > 0.0) return 1;
+    if (cofactor < 0.0) return -1;
+  }
+  return -1;  // only for degenerate (collinear or repeated) input; callers avoid it
+}
+
+}  // namespace surfreg

@@ -1,0 +1,88 @@
+#include "measure/spatial_sort.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace surfreg {
+namespace {
+
+constexpr int kCurveOrder = 14;  // 16384 x 16384 cells; key fits in 28 bits
+constexpr int kRoundBits = 4;    // up to 16 BRIO rounds in the top bits
+
+uint64_t SplitMix64(uint64_t& state) {
+  uint64_t z = (state += 0x9E3779B97F4A7C15ULL);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+// Sorts `items` by their upper 32 bits (the key), stable, least significant
+// digit first, 8 bits a pass.
+void RadixSortByUpperHalf(std::vector<uint64_t>& items) {
+  std::vector<uint64_t> buffer(items.size());
+  for (int shift = 32; shift < 64; shift += 8) {
+    std::size_t count[257] = {0};
+    for (uint64_t item : items) ++count[((item >> shift) & 0xFF) + 1];
+    for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
+    for (uint64_t item : items) buffer[count[(item >> shift) & 0xFF]++] = item;
+    items.swap(buffer);
+  }
+}
+
+}  // namespace
+
+uint32_t HilbertIndex(uint32_t x, uint32_t y, int order) {
+  uint32_t index = 0;
+  for (uint32_t s = 1u << (order - 1); s > 0; s >>= 1) {
+    const uint32_t rx = (x & s) ? 1 : 0;
+    const uint32_t ry = (y & s) ? 1 : 0;
+    index += s * s * ((3 * rx) ^ ry);
+    if (ry == 0) {  // rotate the quadrant so the curve stays continuous
+      if (rx == 1) {
+        x = s - 1 - (x & (s - 1));
+        y = s - 1 - (y & (s - 1));
+      }
+      std::swap(x, y);
+    }
+  }
+  return index;
+}
+
+std::vector<int32_t> SpatialOrder(const std::vector<Point2>& points, bool brio, uint64_t seed) {
+  const std::size_t n = points.size();
+  double min_x = INFINITY, min_y = INFINITY, max_x = -INFINITY, max_y = -INFINITY;
+  for (const Point2& p : points) {
+    min_x = std::min(min_x, p.x);
+    max_x = std::max(max_x, p.x);
+    min_y = std::min(min_y, p.y);
+    max_y = std::max(max_y, p.y);
+  }
+  const double cells = static_cast<double>((1u << kCurveOrder) - 1);
+  const double extent = std::max(max_x - min_x, max_y - min_y);
+  const double scale = extent > 0.0 ? cells / extent : 0.0;
+
+  // Rounds: last round ~n/2 points, the one before ~n/4, ..., first ~64.
+  int rounds = 0;
+  if (brio) {
+    while (rounds + 1 < (1 << kRoundBits) && (n >> (rounds + 1)) >= 64) ++rounds;
+  }
+  uint64_t state = seed;
+  std::vector<uint64_t> items(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto qx = static_cast<uint32_t>((points[i].x - min_x) * scale);
+    const auto qy = static_cast<uint32_t>((points[i].y - min_y) * scale);
+    uint32_t key = HilbertIndex(qx, qy, kCurveOrder);
+    if (rounds > 0) {
+      const uint64_t r = SplitMix64(state) | (1ULL << rounds);
+      const auto round = static_cast<uint32_t>(rounds - __builtin_ctzll(r));
+      key |= round << (2 * kCurveOrder);
+    }
+    items[i] = (static_cast<uint64_t>(key) << 32) | static_cast<uint32_t>(i);
+  }
+  RadixSortByUpperHalf(items);
+  std::vector<int32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<int32_t>(items[i] & 0xFFFFFFFFu);
+  return order;
+}
+
+}  // namespace surfreg

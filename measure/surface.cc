@@ -1,0 +1,90 @@
+#include "measure/surface.h"
+
+#include <cmath>
+#include <limits>
+
+#include "measure/input_error.h"
+#include "measure/predicates.h"
+
+namespace surfreg {
+namespace {
+
+double RoundedCentre(double lo, double hi, double step) {
+  const double centre = 0.5 * lo + 0.5 * hi;
+  return step > 0.0 ? std::round(centre / step) * step : centre;
+}
+
+std::string Where(const Surface& surface) {
+  return surface.source.empty() ? std::string("surface") : surface.source;
+}
+
+}  // namespace
+
+Surface MakeSurface(const std::vector<std::array<double, 3>>& points, std::vector<double> weight,
+                    std::string source, double origin_step) {
+  Surface surface;
+  surface.source = std::move(source);
+  if (!weight.empty() && weight.size() != points.size()) {
+    throw InputError(Where(surface) + ": " + std::to_string(weight.size()) + " weights for " +
+                     std::to_string(points.size()) + " points");
+  }
+  double lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::numeric_limits<double>::infinity();
+    hi[k] = -std::numeric_limits<double>::infinity();
+  }
+  for (const auto& p : points) {
+    for (int k = 0; k < 3; ++k) {
+      if (std::isfinite(p[k])) {
+        lo[k] = std::min(lo[k], p[k]);
+        hi[k] = std::max(hi[k], p[k]);
+      }
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    surface.origin[k] = lo[k] <= hi[k] ? RoundedCentre(lo[k], hi[k], origin_step) : 0.0;
+  }
+  surface.xy.resize(points.size());
+  surface.z.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    surface.xy[i] = {points[i][0] - surface.origin[0], points[i][1] - surface.origin[1]};
+    surface.z[i] = points[i][2] - surface.origin[2];
+  }
+  surface.weight = std::move(weight);
+  return surface;
+}
+
+void ValidateSurface(const Surface& surface) {
+  const std::string where = Where(surface);
+  const std::size_t n = surface.xy.size();
+  if (surface.z.size() != n) throw InputError(where + ": x/y and z counts differ");
+  if (!surface.weight.empty() && surface.weight.size() != n) {
+    throw InputError(where + ": weight count differs from point count");
+  }
+  if (n < 3) {
+    throw InputError(where + ": " + std::to_string(n) +
+                     " points; a surface needs at least 3 not on one line");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(surface.xy[i].x) || !std::isfinite(surface.xy[i].y) ||
+        !std::isfinite(surface.z[i])) {
+      throw InputError(where + ": point " + std::to_string(i + 1) + " is not finite");
+    }
+    if (!surface.weight.empty() && !(surface.weight[i] >= 0.0 && std::isfinite(surface.weight[i]))) {
+      throw InputError(where + ": weight of point " + std::to_string(i + 1) +
+                       " is negative or not finite");
+    }
+  }
+  // All collinear? Find a point distinct from the first, then one off their line.
+  const Point2& a = surface.xy[0];
+  std::size_t j = 1;
+  while (j < n && surface.xy[j].x == a.x && surface.xy[j].y == a.y) ++j;
+  if (j == n) throw InputError(where + ": all points have the same x and y");
+  const Point2& b = surface.xy[j];
+  for (std::size_t k = j + 1; k < n; ++k) {
+    if (Orient2D(a, b, surface.xy[k]) != 0.0) return;
+  }
+  throw InputError(where + ": all points lie on one line in xy; no surface to triangulate");
+}
+
+}  // namespace surfreg
