@@ -42,7 +42,7 @@ class Builder {
     AddTriangle(c, b, kInfinite);         // t1, outside edge b->c
     AddTriangle(a, c, kInfinite);         // t2, outside edge c->a
     AddTriangle(b, a, kInfinite);         // t3, outside edge a->b
-    Link(0, 1);  // t0 edge 0 is b->c; t1 edge 2 is c->b
+    Link(0, 3 * 1 + 2);  // t0 edge 0 is b->c; t1 edge 2 is c->b
     Link(0 + 1, 3 * 2 + 2);
     Link(0 + 2, 3 * 3 + 2);
     // Ghost-to-ghost edges around the infinite vertex.
