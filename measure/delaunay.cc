@@ -14,13 +14,17 @@ namespace {
 // convex-hull edge a->b has a ghost triangle (b, a, kInfinite) outside it, so
 // points outside the hull are inserted exactly like points inside.
 //
-// Half-edge h = 3t + i is the edge of triangle t opposite its vertex i, from
-// vertex i+1 to vertex i+2 (mod 3); twin_[h] is the same edge seen from the
-// neighbouring triangle. Vertices are positions in the insertion order.
+// Edge i of triangle t is opposite its vertex i, from vertex i+1 to vertex
+// i+2 (mod 3). twin_[3t + i] names the same edge seen from the neighbouring
+// triangle u as the half-edge 4u + j (shifts, not divisions, to decode).
+// Vertices are positions in the insertion order.
 constexpr int32_t kInfinite = -1;
 
 inline int Next(int i) { return i == 2 ? 0 : i + 1; }
 inline int Prev(int i) { return i == 0 ? 2 : i - 1; }
+inline int32_t HalfEdge(int32_t t, int i) { return 4 * t + i; }
+inline int32_t TriangleOf(int32_t h) { return h >> 2; }
+inline int EdgeOf(int32_t h) { return h & 3; }
 
 struct CavityEdge {
   int32_t from, to;  // counter-clockwise around the cavity
@@ -42,13 +46,13 @@ class Builder {
     AddTriangle(c, b, kInfinite);         // t1, outside edge b->c
     AddTriangle(a, c, kInfinite);         // t2, outside edge c->a
     AddTriangle(b, a, kInfinite);         // t3, outside edge a->b
-    Link(0, 3 * 1 + 2);  // t0 edge 0 is b->c; t1 edge 2 is c->b
-    Link(0 + 1, 3 * 2 + 2);
-    Link(0 + 2, 3 * 3 + 2);
+    Link(HalfEdge(0, 0), HalfEdge(1, 2));  // b->c and c->b
+    Link(HalfEdge(0, 1), HalfEdge(2, 2));  // c->a and a->c
+    Link(HalfEdge(0, 2), HalfEdge(3, 2));  // a->b and b->a
     // Ghost-to-ghost edges around the infinite vertex.
-    Link(3 * 1 + 0, 3 * 3 + 1);  // t1 b->inf, t3 inf->b
-    Link(3 * 1 + 1, 3 * 2 + 0);  // t1 inf->c, t2 c->inf
-    Link(3 * 2 + 1, 3 * 3 + 0);  // t2 inf->a, t3 a->inf
+    Link(HalfEdge(1, 0), HalfEdge(3, 1));  // b->inf, inf->b
+    Link(HalfEdge(1, 1), HalfEdge(2, 0));  // inf->c, c->inf
+    Link(HalfEdge(2, 1), HalfEdge(3, 0));  // inf->a, a->inf
     last_finite_ = 0;
   }
 
@@ -81,13 +85,19 @@ class Builder {
  private:
   int32_t AddTriangle(int32_t a, int32_t b, int32_t c) {
     const auto t = static_cast<int32_t>(vertex_.size() / 3);
-    vertex_.insert(vertex_.end(), {a, b, c});
-    twin_.insert(twin_.end(), {-1, -1, -1});
+    vertex_.resize(vertex_.size() + 3);
+    twin_.resize(twin_.size() + 3);
+    SetTriangle(t, a, b, c);
     return t;
   }
+  void SetTriangle(int32_t t, int32_t a, int32_t b, int32_t c) {
+    vertex_[3 * t] = a;
+    vertex_[3 * t + 1] = b;
+    vertex_[3 * t + 2] = c;
+  }
   void Link(int32_t h, int32_t g) {
-    twin_[h] = g;
-    twin_[g] = h;
+    twin_[3 * TriangleOf(h) + EdgeOf(h)] = g;
+    twin_[3 * TriangleOf(g) + EdgeOf(g)] = h;
   }
 
   // Visibility walk from the last finite triangle: step across any edge that
@@ -106,8 +116,8 @@ class Builder {
         const int32_t b = vertex_[3 * t + Prev(i)];
         if (Orient2D(p_[a], p_[b], p) < 0.0) {
           const int32_t h = twin_[3 * t + i];
-          t = h / 3;
-          entry = h % 3;
+          t = TriangleOf(h);
+          entry = EdgeOf(h);
           moved = true;
           break;
         }
@@ -143,19 +153,21 @@ class Builder {
     boundary_.clear();
     stack_.clear();
     dead_.push_back(t);
-    stack_.insert(stack_.end(), {3 * t + 2, 3 * t + 1, 3 * t});
+    stack_.push_back(HalfEdge(t, 2));
+    stack_.push_back(HalfEdge(t, 1));
+    stack_.push_back(HalfEdge(t, 0));
     while (!stack_.empty()) {
       const int32_t h = stack_.back();
       stack_.pop_back();
-      const int32_t g = twin_[h];
-      const int32_t u = g / 3;
+      const int32_t s = TriangleOf(h), i = EdgeOf(h);
+      const int32_t g = twin_[3 * s + i];
+      const int32_t u = TriangleOf(g);
       if (InConflict(u, p)) {
         dead_.push_back(u);
-        const int j = g % 3;
-        stack_.push_back(3 * u + Prev(j));
-        stack_.push_back(3 * u + Next(j));
+        const int j = EdgeOf(g);
+        stack_.push_back(HalfEdge(u, Prev(j)));
+        stack_.push_back(HalfEdge(u, Next(j)));
       } else {
-        const int32_t s = h / 3, i = h % 3;
         boundary_.push_back({vertex_[3 * s + Next(i)], vertex_[3 * s + Prev(i)], g});
       }
     }
@@ -168,19 +180,16 @@ class Builder {
     fan_.resize(m);
     for (std::size_t k = 0; k < m; ++k) {
       if (k < dead_.size()) {
-        const int32_t t = dead_[k];
-        vertex_[3 * t] = boundary_[k].from;
-        vertex_[3 * t + 1] = boundary_[k].to;
-        vertex_[3 * t + 2] = v;
-        fan_[k] = t;
+        fan_[k] = dead_[k];
+        SetTriangle(dead_[k], boundary_[k].from, boundary_[k].to, v);
       } else {
         fan_[k] = AddTriangle(boundary_[k].from, boundary_[k].to, v);
       }
     }
     for (std::size_t k = 0; k < m; ++k) {
       const int32_t t = fan_[k];
-      Link(3 * t + 2, boundary_[k].outer);
-      Link(3 * t + 0, 3 * fan_[k + 1 == m ? 0 : k + 1] + 1);
+      Link(HalfEdge(t, 2), boundary_[k].outer);
+      Link(HalfEdge(t, 0), HalfEdge(fan_[k + 1 == m ? 0 : k + 1], 1));
       if (boundary_[k].from != kInfinite && boundary_[k].to != kInfinite) last_finite_ = t;
     }
   }
@@ -275,7 +284,7 @@ Triangulation Triangulate(const std::vector<Point2>& points, const DelaunayOptio
     for (int i = 0; i < 3; ++i) {
       const int32_t v = label[vertex[3 * t + i]];
       result.triangles[3 * f + i] = v;
-      result.neighbors[3 * f + i] = new_index[twin[3 * t + i] / 3];
+      result.neighbors[3 * f + i] = new_index[TriangleOf(twin[3 * t + i])];
       result.vertex_triangle[v] = f;
     }
   }

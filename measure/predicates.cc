@@ -1,5 +1,6 @@
 #include "measure/predicates.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace surfreg {
@@ -9,10 +10,6 @@ namespace {
 // doubles with non-overlapping bits, stored from least to most significant.
 // Only the sign of the final sum matters, which is the sign of its most
 // significant non-zero component.
-
-constexpr double kEpsilon = 1.1102230246251565e-16;  // 2^-53, half an ulp of 1
-constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
-constexpr double kInCircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
 
 // a + b = sum + err exactly.
 inline void TwoSum(double a, double b, double& sum, double& err) {
@@ -106,13 +103,27 @@ int ExactDifference(double a, double b, double* h) {
   return 2;
 }
 
+}  // namespace
+
+namespace predicates_internal {
+
 double Orient2DExact(const Point2& a, const Point2& b, const Point2& c) {
+  ++ThreadPredicateCounters().orient_exact;
   // Shift by c exactly (two-component differences), then the 2x2 determinant.
   double acx[2], acy[2], bcx[2], bcy[2];
   const int nacx = ExactDifference(a.x, c.x, acx);
   const int nacy = ExactDifference(a.y, c.y, acy);
   const int nbcx = ExactDifference(b.x, c.x, bcx);
   const int nbcy = ExactDifference(b.y, c.y, bcy);
+  if (nacx == 1 && nacy == 1 && nbcx == 1 && nbcy == 1) {
+    // Exact differences (grids): rounding is monotone, so unequal rounded
+    // products order the exact ones; equal ones leave the exact errors.
+    double left, left_err, right, right_err;
+    TwoProduct(acx[0], bcy[0], left, left_err);
+    TwoProduct(acy[0], bcx[0], right, right_err);
+    if (left != right) return left > right ? 1.0 : -1.0;
+    return left_err - right_err;
+  }
   double left[8], right[8], scratch[8], det[16];
   const int nl = ExpansionProduct(nacx, acx, nbcy, bcy, left, scratch);
   const int nr = ExpansionProduct(nacy, acy, nbcx, bcx, right, scratch);
@@ -121,7 +132,11 @@ double Orient2DExact(const Point2& a, const Point2& b, const Point2& c) {
   return MostSignificant(nd, det);
 }
 
-// 2x2 minor p.x * q.y - p.y * q.x of exact difference expansions.
+}  // namespace predicates_internal
+
+namespace {
+
+// 2x2 minor * q.y - p.y * q.x of exact difference expansions.
 int Minor(int npx, const double* px, int npy, const double* py, int nqx, const double* qx, int nqy,
           const double* qy, double* h) {
   double l[8], r[8], scratch[8];
@@ -131,7 +146,58 @@ int Minor(int npx, const double* px, int npy, const double* py, int nqx, const d
   return ExpansionSum(nl, l, nr, r, h);
 }
 
+// Exact in-circle when the six coordinate differences are exact doubles that
+// become integers below 2^28 after one common power-of-two scaling (grids,
+// data on a lattice: the ties that reach the exact stage). Then every term
+// fits a 128-bit integer: lifts and minors < 2^57, products < 2^114.
+// Returns false if the shortcut does not apply.
+__extension__ typedef __int128 int128;  // GCC and Clang on 64-bit targets
+
+bool InCircleLattice(const double d[6], double* sign) {
+  double largest = 0.0;
+  for (int k = 0; k < 6; ++k) largest = std::max(largest, std::fabs(d[k]));
+  if (largest == 0.0) {
+    *sign = 0.0;
+    return true;
+  }
+  int exponent;
+  std::frexp(largest, &exponent);  // largest < 2^exponent
+  int128 v[6];
+  for (int k = 0; k < 6; ++k) {
+    const double scaled = std::ldexp(d[k], 28 - exponent);  // |scaled| < 2^28, exact
+    if (scaled != std::nearbyint(scaled)) return false;
+    v[k] = static_cast<int128>(scaled);
+  }
+  const int128 alift = v[0] * v[0] + v[1] * v[1];
+  const int128 blift = v[2] * v[2] + v[3] * v[3];
+  const int128 clift = v[4] * v[4] + v[5] * v[5];
+  const int128 det = alift * (v[2] * v[5] - v[4] * v[3]) +
+                       blift * (v[4] * v[1] - v[0] * v[5]) +
+                       clift * (v[0] * v[3] - v[2] * v[1]);
+  *sign = det > 0 ? 1.0 : (det < 0 ? -1.0 : 0.0);
+  return true;
+}
+
+}  // namespace
+
+namespace predicates_internal {
+
 double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  ++ThreadPredicateCounters().incircle_exact;
+  {
+    double diff[6], err[6];
+    TwoSum(a.x, -d.x, diff[0], err[0]);
+    TwoSum(a.y, -d.y, diff[1], err[1]);
+    TwoSum(b.x, -d.x, diff[2], err[2]);
+    TwoSum(b.y, -d.y, diff[3], err[3]);
+    TwoSum(c.x, -d.x, diff[4], err[4]);
+    TwoSum(c.y, -d.y, diff[5], err[5]);
+    double sign;
+    if (err[0] == 0.0 && err[1] == 0.0 && err[2] == 0.0 && err[3] == 0.0 && err[4] == 0.0 &&
+        err[5] == 0.0 && InCircleLattice(diff, &sign)) {
+      return sign;
+    }
+  }
   double ax[2], ay[2], bx[2], by[2], cx[2], cy[2];
   const int nax = ExactDifference(a.x, d.x, ax), nay = ExactDifference(a.y, d.y, ay);
   const int nbx = ExactDifference(b.x, d.x, bx), nby = ExactDifference(b.y, d.y, by);
@@ -164,42 +230,11 @@ double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Po
   return MostSignificant(nd, det);
 }
 
-}  // namespace
+}  // namespace predicates_internal
 
 PredicateCounters& ThreadPredicateCounters() {
   static thread_local PredicateCounters counters;
   return counters;
-}
-
-double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
-  const double left = (a.x - c.x) * (b.y - c.y);
-  const double right = (a.y - c.y) * (b.x - c.x);
-  const double det = left - right;
-  const double bound = kOrientBound * (std::fabs(left) + std::fabs(right));
-  if (det > bound || -det > bound) return det;
-  ++ThreadPredicateCounters().orient_exact;
-  return Orient2DExact(a, b, c);
-}
-
-double InCircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
-  const double adx = a.x - d.x, ady = a.y - d.y;
-  const double bdx = b.x - d.x, bdy = b.y - d.y;
-  const double cdx = c.x - d.x, cdy = c.y - d.y;
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double alift = adx * adx + ady * ady;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det =
-      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
-                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
-                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
-  const double bound = kInCircleBound * permanent;
-  if (det > bound || -det > bound) return det;
-  ++ThreadPredicateCounters().incircle_exact;
-  return InCircleExact(a, b, c, d);
 }
 
 namespace {
@@ -208,10 +243,7 @@ bool LexLess(const Point2& p, const Point2& q) { return p.x < q.x || (p.x == q.x
 
 }  // namespace
 
-int InCirclePerturbed(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
-  const double det = InCircle(a, b, c, d);
-  if (det > 0.0) return 1;
-  if (det < 0.0) return -1;
+int InCirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
   ++ThreadPredicateCounters().incircle_ties;
   // The in-circle determinant is det[x y (x²+y²) 1] over rows a, b, c, d.
   // Raising row r's lifted height by δ_r adds δ_r times its cofactor:

@@ -5,16 +5,52 @@
 // predicates"); when the bound cannot certify the sign, the determinant is
 // evaluated exactly with floating-point expansions. The returned value has
 // the exact sign of the determinant (its magnitude is approximate).
+#include <cmath>
+
 #include "measure/surface.h"
 
 namespace surfreg {
 
+namespace predicates_internal {
+constexpr double kEpsilon = 1.1102230246251565e-16;  // 2^-53, half an ulp of 1
+constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
+constexpr double kInCircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
+// The exact stages, out of line: reached only when the filter cannot decide.
+double Orient2DExact(const Point2& a, const Point2& b, const Point2& c);
+double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+}  // namespace predicates_internal
+
 // > 0 if a, b, c turn counter-clockwise, < 0 clockwise, 0 if collinear.
-double Orient2D(const Point2& a, const Point2& b, const Point2& c);
+inline double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
+  const double left = (a.x - c.x) * (b.y - c.y);
+  const double right = (a.y - c.y) * (b.x - c.x);
+  const double det = left - right;
+  const double bound = predicates_internal::kOrientBound * (std::fabs(left) + std::fabs(right));
+  if (det > bound || -det > bound) return det;
+  return predicates_internal::Orient2DExact(a, b, c);
+}
 
 // > 0 if d lies inside the circle through a, b, c (given counter-clockwise),
 // < 0 outside, 0 on it. Sign flips if a, b, c are clockwise.
-double InCircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+inline double InCircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  const double cdxady = cdx * ady, adxcdy = adx * cdy;
+  const double adxbdy = adx * bdy, bdxady = bdx * ady;
+  const double alift = adx * adx + ady * ady;
+  const double blift = bdx * bdx + bdy * bdy;
+  const double clift = cdx * cdx + cdy * cdy;
+  const double det =
+      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
+                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
+                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
+  const double bound = predicates_internal::kInCircleBound * permanent;
+  if (det > bound || -det > bound) return det;
+  return predicates_internal::InCircleExact(a, b, c, d);
+}
 
 // In-circle with symbolic perturbation: never 0 for four distinct points
 // with a, b, c not collinear. Ties (d exactly on the circle) are broken as
@@ -23,7 +59,13 @@ double InCircle(const Point2& a, const Point2& b, const Point2& c, const Point2&
 // depends only on coordinates, so the Delaunay triangulation it defines is
 // unique and independent of input order (e.g. the diagonal chosen in each
 // cell of a grid). Returns +1 (inside) or -1 (outside).
-int InCirclePerturbed(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+int InCirclePerturbedTie(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
+inline int InCirclePerturbed(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  const double det = InCircle(a, b, c, d);
+  if (det > 0.0) return 1;
+  if (det < 0.0) return -1;
+  return InCirclePerturbedTie(a, b, c, d);
+}
 
 // Counters of how often the exact stage ran (for tests and benchmarks).
 struct PredicateCounters {
