@@ -103,6 +103,25 @@ int ExactDifference(double a, double b, double* h) {
   return 2;
 }
 
+// Scales the expansions arrays[k] (lengths[k] components each) by one power
+// of two that brings the largest component to [0.5, 1). The predicates'
+// determinants are homogeneous, so their signs are unchanged, and the
+// error-free products that follow neither underflow nor overflow (assuming
+// the components of one call span less than ~2^1000, see predicates.h).
+void ScaleToUnit(double* const* arrays, const int* lengths, int count) {
+  double largest = 0.0;
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0; i < lengths[k]; ++i) largest = std::max(largest, std::fabs(arrays[k][i]));
+  }
+  if (largest == 0.0) return;
+  int exponent;
+  std::frexp(largest, &exponent);
+  if (exponent == 0) return;
+  for (int k = 0; k < count; ++k) {
+    for (int i = 0; i < lengths[k]; ++i) arrays[k][i] = std::ldexp(arrays[k][i], -exponent);
+  }
+}
+
 }  // namespace
 
 namespace predicates_internal {
@@ -115,6 +134,11 @@ double Orient2DExact(const Point2& a, const Point2& b, const Point2& c) {
   const int nacy = ExactDifference(a.y, c.y, acy);
   const int nbcx = ExactDifference(b.x, c.x, bcx);
   const int nbcy = ExactDifference(b.y, c.y, bcy);
+  {
+    double* const arrays[4] = {acx, acy, bcx, bcy};
+    const int lengths[4] = {nacx, nacy, nbcx, nbcy};
+    ScaleToUnit(arrays, lengths, 4);
+  }
   if (nacx == 1 && nacy == 1 && nbcx == 1 && nbcy == 1) {
     // Exact differences (grids): rounding is monotone, so unequal rounded
     // products order the exact ones; equal ones leave the exact errors.
@@ -136,7 +160,7 @@ double Orient2DExact(const Point2& a, const Point2& b, const Point2& c) {
 
 namespace {
 
-// 2x2 minor * q.y - p.y * q.x of exact difference expansions.
+// 2x2 minor p.x * q.y - p.y * q.x of exact difference expansions.
 int Minor(int npx, const double* px, int npy, const double* py, int nqx, const double* qx, int nqy,
           const double* qy, double* h) {
   double l[8], r[8], scratch[8];
@@ -202,6 +226,11 @@ double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Po
   const int nax = ExactDifference(a.x, d.x, ax), nay = ExactDifference(a.y, d.y, ay);
   const int nbx = ExactDifference(b.x, d.x, bx), nby = ExactDifference(b.y, d.y, by);
   const int ncx = ExactDifference(c.x, d.x, cx), ncy = ExactDifference(c.y, d.y, cy);
+  {
+    double* const arrays[6] = {ax, ay, bx, by, cx, cy};
+    const int lengths[6] = {nax, nay, nbx, nby, ncx, ncy};
+    ScaleToUnit(arrays, lengths, 6);
+  }
 
   double bc[16], ca[16], ab[16];
   const int nbc = Minor(nbx, bx, nby, by, ncx, cx, ncy, cy, bc);

@@ -5,6 +5,13 @@
 // predicates"); when the bound cannot certify the sign, the determinant is
 // evaluated exactly with floating-point expansions. The returned value has
 // the exact sign of the determinant (its magnitude is approximate).
+//
+// Domain: any finite coordinates below 2^500 in magnitude. The filter hands
+// over to the exact stage whenever its products could under- or overflow
+// (coordinate differences above 2^240, or a determinant scale near the
+// underflow range); the exact stage rescales by a power of two first. Only
+// the components of one call spanning more than ~2^1000 (e.g. 1e-200 next
+// to 1e100) would lose exactness there.
 #include <cmath>
 
 #include "measure/surface.h"
@@ -13,8 +20,14 @@ namespace surfreg {
 
 namespace predicates_internal {
 constexpr double kEpsilon = 1.1102230246251565e-16;  // 2^-53, half an ulp of 1
-constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon;
-constexpr double kInCircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon;
+// Shewchuk's relative error bounds, widened by 2^-100 to absorb the absolute
+// error of products that underflow once the ranges below are enforced.
+constexpr double kOrientBound = (3.0 + 16.0 * kEpsilon) * kEpsilon + 0x1p-100;
+constexpr double kInCircleBound = (10.0 + 96.0 * kEpsilon) * kEpsilon + 0x1p-100;
+// Outside these ranges the filter does not decide (see the domain above).
+constexpr double kOrientMinScale = 0x1p-900;   // |left| + |right|
+constexpr double kInCircleMinScale = 0x1p-400;  // permanent
+constexpr double kMaxDifference = 0x1p240;      // any coordinate difference
 // The exact stages, out of line: reached only when the filter cannot decide.
 double Orient2DExact(const Point2& a, const Point2& b, const Point2& c);
 double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
@@ -25,8 +38,10 @@ inline double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
   const double left = (a.x - c.x) * (b.y - c.y);
   const double right = (a.y - c.y) * (b.x - c.x);
   const double det = left - right;
-  const double bound = predicates_internal::kOrientBound * (std::fabs(left) + std::fabs(right));
-  if (det > bound || -det > bound) return det;
+  const double scale = std::fabs(left) + std::fabs(right);
+  const double bound = predicates_internal::kOrientBound * scale;
+  // The scale test also rejects NaN from overflowed products.
+  if ((det > bound || -det > bound) && scale >= predicates_internal::kOrientMinScale) return det;
   return predicates_internal::Orient2DExact(a, b, c);
 }
 
@@ -48,7 +63,13 @@ inline double InCircle(const Point2& a, const Point2& b, const Point2& c, const 
                            (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
                            (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
   const double bound = predicates_internal::kInCircleBound * permanent;
-  if (det > bound || -det > bound) return det;
+  const double largest = std::fmax(std::fmax(std::fmax(std::fabs(adx), std::fabs(ady)),
+                                             std::fmax(std::fabs(bdx), std::fabs(bdy))),
+                                   std::fmax(std::fabs(cdx), std::fabs(cdy)));
+  if ((det > bound || -det > bound) && permanent >= predicates_internal::kInCircleMinScale &&
+      largest <= predicates_internal::kMaxDifference) {
+    return det;
+  }
   return predicates_internal::InCircleExact(a, b, c, d);
 }
 

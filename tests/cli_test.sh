@@ -1,0 +1,150 @@
+#!/usr/bin/env bash
+# End-to-end tests of the surfreg program: outputs, exit codes and the
+# one-line error contract.
+# Usage: cli_test.sh SURFREG_BINARY PROJECT_SOURCE_DIR
+set -u
+if [[ $# -ne 2 ]]; then
+  echo "usage: $0 SURFREG_BINARY PROJECT_SOURCE_DIR" >&2
+  exit 2
+fi
+bin=$1
+cd "$2" || exit 2  # paths below (and in messages) are relative to the project
+data=tests/data/io
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+checks=0
+
+fail() {
+  echo "FAIL: $*"
+  echo "  exit code: $rc"
+  sed 's/^/  stdout: /' "$tmp/out" | head -20
+  sed 's/^/  stderr: /' "$tmp/err" | head -20
+  failures=$((failures + 1))
+}
+
+# Runs surfreg with the given arguments; sets rc, leaves $tmp/out and $tmp/err.
+run() {
+  checks=$((checks + 1))
+  timeout 60 "$bin" "$@" >"$tmp/out" 2>"$tmp/err"
+  rc=$?
+}
+
+# expect_input_error TEXT ARGS...: exit 2 and stderr is exactly one line,
+# starting with "surfreg: error:" and containing TEXT.
+expect_input_error() {
+  local text=$1
+  shift
+  run "$@"
+  local lines
+  lines=$(wc -l <"$tmp/err")
+  if [[ $rc -ne 2 ]]; then
+    fail "surfreg $*: expected exit 2"
+  elif [[ $lines -ne 1 ]]; then
+    fail "surfreg $*: expected exactly one line on stderr, got $lines"
+  elif ! head -1 "$tmp/err" | grep -q '^surfreg: error: '; then
+    fail "surfreg $*: stderr does not start with 'surfreg: error: '"
+  elif ! grep -qF -- "$text" "$tmp/err"; then
+    fail "surfreg $*: stderr does not contain '$text'"
+  elif [[ -s "$tmp/out" ]]; then
+    fail "surfreg $*: expected no stdout"
+  fi
+}
+
+# expect_usage_error ARGS...: exit 2, an error line and a usage text on stderr.
+expect_usage_error() {
+  run "$@"
+  if [[ $rc -ne 2 ]]; then
+    fail "surfreg $*: expected exit 2"
+  elif ! head -1 "$tmp/err" | grep -q '^surfreg: error: '; then
+    fail "surfreg $*: stderr does not start with 'surfreg: error: '"
+  elif ! grep -q 'usage' "$tmp/err"; then
+    fail "surfreg $*: no usage text on stderr"
+  fi
+}
+
+# --- success ---------------------------------------------------------------
+
+run triangulate configs/data/volcano.xyz
+if [[ $rc -ne 0 ]]; then
+  fail "triangulate volcano: expected exit 0"
+elif ! grep -Eq '^input points: +5307$' "$tmp/out"; then
+  fail "triangulate volcano: expected 'input points: 5307'"
+elif ! grep -Eq '^origin: ' "$tmp/out" || ! grep -Eq '^triangles: +[1-9]' "$tmp/out"; then
+  fail "triangulate volcano: expected the origin and a triangle count"
+elif [[ -s "$tmp/err" ]]; then
+  fail "triangulate volcano: expected a clean stderr"
+fi
+
+run triangulate configs/data/volcano.xyz --json
+if [[ $rc -ne 0 ]]; then
+  fail "triangulate --json: expected exit 0"
+elif ! python3 -c '
+import json, sys
+r = json.load(sys.stdin)
+assert r["file"] == "configs/data/volcano.xyz", r["file"]
+assert r["n_points"] == 5307 and r["n_triangles"] > 0, r
+assert r["n_vertices"] + r["n_duplicates"] == r["n_points"], r
+assert r["n_hull_edges"] > 0 and len(r["origin"]) == 3, r
+assert all(r["timings"][k] >= 0 for k in ("read", "triangulate", "total")), r
+' <"$tmp/out"; then
+  fail "triangulate --json: not the expected JSON object"
+fi
+
+run --json triangulate "$data/square.off"  # flags may come first
+if [[ $rc -ne 0 ]] || ! python3 -c '
+import json, sys
+r = json.load(sys.stdin)
+assert r["n_points"] == 4 and r["n_triangles"] == 2 and r["n_hull_edges"] == 4, r
+' <"$tmp/out"; then
+  fail "--json triangulate square.off: expected 4 points, 2 triangles, 4 hull edges"
+fi
+
+for args in "help" "--help" "triangulate --help" "help triangulate"; do
+  run $args
+  if [[ $rc -ne 0 ]] || ! grep -q 'usage: surfreg' "$tmp/out" ||
+     ! grep -q 'triangulate' "$tmp/out"; then
+    fail "surfreg $args: expected a usage text on stdout and exit 0"
+  fi
+done
+
+# --- bad input: exit 2, one line naming the file (and line) ----------------
+
+expect_input_error "$data/does_not_exist.xyz: cannot open: No such file or directory" \
+  triangulate "$data/does_not_exist.xyz"
+expect_input_error "$data/empty.xyz: no points" triangulate "$data/empty.xyz"
+expect_input_error "$data/nan_line.xyz:5: z is NaN" triangulate "$data/nan_line.xyz"
+expect_input_error "$data/bad_token.csv:3: y is not a number: '1O'" \
+  triangulate "$data/bad_token.csv"
+expect_input_error "$data/two_points.xyz: 2 points" triangulate "$data/two_points.xyz"
+expect_input_error "$data/collinear.xyz: all points lie on one line" \
+  triangulate "$data/collinear.xyz"
+expect_input_error "$data/unknown.stl: unknown surface format '.stl'" \
+  triangulate "$data/unknown.stl"
+expect_input_error "$data/truncated.ply: file ends after 3 of 200 vertices" \
+  triangulate "$data/truncated.ply"
+expect_input_error "$data: no file extension" triangulate "$data"
+mkdir "$tmp/dir.xyz"
+expect_input_error "$tmp/dir.xyz: cannot read: Is a directory" triangulate "$tmp/dir.xyz"
+head -c 4096 /dev/urandom >"$tmp/noise.ply"
+expect_input_error "$tmp/noise.ply:1: not a PLY file" triangulate "$tmp/noise.ply"
+cp "$tmp/noise.ply" "$tmp/noise.xyz"
+expect_input_error "$tmp/noise.xyz" triangulate "$tmp/noise.xyz"
+
+# --- bad usage: exit 2 with a usage text -------------------------------------
+
+expect_usage_error frobnicate configs/data/volcano.xyz
+expect_usage_error triangulate
+expect_usage_error triangulate a.xyz b.xyz
+expect_usage_error
+run triangulate --no_such_flag configs/data/volcano.xyz
+if [[ $rc -ne 2 ]] || ! grep -q "^surfreg: error: unknown flag '--no_such_flag'" "$tmp/err"; then
+  fail "unknown flag: expected exit 2 and a clear message"
+fi
+run triangulate --json=maybe configs/data/volcano.xyz
+if [[ $rc -ne 2 ]] || ! grep -q '^surfreg: error: bad value' "$tmp/err"; then
+  fail "bad flag value: expected exit 2 and a clear message"
+fi
+
+echo "$((checks - failures)) of $checks checks passed"
+[[ $failures -eq 0 ]]

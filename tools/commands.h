@@ -1,0 +1,22 @@
+#pragma once
+// The subcommands of the `surfreg` program (see surfreg_main.cc for the
+// dispatch table). Each Run function gets the positional arguments after the
+// command name (flags are already parsed by gflags) and returns the exit code.
+// Bad input is reported by throwing InputError (exit 2), bad usage by
+// throwing UsageError (exit 2, with the command's usage line).
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace surfreg {
+
+class UsageError : public std::runtime_error {
+ public:
+  explicit UsageError(const std::string& message) : std::runtime_error(message) {}
+};
+
+// triangulate FILE [--json]: reads a surface, triangulates it, reports counts
+// and timings.
+int RunTriangulate(const std::vector<std::string>& args);
+
+}  // namespace surfreg

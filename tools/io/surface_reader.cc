@@ -1,0 +1,202 @@
+// Format dispatch, file reading and the helpers shared by all readers.
+#include "tools/io/surface_reader.h"
+
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <istream>
+#include <memory>
+
+#include "measure/input_error.h"
+#include "tools/io/surface_reader_internal.h"
+
+namespace surfreg {
+namespace io_internal {
+
+void Fail(const std::string& name, std::size_t line, const std::string& what) {
+  std::string message = name;
+  if (line > 0) message += ":" + std::to_string(line);
+  message += ": ";
+  message += what;
+  throw InputError(message);
+}
+
+std::string Quote(std::string_view token) {
+  constexpr std::size_t kMaxShown = 40;
+  std::string out = "'";
+  for (std::size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
+    const auto c = static_cast<unsigned char>(token[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", c);
+      out += hex;
+    }
+  }
+  if (token.size() > kMaxShown) out += "...";
+  return out + "'";
+}
+
+NumberStatus ParseNumber(std::string_view token, double* value) {
+  const char* first = token.data();
+  const char* last = first + token.size();
+  // from_chars rejects '+' but some writers emit it; "+-1" must stay an error.
+  if (first != last && *first == '+' && last - first > 1 && first[1] != '-' && first[1] != '+') {
+    ++first;
+  }
+  const auto [ptr, ec] = std::from_chars(first, last, *value);
+  if (ptr != last || first == last) return NumberStatus::kNotANumber;
+  if (ec == std::errc::result_out_of_range) {
+    // Over- or underflow: strtod tells them apart; an underflow to zero or a
+    // subnormal is a fine value, an overflow is not.
+    const std::string copy(first, last);
+    errno = 0;
+    *value = std::strtod(copy.c_str(), nullptr);
+    return std::isinf(*value) ? NumberStatus::kOutOfRange : NumberStatus::kOk;
+  }
+  return ec == std::errc() ? NumberStatus::kOk : NumberStatus::kNotANumber;
+}
+
+bool ParseCount(std::string_view token, unsigned long long* value) {
+  const char* last = token.data() + token.size();
+  const auto [ptr, ec] = std::from_chars(token.data(), last, *value);
+  return !token.empty() && ec == std::errc() && ptr == last;
+}
+
+void CheckNumber(NumberStatus status, double value, std::string_view token, const char* what,
+                 const std::string& name, std::size_t line) {
+  if (status == NumberStatus::kNotANumber) {
+    Fail(name, line, std::string(what) + " is not a number: " + Quote(token));
+  }
+  if (status == NumberStatus::kOutOfRange) {
+    Fail(name, line, std::string(what) + " is out of the range of double: " + Quote(token));
+  }
+  if (std::isnan(value)) Fail(name, line, std::string(what) + " is NaN");
+  if (std::isinf(value)) Fail(name, line, std::string(what) + " is infinite");
+}
+
+bool LineCursor::Next(std::string_view* line) {
+  if (pos_ >= data_.size()) return false;
+  const std::size_t end = data_.find('\n', pos_);
+  const std::size_t stop = end == std::string_view::npos ? data_.size() : end;
+  *line = data_.substr(pos_, stop - pos_);
+  pos_ = end == std::string_view::npos ? data_.size() : end + 1;
+  ++next_line_;
+  return true;
+}
+
+bool NextToken(std::string_view* rest, std::string_view* token) {
+  std::size_t i = 0;
+  while (i < rest->size() && IsBlank((*rest)[i])) ++i;
+  if (i == rest->size()) {
+    *rest = {};
+    return false;
+  }
+  std::size_t j = i;
+  while (j < rest->size() && !IsBlank((*rest)[j])) ++j;
+  *token = rest->substr(i, j - i);
+  rest->remove_prefix(j);
+  return true;
+}
+
+std::string_view StripComment(std::string_view line) {
+  const std::size_t hash = line.find('#');
+  return hash == std::string_view::npos ? line : line.substr(0, hash);
+}
+
+Surface Finish(PointList&& list, const std::string& name, const ReadOptions& options) {
+  if (list.points.empty()) Fail(name, 0, "no points (empty file, or only comments and headers)");
+  Surface surface =
+      MakeSurface(list.points, std::move(list.weight), name, options.origin_step);
+  ValidateSurface(surface);
+  return surface;
+}
+
+std::string ReadAll(std::istream& in, const std::string& name) {
+  std::string data;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof(chunk)) || in.gcount() > 0) {
+    data.append(chunk, static_cast<std::size_t>(in.gcount()));
+  }
+  if (in.bad()) Fail(name, 0, "read error");
+  return data;
+}
+
+}  // namespace io_internal
+
+namespace {
+
+using io_internal::Fail;
+
+std::string ReadFile(const std::string& path) {
+  struct Closer {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+  };
+  errno = 0;
+  std::unique_ptr<std::FILE, Closer> file(std::fopen(path.c_str(), "rb"));
+  if (!file) Fail(path, 0, std::string("cannot open: ") + std::strerror(errno));
+  std::string data;
+  std::size_t used = 0;
+  data.resize(1 << 20);
+  for (;;) {
+    used += std::fread(&data[used], 1, data.size() - used, file.get());
+    if (used < data.size()) break;
+    data.resize(2 * data.size());
+  }
+  // A directory opens fine on Linux and fails here with EISDIR.
+  if (std::ferror(file.get())) Fail(path, 0, std::string("cannot read: ") + std::strerror(errno));
+  data.resize(used);
+  return data;
+}
+
+// The lower-case extension of the file name in `path`, with its dot; empty if none.
+std::string Extension(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  const std::size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+}  // namespace
+
+Surface ReadSurface(const std::string& path, const ReadOptions& options) {
+  using Parser = Surface (*)(std::string_view, const std::string&, const ReadOptions&);
+  const std::string ext = Extension(path);
+  Parser parse = nullptr;
+  if (ext == ".xyz" || ext == ".txt" || ext == ".csv") parse = io_internal::ParseXyz;
+  if (ext == ".ply") parse = io_internal::ParsePly;
+  if (ext == ".off") parse = io_internal::ParseOff;
+  if (ext == ".obj") parse = io_internal::ParseObj;
+  if (parse == nullptr) {
+    const std::string what = ext.empty() ? std::string("no file extension to tell the format")
+                                         : "unknown surface format " + io_internal::Quote(ext);
+    Fail(path, 0, what + " (expected .xyz .txt .csv .ply .off .obj)");
+  }
+  const std::string data = ReadFile(path);
+  return parse(data, path, options);
+}
+
+Surface ReadXyz(std::istream& in, const std::string& name, const ReadOptions& options) {
+  return io_internal::ParseXyz(io_internal::ReadAll(in, name), name, options);
+}
+
+Surface ReadPly(std::istream& in, const std::string& name, const ReadOptions& options) {
+  return io_internal::ParsePly(io_internal::ReadAll(in, name), name, options);
+}
+
+Surface ReadOff(std::istream& in, const std::string& name, const ReadOptions& options) {
+  return io_internal::ParseOff(io_internal::ReadAll(in, name), name, options);
+}
+
+Surface ReadObj(std::istream& in, const std::string& name, const ReadOptions& options) {
+  return io_internal::ParseObj(io_internal::ReadAll(in, name), name, options);
+}
+
+}  // namespace surfreg

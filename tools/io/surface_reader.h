@@ -1,0 +1,55 @@
+#pragma once
+// Reading height-field samples z = F(x, y) from point files.
+//
+// Formats (chosen by file extension, case-insensitive):
+//   .xyz .txt .csv  One point per line: "x y z" or "x y z weight", separated
+//                   by whitespace and/or commas. '#' starts a comment (whole
+//                   line or trailing); blank lines are skipped. The first
+//                   non-comment line is skipped as a header if its first
+//                   token is not a number (e.g. "x,y,z" or "X Y Z weight").
+//                   Every data line must have the same count (3 or 4); the
+//                   weight must be >= 0. Empty fields ("1,,2") are errors.
+//   .ply            ascii or binary_little_endian 1.0 (binary_big_endian is
+//                   rejected). Any elements and properties, including list
+//                   properties and elements before "vertex", are skipped
+//                   correctly. Vertex properties x, y, z are required; a
+//                   property named exactly "weight" is read as the per-point
+//                   weight (no other name, e.g. quality or confidence, is).
+//   .off            OFF, COFF, NOFF or NCOFF (ascii): the first 3 numbers of
+//                   each vertex line; faces are ignored.
+//   .obj            "v x y z [w or colour...]" lines: the first 3 numbers;
+//                   every other line type is ignored. OBJ has no weights.
+//
+// Coordinates are kept in input units and stored relative to a local origin
+// (see MakeSurface in measure/surface.h), so UTM-sized values keep their
+// precision. The result has passed ValidateSurface.
+//
+// Error policy: every problem throws surfreg::InputError with a single-line
+// message "<name>:<line>: <what is wrong>" when a line is to blame (text
+// formats, PLY header and ascii body) or "<name>: <what is wrong>" otherwise
+// (e.g. "b.ply: file ends after 10 of 200 vertices"). Numbers must parse
+// completely ("1.5m" is an error, not 1.5); NaN and infinite values are
+// errors. Nothing is silently dropped.
+#include <iosfwd>
+#include <string>
+
+#include "measure/surface.h"
+
+namespace surfreg {
+
+struct ReadOptions {
+  double origin_step = 1.0;  // passed to MakeSurface: origin rounded to this
+};
+
+// Reads `path`, choosing the format by its extension (see above). `path` is
+// used as the name in messages and as Surface::source.
+Surface ReadSurface(const std::string& path, const ReadOptions& options = {});
+
+// One reader per format, reading `in` to its end. `name` is used in messages
+// and as Surface::source. Binary PLY needs a stream opened in binary mode.
+Surface ReadXyz(std::istream& in, const std::string& name, const ReadOptions& options = {});
+Surface ReadPly(std::istream& in, const std::string& name, const ReadOptions& options = {});
+Surface ReadOff(std::istream& in, const std::string& name, const ReadOptions& options = {});
+Surface ReadObj(std::istream& in, const std::string& name, const ReadOptions& options = {});
+
+}  // namespace surfreg

@@ -1,0 +1,172 @@
+// The `surfreg` program: a thin dispatcher over subcommands (tools/commands.h).
+//
+// Exit codes: 0 ok; 2 bad input or bad usage (one "surfreg: error: ..." line
+// on stderr, plus a usage line for usage errors); 1 internal error.
+#include <gflags/gflags.h>
+#include <glog/logging.h>
+
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "measure/input_error.h"
+#include "tools/commands.h"
+
+namespace surfreg {
+namespace {
+
+struct Command {
+  const char* name;
+  int (*run)(const std::vector<std::string>& args);
+  const char* synopsis;  // the arguments, for usage lines
+  const char* help;      // one line
+};
+
+const Command kCommands[] = {
+    {"triangulate", RunTriangulate, "FILE [--json]",
+     "read a surface, Delaunay-triangulate it, print counts and timings"},
+};
+
+const Command* FindCommand(const std::string& name) {
+  for (const Command& command : kCommands) {
+    if (name == command.name) return &command;
+  }
+  return nullptr;
+}
+
+std::string Usage() {
+  std::string text =
+      "usage: surfreg <command> [arguments] [flags]\n\n"
+      "Compares and aligns height-field surfaces z = F(x, y).\n"
+      "Surface files: .xyz .txt .csv .ply .off .obj\n\ncommands:\n";
+  for (const Command& command : kCommands) {
+    text += "  " + std::string(command.name) + " " + command.synopsis + "\n      " +
+            command.help + "\n";
+  }
+  text += "  help [command]\n      print this text, or one command's usage\n";
+  return text;
+}
+
+std::string CommandUsage(const Command& command) {
+  return "usage: surfreg " + std::string(command.name) + " " + command.synopsis;
+}
+
+// Messages are one line by contract; this keeps it so for any what().
+std::string OneLine(std::string text) {
+  for (char& c : text) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return text;
+}
+
+bool IsHelpFlag(const std::string& arg) {
+  return arg == "--help" || arg == "-help" || arg == "-h" || arg == "--h" || arg == "-?";
+}
+
+// gflags would exit(1) itself on an unknown flag or a bad value; checking
+// first keeps such mistakes usage errors (exit 2). SetCommandLineOption both
+// validates and sets, as the parse that follows would.
+void CheckFlags(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--") return;
+    if (arg.size() < 2 || arg[0] != '-') continue;
+    const std::size_t dashes = arg[1] == '-' ? 2 : 1;
+    const std::size_t equals = arg.find('=');
+    std::string name = arg.substr(dashes, equals == std::string::npos ? equals : equals - dashes);
+    gflags::CommandLineFlagInfo info;
+    const bool known = gflags::GetCommandLineFlagInfo(name.c_str(), &info);
+    if (!known) {
+      const bool negated_bool = name.rfind("no", 0) == 0 &&
+                                gflags::GetCommandLineFlagInfo(name.c_str() + 2, &info) &&
+                                info.type == "bool" && equals == std::string::npos;
+      if (negated_bool) continue;
+      throw UsageError("unknown flag '" + arg + "'");
+    }
+    std::string value;
+    if (equals != std::string::npos) {
+      value = arg.substr(equals + 1);
+    } else if (info.type == "bool") {
+      continue;
+    } else if (i + 1 < argc) {
+      value = argv[++i];
+    } else {
+      throw UsageError("flag '" + arg + "' needs a value");
+    }
+    if (gflags::SetCommandLineOption(name.c_str(), value.c_str()).empty()) {
+      throw UsageError("bad value '" + value + "' for flag '--" + name + "'");
+    }
+  }
+}
+
+// `surfreg help [command]`, or a help flag anywhere.
+int PrintHelp(const std::vector<std::string>& positional) {
+  const Command* command = positional.empty() ? nullptr : FindCommand(positional[0]);
+  if (command != nullptr) {
+    std::printf("%s\n  %s\n", CommandUsage(*command).c_str(), command->help);
+  } else {
+    std::printf("%s", Usage().c_str());
+  }
+  return 0;
+}
+
+int Dispatch(int argc, char** argv) {
+  bool help = false;
+  for (int i = 1; i < argc && std::string(argv[i]) != "--"; ++i) help |= IsHelpFlag(argv[i]);
+  std::vector<std::string> positional;
+  if (!help) {
+    CheckFlags(argc, argv);
+    gflags::ParseCommandLineNonHelpFlags(&argc, &argv, /*remove_flags=*/true);
+    gflags::HandleCommandLineHelpFlags();  // --helpfull, --version, ...
+  }
+  for (int i = 1; i < argc; ++i) {
+    if (!(help && (IsHelpFlag(argv[i]) || argv[i][0] == '-'))) positional.push_back(argv[i]);
+  }
+  if (help) return PrintHelp(positional);
+  if (positional.empty()) {
+    std::fprintf(stderr, "surfreg: error: missing command\n%s", Usage().c_str());
+    return 2;
+  }
+  const std::string name = positional[0];
+  positional.erase(positional.begin());
+  if (name == "help") return PrintHelp(positional);
+  const Command* command = FindCommand(name);
+  if (command == nullptr) {
+    std::fprintf(stderr, "surfreg: error: unknown command '%s'\n%s", OneLine(name).c_str(),
+                 Usage().c_str());
+    return 2;
+  }
+  try {
+    return command->run(positional);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "surfreg: error: %s\n%s\n", OneLine(e.what()).c_str(),
+                 CommandUsage(*command).c_str());
+    return 2;
+  }
+}
+
+}  // namespace
+}  // namespace surfreg
+
+int main(int argc, char** argv) {
+  // Logs go to stderr, warnings and up only, so normal output stays clean;
+  // --minloglevel=0 shows the INFO lines.
+  FLAGS_logtostderr = true;
+  FLAGS_minloglevel = google::GLOG_WARNING;
+  gflags::SetUsageMessage("<command> [arguments] [flags]; run 'surfreg help' for the commands");
+  google::InitGoogleLogging(argv[0]);
+  try {
+    return surfreg::Dispatch(argc, argv);
+  } catch (const surfreg::InputError& e) {
+    std::fprintf(stderr, "surfreg: error: %s\n", surfreg::OneLine(e.what()).c_str());
+    return 2;
+  } catch (const surfreg::UsageError& e) {
+    std::fprintf(stderr, "surfreg: error: %s\nrun 'surfreg help' for usage\n",
+                 surfreg::OneLine(e.what()).c_str());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "surfreg: internal error: %s\n", surfreg::OneLine(e.what()).c_str());
+    return 1;
+  }
+}
