@@ -7,7 +7,7 @@ if [[ $# -ne 2 ]]; then
   echo "usage: $0 SURFREG_BINARY PROJECT_SOURCE_DIR" >&2
   exit 2
 fi
-bin=$1
+bin=$(realpath -- "$1") || exit 2
 cd "$2" || exit 2  # paths below (and in messages) are relative to the project
 data=tests/data/io
 tmp=$(mktemp -d)

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# One-step set-up for surfreg on Debian 12:
+#   bash tools/setup.sh run    install what is missing, build (Release), run the default job
+#   bash tools/setup.sh test   install what is missing, build, run the whole test suite (ctest)
+# Installs only Debian packages that are not installed yet (needs root or sudo
+# for that step); builds into ./build (override with SURFREG_BUILD_DIR).
+set -euo pipefail
+
+mode="${1:-}"
+case "$mode" in
+  run|test) ;;
+  *) echo "usage: bash tools/setup.sh run|test" >&2; exit 2 ;;
+esac
+
+cd "$(dirname "$0")/.."
+build_dir="${SURFREG_BUILD_DIR:-build}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+# Build tools and libraries; libcgal-dev is only the benchmark's reference
+# (the build works without it), python3 checks the CLI's JSON in the tests.
+packages=(cmake make g++ pkg-config libceres-dev libeigen3-dev libgoogle-glog-dev libgflags-dev
+          libgeographiclib-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev)
+if [ "$mode" = test ]; then packages+=(libcgal-dev python3); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "== installing: ${missing[*]}"
+  sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    if command -v sudo >/dev/null; then sudo=sudo; else
+      echo "error: need root (or sudo) to install: ${missing[*]}" >&2; exit 1
+    fi
+  fi
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
+    "${missing[@]}" >/dev/null
+fi
+
+echo "== configuring and building (Release) in $build_dir"
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$build_dir" -j "$jobs"
+
+if [ "$mode" = run ]; then
+  echo "== default job: surfreg triangulate configs/data/volcano.xyz"
+  "$build_dir/tools/surfreg" triangulate configs/data/volcano.xyz
+else
+  echo "== running the test suite"
+  ctest --test-dir "$build_dir" --output-on-failure -j "$jobs"
+fi
