@@ -61,15 +61,17 @@ TEST(ReadPlyTest, AsciiExtraPropertyAndFacesAfter) {
 TEST(ReadPlyTest, AsciiFacesBeforeVertices) {
   ExpectTriangle(Ply(Header("ascii",
                             "element face 2\nproperty list uchar int vertex_indices\n"
-                            "property uchar flags\n" + std::string(kVertexFloat)) +
+                            "property uchar flags\n" +
+                                std::string(kVertexFloat)) +
                      "3 0 1 2 1\n4 0 1 2 0 0\n" + kTriangleAscii));
 }
 
 TEST(ReadPlyTest, AsciiListPropertyInVertex) {
-  ExpectTriangle(Ply(Header("ascii",
-                            "element vertex 3\nproperty float x\nproperty list uint8 float32 extra\n"
-                            "property float y\nproperty float z\n") +
-                     "1 2 0.5 0.25 2 3\n4.5 0 -5 6\n7 1 1e3 8.25 -9\n"));
+  ExpectTriangle(
+      Ply(Header("ascii",
+                 "element vertex 3\nproperty float x\nproperty list uint8 float32 extra\n"
+                 "property float y\nproperty float z\n") +
+          "1 2 0.5 0.25 2 3\n4.5 0 -5 6\n7 1 1e3 8.25 -9\n"));
 }
 
 TEST(ReadPlyTest, AsciiWeightAndAliases) {
@@ -82,9 +84,10 @@ TEST(ReadPlyTest, AsciiWeightAndAliases) {
 }
 
 TEST(ReadPlyTest, AsciiCrlfAndBlankLines) {
-  ExpectTriangle(Ply("ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\n"
-                     "property float y\r\nproperty float z\r\nend_header\r\n"
-                     "1 2 3\r\n\r\n4.5 -5 6\r\n7 8.25 -9"));
+  ExpectTriangle(
+      Ply("ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\n"
+          "property float y\r\nproperty float z\r\nend_header\r\n"
+          "1 2 3\r\n\r\n4.5 -5 6\r\n7 8.25 -9"));
 }
 
 // --- binary_little_endian -------------------------------------------------
@@ -109,11 +112,11 @@ TEST(ReadPlyTest, BinaryDoubleKeepsUtmValuesExact) {
 }
 
 TEST(ReadPlyTest, BinaryEveryScalarTypeAndWeight) {
-  const std::string header = Header(
-      "binary_little_endian",
-      "element vertex 3\nproperty char a\nproperty uchar b\nproperty short c\n"
-      "property ushort d\nproperty double x\nproperty int e\nproperty uint f\n"
-      "property float y\nproperty int32 z\nproperty float weight\nproperty uint16 g\n");
+  const std::string header =
+      Header("binary_little_endian",
+             "element vertex 3\nproperty char a\nproperty uchar b\nproperty short c\n"
+             "property ushort d\nproperty double x\nproperty int e\nproperty uint f\n"
+             "property float y\nproperty int32 z\nproperty float weight\nproperty uint16 g\n");
   ByteWriter body;
   const int32_t z[3] = {3, 6, -9};
   for (int i = 0; i < 3; ++i) {
@@ -141,12 +144,12 @@ TEST(ReadPlyTest, BinaryIntegerCoordinates) {
 }
 
 TEST(ReadPlyTest, BinaryElementsWithListsBeforeVertices) {
-  const std::string header = Header(
-      "binary_little_endian",
-      "element face 2\nproperty list uchar int vertex_indices\nproperty uchar flags\n"
-      "element edge 1\nproperty int v1\nproperty int v2\n"
-      "element range 2\nproperty list ushort double values\n" +
-          std::string(kVertexFloat) + "element tail 1\nproperty list uchar int items\n");
+  const std::string header =
+      Header("binary_little_endian",
+             "element face 2\nproperty list uchar int vertex_indices\nproperty uchar flags\n"
+             "element edge 1\nproperty int v1\nproperty int v2\n"
+             "element range 2\nproperty list ushort double values\n" +
+                 std::string(kVertexFloat) + "element tail 1\nproperty list uchar int items\n");
   ByteWriter body;
   body.Put<uint8_t>(3).Put<int32_t>(0).Put<int32_t>(1).Put<int32_t>(2).Put<uint8_t>(9);
   body.Put<uint8_t>(4).Put<int32_t>(0).Put<int32_t>(1).Put<int32_t>(2).Put<int32_t>(0);
@@ -166,10 +169,11 @@ TEST(ReadPlyTest, BinaryListPropertyInVertexAndCrlfHeader) {
     for (int k = 0; k < i; ++k) body.Put<int16_t>(-1);
     body.Put(kTriangle[i][1]).Put(kTriangle[i][2]);
   }
-  ExpectTriangle(Ply("ply\r\nformat binary_little_endian 1.0\r\nelement vertex 3\r\n"
-                     "property float x\r\nproperty list uchar short extra\r\n"
-                     "property float y\r\nproperty float z\r\nend_header\r\n" +
-                     body.bytes()));
+  ExpectTriangle(
+      Ply("ply\r\nformat binary_little_endian 1.0\r\nelement vertex 3\r\n"
+          "property float x\r\nproperty list uchar short extra\r\n"
+          "property float y\r\nproperty float z\r\nend_header\r\n" +
+          body.bytes()));
 }
 
 // --- errors ---------------------------------------------------------------
@@ -179,7 +183,8 @@ TEST(ReadPlyErrorTest, HeaderErrors) {
             "b.ply:2: binary_big_endian PLY is not supported (use ascii or binary_little_endian)");
   EXPECT_TRUE(Contains(PlyError("PLY\n"), "b.ply:1: not a PLY file"));
   EXPECT_TRUE(Contains(PlyError(""), "b.ply:1: not a PLY file"));
-  EXPECT_TRUE(Contains(PlyError(Header("utf8", kVertexFloat)), "b.ply:2: unknown PLY format 'utf8'"));
+  EXPECT_TRUE(
+      Contains(PlyError(Header("utf8", kVertexFloat)), "b.ply:2: unknown PLY format 'utf8'"));
   EXPECT_TRUE(Contains(PlyError("ply\nformat ascii 2.0\n"), "b.ply:2: unsupported PLY version"));
   EXPECT_TRUE(Contains(PlyError("ply\n" + std::string(kVertexFloat) + "end_header\n"),
                        "b.ply:6: no 'format' line"));
@@ -198,17 +203,18 @@ TEST(ReadPlyErrorTest, HeaderErrors) {
 }
 
 TEST(ReadPlyErrorTest, VertexElementErrors) {
-  EXPECT_EQ(PlyError(Header("ascii", "element vertex 3\nproperty float x\nproperty float y\n") +
-                     "1 2\n"),
-            "b.ply:4: the vertex element has no property 'z'");
+  EXPECT_EQ(
+      PlyError(Header("ascii", "element vertex 3\nproperty float x\nproperty float y\n") + "1 2\n"),
+      "b.ply:4: the vertex element has no property 'z'");
   EXPECT_TRUE(Contains(PlyError(Header("ascii", "element face 1\nproperty int a\n") + "1\n"),
                        "b.ply: no 'vertex' element"));
-  EXPECT_TRUE(Contains(PlyError(Header("ascii", "element vertex 1\nproperty list uchar float x\n"
-                                                 "property float y\nproperty float z\n")),
+  EXPECT_TRUE(Contains(PlyError(Header("ascii",
+                                       "element vertex 1\nproperty list uchar float x\n"
+                                       "property float y\nproperty float z\n")),
                        "b.ply:5: vertex property 'x' must not be a list"));
-  EXPECT_TRUE(Contains(PlyError(Header("ascii", "element vertex 0\n" +
-                                                     std::string(kVertexFloat).substr(17))),
-                       "b.ply: no points"));
+  EXPECT_TRUE(Contains(
+      PlyError(Header("ascii", "element vertex 0\n" + std::string(kVertexFloat).substr(17))),
+      "b.ply: no points"));
 }
 
 TEST(ReadPlyErrorTest, TruncatedBinary) {
@@ -229,16 +235,17 @@ TEST(ReadPlyErrorTest, TruncatedBinary) {
             "b.ply: file ends in element 'face' after 1 of 5, before the vertices");
   ByteWriter negative;
   negative.Put<int8_t>(-1);
-  EXPECT_TRUE(Contains(PlyError(Header("binary_little_endian",
-                                       "element face 1\nproperty list char int i\n" +
-                                           std::string(kVertexFloat)) +
-                                negative.bytes()),
-                       "negative length of list 'i'"));
+  EXPECT_TRUE(Contains(
+      PlyError(Header("binary_little_endian",
+                      "element face 1\nproperty list char int i\n" + std::string(kVertexFloat)) +
+               negative.bytes()),
+      "negative length of list 'i'"));
 }
 
 TEST(ReadPlyErrorTest, TruncatedAscii) {
-  EXPECT_EQ(PlyError(Header("ascii", "element vertex 5\nproperty float x\nproperty float y\n"
-                                     "property float z\n") +
+  EXPECT_EQ(PlyError(Header("ascii",
+                            "element vertex 5\nproperty float x\nproperty float y\n"
+                            "property float z\n") +
                      kTriangleAscii),
             "b.ply: file ends after 3 of 5 vertices");
   EXPECT_EQ(PlyError(Header("ascii", "element face 3\nproperty list uchar int vertex_indices\n" +
@@ -271,13 +278,18 @@ TEST(ReadPlyErrorTest, AsciiValueErrors) {
             "b.ply:10: vertex 1: the line ends before property 'z'");
   EXPECT_EQ(PlyError(header + "1 2 3 4\n"),
             "b.ply:9: vertex 0: more values than the header's properties: '4'");
-  EXPECT_EQ(PlyError(header + "1 2 3\n4 5 6\n7 8 9x\n"), "b.ply:11: vertex 2: z is not a number: '9x'");
-  const std::string with_list = Header("ascii", "element vertex 1\nproperty list uchar int l\n"
-                                                "property float x\nproperty float y\n"
-                                                "property float z\n");
-  EXPECT_TRUE(Contains(PlyError(with_list + "-1 1 2 3\n"), "b.ply:10: vertex 0: bad length of list 'l'"));
-  EXPECT_TRUE(Contains(PlyError(with_list + "9 1 2 3\n"), "b.ply:10: vertex 0: the line ends inside list 'l'"));
-  const std::string weighted = Header("ascii", std::string(kVertexFloat) + "property float weight\n");
+  EXPECT_EQ(PlyError(header + "1 2 3\n4 5 6\n7 8 9x\n"),
+            "b.ply:11: vertex 2: z is not a number: '9x'");
+  const std::string with_list = Header("ascii",
+                                       "element vertex 1\nproperty list uchar int l\n"
+                                       "property float x\nproperty float y\n"
+                                       "property float z\n");
+  EXPECT_TRUE(
+      Contains(PlyError(with_list + "-1 1 2 3\n"), "b.ply:10: vertex 0: bad length of list 'l'"));
+  EXPECT_TRUE(Contains(PlyError(with_list + "9 1 2 3\n"),
+                       "b.ply:10: vertex 0: the line ends inside list 'l'"));
+  const std::string weighted =
+      Header("ascii", std::string(kVertexFloat) + "property float weight\n");
   EXPECT_EQ(PlyError(weighted + "1 2 3 1\n4 5 6 -2\n"), "b.ply:11: vertex 1: weight is negative");
 }
 

@@ -43,7 +43,9 @@ TEST(ReadXyzTest, Whitespace) { ExpectTriangle(Xyz("1 2 3\n4.5\t-5\t6\n  7   8.2
 
 TEST(ReadXyzTest, Commas) { ExpectTriangle(Xyz("1,2,3\n4.5,-5,6\n7,8.25,-9\n")); }
 
-TEST(ReadXyzTest, MixedSeparators) { ExpectTriangle(Xyz("1, 2 ,3\n4.5 ,-5,\t6\n 7\t, 8.25, -9\n")); }
+TEST(ReadXyzTest, MixedSeparators) {
+  ExpectTriangle(Xyz("1, 2 ,3\n4.5 ,-5,\t6\n 7\t, 8.25, -9\n"));
+}
 
 TEST(ReadXyzTest, CommentsAndBlankLines) {
   ExpectTriangle(Xyz("# survey\n\n1 2 3 # first\n   \n#4 4 4\n4.5 -5 6#no space\n\t\n7 8.25 -9\n"));
@@ -65,7 +67,9 @@ TEST(ReadXyzTest, CrlfLineEndings) { ExpectTriangle(Xyz("1 2 3\r\n4.5 -5 6\r\n7 
 
 TEST(ReadXyzTest, NoTrailingNewline) { ExpectTriangle(Xyz("1 2 3\n4.5 -5 6\n7 8.25 -9")); }
 
-TEST(ReadXyzTest, Utf8ByteOrderMark) { ExpectTriangle(Xyz("\xEF\xBB\xBFx,y,z\n1,2,3\n4.5,-5,6\n7,8.25,-9")); }
+TEST(ReadXyzTest, Utf8ByteOrderMark) {
+  ExpectTriangle(Xyz("\xEF\xBB\xBFx,y,z\n1,2,3\n4.5,-5,6\n7,8.25,-9"));
+}
 
 TEST(ReadXyzTest, NumberSpellings) {
   ExpectTriangle(Xyz("+1 2.0 3e0\n4.50 -5. +6\n.7e1 825e-2 -0009\n"));
@@ -79,10 +83,11 @@ TEST(ReadXyzTest, UnderflowReadsAsTinyValue) {
 TEST(ReadXyzTest, SourceIsTheName) { EXPECT_EQ(Xyz("0 0 0\n1 0 0\n0 1 0\n").source, "data/a.xyz"); }
 
 TEST(ReadXyzTest, UtmCoordinatesRoundTripThroughOrigin) {
-  const Surface s = Xyz("500000.125 4500000.25 101.5\n500010.5 4500000.75 99\n"
-                        "500003.375 4500020.0 100.125\n");
+  const Surface s =
+      Xyz("500000.125 4500000.25 101.5\n500010.5 4500000.75 99\n"
+          "500003.375 4500020.0 100.125\n");
   EXPECT_EQ(s.origin[0], std::round(s.origin[0]));  // origin_step 1: whole metres
-  EXPECT_LT(std::fabs(s.xy[0].x), 20.0);             // stored small
+  EXPECT_LT(std::fabs(s.xy[0].x), 20.0);            // stored small
   ExpectPoint(s, 0, 500000.125, 4500000.25, 101.5);
   ExpectPoint(s, 1, 500010.5, 4500000.75, 99.0);
   ExpectPoint(s, 2, 500003.375, 4500020.0, 100.125);
@@ -127,7 +132,8 @@ TEST(ReadXyzTest, UtmSizePrecision) {
 TEST(ReadXyzTest, ManyLines) {
   std::string text;
   for (int i = 0; i < 100000; ++i) {
-    text += std::to_string(i % 317) + "," + std::to_string(i / 317) + "," + std::to_string(i) + "\n";
+    text +=
+        std::to_string(i % 317) + "," + std::to_string(i / 317) + "," + std::to_string(i) + "\n";
   }
   const Surface s = Xyz(text);
   ASSERT_EQ(s.size(), 100000u);
@@ -221,14 +227,18 @@ TEST(ReadOffTest, PlainWithFacesAndComments) {
 }
 
 TEST(ReadOffTest, Variants) {
-  ExpectTriangle(Off("COFF\n3 1 3\n1 2 3 255 0 0 255\n4.5 -5 6 0 255 0 255\n7 8.25 -9 0 0 0 1\n"
-                     "3 0 1 2\n"));
+  ExpectTriangle(
+      Off("COFF\n3 1 3\n1 2 3 255 0 0 255\n4.5 -5 6 0 255 0 255\n7 8.25 -9 0 0 0 1\n"
+          "3 0 1 2\n"));
   ExpectTriangle(Off("NOFF\n3 0 0\n1 2 3 0 0 1\n4.5 -5 6 0 0 1\n7 8.25 -9 0 0 1\n"));
-  ExpectTriangle(Off("NCOFF\r\n3 0\r\n1 2 3 0 0 1 1 1 1 1\r\n4.5 -5 6 0 0 1 1 1 1 1\r\n"
-                     "7 8.25 -9 0 0 1 1 1 1 1"));
+  ExpectTriangle(
+      Off("NCOFF\r\n3 0\r\n1 2 3 0 0 1 1 1 1 1\r\n4.5 -5 6 0 0 1 1 1 1 1\r\n"
+          "7 8.25 -9 0 0 1 1 1 1 1"));
 }
 
-TEST(ReadOffTest, CountsOnTheKeywordLine) { ExpectTriangle(Off("OFF 3 1 0\n1 2 3\n4.5 -5 6\n7 8.25 -9\n")); }
+TEST(ReadOffTest, CountsOnTheKeywordLine) {
+  ExpectTriangle(Off("OFF 3 1 0\n1 2 3\n4.5 -5 6\n7 8.25 -9\n"));
+}
 
 TEST(ReadOffErrorTest, Errors) {
   EXPECT_EQ(OffError("OFF\n200 10 0\n0 0 0\n1 0 0\n"), "c.off: file ends after 2 of 200 vertices");
@@ -238,9 +248,11 @@ TEST(ReadOffErrorTest, Errors) {
   EXPECT_TRUE(Contains(OffError("OFF\n3 x 0\n"), "c.off:2: expected the counts"));
   EXPECT_TRUE(Contains(OffError("OFF\n3\n"), "c.off:2: expected the counts"));
   EXPECT_TRUE(Contains(OffError("OFF\n"), "c.off: file ends before the counts"));
-  EXPECT_EQ(OffError("OFF\n3 1 0\n1 2 3\n4 5\n"), "c.off:4: vertex 1: expected 3 numbers (x y z), found 2");
+  EXPECT_EQ(OffError("OFF\n3 1 0\n1 2 3\n4 5\n"),
+            "c.off:4: vertex 1: expected 3 numbers (x y z), found 2");
   EXPECT_EQ(OffError("OFF\n3 1 0\n1 2 3\n4 5 6\n7 nan 9\n"), "c.off:5: vertex 2: y is NaN");
-  EXPECT_TRUE(Contains(OffError("OFF\n3 1 0\n1 2 3\n4 5 6\n7 8 9z\n"), "c.off:5: vertex 2: z is not a number"));
+  EXPECT_TRUE(Contains(OffError("OFF\n3 1 0\n1 2 3\n4 5 6\n7 8 9z\n"),
+                       "c.off:5: vertex 2: z is not a number"));
   EXPECT_TRUE(Contains(OffError(""), "c.off: no points"));
   EXPECT_TRUE(Contains(OffError("OFF\n0 0 0\n"), "c.off: no points"));
 }
@@ -253,9 +265,10 @@ std::string ObjError(const std::string& text) {
 }
 
 TEST(ReadObjTest, VertexLinesAmongOthers) {
-  ExpectTriangle(Obj("# made by hand\nmtllib a.mtl\no thing\nv 1 2 3\nvt 0.5 0.5\nvn 0 0 1\n"
-                     "v 4.5 -5 6 1.0\ng group\nvp 0.1 0.2\nv 7 8.25 -9 0.1 0.2 0.3 # colour\n"
-                     "usemtl m\ns off\nf 1/1/1 2/1/1 3/1/1\n"));
+  ExpectTriangle(
+      Obj("# made by hand\nmtllib a.mtl\no thing\nv 1 2 3\nvt 0.5 0.5\nvn 0 0 1\n"
+          "v 4.5 -5 6 1.0\ng group\nvp 0.1 0.2\nv 7 8.25 -9 0.1 0.2 0.3 # colour\n"
+          "usemtl m\ns off\nf 1/1/1 2/1/1 3/1/1\n"));
 }
 
 TEST(ReadObjTest, FourthNumberIsNotAWeight) {
@@ -296,17 +309,19 @@ TEST_F(ReadSurfaceTest, ChoosesTheFormatByExtension) {
   ExpectTriangle(ReadSurface(Write("a.Csv", "x,y,z\n1,2,3\n4.5,-5,6\n7,8.25,-9\n")));
   ExpectTriangle(ReadSurface(Write("a.off", "OFF\n3 0 0\n1 2 3\n4.5 -5 6\n7 8.25 -9\n")));
   ExpectTriangle(ReadSurface(Write("a.obj", "v 1 2 3\nv 4.5 -5 6\nv 7 8.25 -9\n")));
-  ExpectTriangle(ReadSurface(Write("a.PLY", "ply\nformat ascii 1.0\nelement vertex 3\n"
-                                            "property float x\nproperty float y\n"
-                                            "property float z\nend_header\n"
-                                            "1 2 3\n4.5 -5 6\n7 8.25 -9\n")));
+  ExpectTriangle(ReadSurface(Write("a.PLY",
+                                   "ply\nformat ascii 1.0\nelement vertex 3\n"
+                                   "property float x\nproperty float y\n"
+                                   "property float z\nend_header\n"
+                                   "1 2 3\n4.5 -5 6\n7 8.25 -9\n")));
   const std::string path = Write("b.xyz", "0 0 0\n1 0 0\n0 1 0\n");
   EXPECT_EQ(ReadSurface(path).source, path);
 }
 
 TEST_F(ReadSurfaceTest, FileErrors) {
-  EXPECT_EQ(ErrorOf("c.stl"), "c.stl: unknown surface format '.stl' (expected .xyz .txt .csv "
-                              ".ply .off .obj)");
+  EXPECT_EQ(ErrorOf("c.stl"),
+            "c.stl: unknown surface format '.stl' (expected .xyz .txt .csv "
+            ".ply .off .obj)");
   EXPECT_TRUE(Contains(ErrorOf("dir.d/noext"), "dir.d/noext: no file extension"));
   const std::string missing = ::testing::TempDir() + "surface_reader_test_missing.xyz";
   EXPECT_EQ(ErrorOf(missing), missing + ": cannot open: No such file or directory");

@@ -75,7 +75,8 @@ class ByteWriter {
     } else {
       std::memcpy(&bits, &value, 8);
     }
-    for (std::size_t i = 0; i < sizeof(T); ++i) bytes_ += static_cast<char>((bits >> (8 * i)) & 0xff);
+    for (std::size_t i = 0; i < sizeof(T); ++i)
+      bytes_ += static_cast<char>((bits >> (8 * i)) & 0xff);
     return *this;
   }
   const std::string& bytes() const { return bytes_; }

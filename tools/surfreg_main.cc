@@ -41,8 +41,8 @@ std::string Usage() {
       "Compares and aligns height-field surfaces z = F(x, y).\n"
       "Surface files: .xyz .txt .csv .ply .off .obj\n\ncommands:\n";
   for (const Command& command : kCommands) {
-    text += "  " + std::string(command.name) + " " + command.synopsis + "\n      " +
-            command.help + "\n";
+    text += "  " + std::string(command.name) + " " + command.synopsis + "\n      " + command.help +
+            "\n";
   }
   text += "  help [command]\n      print this text, or one command's usage\n";
   return text;
@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
   // --minloglevel=0 shows the INFO lines.
   FLAGS_logtostderr = true;
   FLAGS_minloglevel = google::GLOG_WARNING;
+  gflags::SetVersionString(SURFREG_VERSION);
   gflags::SetUsageMessage("<command> [arguments] [flags]; run 'surfreg help' for the commands");
   google::InitGoogleLogging(argv[0]);
   try {

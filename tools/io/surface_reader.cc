@@ -111,8 +111,7 @@ std::string_view StripComment(std::string_view line) {
 
 Surface Finish(PointList&& list, const std::string& name, const ReadOptions& options) {
   if (list.points.empty()) Fail(name, 0, "no points (empty file, or only comments and headers)");
-  Surface surface =
-      MakeSurface(list.points, std::move(list.weight), name, options.origin_step);
+  Surface surface = MakeSurface(list.points, std::move(list.weight), name, options.origin_step);
   ValidateSurface(surface);
   return surface;
 }

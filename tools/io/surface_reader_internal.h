@@ -44,7 +44,7 @@ class LineCursor {
   // The next line, without its '\n'. False at the end of the buffer.
   bool Next(std::string_view* line);
   std::size_t line() const { return next_line_ - 1; }  // number of the last line returned
-  std::size_t offset() const { return pos_; }           // where the next line starts
+  std::size_t offset() const { return pos_; }          // where the next line starts
 
  private:
   std::string_view data_;
@@ -52,9 +52,7 @@ class LineCursor {
   std::size_t next_line_;
 };
 
-inline bool IsBlank(char c) {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
-}
+inline bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
 // The next blank-separated token of `*rest` (which is advanced past it).
 bool NextToken(std::string_view* rest, std::string_view* token);

@@ -38,13 +38,17 @@ bool ParsePlyType(std::string_view word, PlyType* type) {
 std::size_t TypeSize(PlyType type) {
   switch (type) {
     case PlyType::kInt8:
-    case PlyType::kUint8: return 1;
+    case PlyType::kUint8:
+      return 1;
     case PlyType::kInt16:
-    case PlyType::kUint16: return 2;
+    case PlyType::kUint16:
+      return 2;
     case PlyType::kInt32:
     case PlyType::kUint32:
-    case PlyType::kFloat32: return 4;
-    case PlyType::kFloat64: return 8;
+    case PlyType::kFloat32:
+      return 4;
+    case PlyType::kFloat64:
+      return 8;
   }
   return 0;
 }
@@ -53,7 +57,7 @@ bool IsFloatType(PlyType type) { return type == PlyType::kFloat32 || type == Ply
 
 struct PlyProperty {
   std::string name;
-  PlyType type = PlyType::kFloat32;      // of the value, or of a list's items
+  PlyType type = PlyType::kFloat32;  // of the value, or of a list's items
   bool is_list = false;
   PlyType count_type = PlyType::kUint8;  // of a list's length
   std::size_t line = 0;                  // header line, for messages
@@ -90,8 +94,7 @@ void ParseFormat(std::string_view rest, const std::string& name, std::size_t lin
     Fail(name, line, "unsupported PLY version " + Quote(version) + " (expected 1.0)");
   }
   if (format == "binary_big_endian") {
-    Fail(name, line,
-         "binary_big_endian PLY is not supported (use ascii or binary_little_endian)");
+    Fail(name, line, "binary_big_endian PLY is not supported (use ascii or binary_little_endian)");
   }
   if (format != "ascii" && format != "binary_little_endian") {
     Fail(name, line, "unknown PLY format " + Quote(format));
@@ -190,8 +193,8 @@ std::vector<int> VertexRoles(const PlyElement& vertex, const std::string& name) 
   }
   for (int role = 0; role < 3; ++role) {
     if (!found[role]) {
-      Fail(name, vertex.line, std::string("the vertex element has no property '") +
-                                  kRoleName[role] + "'");
+      Fail(name, vertex.line,
+           std::string("the vertex element has no property '") + kRoleName[role] + "'");
     }
   }
   return roles;
@@ -203,8 +206,7 @@ void CheckVertex(const double* value, bool has_weight, unsigned long long index,
   static const char* const kRoleName[] = {"x", "y", "z", "weight"};
   const std::string prefix = "vertex " + std::to_string(index) + ": ";
   for (int role = 0; role < (has_weight ? 4 : 3); ++role) {
-    CheckNumber(NumberStatus::kOk, value[role], "", (prefix + kRoleName[role]).c_str(), name,
-                line);
+    CheckNumber(NumberStatus::kOk, value[role], "", (prefix + kRoleName[role]).c_str(), name, line);
   }
   if (has_weight && value[3] < 0.0) Fail(name, line, prefix + "weight is negative");
 }
@@ -247,12 +249,18 @@ class ByteReader {
  private:
   static double Decode(PlyType type, uint64_t bits) {
     switch (type) {
-      case PlyType::kInt8: return static_cast<int8_t>(static_cast<uint8_t>(bits));
-      case PlyType::kUint8: return static_cast<uint8_t>(bits);
-      case PlyType::kInt16: return static_cast<int16_t>(static_cast<uint16_t>(bits));
-      case PlyType::kUint16: return static_cast<uint16_t>(bits);
-      case PlyType::kInt32: return static_cast<int32_t>(static_cast<uint32_t>(bits));
-      case PlyType::kUint32: return static_cast<uint32_t>(bits);
+      case PlyType::kInt8:
+        return static_cast<int8_t>(static_cast<uint8_t>(bits));
+      case PlyType::kUint8:
+        return static_cast<uint8_t>(bits);
+      case PlyType::kInt16:
+        return static_cast<int16_t>(static_cast<uint16_t>(bits));
+      case PlyType::kUint16:
+        return static_cast<uint16_t>(bits);
+      case PlyType::kInt32:
+        return static_cast<int32_t>(static_cast<uint32_t>(bits));
+      case PlyType::kUint32:
+        return static_cast<uint32_t>(bits);
       case PlyType::kFloat32: {
         const auto word = static_cast<uint32_t>(bits);
         float f;
@@ -289,8 +297,8 @@ bool ReadBinaryInstance(const PlyElement& element, const std::vector<int>* roles
     }
     if (!reader->Read(property.count_type, &scalar)) return false;
     if (scalar < 0.0) {
-      Fail(name, 0, "element '" + element.name + "': negative length of list '" +
-                        property.name + "'");
+      Fail(name, 0,
+           "element '" + element.name + "': negative length of list '" + property.name + "'");
     }
     if (!reader->Skip(static_cast<unsigned long long>(scalar) * TypeSize(property.type))) {
       return false;

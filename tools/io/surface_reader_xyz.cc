@@ -38,9 +38,7 @@ Fields SplitFields(const char* p, const char* end) {
   }
 }
 
-std::string Columns(int n) {
-  return n == 4 ? "4 numbers (x y z weight)" : "3 numbers (x y z)";
-}
+std::string Columns(int n) { return n == 4 ? "4 numbers (x y z weight)" : "3 numbers (x y z)"; }
 
 class XyzParser {
  public:
@@ -53,9 +51,11 @@ class XyzParser {
     std::size_t line = 0;
     while (p < end) {
       ++line;
-      const auto* eol = static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
+      const auto* eol =
+          static_cast<const char*>(std::memchr(p, '\n', static_cast<std::size_t>(end - p)));
       if (eol == nullptr) eol = end;
-      const auto* hash = static_cast<const char*>(std::memchr(p, '#', static_cast<std::size_t>(eol - p)));
+      const auto* hash =
+          static_cast<const char*>(std::memchr(p, '#', static_cast<std::size_t>(eol - p)));
       const Fields fields = SplitFields(p, hash != nullptr ? hash : eol);
       p = eol < end ? eol + 1 : end;
       if (fields.count == 0 && !fields.empty_field) continue;
@@ -72,8 +72,7 @@ class XyzParser {
     if (!header_allowed_) return false;
     header_allowed_ = false;
     double unused;
-    return fields.count > 0 &&
-           ParseNumber(fields.token[0], &unused) == NumberStatus::kNotANumber;
+    return fields.count > 0 && ParseNumber(fields.token[0], &unused) == NumberStatus::kNotANumber;
   }
 
   void CheckFieldCount(const Fields& fields, std::size_t line) {
