@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace surfreg {
 namespace {
@@ -108,18 +109,29 @@ int ExactDifference(double a, double b, double* h) {
 // determinants are homogeneous, so their signs are unchanged, and the
 // error-free products that follow neither underflow nor overflow (assuming
 // the components of one call span less than ~2^1000, see predicates.h).
-void ScaleToUnit(double* const* arrays, const int* lengths, int count) {
+// Returns the exponent e of the scaling 2^-e applied.
+int ScaleToUnit(double* const* arrays, const int* lengths, int count) {
   double largest = 0.0;
   for (int k = 0; k < count; ++k) {
     for (int i = 0; i < lengths[k]; ++i) largest = std::max(largest, std::fabs(arrays[k][i]));
   }
-  if (largest == 0.0) return;
+  if (largest == 0.0) return 0;
   int exponent;
   std::frexp(largest, &exponent);
-  if (exponent == 0) return;
+  if (exponent == 0) return 0;
   for (int k = 0; k < count; ++k) {
     for (int i = 0; i < lengths[k]; ++i) arrays[k][i] = std::ldexp(arrays[k][i], -exponent);
   }
+  return exponent;
+}
+
+// value * 2^exponent, never rounded to zero (the sign is what matters).
+double Unscale(double value, int exponent) {
+  const double result = std::ldexp(value, exponent);
+  if (result == 0.0 && value != 0.0) {
+    return std::copysign(std::numeric_limits<double>::denorm_min(), value);
+  }
+  return result;
 }
 
 }  // namespace
@@ -134,26 +146,30 @@ double Orient2DExact(const Point2& a, const Point2& b, const Point2& c) {
   const int nacy = ExactDifference(a.y, c.y, acy);
   const int nbcx = ExactDifference(b.x, c.x, bcx);
   const int nbcy = ExactDifference(b.y, c.y, bcy);
-  {
-    double* const arrays[4] = {acx, acy, bcx, bcy};
-    const int lengths[4] = {nacx, nacy, nbcx, nbcy};
-    ScaleToUnit(arrays, lengths, 4);
-  }
+  double* const arrays[4] = {acx, acy, bcx, bcy};
+  const int lengths[4] = {nacx, nacy, nbcx, nbcy};
+  const int exponent = ScaleToUnit(arrays, lengths, 4);  // the determinant scales by 2^-2e
   if (nacx == 1 && nacy == 1 && nbcx == 1 && nbcy == 1) {
     // Exact differences (grids): rounding is monotone, so unequal rounded
     // products order the exact ones; equal ones leave the exact errors.
     double left, left_err, right, right_err;
     TwoProduct(acx[0], bcy[0], left, left_err);
     TwoProduct(acy[0], bcx[0], right, right_err);
-    if (left != right) return left > right ? 1.0 : -1.0;
-    return left_err - right_err;
+    if (left == right) return Unscale(left_err - right_err, 2 * exponent);
+    // Keep a magnitude too, with the sign that left > right decides.
+    double value = (left - right) + (left_err - right_err);
+    if ((value > 0.0) != (left > right)) {
+      value = left > right ? std::numeric_limits<double>::min()
+                           : -std::numeric_limits<double>::min();
+    }
+    return Unscale(value, 2 * exponent);
   }
   double left[8], right[8], scratch[8], det[16];
   const int nl = ExpansionProduct(nacx, acx, nbcy, bcy, left, scratch);
   const int nr = ExpansionProduct(nacy, acy, nbcx, bcx, right, scratch);
   for (int k = 0; k < nr; ++k) right[k] = -right[k];
   const int nd = ExpansionSum(nl, left, nr, right, det);
-  return MostSignificant(nd, det);
+  return Unscale(MostSignificant(nd, det), 2 * exponent);
 }
 
 }  // namespace predicates_internal
@@ -229,7 +245,7 @@ double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Po
   {
     double* const arrays[6] = {ax, ay, bx, by, cx, cy};
     const int lengths[6] = {nax, nay, nbx, nby, ncx, ncy};
-    ScaleToUnit(arrays, lengths, 6);
+    ScaleToUnit(arrays, lengths, 6);  // only the sign is returned: no need to undo
   }
 
   double bc[16], ca[16], ab[16];
@@ -260,6 +276,19 @@ double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Po
 }
 
 }  // namespace predicates_internal
+
+double Orient2DAccurate(const Point2& a, const Point2& b, const Point2& c) {
+  const double left = (a.x - c.x) * (b.y - c.y);
+  const double right = (a.y - c.y) * (b.x - c.x);
+  const double det = left - right;
+  const double scale = std::fabs(left) + std::fabs(right);
+  // Relative error of det is below kOrientBound * scale / |det| <= 2^-40 here.
+  if (std::fabs(det) > 0x1p40 * predicates_internal::kOrientBound * scale &&
+      scale >= predicates_internal::kOrientMinScale) {
+    return det;
+  }
+  return predicates_internal::Orient2DExact(a, b, c);
+}
 
 PredicateCounters& ThreadPredicateCounters() {
   static thread_local PredicateCounters counters;

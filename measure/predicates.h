@@ -45,6 +45,12 @@ inline double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
   return predicates_internal::Orient2DExact(a, b, c);
 }
 
+// The orientation determinant itself (twice the signed area of a, b, c) with
+// the exact sign and a relative error below 2^-40, even for slivers: the
+// filter's value when it is that accurate, else the exact expansion's
+// leading component. For barycentric coordinates.
+double Orient2DAccurate(const Point2& a, const Point2& b, const Point2& c);
+
 // > 0 if d lies inside the circle through a, b, c (given counter-clockwise),
 // < 0 outside, 0 on it. Sign flips if a, b, c are clockwise.
 inline double InCircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {

@@ -1,0 +1,171 @@
+#include "measure/gap_volume.h"
+
+#include <algorithm>
+
+#include "measure/input_error.h"
+#include "measure/overlay.h"
+
+namespace surfreg {
+namespace {
+
+double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+// Convex polygon clipped by a counter-clockwise triangle (Sutherland-Hodgman);
+// returns the number of corners written to `out` (room for 9).
+int ClipByTriangle(const Point2* polygon, int n, const std::array<Point2, 3>& t, Point2* out) {
+  Point2 buffer[2][12];
+  std::copy(polygon, polygon + n, buffer[0]);
+  int current = 0;
+  for (int i = 0; i < 3 && n > 0; ++i) {
+    const Point2& e0 = t[i];
+    const Point2& e1 = t[(i + 1) % 3];
+    const Point2* in = buffer[current];
+    Point2* next = buffer[1 - current];
+    double value[12];
+    for (int k = 0; k < n; ++k) value[k] = TwiceArea(e0, e1, in[k]);
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+      const int l = k + 1 == n ? 0 : k + 1;
+      if (value[k] >= 0.0) next[m++] = in[k];
+      if ((value[k] > 0.0 && value[l] < 0.0) || (value[k] < 0.0 && value[l] > 0.0)) {
+        const double s = value[k] / (value[k] - value[l]);
+        next[m++] = {in[k].x + s * (in[l].x - in[k].x), in[k].y + s * (in[l].y - in[k].y)};
+      }
+    }
+    n = m;
+    current = 1 - current;
+  }
+  std::copy(buffer[current], buffer[current] + n, out);
+  return n;
+}
+
+// Fan of a convex polygon with μ = 1 on it.
+void FanUniform(const Point2* p, int n, const Plane& d, GapIntegrals* gap) {
+  const double d0 = d.At(p[0]);
+  double d1 = d.At(p[1]);
+  for (int k = 1; k + 1 < n; ++k) {
+    const double d2 = d.At(p[k + 1]);
+    const double area = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
+    if (area > 0.0) *gap += IntegrateGap(area, d0, d1, d2);
+    d1 = d2;
+  }
+}
+
+}  // namespace
+
+void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightField& mu,
+                     const Plane& mu_plane, VolumeResult* result) {
+  for (int k = 1; k + 1 < n; ++k) {
+    result->area += 0.5 * std::max(0.0, TwiceArea(polygon[0], polygon[k], polygon[k + 1]));
+  }
+  switch (mu.mode) {
+    case WeightMode::kUniform:
+      FanUniform(polygon, n, d, &result->gap);
+      break;
+    case WeightMode::kPerPoint:
+      for (int k = 1; k + 1 < n; ++k) {
+        const Point2* t[3] = {&polygon[0], &polygon[k], &polygon[k + 1]};
+        const double area = 0.5 * TwiceArea(*t[0], *t[1], *t[2]);
+        if (!(area > 0.0)) continue;
+        const double dv[3] = {d.At(*t[0]), d.At(*t[1]), d.At(*t[2])};
+        const double mv[3] = {mu_plane.At(*t[0]), mu_plane.At(*t[1]), mu_plane.At(*t[2])};
+        result->gap += IntegrateGapWeighted(area, dv, mv);
+      }
+      break;
+    case WeightMode::kMask: {
+      double lo_x = polygon[0].x, hi_x = lo_x, lo_y = polygon[0].y, hi_y = lo_y;
+      for (int k = 1; k < n; ++k) {
+        lo_x = std::min(lo_x, polygon[k].x), hi_x = std::max(hi_x, polygon[k].x);
+        lo_y = std::min(lo_y, polygon[k].y), hi_y = std::max(hi_y, polygon[k].y);
+      }
+      Point2 piece[12];
+      for (const auto& t : mu.mask_triangles()) {
+        if (std::max({t[0].x, t[1].x, t[2].x}) < lo_x || std::min({t[0].x, t[1].x, t[2].x}) > hi_x ||
+            std::max({t[0].y, t[1].y, t[2].y}) < lo_y || std::min({t[0].y, t[1].y, t[2].y}) > hi_y) {
+          continue;
+        }
+        const int m = ClipByTriangle(polygon, n, t, piece);
+        if (m >= 3) FanUniform(piece, m, d, &result->gap);
+      }
+      break;
+    }
+  }
+}
+
+VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
+                           const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
+                           const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
+                           const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
+                           const WeightField& mu) {
+  VolumeResult result;
+  auto plane_of = [](const std::vector<Point2>& xy, const Triangulation& mesh,
+                     const std::vector<double>& z, int32_t t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    return PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+  };
+  const OverlayStats stats = ForEachOverlayCell(
+      xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, [&](const OverlayCell& cell) {
+        const Plane fa = plane_of(xy_a, mesh_a, z_a, cell.triangle_a);
+        const Plane fb = plane_of(xy_b, mesh_b, z_b, cell.triangle_b);
+        // d = F̂_B − F̂_A as one plane about A's reference corner.
+        Plane d{fa.x0, fa.y0, fb.At({fa.x0, fa.y0}) - fa.z0, fb.gx - fa.gx, fb.gy - fa.gy};
+        const Plane mu_plane = mu.mode == WeightMode::kPerPoint
+                                   ? mu.CellPlane(cell.triangle_a, cell.triangle_b)
+                                   : Plane();
+        IntegrateConvex(cell.vertices.data(), cell.num_vertices, d, mu, mu_plane, &result);
+      });
+  result.cells = stats.cells;
+  return result;
+}
+
+VolumeResult UnionVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
+                         const std::vector<Location>& a_in_b, const std::vector<double>& gaps_a,
+                         const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
+                         const std::vector<Location>& b_in_a, const std::vector<double>& gaps_b,
+                         const WeightField& mu) {
+  // The nodes of A ∪ B inside Ω, each with its gap and weight.
+  std::vector<Point2> nodes;
+  std::vector<double> gap, weight;
+  for (std::size_t i = 0; i < xy_a.size(); ++i) {
+    if (!a_in_b[i].found() || mesh_a.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
+    nodes.push_back(xy_a[i]);
+    gap.push_back(gaps_a[i]);
+    weight.push_back(mu.AtNodeA(i));
+  }
+  for (std::size_t j = 0; j < xy_b.size(); ++j) {
+    if (!b_in_a[j].found() || mesh_b.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
+    nodes.push_back(xy_b[j]);
+    gap.push_back(gaps_b[j]);
+    weight.push_back(mu.AtNodeB(j));
+  }
+  Triangulation mesh;
+  try {
+    mesh = Triangulate(nodes);
+  } catch (const InputError&) {
+    return VolumeResult();  // fewer than 3 nodes, or all on a line: no area (caller reports)
+  }
+  VolumeResult result;
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    const Point2 corners[3] = {nodes[v[0]], nodes[v[1]], nodes[v[2]]};
+    const double area = 0.5 * TwiceArea(corners[0], corners[1], corners[2]);
+    if (!(area > 0.0)) continue;
+    ++result.cells;
+    if (mu.mode == WeightMode::kUniform) {
+      GapIntegrals g = IntegrateGap(area, gap[v[0]], gap[v[1]], gap[v[2]]);
+      g.abs = AbsVolumePaper(area, gap[v[0]], gap[v[1]], gap[v[2]]);
+      result.gap += g;
+      result.area += area;
+      continue;
+    }
+    const Plane d = PlaneThrough(corners[0], corners[1], corners[2], gap[v[0]], gap[v[1]], gap[v[2]]);
+    const Plane m =
+        PlaneThrough(corners[0], corners[1], corners[2], weight[v[0]], weight[v[1]], weight[v[2]]);
+    IntegrateConvex(corners, 3, d, mu, m, &result);
+  }
+  return result;
+}
+
+}  // namespace surfreg

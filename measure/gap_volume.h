@@ -1,0 +1,47 @@
+#pragma once
+// Integration of the gap d = F̂_B − F̂_A over the overlap, for measures.cc:
+// on the overlay cells (exact) or on the Delaunay triangulation of the nodes
+// of A ∪ B inside Ω (the paper's union mode). Both in A's local frame.
+#include <cstdint>
+#include <vector>
+
+#include "measure/delaunay.h"
+#include "measure/locator.h"
+#include "measure/volume.h"
+#include "measure/weights.h"
+
+namespace surfreg {
+
+// d at A's samples located in B (gaps.a) and at B's located in A (gaps.b);
+// 0 for samples outside the other's hull.
+struct NodeGaps {
+  std::vector<double> a, b;
+};
+
+struct VolumeResult {
+  GapIntegrals gap;     // ∫|d|μ, ∫d⁺μ, ∫d⁻μ, ∫dμ, ∫μ
+  double area = 0.0;    // unweighted area integrated over
+  int64_t cells = 0;    // overlay cells or union triangles
+};
+
+// Adds the integrals over a convex polygon (counter-clockwise, n corners) on
+// which d is the linear function `d`, with μ as `mu` says (`mu_plane` for
+// per-point weights).
+void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightField& mu,
+                     const Plane& mu_plane, VolumeResult* result);
+
+VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
+                           const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
+                           const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
+                           const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
+                           const WeightField& mu);
+
+// The union's triangles use the paper's closed form for ∫|d| (volume.h,
+// AbsVolumePaper) with μ = 1.
+VolumeResult UnionVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
+                         const std::vector<Location>& a_in_b, const std::vector<double>& gaps_a,
+                         const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
+                         const std::vector<Location>& b_in_a, const std::vector<double>& gaps_b,
+                         const WeightField& mu);
+
+}  // namespace surfreg

@@ -1,0 +1,248 @@
+#include "measure/locator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "measure/predicates.h"
+
+namespace surfreg {
+namespace {
+
+inline int Next(int i) { return i == 2 ? 0 : i + 1; }
+inline int Prev(int i) { return i == 0 ? 2 : i - 1; }
+inline bool Same(const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; }
+
+// For q on the line through a and b (q != a): does q lie on a's ray towards b?
+inline bool OnRay(const Point2& a, const Point2& b, const Point2& q) {
+  if (a.x != b.x) return (b.x > a.x) == (q.x > a.x);
+  return (b.y > a.y) == (q.y > a.y);
+}
+// For q on a's ray towards b: is q strictly beyond b?
+inline bool Beyond(const Point2& a, const Point2& b, const Point2& q) {
+  if (a.x != b.x) return b.x > a.x ? q.x > b.x : q.x < b.x;
+  return b.y > a.y ? q.y > b.y : q.y < b.y;
+}
+
+// Barycentric coordinates of p in triangle (A, B, C), p known (exactly) to
+// be in its closure; edge `zero_edge` (or -1) holds p exactly. Accurate
+// sub-areas keep them right in sliver triangles too.
+std::array<double, 3> Barycentric(const Point2& A, const Point2& B, const Point2& C,
+                                  const Point2& p, int zero_edge) {
+  double w[3] = {Orient2DAccurate(B, C, p), Orient2DAccurate(C, A, p), Orient2DAccurate(A, B, p)};
+  for (double& v : w) v = std::max(v, 0.0);
+  if (zero_edge >= 0) w[zero_edge] = 0.0;
+  const double sum = w[0] + w[1] + w[2];
+  std::array<double, 3> result;
+  for (int i = 0; i < 3; ++i) result[i] = sum > 0.0 ? w[i] / sum : 1.0 / 3.0;
+  return result;
+}
+
+class Walker {
+ public:
+  Walker(const std::vector<Point2>& points, const Triangulation& mesh, const Point2& p)
+      : points_(points), mesh_(mesh), p_(p) {}
+
+  Location Run(int32_t t, int k);
+  int steps() const { return steps_; }
+  // A walk longer than this means an invalid mesh (e.g. folded): give up.
+  bool exhausted() const { return steps_ > limit_; }
+
+ private:
+  enum class Turn { kCorner, kAlongEdge, kOffHull };
+  struct Pivot {
+    Turn turn;
+    int32_t triangle;
+    int index;  // corner: w's local index; along edge: the far end's; off hull: hull edge
+  };
+
+  const Point2& At(int32_t t, int i) const { return points_[mesh_.triangles[3 * t + i]]; }
+  int32_t Neighbor(int32_t t, int i) const { return mesh_.neighbors[3 * t + i]; }
+  int LocalOf(int32_t t, int32_t vertex) const {
+    return mesh_.triangles[3 * t] == vertex ? 0 : (mesh_.triangles[3 * t + 1] == vertex ? 1 : 2);
+  }
+  int EdgeTowards(int32_t t, int32_t from) const {
+    return mesh_.neighbors[3 * t] == from ? 0 : (mesh_.neighbors[3 * t + 1] == from ? 1 : 2);
+  }
+
+  Pivot TurnAround(int32_t t, int k);
+  Location Classify(int32_t t, int zero_edge_a, int zero_edge_b) const;
+
+  const std::vector<Point2>& points_;
+  const Triangulation& mesh_;
+  const Point2& p_;
+  int steps_ = 0;
+  const int limit_ = 4 * mesh_.num_triangles() + 64;
+};
+
+// Turns around vertex w (local k of t) to the triangle whose corner at w holds
+// the direction w->p: strictly inside the corner, or along one of its edges.
+// Tries one rotation sense, then the other if the hull stops it.
+Walker::Pivot Walker::TurnAround(int32_t t0, int k0) {
+  const int32_t w = mesh_.triangles[3 * t0 + k0];
+  const Point2& W = points_[w];
+  bool clockwise = Orient2D(W, At(t0, Next(k0)), p_) < 0.0;
+  Pivot off_hull{Turn::kOffHull, t0, Prev(k0)};
+  for (int pass = 0; pass < 2; ++pass, clockwise = !clockwise) {
+    int32_t t = t0;
+    int k = k0;
+    for (; !exhausted();) {
+      ++steps_;
+      const Point2& X = At(t, Next(k));
+      const Point2& Y = At(t, Prev(k));
+      const double ox = Orient2D(W, X, p_);
+      const double oy = Orient2D(W, Y, p_);
+      if (ox > 0.0 && oy < 0.0) return {Turn::kCorner, t, k};
+      if (ox == 0.0 && OnRay(W, X, p_)) return {Turn::kAlongEdge, t, Next(k)};
+      if (oy == 0.0 && OnRay(W, Y, p_)) return {Turn::kAlongEdge, t, Prev(k)};
+      // Clockwise crosses edge w->x (opposite y); counter-clockwise edge y->w.
+      const int edge = clockwise ? Prev(k) : Next(k);
+      const int32_t next = Neighbor(t, edge);
+      if (next < 0) {
+        off_hull = {Turn::kOffHull, t, edge};
+        break;
+      }
+      if (next == t0) return off_hull;  // full turn: only if p == w, handled by the caller
+      t = next;
+      k = LocalOf(t, w);
+    }
+  }
+  return off_hull;
+}
+
+// p is in the closure of t; the listed edges (or -1) have p exactly on them.
+Location Walker::Classify(int32_t t, int zero_edge_a, int zero_edge_b) const {
+  Location location;
+  location.triangle = t;
+  if (zero_edge_a >= 0 && zero_edge_b >= 0) {
+    location.where = Where::kOnVertex;
+    location.index = static_cast<int8_t>(3 - zero_edge_a - zero_edge_b);
+    location.barycentric[location.index] = 1.0;
+    return location;
+  }
+  location.where = zero_edge_a >= 0 ? Where::kOnEdge : Where::kInside;
+  location.index = static_cast<int8_t>(zero_edge_a);
+  location.barycentric = Barycentric(At(t, 0), At(t, 1), At(t, 2), p_, zero_edge_a);
+  return location;
+}
+
+Location Walker::Run(int32_t t, int k) {
+  while (!exhausted()) {
+    const Point2& W = At(t, k);
+    if (Same(W, p_)) return Classify(t, Next(k), Prev(k));
+    const Pivot pivot = TurnAround(t, k);
+    if (pivot.turn == Turn::kOffHull) {
+      Location outside;
+      outside.triangle = pivot.triangle;
+      outside.index = static_cast<int8_t>(pivot.index);
+      return outside;
+    }
+    if (pivot.turn == Turn::kAlongEdge) {
+      const Point2& X = At(pivot.triangle, pivot.index);
+      const int w_local = LocalOf(pivot.triangle, mesh_.triangles[3 * t + k]);
+      if (Same(X, p_)) return Classify(pivot.triangle, Next(pivot.index), Prev(pivot.index));
+      if (!Beyond(W, X, p_)) return Classify(pivot.triangle, 3 - w_local - pivot.index, -1);
+      t = pivot.triangle;  // continue from the far end of the edge
+      k = pivot.index;
+      continue;
+    }
+    // Inside the corner at w: the segment w->p leaves through the far edge.
+    int32_t current = pivot.triangle;
+    int exit = pivot.index;
+    const double far = Orient2D(At(current, Next(exit)), At(current, Prev(exit)), p_);
+    if (far > 0.0) return Classify(current, -1, -1);
+    if (far == 0.0) return Classify(current, exit, -1);
+    bool pivoted = false;
+    while (!pivoted && !exhausted()) {
+      const int32_t next = Neighbor(current, exit);
+      ++steps_;
+      if (next < 0) {
+        Location outside;
+        outside.triangle = current;
+        outside.index = static_cast<int8_t>(exit);
+        return outside;
+      }
+      const int j = EdgeTowards(next, current);  // entered through edge a->b
+      const Point2& C = At(next, j);
+      const double o1 = Orient2D(At(next, Prev(j)), C, p_);  // edge b->c
+      const double o2 = Orient2D(C, At(next, Next(j)), p_);  // edge c->a
+      if (o1 >= 0.0 && o2 >= 0.0) {
+        return Classify(next, o1 == 0.0 ? Next(j) : (o2 == 0.0 ? Prev(j) : -1),
+                        o1 == 0.0 && o2 == 0.0 ? Prev(j) : -1);
+      }
+      // a is left of the line w->p and b right: the exit edge joins c to
+      // the end on its other side, unless the line runs through c itself.
+      const double oc = Orient2D(W, p_, C);
+      if (oc == 0.0) {
+        t = next;
+        k = j;
+        pivoted = true;
+      } else {
+        current = next;
+        exit = oc < 0.0 ? Prev(j) : Next(j);
+      }
+    }
+  }
+  return Location();
+}
+
+}  // namespace
+
+Location LocatePoint(const std::vector<Point2>& points, const Triangulation& mesh, const Point2& p,
+                     int32_t start_triangle, int* steps) {
+  Walker walker(points, mesh, p);
+  const Location location = walker.Run(start_triangle, 0);
+  if (steps != nullptr) *steps = walker.steps();
+  if (walker.exhausted()) return LocatePointBruteForce(points, mesh, p);
+  return location;
+}
+
+Location LocatePointBruteForce(const std::vector<Point2>& points, const Triangulation& mesh,
+                               const Point2& p) {
+  const int32_t n = mesh.num_triangles();
+  for (int32_t t = 0; t < n; ++t) {
+    const Point2& A = points[mesh.triangles[3 * t]];
+    const Point2& B = points[mesh.triangles[3 * t + 1]];
+    const Point2& C = points[mesh.triangles[3 * t + 2]];
+    const double o[3] = {Orient2D(B, C, p), Orient2D(C, A, p), Orient2D(A, B, p)};
+    if (o[0] < 0.0 || o[1] < 0.0 || o[2] < 0.0) continue;
+    Location location;
+    location.triangle = t;
+    const int zeros = (o[0] == 0.0) + (o[1] == 0.0) + (o[2] == 0.0);
+    if (zeros == 2) {
+      location.where = Where::kOnVertex;
+      location.index = static_cast<int8_t>(o[0] != 0.0 ? 0 : (o[1] != 0.0 ? 1 : 2));
+      location.barycentric[location.index] = 1.0;
+      return location;
+    }
+    location.where = zeros == 1 ? Where::kOnEdge : Where::kInside;
+    if (zeros == 1) location.index = static_cast<int8_t>(o[0] == 0.0 ? 0 : (o[1] == 0.0 ? 1 : 2));
+    location.barycentric = Barycentric(A, B, C, p, location.index);
+    return location;
+  }
+  return Location();
+}
+
+std::vector<Location> LocateAll(const std::vector<Point2>& points, const Triangulation& mesh,
+                                const std::vector<Point2>& queries,
+                                const Triangulation& query_mesh, const SpanningTree& query_tree,
+                                LocateAllStats* stats) {
+  std::vector<Location> result(queries.size());
+  int32_t last = 0;
+  int64_t total_steps = 0;
+  for (const int32_t v : query_tree.order) {
+    const int32_t parent = query_tree.parent[v];
+    const int32_t start = parent >= 0 ? result[parent].triangle : last;
+    int steps = 0;
+    result[v] = LocatePoint(points, mesh, queries[v], start, &steps);
+    total_steps += steps;
+    last = result[v].triangle;
+  }
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const int32_t kept = query_mesh.vertex_of_input[i];
+    if (kept != static_cast<int32_t>(i)) result[i] = result[kept];
+  }
+  if (stats != nullptr) stats->steps = total_steps;
+  return result;
+}
+
+}  // namespace surfreg

@@ -1,0 +1,62 @@
+#pragma once
+// Point location in a triangulation by straight-line walking (Dyshkant 2010,
+// 2.2.1): from a vertex of a known triangle, follow the segment to the query
+// point across the triangles it meets; where the segment passes exactly
+// through a vertex, turn around that vertex to the triangle it continues in.
+// All decisions use exact orientation tests, so the walk is correct on
+// collinear and cocircular input (grids) and terminates on any valid
+// triangulation, Delaunay or not (a moved surface keeps its own mesh).
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "measure/delaunay.h"
+#include "measure/spanning_tree.h"
+#include "measure/surface.h"
+
+namespace surfreg {
+
+enum class Where : uint8_t {
+  kInside,    // strictly inside `triangle`
+  kOnEdge,    // on edge `index` (opposite local vertex `index`) of `triangle`
+  kOnVertex,  // at local vertex `index` of `triangle`
+  kOutside,   // outside the convex hull; `triangle` and hull edge `index` are
+              // where the walk left the mesh (a good start for nearby points)
+};
+
+struct Location {
+  int32_t triangle = -1;
+  Where where = Where::kOutside;
+  int8_t index = -1;
+  // Barycentric coordinates of the point in `triangle` (sum 1; exact 0 on
+  // the edges that hold it, exact 1 at a vertex). Undefined when outside.
+  std::array<double, 3> barycentric = {0.0, 0.0, 0.0};
+
+  bool found() const { return where != Where::kOutside; }
+};
+
+// Locates p in `mesh` (vertex positions `points`), walking from
+// `start_triangle` (any triangle; nearer is faster). `steps`, if given,
+// receives the number of triangles visited.
+Location LocatePoint(const std::vector<Point2>& points, const Triangulation& mesh, const Point2& p,
+                     int32_t start_triangle, int* steps = nullptr);
+
+// Same, checking every triangle: the oracle for tests. O(number of triangles).
+Location LocatePointBruteForce(const std::vector<Point2>& points, const Triangulation& mesh,
+                               const Point2& p);
+
+struct LocateAllStats {
+  int64_t steps = 0;  // triangles visited by all walks together
+};
+
+// Locates every query point (e.g. the other surface's samples), visiting them
+// in the order of `query_tree` (the queries' own EMST) so that each walk
+// starts from the triangle where its tree parent was found. Merged
+// duplicates among the queries (query_mesh.vertex_of_input) take their kept
+// point's location. Result indexed like `queries`.
+std::vector<Location> LocateAll(const std::vector<Point2>& points, const Triangulation& mesh,
+                                const std::vector<Point2>& queries,
+                                const Triangulation& query_mesh, const SpanningTree& query_tree,
+                                LocateAllStats* stats = nullptr);
+
+}  // namespace surfreg

@@ -1,0 +1,228 @@
+#include "measure/measures.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "measure/delaunay.h"
+#include "measure/gap_volume.h"
+#include "measure/input_error.h"
+#include "measure/locator.h"
+#include "measure/overlay.h"
+#include "measure/spanning_tree.h"
+#include "measure/volume.h"
+#include "measure/weights.h"
+
+namespace surfreg {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point from) {
+  return std::chrono::duration<double>(Clock::now() - from).count();
+}
+
+// One surface prepared for comparison: points in the common frame, its
+// mesh, heights per vertex (duplicates averaged), EMST.
+struct Prepared {
+  std::vector<Point2> xy;
+  std::vector<double> z;       // per input index; merged groups share their mean
+  std::vector<double> weight;  // per input index, empty if none
+  Triangulation mesh;
+  SpanningTree tree;
+  double hull_area = 0.0;
+};
+
+void MergeDuplicateHeights(Prepared& s) {
+  if (s.mesh.num_duplicates == 0) return;
+  const std::size_t n = s.z.size();
+  std::vector<double> sum(n, 0.0), wsum(n, 0.0);
+  std::vector<int32_t> count(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int32_t v = s.mesh.vertex_of_input[i];
+    sum[v] += s.z[i];
+    ++count[v];
+    if (!s.weight.empty()) wsum[v] += s.weight[i];
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const int32_t v = s.mesh.vertex_of_input[i];
+    s.z[i] = sum[v] / count[v];
+    if (!s.weight.empty()) s.weight[i] = wsum[v] / count[v];
+  }
+}
+
+double HullArea(const std::vector<Point2>& p, const Triangulation& mesh) {
+  double twice = 0.0;
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const Point2& a = p[mesh.triangles[3 * t]];
+    const Point2& b = p[mesh.triangles[3 * t + 1]];
+    const Point2& c = p[mesh.triangles[3 * t + 2]];
+    twice += (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  }
+  return 0.5 * twice;
+}
+
+// F̂ at a located point: the barycentric combination of vertex values.
+double Interpolate(const Triangulation& mesh, const std::vector<double>& values, const Location& l) {
+  const int32_t* v = &mesh.triangles[3 * l.triangle];
+  return l.barycentric[0] * values[v[0]] + l.barycentric[1] * values[v[1]] +
+         l.barycentric[2] * values[v[2]];
+}
+
+}  // namespace
+
+bool MeasureOptions::IsValid(std::string* error) const {
+  if (!(min_overlap_fraction >= 0.0 && min_overlap_fraction < 1.0)) {
+    *error = "min_overlap_fraction must be in [0, 1)";
+    return false;
+  }
+  if (weight == WeightMode::kMask) return ValidMaskPolygon(mask_polygon, error);
+  return true;
+}
+
+const char* VolumeModeName(VolumeMode mode) {
+  return mode == VolumeMode::kOverlay ? "overlay" : "union";
+}
+
+const char* WeightModeName(WeightMode mode) {
+  switch (mode) {
+    case WeightMode::kUniform: return "uniform";
+    case WeightMode::kPerPoint: return "per_point";
+    case WeightMode::kMask: return "mask";
+  }
+  return "?";
+}
+
+MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions& options) {
+  const Clock::time_point start = Clock::now();
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("measure options: " + error);
+  ValidateSurface(a);
+  ValidateSurface(b);
+  if (options.weight == WeightMode::kPerPoint && a.weight.empty() && b.weight.empty()) {
+    throw InputError("per-point weights requested, but neither surface has weights");
+  }
+  MeasureSummary summary;
+  summary.volume_mode = options.volume;
+  summary.n_points_a = static_cast<int64_t>(a.size());
+  summary.n_points_b = static_cast<int64_t>(b.size());
+
+  // Both in A's local frame.
+  Prepared pa{a.xy, a.z, a.weight, {}, {}, 0.0}, pb{b.xy, b.z, b.weight, {}, {}, 0.0};
+  const double shift[3] = {b.origin[0] - a.origin[0], b.origin[1] - a.origin[1],
+                           b.origin[2] - a.origin[2]};
+  for (Point2& p : pb.xy) p = {p.x + shift[0], p.y + shift[1]};
+  for (double& z : pb.z) z += shift[2];
+
+  Clock::time_point stage = Clock::now();
+  pa.mesh = Triangulate(pa.xy);
+  pb.mesh = Triangulate(pb.xy);
+  summary.timings.triangulate = Seconds(stage);
+  summary.n_duplicates_a = pa.mesh.num_duplicates;
+  summary.n_duplicates_b = pb.mesh.num_duplicates;
+  MergeDuplicateHeights(pa);
+  MergeDuplicateHeights(pb);
+  pa.hull_area = HullArea(pa.xy, pa.mesh);
+  pb.hull_area = HullArea(pb.xy, pb.mesh);
+
+  stage = Clock::now();
+  pa.tree = EuclideanMst(pa.xy, pa.mesh);
+  pb.tree = EuclideanMst(pb.xy, pb.mesh);
+  summary.timings.spanning_tree = Seconds(stage);
+
+  stage = Clock::now();
+  LocateAllStats stats_a, stats_b;
+  const std::vector<Location> a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a);
+  const std::vector<Location> b_in_a = LocateAll(pa.xy, pa.mesh, pb.xy, pb.mesh, pb.tree, &stats_b);
+  summary.walk_steps = stats_a.steps + stats_b.steps;
+  summary.timings.locate = Seconds(stage);
+
+  // Weight field μ, then the gap at every node inside Ω (each distinct
+  // vertex once): ρ'd.
+  const WeightField mu = MakeWeightField(options, a, pa.xy, pa.mesh, pa.weight, pb.xy, pb.mesh,
+                                         pb.weight, a_in_b, b_in_a);
+  stage = Clock::now();
+  NodeGaps gaps;
+  gaps.a.assign(pa.xy.size(), 0.0);
+  gaps.b.assign(pb.xy.size(), 0.0);
+  double gap_sum = 0.0, node_weight = 0.0;
+  for (std::size_t i = 0; i < pa.xy.size(); ++i) {
+    if (!a_in_b[i].found()) continue;
+    gaps.a[i] = Interpolate(pb.mesh, pb.z, a_in_b[i]) - pa.z[i];
+    if (pa.mesh.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
+    const double w = mu.AtNodeA(i);
+    gap_sum += w * std::fabs(gaps.a[i]);
+    node_weight += w;
+    ++summary.n_overlap_nodes;
+  }
+  for (std::size_t j = 0; j < pb.xy.size(); ++j) {
+    if (!b_in_a[j].found()) continue;
+    gaps.b[j] = pb.z[j] - Interpolate(pa.mesh, pa.z, b_in_a[j]);
+    if (pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
+    const double w = mu.AtNodeB(j);
+    gap_sum += w * std::fabs(gaps.b[j]);
+    node_weight += w;
+    ++summary.n_overlap_nodes;
+  }
+  summary.rho_d_axial = node_weight > 0.0 ? gap_sum / node_weight : 0.0;
+  summary.timings.interpolate = Seconds(stage);
+
+  stage = Clock::now();
+  VolumeResult volume;
+  if (options.volume == VolumeMode::kOverlay) {
+    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu);
+  } else {
+    volume = UnionVolume(pa.xy, pa.mesh, a_in_b, gaps.a, pb.xy, pb.mesh, b_in_a, gaps.b, mu);
+  }
+  summary.timings.volume = Seconds(stage);
+
+  const double smaller_hull = std::min(pa.hull_area, pb.hull_area);
+  if (!(volume.area > options.min_overlap_fraction * smaller_hull) || volume.cells == 0) {
+    char message[256];
+    std::snprintf(message, sizeof message,
+                  "%s and %s %s (overlap area %.3g, %.3g%% of the smaller hull)",
+                  a.source.empty() ? "surface A" : a.source.c_str(),
+                  b.source.empty() ? "surface B" : b.source.c_str(),
+                  volume.area > 0.0 ? "overlap only in a sliver" : "do not overlap",
+                  volume.area, smaller_hull > 0.0 ? 100.0 * volume.area / smaller_hull : 0.0);
+    throw InputError(message);
+  }
+  summary.rho_d = volume.gap.abs;
+  summary.overlap_area = volume.area;
+  summary.weight_integral = volume.gap.weight;
+  summary.signed_volume = volume.gap.signed_volume;
+  summary.volume_above = volume.gap.above;
+  summary.volume_below = volume.gap.below;
+  summary.mean_abs_dz = volume.gap.weight > 0.0 ? volume.gap.abs / volume.gap.weight : 0.0;
+  summary.rho_s = summary.rho_d > 0.0 ? 1.0 / summary.rho_d : 1.0;
+  summary.n_cells = volume.cells;
+  summary.timings.total = Seconds(start);
+  return summary;
+}
+
+std::string MeasureSummary::BriefReport() const {
+  char text[1024];
+  std::snprintf(
+      text, sizeof text,
+      "rho_d (volume between)   %.9g units^3\n"
+      "rho'_d (mean node gap)   %.9g units\n"
+      "rho_s (1 / rho_d)        %.9g\n"
+      "overlap area             %.9g units^2\n"
+      "mean |dz|                %.9g units\n"
+      "signed volume (B - A)    %.9g units^3\n"
+      "B above A (fill)         %.9g units^3\n"
+      "B below A (cut)          %.9g units^3\n"
+      "points A / B             %lld / %lld (duplicates merged %lld / %lld)\n"
+      "overlap nodes            %lld\n"
+      "%s cells            %lld\n"
+      "time (s)                 triangulate %.3f, tree %.3f, locate %.3f, interpolate %.3f, "
+      "volume %.3f, total %.3f\n",
+      rho_d, rho_d_axial, rho_s, overlap_area, mean_abs_dz, signed_volume, volume_above,
+      volume_below, static_cast<long long>(n_points_a), static_cast<long long>(n_points_b),
+      static_cast<long long>(n_duplicates_a), static_cast<long long>(n_duplicates_b),
+      static_cast<long long>(n_overlap_nodes), VolumeModeName(volume_mode),
+      static_cast<long long>(n_cells), timings.triangulate, timings.spanning_tree, timings.locate,
+      timings.interpolate, timings.volume, timings.total);
+  return text;
+}
+
+}  // namespace surfreg

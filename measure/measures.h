@@ -1,0 +1,86 @@
+#pragma once
+// The one-call comparison of two surfaces (Dyshkant 2010; DESIGN.md 2, 3):
+// triangulate each, locate each cloud in the other's mesh (walking in EMST
+// order), interpolate, and integrate the gap d = F̂_B − F̂_A over the overlap
+// Ω = Conv(A) ∩ Conv(B) with weight μ:
+//
+//   ρd  = ∫∫_Ω |d| μ            volume between the surfaces (units³)
+//   ρ'd = mean |d| over the sample nodes of A and B inside Ω (units)
+//   ρs  = 1 / ρd (1 when ρd = 0)
+//
+// B is brought into A's local frame (A's origin), so both are compared in
+// one set of coordinates; results are in the data's units.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "measure/surface.h"
+
+namespace surfreg {
+
+enum class VolumeMode {
+  // Exact: ∫|d|μ on the common refinement of the two triangulations, where
+  // both interpolants are linear on each cell (DESIGN.md 2, default).
+  kOverlay,
+  // The paper's: the Delaunay triangulation of A ∪ B with each surface known
+  // at every node (one given, one interpolated). Approximates ρd, since F̂_A
+  // is not linear on the union's triangles.
+  kUnion,
+};
+
+enum class WeightMode {
+  kUniform,   // μ = 1
+  kPerPoint,  // μ = the samples' weights, interpolated linearly on A's mesh
+              // (B's if only B has weights); exact for the linear μ
+  kMask,      // μ = 1 inside `mask_polygon`, 0 outside
+};
+
+struct MeasureOptions {
+  VolumeMode volume = VolumeMode::kOverlay;
+  WeightMode weight = WeightMode::kUniform;
+  // Simple polygon (either orientation, not closed explicitly) in input
+  // coordinates (not local), for WeightMode::kMask.
+  std::vector<std::array<double, 2>> mask_polygon;
+  // An overlap smaller than this fraction of the smaller convex hull's area
+  // is reported as an error (a sliver, or surfaces that do not overlap).
+  double min_overlap_fraction = 1e-6;
+
+  bool IsValid(std::string* error) const;
+};
+
+struct MeasureTimings {  // seconds, wall clock
+  double triangulate = 0, spanning_tree = 0, locate = 0, interpolate = 0, volume = 0, total = 0;
+};
+
+struct MeasureSummary {
+  double rho_d = 0;          // ∫_Ω |d| μ, units³ (units² · μ)
+  double rho_d_axial = 0;    // ρ'd: mean |d| at the nodes inside Ω, units
+  double rho_s = 0;          // 1 / ρd, or 1 when ρd = 0
+  double overlap_area = 0;   // |Ω|, units² (unweighted)
+  double weight_integral = 0;  // ∫_Ω μ (equals overlap_area for uniform μ)
+  double mean_abs_dz = 0;    // ρd / ∫_Ω μ: mean vertical distance, units
+  double signed_volume = 0;  // ∫_Ω (F̂_B − F̂_A) μ
+  double volume_above = 0;   // ∫_Ω max(F̂_B − F̂_A, 0) μ: B above A ("fill")
+  double volume_below = 0;   // ∫_Ω max(F̂_A − F̂_B, 0) μ: B below A ("cut")
+  int64_t n_points_a = 0, n_points_b = 0;          // input samples
+  int64_t n_duplicates_a = 0, n_duplicates_b = 0;  // merged (heights averaged)
+  int64_t n_overlap_nodes = 0;  // distinct nodes of A and B inside Ω
+  int64_t n_cells = 0;          // overlay cells (overlay) or union triangles
+  int64_t walk_steps = 0;       // triangles visited by all location walks
+  VolumeMode volume_mode = VolumeMode::kOverlay;
+  MeasureTimings timings;
+
+  // A few lines for people: the measures with units, counts, timings.
+  std::string BriefReport() const;
+};
+
+// Compares surface B with surface A. Throws InputError for invalid surfaces
+// (see ValidateSurface), invalid options, or an empty or sliver overlap.
+MeasureSummary Measure(const Surface& a, const Surface& b,
+                       const MeasureOptions& options = MeasureOptions());
+
+const char* VolumeModeName(VolumeMode mode);  // "overlay" | "union"
+const char* WeightModeName(WeightMode mode);  // "uniform" | "per_point" | "mask"
+
+}  // namespace surfreg

@@ -1,0 +1,210 @@
+#include "measure/overlay.h"
+
+#include <algorithm>
+
+#include "measure/predicates.h"
+
+namespace surfreg {
+namespace {
+
+inline int Sign(double v) { return (v > 0.0) - (v < 0.0); }
+
+// Signs of one B vertex against the current T_A's three edge lines
+// (+1 inside, 0 on, -1 outside), valid while `stamp` is that T_A.
+struct SideCache {
+  int32_t stamp = -1;
+  int8_t side[3] = {0, 0, 0};
+};
+
+class OverlayBuilder {
+ public:
+  OverlayBuilder(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
+                 const std::vector<Point2>& points_b, const Triangulation& mesh_b)
+      : pa_(points_a), ma_(mesh_a), pb_(points_b), mb_(mesh_b),
+        seed_(mesh_a.num_triangles(), -1), done_(mesh_a.num_triangles(), 0),
+        b_stamp_(mesh_b.num_triangles(), -1), sides_(points_b.size()) {}
+
+  void Seed(int32_t ta, int32_t tb) {
+    if (ta < 0 || tb < 0 || seed_[ta] >= 0) return;
+    seed_[ta] = tb;
+    pending_.push_back(ta);
+  }
+
+  OverlayStats Run(const std::function<void(const OverlayCell&)>& visit) {
+    std::reverse(pending_.begin(), pending_.end());  // lowest triangles first
+    while (!pending_.empty()) {
+      const int32_t ta = pending_.back();
+      pending_.pop_back();
+      if (done_[ta]) continue;
+      done_[ta] = 1;
+      ProcessA(ta, visit);
+    }
+    return stats_;
+  }
+
+ private:
+  const int8_t* Sides(int32_t u) {
+    SideCache& cache = sides_[u];
+    if (cache.stamp != ta_) {
+      cache.stamp = ta_;
+      for (int i = 0; i < 3; ++i) {
+        cache.side[i] = static_cast<int8_t>(Sign(Orient2D(a_[(i + 1) % 3], a_[(i + 2) % 3], pb_[u])));
+      }
+    }
+    return cache.side;
+  }
+
+  // Whether the closures of T_A and tb meet (no separating edge line). On
+  // success o[j][k] is the sign of A's vertex k against tb's edge line j.
+  bool Meets(int32_t tb, const int8_t* s[3], int o[3][3]) {
+    for (int i = 0; i < 3; ++i) {
+      if (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0) return false;
+    }
+    for (int j = 0; j < 3; ++j) {
+      const Point2& p = pb_[mb_.triangles[3 * tb + (j + 1) % 3]];
+      const Point2& q = pb_[mb_.triangles[3 * tb + (j + 2) % 3]];
+      for (int k = 0; k < 3; ++k) o[j][k] = Sign(Orient2D(p, q, a_[k]));
+      if (o[j][0] < 0 && o[j][1] < 0 && o[j][2] < 0) return false;
+    }
+    return true;
+  }
+
+  // Hands tb to the A neighbours across T_A's edges that tb's closure meets.
+  void Propagate(int32_t ta, const int8_t* s[3], const int o[3][3], int32_t tb) {
+    for (int i = 0; i < 3; ++i) {
+      const int32_t next = ma_.neighbors[3 * ta + i];
+      if (next < 0 || seed_[next] >= 0) continue;
+      const int e0 = (i + 1) % 3, e1 = (i + 2) % 3;  // the edge's endpoints in T_A
+      bool separated = (s[0][i] > 0 && s[1][i] > 0 && s[2][i] > 0) ||
+                       (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0);
+      for (int j = 0; j < 3 && !separated; ++j) separated = o[j][e0] < 0 && o[j][e1] < 0;
+      if (!separated) Seed(next, tb);
+    }
+  }
+
+  void ProcessA(int32_t ta, const std::function<void(const OverlayCell&)>& visit);
+  bool Clip(int32_t tb, const int8_t* s[3], OverlayCell& cell) const;
+
+  const std::vector<Point2>& pa_;
+  const Triangulation& ma_;
+  const std::vector<Point2>& pb_;
+  const Triangulation& mb_;
+  std::vector<int32_t> seed_;   // per A triangle: a B triangle meeting it, or -1
+  std::vector<char> done_;      // per A triangle
+  std::vector<int32_t> b_stamp_;  // per B triangle: the last T_A whose search queued it
+  std::vector<SideCache> sides_;  // per B vertex
+  std::vector<int32_t> pending_, queue_;
+  OverlayStats stats_;
+  int32_t ta_ = -1;
+  Point2 a_[3];
+};
+
+void OverlayBuilder::ProcessA(int32_t ta, const std::function<void(const OverlayCell&)>& visit) {
+  ta_ = ta;
+  for (int k = 0; k < 3; ++k) a_[k] = pa_[ma_.triangles[3 * ta + k]];
+  queue_.clear();
+  queue_.push_back(seed_[ta]);
+  b_stamp_[seed_[ta]] = ta;
+  OverlayCell cell;
+  cell.triangle_a = ta;
+  for (std::size_t head = 0; head < queue_.size(); ++head) {
+    const int32_t tb = queue_[head];
+    ++stats_.pairs_tested;
+    const int8_t* s[3] = {Sides(mb_.triangles[3 * tb]), Sides(mb_.triangles[3 * tb + 1]),
+                          Sides(mb_.triangles[3 * tb + 2])};
+    int o[3][3];
+    if (!Meets(tb, s, o)) continue;
+    if (Clip(tb, s, cell)) {
+      cell.triangle_b = tb;
+      ++stats_.cells;
+      visit(cell);
+    }
+    Propagate(ta, s, o, tb);
+    for (int j = 0; j < 3; ++j) {
+      const int32_t next = mb_.neighbors[3 * tb + j];
+      if (next >= 0 && b_stamp_[next] != ta) {
+        b_stamp_[next] = ta;
+        queue_.push_back(next);
+      }
+    }
+  }
+}
+
+// tb clipped by T_A's three half-planes (Sutherland-Hodgman). tb's own
+// corners are classified exactly (cached signs); crossings, which are
+// computed points, by their floating-point side. Returns false for an empty
+// or zero-area result.
+bool OverlayBuilder::Clip(int32_t tb, const int8_t* s[3], OverlayCell& cell) const {
+  Point2 poly[8], next[8];
+  int origin[8], next_origin[8];  // B corner index 0..2, or -1 for a computed point
+  int n = 3;
+  for (int k = 0; k < 3; ++k) {
+    poly[k] = pb_[mb_.triangles[3 * tb + k]];
+    origin[k] = k;
+  }
+  for (int i = 0; i < 3 && n > 0; ++i) {
+    const Point2& e0 = a_[(i + 1) % 3];
+    const Point2& e1 = a_[(i + 2) % 3];
+    const double ex = e1.x - e0.x, ey = e1.y - e0.y;
+    double value[8];
+    int side[8];
+    for (int k = 0; k < n; ++k) {
+      value[k] = ex * (poly[k].y - e0.y) - ey * (poly[k].x - e0.x);
+      side[k] = origin[k] >= 0 ? s[origin[k]][i] : Sign(value[k]);
+    }
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+      const int l = k + 1 == n ? 0 : k + 1;
+      if (side[k] >= 0) {
+        next[m] = poly[k];
+        next_origin[m++] = origin[k];
+      }
+      if ((side[k] > 0 && side[l] < 0) || (side[k] < 0 && side[l] > 0)) {
+        const double denominator = value[k] - value[l];
+        double t = denominator != 0.0 ? value[k] / denominator : 0.5;
+        t = std::min(1.0, std::max(0.0, t));
+        next[m] = {poly[k].x + t * (poly[l].x - poly[k].x), poly[k].y + t * (poly[l].y - poly[k].y)};
+        next_origin[m++] = -1;
+      }
+    }
+    n = m;
+    std::copy(next, next + m, poly);
+    std::copy(next_origin, next_origin + m, origin);
+  }
+  if (n < 3) return false;
+  double twice_area = 0.0;
+  for (int k = 1; k + 1 < n; ++k) {
+    twice_area += (poly[k].x - poly[0].x) * (poly[k + 1].y - poly[0].y) -
+                  (poly[k].y - poly[0].y) * (poly[k + 1].x - poly[0].x);
+  }
+  if (!(twice_area > 0.0)) return false;
+  cell.num_vertices = n;
+  std::copy(poly, poly + n, cell.vertices.begin());
+  cell.area = 0.5 * twice_area;
+  return true;
+}
+
+}  // namespace
+
+OverlayStats ForEachOverlayCell(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
+                                const std::vector<Location>& a_in_b,
+                                const std::vector<Point2>& points_b, const Triangulation& mesh_b,
+                                const std::vector<Location>& b_in_a,
+                                const std::function<void(const OverlayCell&)>& visit) {
+  OverlayBuilder builder(points_a, mesh_a, points_b, mesh_b);
+  // Seeds: a triangle of A at each of A's vertices located in B, and the
+  // triangle of A holding each of B's vertices.
+  for (std::size_t v = 0; v < a_in_b.size(); ++v) {
+    if (a_in_b[v].found() && mesh_a.vertex_triangle[v] >= 0) {
+      builder.Seed(mesh_a.vertex_triangle[v], a_in_b[v].triangle);
+    }
+  }
+  for (std::size_t u = 0; u < b_in_a.size(); ++u) {
+    if (b_in_a[u].found() && mesh_b.vertex_triangle[u] >= 0) {
+      builder.Seed(b_in_a[u].triangle, mesh_b.vertex_triangle[u]);
+    }
+  }
+  return builder.Run(visit);
+}
+
+}  // namespace surfreg

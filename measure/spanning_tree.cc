@@ -1,0 +1,110 @@
+#include "measure/spanning_tree.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace surfreg {
+namespace {
+
+struct Edge {
+  uint64_t key;  // bits of the squared length: a non-negative double orders like its bits
+  int32_t u, v;
+};
+
+// Stable LSD radix sort on the 64-bit key, 16 bits a pass.
+void RadixSortEdges(std::vector<Edge>& edges) {
+  std::vector<Edge> buffer(edges.size());
+  std::vector<std::size_t> count(65537);
+  for (int shift = 0; shift < 64; shift += 16) {
+    std::fill(count.begin(), count.end(), 0);
+    for (const Edge& e : edges) ++count[((e.key >> shift) & 0xFFFF) + 1];
+    if (count[1] == edges.size()) continue;  // all in bucket 0: pass changes nothing
+    for (std::size_t b = 0; b < 65536; ++b) count[b + 1] += count[b];
+    for (const Edge& e : edges) buffer[count[(e.key >> shift) & 0xFFFF]++] = e;
+    edges.swap(buffer);
+  }
+}
+
+int32_t Find(std::vector<int32_t>& up, int32_t x) {
+  while (up[x] != x) {
+    up[x] = up[up[x]];  // path halving
+    x = up[x];
+  }
+  return x;
+}
+
+}  // namespace
+
+SpanningTree EuclideanMst(const std::vector<Point2>& points, const Triangulation& mesh) {
+  const auto n = static_cast<int32_t>(points.size());
+  std::vector<Edge> edges;
+  edges.reserve(3 * points.size());
+  const int32_t num_triangles = mesh.num_triangles();
+  for (int32_t t = 0; t < num_triangles; ++t) {
+    for (int i = 0; i < 3; ++i) {
+      const int32_t other = mesh.neighbors[3 * t + i];
+      if (other >= 0 && other < t) continue;  // each interior edge once
+      const int32_t u = mesh.triangles[3 * t + (i + 1) % 3];
+      const int32_t v = mesh.triangles[3 * t + (i + 2) % 3];
+      const double dx = points[u].x - points[v].x, dy = points[u].y - points[v].y;
+      const double length2 = dx * dx + dy * dy;
+      uint64_t key;
+      std::memcpy(&key, &length2, sizeof key);
+      edges.push_back({key, u, v});
+    }
+  }
+  RadixSortEdges(edges);
+
+  SpanningTree tree;
+  std::vector<int32_t> up(n), size(n, 1);
+  for (int32_t i = 0; i < n; ++i) up[i] = i;
+  // Tree adjacency as a compressed list: count, then fill.
+  std::vector<int32_t> degree(n + 1, 0), chosen_u, chosen_v;
+  chosen_u.reserve(n);
+  chosen_v.reserve(n);
+  for (const Edge& e : edges) {
+    int32_t a = Find(up, e.u), b = Find(up, e.v);
+    if (a == b) continue;
+    if (size[a] < size[b]) std::swap(a, b);
+    up[b] = a;
+    size[a] += size[b];
+    chosen_u.push_back(e.u);
+    chosen_v.push_back(e.v);
+    ++degree[e.u + 1];
+    ++degree[e.v + 1];
+    const double dx = points[e.u].x - points[e.v].x, dy = points[e.u].y - points[e.v].y;
+    tree.total_length += std::sqrt(dx * dx + dy * dy);
+  }
+  for (int32_t i = 0; i < n; ++i) degree[i + 1] += degree[i];
+  std::vector<int32_t> adjacency(degree[n]), fill(degree.begin(), degree.end() - 1);
+  for (std::size_t k = 0; k < chosen_u.size(); ++k) {
+    adjacency[fill[chosen_u[k]]++] = chosen_v[k];
+    adjacency[fill[chosen_v[k]]++] = chosen_u[k];
+  }
+
+  // Depth-first preorder from each root, in vertex order.
+  tree.parent.assign(n, -1);
+  tree.order.reserve(n);
+  std::vector<char> seen(n, 0);
+  std::vector<int32_t> stack;
+  for (int32_t root = 0; root < n; ++root) {
+    if (seen[root] || mesh.vertex_triangle[root] < 0) continue;
+    seen[root] = 1;
+    stack.push_back(root);
+    while (!stack.empty()) {
+      const int32_t v = stack.back();
+      stack.pop_back();
+      tree.order.push_back(v);
+      for (int32_t k = degree[v]; k < degree[v + 1]; ++k) {
+        const int32_t w = adjacency[k];
+        if (seen[w]) continue;
+        seen[w] = 1;
+        tree.parent[w] = v;
+        stack.push_back(w);
+      }
+    }
+  }
+  return tree;
+}
+
+}  // namespace surfreg

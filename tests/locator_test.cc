@@ -1,0 +1,180 @@
+// Walking location against brute-force location (every triangle tested with
+// exact orientation), on random, grid, rotated-grid and clustered meshes,
+// with queries inside, on edges, on vertices, on the hull and outside.
+#include "measure/locator.h"
+
+#include <cmath>
+#include <random>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "measure/delaunay.h"
+#include "measure/spanning_tree.h"
+#include "tests/testing/point_sets.h"
+
+namespace surfreg {
+namespace {
+
+// The vertex ids a location pins the point to: 1 for a vertex, 2 for an edge,
+// 3 for the interior of a triangle, none outside.
+std::set<int32_t> Support(const Triangulation& mesh, const Location& l) {
+  std::set<int32_t> ids;
+  if (!l.found()) return ids;
+  const int32_t* v = &mesh.triangles[3 * l.triangle];
+  switch (l.where) {
+    case Where::kOnVertex: ids = {v[l.index]}; break;
+    case Where::kOnEdge: ids = {v[(l.index + 1) % 3], v[(l.index + 2) % 3]}; break;
+    default: ids = {v[0], v[1], v[2]}; break;
+  }
+  return ids;
+}
+
+double Linear(const Point2& p) { return 2.0 * p.x - 3.0 * p.y + 0.5; }
+
+double Interpolate(const std::vector<Point2>& points, const Triangulation& mesh, const Location& l) {
+  double value = 0.0;
+  for (int i = 0; i < 3; ++i) value += l.barycentric[i] * Linear(points[mesh.triangles[3 * l.triangle + i]]);
+  return value;
+}
+
+// Queries of every kind for a mesh over `points`.
+std::vector<Point2> Queries(const std::vector<Point2>& points, const Triangulation& mesh,
+                            uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  double lo_x = 1e300, hi_x = -1e300, lo_y = 1e300, hi_y = -1e300;
+  for (const Point2& p : points) {
+    lo_x = std::min(lo_x, p.x), hi_x = std::max(hi_x, p.x);
+    lo_y = std::min(lo_y, p.y), hi_y = std::max(hi_y, p.y);
+  }
+  const double mx = 0.2 * (hi_x - lo_x), my = 0.2 * (hi_y - lo_y);
+  std::uniform_real_distribution<double> ux(lo_x - mx, hi_x + mx), uy(lo_y - my, hi_y + my);
+  std::vector<Point2> q;
+  for (int k = 0; k < 300; ++k) q.push_back({ux(rng), uy(rng)});  // inside and outside
+  std::uniform_int_distribution<int32_t> pick(0, mesh.num_triangles() - 1);
+  for (int k = 0; k < 200; ++k) {
+    const int32_t t = pick(rng);
+    const Point2& a = points[mesh.triangles[3 * t]];
+    const Point2& b = points[mesh.triangles[3 * t + 1]];
+    q.push_back(a);                                          // on a vertex
+    q.push_back({0.5 * a.x + 0.5 * b.x, 0.5 * a.y + 0.5 * b.y});  // on an edge if exact
+  }
+  // Along hull lines beyond the hull and exactly on hull edges.
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    for (int i = 0; i < 3; ++i) {
+      if (mesh.neighbors[3 * t + i] >= 0) continue;
+      const Point2& a = points[mesh.triangles[3 * t + (i + 1) % 3]];
+      const Point2& b = points[mesh.triangles[3 * t + (i + 2) % 3]];
+      q.push_back({0.5 * a.x + 0.5 * b.x, 0.5 * a.y + 0.5 * b.y});
+      q.push_back({2.0 * b.x - a.x, 2.0 * b.y - a.y});
+    }
+  }
+  return q;
+}
+
+void ExpectSameAsBruteForce(const std::vector<Point2>& points, uint64_t seed) {
+  const Triangulation mesh = Triangulate(points);
+  const std::vector<Point2> queries = Queries(points, mesh, seed);
+  std::mt19937_64 rng(seed + 1);
+  std::uniform_int_distribution<int32_t> pick(0, mesh.num_triangles() - 1);
+  int mismatches = 0;
+  for (const Point2& q : queries) {
+    const Location truth = LocatePointBruteForce(points, mesh, q);
+    const Location walk = LocatePoint(points, mesh, q, pick(rng));
+    if (walk.where != truth.where || Support(mesh, walk) != Support(mesh, truth)) {
+      if (++mismatches <= 5) {
+        ADD_FAILURE() << "query (" << q.x << ", " << q.y << "): walk says "
+                      << static_cast<int>(walk.where) << " in " << walk.triangle << ", truth "
+                      << static_cast<int>(truth.where) << " in " << truth.triangle;
+      }
+      continue;
+    }
+    if (truth.found()) {
+      EXPECT_NEAR(Interpolate(points, mesh, walk), Linear(q), 1e-9 * (1.0 + std::fabs(Linear(q))))
+          << "query (" << q.x << ", " << q.y << ") where " << static_cast<int>(walk.where)
+          << " index " << static_cast<int>(walk.index) << " barycentric " << walk.barycentric[0]
+          << " " << walk.barycentric[1] << " " << walk.barycentric[2];
+      double sum = 0.0;
+      for (double b : walk.barycentric) {
+        EXPECT_GE(b, 0.0);
+        sum += b;
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-12);
+    } else {
+      // Outside: the walk reports a hull edge where it left.
+      ASSERT_GE(walk.triangle, 0);
+      EXPECT_EQ(mesh.neighbors[3 * walk.triangle + walk.index], -1);
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+
+TEST(LocatorTest, RandomPoints) {
+  for (uint64_t seed : {1, 2, 3}) ExpectSameAsBruteForce(testing::UniformPoints(2000, seed), seed);
+}
+
+TEST(LocatorTest, ExactGrid) {
+  // Walks along grid lines pass exactly through vertices and along edges.
+  ExpectSameAsBruteForce(testing::GridPoints(40, 30), 4);
+}
+
+TEST(LocatorTest, RotatedGrid) { ExpectSameAsBruteForce(testing::RotatedGridPoints(30, 30, 30.0), 5); }
+
+TEST(LocatorTest, Clustered) {
+  ExpectSameAsBruteForce(testing::ClusteredPoints(2000, 5, 0.01, 6), 6);
+}
+
+TEST(LocatorTest, CollinearPlusOne) { ExpectSameAsBruteForce(testing::CollinearPlusOne(50), 7); }
+
+// Queries on grid lines, walked from far away: the segment runs along mesh
+// edges and through many vertices.
+TEST(LocatorTest, WalksAlongGridLines) {
+  const std::vector<Point2> points = testing::GridPoints(20, 20);
+  const Triangulation mesh = Triangulate(points);
+  for (int x = 0; x < 20; ++x) {
+    for (double y : {0.0, 7.5, 19.0, 25.0, -3.0}) {
+      const Point2 q{static_cast<double>(x), y};
+      const Location truth = LocatePointBruteForce(points, mesh, q);
+      for (int32_t start : {0, mesh.num_triangles() / 2, mesh.num_triangles() - 1}) {
+        const Location walk = LocatePoint(points, mesh, q, start);
+        EXPECT_EQ(walk.where, truth.where) << x << " " << y;
+        EXPECT_EQ(Support(mesh, walk), Support(mesh, truth)) << x << " " << y;
+      }
+    }
+  }
+}
+
+TEST(LocatorTest, LocateAllInMstOrderMatchesBruteForce) {
+  const std::vector<Point2> target = testing::UniformPoints(3000, 11);
+  std::vector<Point2> queries = testing::JitteredGridPoints(50, 50, 0.3, 12);
+  for (Point2& q : queries) q = {q.x / 49.0 * 1.2 - 0.1, q.y / 49.0 * 1.2 - 0.1};
+  queries.push_back(queries[17]);  // a duplicate query
+  const Triangulation mesh = Triangulate(target);
+  const Triangulation query_mesh = Triangulate(queries);
+  const SpanningTree tree = EuclideanMst(queries, query_mesh);
+  LocateAllStats stats;
+  const std::vector<Location> all = LocateAll(target, mesh, queries, query_mesh, tree, &stats);
+  ASSERT_EQ(all.size(), queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const Location truth = LocatePointBruteForce(target, mesh, queries[i]);
+    EXPECT_EQ(all[i].where, truth.where) << i;
+    EXPECT_EQ(Support(mesh, all[i]), Support(mesh, truth)) << i;
+  }
+  // Each walk starts next to its tree neighbour: a few triangles per point.
+  EXPECT_LT(static_cast<double>(stats.steps) / queries.size(), 12.0);
+}
+
+TEST(LocatorTest, StartingOnTheQueryVertex) {
+  const std::vector<Point2> points = testing::GridPoints(3, 3);
+  const Triangulation mesh = Triangulate(points);
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const Location l = LocatePoint(points, mesh, points[mesh.triangles[3 * t]], t);
+    EXPECT_EQ(l.where, Where::kOnVertex);
+    EXPECT_EQ(l.triangle, t);
+    EXPECT_EQ(l.index, 0);
+    EXPECT_EQ(l.barycentric[0], 1.0);
+  }
+}
+
+}  // namespace
+}  // namespace surfreg

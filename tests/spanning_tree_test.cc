@@ -1,0 +1,96 @@
+// EuclideanMst against Prim's algorithm on the complete graph (O(n²), the
+// definition of the EMST), and the structure of the traversal order.
+#include "measure/spanning_tree.h"
+
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "measure/delaunay.h"
+#include "tests/testing/point_sets.h"
+
+namespace surfreg {
+namespace {
+
+double PrimLength(const std::vector<Point2>& points) {
+  const std::size_t n = points.size();
+  std::vector<double> best(n, std::numeric_limits<double>::infinity());
+  std::vector<char> in_tree(n, 0);
+  best[0] = 0.0;
+  double total = 0.0;
+  for (std::size_t step = 0; step < n; ++step) {
+    std::size_t u = n;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!in_tree[i] && (u == n || best[i] < best[u])) u = i;
+    }
+    in_tree[u] = 1;
+    total += best[u];
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = std::hypot(points[i].x - points[u].x, points[i].y - points[u].y);
+      if (!in_tree[i] && d < best[i]) best[i] = d;
+    }
+  }
+  return total;
+}
+
+void ExpectValidTree(const std::vector<Point2>& points) {
+  const Triangulation mesh = Triangulate(points);
+  const SpanningTree tree = EuclideanMst(points, mesh);
+  ASSERT_EQ(tree.order.size(), points.size());
+  std::vector<int> position(points.size(), -1);
+  for (std::size_t k = 0; k < tree.order.size(); ++k) {
+    ASSERT_EQ(position[tree.order[k]], -1) << "vertex listed twice";
+    position[tree.order[k]] = static_cast<int>(k);
+  }
+  int roots = 0;
+  double length = 0.0;
+  for (std::size_t v = 0; v < points.size(); ++v) {
+    const int32_t p = tree.parent[v];
+    if (p < 0) {
+      ++roots;
+      continue;
+    }
+    EXPECT_LT(position[p], position[v]) << "parent after child";
+    length += std::hypot(points[v].x - points[p].x, points[v].y - points[p].y);
+  }
+  EXPECT_EQ(roots, 1);
+  EXPECT_NEAR(length, tree.total_length, 1e-9 * length);
+  EXPECT_NEAR(tree.total_length, PrimLength(points), 1e-9 * length);
+}
+
+TEST(SpanningTreeTest, RandomPointsMatchPrim) {
+  for (uint64_t seed : {1, 2, 3}) ExpectValidTree(testing::UniformPoints(800, seed));
+}
+
+TEST(SpanningTreeTest, GridMatchesPrim) {
+  // Every edge has one of two lengths: many equal-length ties.
+  ExpectValidTree(testing::GridPoints(25, 20));
+}
+
+TEST(SpanningTreeTest, ClusteredMatchesPrim) {
+  ExpectValidTree(testing::ClusteredPoints(600, 4, 0.02, 9));
+}
+
+TEST(SpanningTreeTest, CollinearPlusOne) {
+  // The tree of n collinear points and one apex: n - 1 unit edges plus the
+  // shortest apex edge.
+  const std::vector<Point2> points = testing::CollinearPlusOne(21);
+  const SpanningTree tree = EuclideanMst(points, Triangulate(points));
+  EXPECT_NEAR(tree.total_length, 20.0 + 1.0, 1e-12);
+}
+
+TEST(SpanningTreeTest, DuplicatesAreLeftOut) {
+  std::vector<Point2> points = testing::GridPoints(5, 5);
+  points.push_back(points[7]);
+  points.push_back(points[0]);
+  const Triangulation mesh = Triangulate(points);
+  const SpanningTree tree = EuclideanMst(points, mesh);
+  EXPECT_EQ(tree.order.size(), 25u);
+  EXPECT_EQ(tree.parent[25], -1);
+  EXPECT_EQ(tree.parent[26], -1);
+  EXPECT_NEAR(tree.total_length, 24.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace surfreg
