@@ -1,5 +1,6 @@
 #include "measure/measures.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -138,9 +139,9 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
 
   // Weight field μ, then the gap at every node inside Ω (each distinct
   // vertex once): ρ'd.
+  stage = Clock::now();
   const WeightField mu = MakeWeightField(options, a, pa.xy, pa.mesh, pa.weight, pb.xy, pb.mesh,
                                          pb.weight, a_in_b, b_in_a);
-  stage = Clock::now();
   NodeGaps gaps;
   gaps.a.assign(pa.xy.size(), 0.0);
   gaps.b.assign(pb.xy.size(), 0.0);
@@ -158,6 +159,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
     if (!b_in_a[j].found()) continue;
     gaps.b[j] = pb.z[j] - Interpolate(pa.mesh, pa.z, b_in_a[j]);
     if (pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
+    if (b_in_a[j].where == Where::kOnVertex) continue;  // the same node of G1 ∪ G2 as A's
     const double w = mu.AtNodeB(j);
     gap_sum += w * std::fabs(gaps.b[j]);
     node_weight += w;
@@ -177,14 +179,13 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
 
   const double smaller_hull = std::min(pa.hull_area, pb.hull_area);
   if (!(volume.area > options.min_overlap_fraction * smaller_hull) || volume.cells == 0) {
-    char message[256];
-    std::snprintf(message, sizeof message,
-                  "%s and %s %s (overlap area %.3g, %.3g%% of the smaller hull)",
-                  a.source.empty() ? "surface A" : a.source.c_str(),
-                  b.source.empty() ? "surface B" : b.source.c_str(),
-                  volume.area > 0.0 ? "overlap only in a sliver" : "do not overlap",
+    char numbers[96];
+    std::snprintf(numbers, sizeof numbers, " (overlap area %.3g, %.3g%% of the smaller hull)",
                   volume.area, smaller_hull > 0.0 ? 100.0 * volume.area / smaller_hull : 0.0);
-    throw InputError(message);
+    throw InputError((a.source.empty() ? std::string("surface A") : a.source) + " and " +
+                     (b.source.empty() ? std::string("surface B") : b.source) +
+                     (volume.area > 0.0 ? " overlap only in a sliver" : " do not overlap") +
+                     numbers);
   }
   summary.rho_d = volume.gap.abs;
   summary.overlap_area = volume.area;

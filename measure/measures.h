@@ -65,7 +65,7 @@ struct MeasureSummary {
   double volume_below = 0;   // ∫_Ω max(F̂_A − F̂_B, 0) μ: B below A ("cut")
   int64_t n_points_a = 0, n_points_b = 0;          // input samples
   int64_t n_duplicates_a = 0, n_duplicates_b = 0;  // merged (heights averaged)
-  int64_t n_overlap_nodes = 0;  // distinct nodes of A and B inside Ω
+  int64_t n_overlap_nodes = 0;  // nodes of G1 ∪ G2 (as a set of xy) inside Ω
   int64_t n_cells = 0;          // overlay cells (overlay) or union triangles
   int64_t walk_steps = 0;       // triangles visited by all location walks
   VolumeMode volume_mode = VolumeMode::kOverlay;

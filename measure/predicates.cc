@@ -105,12 +105,13 @@ int ExactDifference(double a, double b, double* h) {
 }
 
 // Scales the expansions arrays[k] (lengths[k] components each) by one power
-// of two that brings the largest component to [0.5, 1). The predicates'
-// determinants are homogeneous, so their signs are unchanged, and the
-// error-free products that follow neither underflow nor overflow (assuming
-// the components of one call span less than ~2^1000, see predicates.h).
+// of two that brings the largest component to [2^(target-1), 2^target). The
+// predicates' determinants are homogeneous, so their signs are unchanged.
+// Centring the range (target 500 for degree 2, 240 for degree 4) keeps the
+// largest products below overflow and leaves the most room for the smallest
+// components' products above underflow (see the domain in predicates.h).
 // Returns the exponent e of the scaling 2^-e applied.
-int ScaleToUnit(double* const* arrays, const int* lengths, int count) {
+int ScaleToRange(double* const* arrays, const int* lengths, int count, int target) {
   double largest = 0.0;
   for (int k = 0; k < count; ++k) {
     for (int i = 0; i < lengths[k]; ++i) largest = std::max(largest, std::fabs(arrays[k][i]));
@@ -118,6 +119,7 @@ int ScaleToUnit(double* const* arrays, const int* lengths, int count) {
   if (largest == 0.0) return 0;
   int exponent;
   std::frexp(largest, &exponent);
+  exponent -= target;
   if (exponent == 0) return 0;
   for (int k = 0; k < count; ++k) {
     for (int i = 0; i < lengths[k]; ++i) arrays[k][i] = std::ldexp(arrays[k][i], -exponent);
@@ -148,7 +150,7 @@ double Orient2DExact(const Point2& a, const Point2& b, const Point2& c) {
   const int nbcy = ExactDifference(b.y, c.y, bcy);
   double* const arrays[4] = {acx, acy, bcx, bcy};
   const int lengths[4] = {nacx, nacy, nbcx, nbcy};
-  const int exponent = ScaleToUnit(arrays, lengths, 4);  // the determinant scales by 2^-2e
+  const int exponent = ScaleToRange(arrays, lengths, 4, 500);  // determinant scales by 2^-2e
   if (nacx == 1 && nacy == 1 && nbcx == 1 && nbcy == 1) {
     // Exact differences (grids): rounding is monotone, so unequal rounded
     // products order the exact ones; equal ones leave the exact errors.
@@ -245,7 +247,7 @@ double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Po
   {
     double* const arrays[6] = {ax, ay, bx, by, cx, cy};
     const int lengths[6] = {nax, nay, nbx, nby, ncx, ncy};
-    ScaleToUnit(arrays, lengths, 6);  // only the sign is returned: no need to undo
+    ScaleToRange(arrays, lengths, 6, 240);  // only the sign is returned: no need to undo
   }
 
   double bc[16], ca[16], ab[16];

@@ -6,12 +6,16 @@
 // evaluated exactly with floating-point expansions. The returned value has
 // the exact sign of the determinant (its magnitude is approximate).
 //
-// Domain: any finite coordinates below 2^500 in magnitude. The filter hands
-// over to the exact stage whenever its products could under- or overflow
-// (coordinate differences above 2^240, or a determinant scale near the
-// underflow range); the exact stage rescales by a power of two first. Only
-// the components of one call spanning more than ~2^1000 (e.g. 1e-200 next
-// to 1e100) would lose exactness there.
+// Domain: any finite coordinates below 2^500 in magnitude, as long as the
+// non-zero coordinate differences within one call (and their rounding
+// errors, ~2^-53 of the coordinates) span less than 2^480 in magnitude for
+// the in-circle test, 2^900 for orientation (e.g. 1e-150 next to 1e0 in one
+// in-circle call is outside). The filter hands over to the exact stage
+// whenever its products could under- or overflow (differences above 2^240, or
+// a determinant scale near the underflow range); the exact stage rescales by
+// a power of two that centres the range first, and is exact within these
+// spans because every product of the expansion arithmetic is then a normal
+// or exactly representable subnormal number.
 #include <cmath>
 
 #include "measure/surface.h"

@@ -72,10 +72,6 @@ bool ValidMaskPolygon(const std::vector<std::array<double, 2>>& polygon, std::st
     }
     p[k] = {polygon[k][0], polygon[k][1]};
   }
-  if (TwiceSignedArea(p) == 0.0) {
-    *error = "mask polygon has zero area";
-    return false;
-  }
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j = i + 1; j < n; ++j) {
       const bool adjacent = j == i + 1 || (i == 0 && j == n - 1);
@@ -100,6 +96,10 @@ bool ValidMaskPolygon(const std::vector<std::array<double, 2>>& polygon, std::st
         return false;
       }
     }
+  }
+  if (TwiceSignedArea(p) == 0.0) {
+    *error = "mask polygon has zero area";
+    return false;
   }
   return true;
 }

@@ -306,6 +306,75 @@ TEST(Orient2DTest, TinyCoordinatesMatchExact) {
   }
 }
 
+// The documented domain: any finite coordinates below 2^500, with the
+// components of one call spanning less than ~2^1000.
+TEST(Orient2DTest, HugeCoordinatesMatchExact) {
+  std::mt19937_64 rng(18);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double scale : {1e100, 1e150, 3e150}) {
+    int reported = 0, bad = 0;
+    for (int n = 0; n < 2000; ++n) {
+      const Point2 a{scale * u(rng), scale * u(rng)}, b{scale * u(rng), scale * u(rng)},
+          c{scale * u(rng), scale * u(rng)};
+      bad += CheckOrient(a, b, c, &reported);
+    }
+    EXPECT_EQ(bad, 0) << "scale " << scale;
+  }
+}
+
+TEST(Orient2DTest, WideMixedMagnitudesMatchExact) {
+  std::mt19937_64 rng(19);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> e(-200, 200);
+  auto coord = [&]() { return std::ldexp(u(rng), e(rng)); };
+  int reported = 0, bad = 0;
+  for (int k = 0; k < 5000; ++k) {
+    const Point2 a{coord(), coord()}, b{coord(), coord()}, c{coord(), coord()};
+    bad += CheckOrient(a, b, c, &reported);
+  }
+  EXPECT_EQ(bad, 0);
+}
+
+// Scaling every coordinate by 2^k is exact (no subnormals here) and scales
+// the determinant by 2^2k > 0: the signs at scale 1 are the truth at every
+// scale, down to where the products underflow and up to where they overflow.
+TEST(Orient2DTest, PowerOfTwoScalingKeepsExactSigns) {
+  std::vector<std::array<Point2, 3>> cases;
+  for (int i = 0; i < 24; ++i) {
+    for (int j = 0; j < 24; ++j) {
+      cases.push_back({{{Ulps(0.5, i), Ulps(0.5, j)}, {12, 12}, {24, 24}}});
+    }
+  }
+  std::mt19937_64 rng(20);
+  std::uniform_int_distribution<int> small(-1000, 1000);
+  for (int n = 0; n < 300; ++n) {  // exactly collinear integer triples
+    const double px = small(rng), py = small(rng), dx = small(rng) % 30, dy = small(rng) % 30;
+    const double t1 = small(rng) % 30, t2 = small(rng) % 30;
+    cases.push_back({{{px, py}, {px + t1 * dx, py + t1 * dy}, {px + t2 * dx, py + t2 * dy}}});
+  }
+  int zeros = 0, bad = 0;
+  for (const auto& c : cases) zeros += ExactOrientSign(c[0], c[1], c[2]) == 0 ? 1 : 0;
+  // -540 .. -525 put the products among the subnormals (partial underflow).
+  for (int k : {-1000, -800, -560, -540, -535, -530, -525, -300, 300, 450, 490}) {
+    for (const auto& c : cases) {
+      Point2 q[3];
+      for (int i = 0; i < 3; ++i) {
+        q[i] = {std::ldexp(c[i].x, k), std::ldexp(c[i].y, k)};
+        ASSERT_EQ(std::ldexp(q[i].x, -k), c[i].x);
+        ASSERT_EQ(std::ldexp(q[i].y, -k), c[i].y);
+      }
+      const int expected = ExactOrientSign(c[0], c[1], c[2]);
+      const double got = Orient2D(q[0], q[1], q[2]);
+      if (SignOf(got) != expected && bad++ < 5) {
+        ADD_FAILURE() << "scale 2^" << k << ": Orient2D(" << Str(q[0], q[1], q[2]) << ") = " << got
+                      << ", exact sign " << expected;
+      }
+    }
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(zeros, 300);
+}
+
 // ---------------------------------------------------------------------------
 // InCircle.
 
@@ -371,6 +440,61 @@ TEST(InCircleTest, UlpPerturbedNearCocircularMatchExact) {
   EXPECT_EQ(bad, 0);
 }
 
+// Near-cocircular quadruples far from the origin with non-representable
+// centres and radii: the coordinate differences are inexact, so the exact
+// stage works on multi-component expansions. The counters show that the
+// exact stage really runs.
+TEST(InCircleTest, NearCocircularOffCentreStressMatchesExact) {
+  std::mt19937_64 rng(30);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI), u(-1.0, 1.0);
+  std::uniform_int_distribution<int> k(-1, 1);
+  const unsigned long long exact_before = ThreadPredicateCounters().incircle_exact;
+  int reported = 0, bad = 0;
+  const int cases = 20000;
+  for (int n = 0; n < cases; ++n) {
+    // Centre and radius of similar magnitude (2^-30 .. 2^30): the rounding
+    // of the coordinates is then a tiny fraction of the radius.
+    const int e = n % 61 - 30;
+    const double cx = std::ldexp(u(rng), e), cy = std::ldexp(u(rng), e);
+    const double r = std::ldexp(1.0 + u(rng) * 0.5, e - n % 3);
+    Point2 p[4];
+    for (Point2& q : p) {
+      const double t = angle(rng);
+      q = {cx + r * std::cos(t), cy + r * std::sin(t)};
+    }
+    p[3] = {Ulps(p[3].x, k(rng)), Ulps(p[3].y, k(rng))};
+    bad += CheckInCircle(p[0], p[1], p[2], p[3], &reported);
+    bad += CheckInCircle(p[3], p[2], p[1], p[0], &reported);
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(ThreadPredicateCounters().incircle_exact - exact_before, static_cast<unsigned long long>(cases / 4))
+      << "the cases are meant to reach the exact stage";
+}
+
+TEST(Orient2DTest, NearCollinearOffsetStressMatchesExact) {
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> k(-1, 1);
+  const unsigned long long exact_before = ThreadPredicateCounters().orient_exact;
+  int reported = 0, bad = 0;
+  const int cases = 30000;
+  for (int n = 0; n < cases; ++n) {
+    // Offset and direction of similar magnitude (2^-30 .. 2^30).
+    const int e = n % 61 - 30;
+    const double ox = std::ldexp(u(rng), e), oy = std::ldexp(u(rng), e);
+    const double dx = std::ldexp(u(rng), e - n % 3), dy = std::ldexp(u(rng), e - n % 4);
+    Point2 p[3];
+    for (Point2& q : p) {
+      const double t = 3.0 * u(rng);
+      q = {Ulps(ox + t * dx, k(rng)), Ulps(oy + t * dy, k(rng))};
+    }
+    bad += CheckOrient(p[0], p[1], p[2], &reported);
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(ThreadPredicateCounters().orient_exact - exact_before, static_cast<unsigned long long>(cases / 4))
+      << "the cases are meant to reach the exact stage";
+}
+
 // Integer points exactly on circles x² + y² = R² (R = 5, 25, 65 have many),
 // moved to random integer centres; d also moved by single ulps.
 std::vector<std::pair<int, int>> LatticeCircle(int r) {
@@ -422,6 +546,58 @@ TEST(InCircleTest, ExactlyCocircularReturnsZeroAndUlpNeighboursMatchExact) {
   EXPECT_EQ(bad, 0);
 }
 
+// Integer points on two concentric circles x² + y² = R² and R² + 1 with
+// R = 5·13·17·29·37·41 = 48612265 (~2^25.5): the points on the first come
+// from products of Gaussian primes, (R, 1) is on the second. Analytically,
+// d on the outer circle is outside the circle through a, b, c, so the sign
+// is -orient(a, b, c); on the inner circle it is 0. The determinant is
+// ~2^-51 of its scale: beyond the filter, and its exact integers reach ~2^110.
+TEST(InCircleTest, ConcentricLatticeCirclesAnalytic) {
+  const int64_t primes[6][2] = {{1, 2}, {2, 3}, {1, 4}, {2, 5}, {1, 6}, {4, 5}};  // a² + b² = p
+  int64_t radius = 1;
+  for (const auto& g : primes) radius *= g[0] * g[0] + g[1] * g[1];
+  ASSERT_EQ(radius, 48612265);
+  std::vector<Point2> on;
+  for (int mask = 0; mask < 64; ++mask) {
+    int64_t x = 1, y = 0;  // product of (a ± bi)², a Gaussian integer of norm R²
+    for (int i = 0; i < 6; ++i) {
+      const int64_t a = primes[i][0], b = (mask >> i & 1) ? -primes[i][1] : primes[i][1];
+      const int64_t sx = a * a - b * b, sy = 2 * a * b;  // (a + bi)²
+      const int64_t nx = x * sx - y * sy, ny = x * sy + y * sx;
+      x = nx;
+      y = ny;
+    }
+    ASSERT_EQ(x * x + y * y, radius * radius);
+    on.push_back({static_cast<double>(x), static_cast<double>(y)});
+    on.push_back({static_cast<double>(-y), static_cast<double>(x)});
+  }
+  const double r = static_cast<double>(radius);
+  const std::vector<Point2> outer = {{r, 1}, {1, r}, {-r, 1}, {1, -r}, {-1, -r}};
+  std::mt19937_64 rng(35);
+  std::uniform_int_distribution<std::size_t> pick(0, on.size() - 1);
+  int bad = 0, checked = 0;
+  for (int n = 0; n < 3000; ++n) {
+    const Point2 a = on[pick(rng)], b = on[pick(rng)], c = on[pick(rng)];
+    const int orient = ExactOrientSign(a, b, c);
+    if (orient == 0) continue;  // repeated point
+    ++checked;
+    const Point2 d = outer[n % outer.size()];
+    const double got = InCircle(a, b, c, d);
+    if (SignOf(got) != -orient && bad++ < 5) {
+      ADD_FAILURE() << "InCircle(" << Str(a, b, c, d) << ") = " << got << ", expected sign " << -orient;
+    }
+    const Point2 e = on[pick(rng)];
+    const double tie = InCircle(a, b, c, e);
+    if (tie != 0.0 && bad++ < 5) {
+      ADD_FAILURE() << "InCircle(" << Str(a, b, c, e) << ") = " << tie << ", expected 0 (cocircular)";
+    }
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(checked, 2000);
+  // The oracle agrees with the analytic answer.
+  EXPECT_EQ(ExactInCircleSign(on[0], on[10], on[20], outer[0]), -ExactOrientSign(on[0], on[10], on[20]));
+}
+
 TEST(InCircleTest, LargeOffsetsMatchExact) {
   std::mt19937_64 rng(25);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -448,6 +624,141 @@ TEST(InCircleTest, TinyCoordinatesMatchExact) {
     }
     EXPECT_EQ(bad, 0) << "scale " << scale;
   }
+}
+
+TEST(InCircleTest, HugeCoordinatesMatchExact) {
+  std::mt19937_64 rng(27);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double scale : {1e80, 1e100, 1e150, 3e150}) {
+    int reported = 0, bad = 0;
+    for (int n = 0; n < 1000; ++n) {
+      Point2 p[4];
+      for (Point2& q : p) q = {scale * u(rng), scale * u(rng)};
+      bad += CheckInCircle(p[0], p[1], p[2], p[3], &reported);
+    }
+    EXPECT_EQ(bad, 0) << "scale " << scale;
+  }
+}
+
+TEST(InCircleTest, WideMixedMagnitudesMatchExact) {
+  std::mt19937_64 rng(28);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> e(-100, 100);
+  auto coord = [&]() { return std::ldexp(u(rng), e(rng)); };
+  int reported = 0, bad = 0;
+  for (int k = 0; k < 3000; ++k) {
+    Point2 p[4];
+    for (Point2& q : p) q = {coord(), coord()};
+    bad += CheckInCircle(p[0], p[1], p[2], p[3], &reported);
+  }
+  EXPECT_EQ(bad, 0);
+}
+
+// Small next to large within one call. predicates.h promises exactness
+// unless "the components of one call span more than ~2^1000 (e.g. 1e-200
+// next to 1e100)". Analytic case: a, b, c = (0,5), (-4,3), (4,-3) are
+// counter-clockwise on x² + y² = 25 and d = (-5, y) with y != 0 has
+// |d|² = 25 + y² > 25, so d is outside: InCircle < 0 for every y != 0. The
+// same with everything scaled by 2^400 (still below the 2^500 limit).
+void ExpectSmallNextToLargeOutside(const std::vector<int>& spans) {
+  const Point2 a{0, 5}, b{-4, 3}, c{4, -3};
+  for (int scale : {0, 400}) {
+    for (int span : spans) {
+      const Point2 sa{std::ldexp(a.x, scale), std::ldexp(a.y, scale)};
+      const Point2 sb{std::ldexp(b.x, scale), std::ldexp(b.y, scale)};
+      const Point2 sc{std::ldexp(c.x, scale), std::ldexp(c.y, scale)};
+      const Point2 d{std::ldexp(-5.0, scale), std::ldexp(1.0, scale - span)};
+      ASSERT_EQ(ExactInCircleSign(sa, sb, sc, d), -1);
+      EXPECT_LT(InCircle(sa, sb, sc, d), 0.0)
+          << "span 2^" << span << ": InCircle(" << Str(sa, sb, sc, d) << ") = " << InCircle(sa, sb, sc, d)
+          << ", but d is outside (|d|^2 = R^2 + y^2)";
+      EXPECT_EQ(InCirclePerturbed(sa, sb, sc, d), -1) << "span 2^" << span << " scale 2^" << scale;
+    }
+  }
+}
+
+TEST(InCircleTest, SmallNextToLargeUpToSpan2To500) {
+  ExpectSmallNextToLargeOutside({10, 50, 100, 200, 300, 400, 500});
+}
+
+// Regression: from a span of ~2^532 on, InCircle returned 0 (y² underflowed
+// inside the exact stage, which scaled the largest difference to 1). The
+// exact stage now centres its range; this case stays exact to 2^700.
+TEST(InCircleTest, SmallNextToLargeSpan2To540To700WithinDocumentedDomain) {
+  ExpectSmallNextToLargeOutside({540, 600, 700});
+}
+
+// Orient2D with the same kind of inputs: (-2,-2), (4,4) and (0, 2^-k) turn
+// counter-clockwise for every k (c is above the line y = x).
+TEST(Orient2DTest, SmallNextToLargeWithinDocumentedDomain) {
+  for (int scale : {0, 400}) {
+    for (int span : {10, 100, 300, 500, 600, 700, 900, 990}) {
+      const Point2 a{std::ldexp(-2.0, scale), std::ldexp(-2.0, scale)};
+      const Point2 b{std::ldexp(4.0, scale), std::ldexp(4.0, scale)};
+      const Point2 c{0.0, std::ldexp(1.0, scale - span)};
+      ASSERT_EQ(ExactOrientSign(a, b, c), 1);
+      EXPECT_GT(Orient2D(a, b, c), 0.0) << "span 2^" << span << " scale 2^" << scale << ": " << Str(a, b, c);
+    }
+  }
+}
+
+// As for Orient2D: scaling by 2^k scales the in-circle determinant by
+// 2^4k > 0. Exactly cocircular lattice quadruples stay exactly 0 and their
+// one-ulp neighbours keep their scale-1 signs.
+TEST(InCircleTest, PowerOfTwoScalingKeepsExactSigns) {
+  std::mt19937_64 rng(29);
+  const std::vector<std::pair<int, int>> circle = LatticeCircle(65);
+  std::uniform_int_distribution<std::size_t> pick(0, circle.size() - 1);
+  std::vector<std::array<Point2, 4>> cases;
+  while (cases.size() < 400) {
+    std::size_t i[4];
+    for (std::size_t& j : i) j = pick(rng);
+    if (std::set<std::size_t>(i, i + 4).size() < 4) continue;
+    std::array<Point2, 4> c;
+    for (int j = 0; j < 4; ++j) {
+      c[j] = {7.0 + circle[i[j]].first, -3.0 + circle[i[j]].second};
+    }
+    cases.push_back(c);
+    const int dx = static_cast<int>(rng() % 3) - 1, dy = static_cast<int>(rng() % 3) - 1;
+    c[3] = {Ulps(c[3].x, dx), Ulps(c[3].y, dy)};
+    cases.push_back(c);
+  }
+  // Plus random integer quadruples: clear signs, which at the extreme scales
+  // still reach the exact stage (the filter does not work there).
+  std::uniform_int_distribution<int> coord(-3000, 3000);
+  for (int n = 0; n < 200; ++n) {
+    std::array<Point2, 4> c;
+    for (Point2& q : c) q = {static_cast<double>(coord(rng)), static_cast<double>(coord(rng))};
+    cases.push_back(c);
+  }
+  int bad = 0, zeros = 0;
+  for (const auto& c : cases) zeros += ExactInCircleSign(c[0], c[1], c[2], c[3]) == 0 ? 1 : 0;
+  // -272 .. -262 put the degree-4 products among the subnormals.
+  for (int k : {-1000, -700, -400, -272, -268, -265, -262, -250, 200, 300, 440}) {
+    for (const auto& c : cases) {
+      Point2 q[4];
+      for (int i = 0; i < 4; ++i) {
+        q[i] = {std::ldexp(c[i].x, k), std::ldexp(c[i].y, k)};
+        ASSERT_EQ(std::ldexp(q[i].x, -k), c[i].x);
+        ASSERT_EQ(std::ldexp(q[i].y, -k), c[i].y);
+      }
+      const int expected = ExactInCircleSign(c[0], c[1], c[2], c[3]);
+      const double got = InCircle(q[0], q[1], q[2], q[3]);
+      if (SignOf(got) != expected && bad++ < 5) {
+        ADD_FAILURE() << "scale 2^" << k << ": InCircle(" << Str(q[0], q[1], q[2], q[3]) << ") = " << got
+                      << ", exact sign " << expected;
+      }
+      if (expected == 0) {
+        const int perturbed = InCirclePerturbed(q[0], q[1], q[2], q[3]);
+        if (perturbed != ExactInCirclePerturbedSign(c[0], c[1], c[2], c[3]) && bad++ < 5) {
+          ADD_FAILURE() << "scale 2^" << k << ": InCirclePerturbed(" << Str(q[0], q[1], q[2], q[3])
+                        << ") = " << perturbed;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GE(zeros, 200);  // the 200 unperturbed ones, and unmoved neighbours
 }
 
 // ---------------------------------------------------------------------------
@@ -591,6 +902,10 @@ TEST(InCirclePerturbedTest, SquareHasExactlyOneDelaunayDiagonal) {
       {{{1, 0}, {2, 1}, {1, 2}, {0, 1}}, 0},
       // A rotated square with integer corners (3,0), (4,3), (1,4), (0,1).
       {{{3, 0}, {4, 3}, {1, 4}, {0, 1}}, 0},  // largest (4,3) = p1
+      // Not a square, on x² + y² = 25: the largest corner (5,0) = p0 and the
+      // smallest (-3,-4) = p3 are adjacent, so this one also tells "largest
+      // dominates" from "smallest dominates" (which would give p0-p2).
+      {{{5, 0}, {4, 3}, {0, 5}, {-3, -4}}, 1},
   };
   for (const Square& sq : squares) {
     const Point2* p = sq.p;

@@ -19,4 +19,11 @@ class UsageError : public std::runtime_error {
 // and timings.
 int RunTriangulate(const std::vector<std::string>& args);
 
+// measure A B [--volume=overlay|union] [--weights=uniform|per_point|
+// mask:POLYGON_FILE] [--json]: reads two surfaces, compares B with A
+// (measure/measures.h: ρd, ρ'd, ρs, signed and cut/fill volumes over the
+// overlap of their hulls), reports the measures, counts and timings. Bad
+// --volume/--weights values and bad polygon files are InputErrors (one line).
+int RunMeasure(const std::vector<std::string>& args);
+
 }  // namespace surfreg

@@ -1,5 +1,4 @@
 // surfreg triangulate FILE [--json]: read + Delaunay, with counts and timings.
-#include <gflags/gflags.h>
 #include <glog/logging.h>
 
 #include <algorithm>
@@ -13,8 +12,7 @@
 #include "measure/delaunay.h"
 #include "tools/commands.h"
 #include "tools/io/surface_reader.h"
-
-DEFINE_bool(json, false, "triangulate: print one JSON object instead of text");
+#include "tools/json_writer.h"
 
 namespace surfreg {
 namespace {
@@ -42,34 +40,22 @@ std::string Exact(double value) {
   return std::string(buffer, result.ptr);
 }
 
-std::string JsonString(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof(escaped), "\\u%04x", c);
-      out += escaped;
-    } else {
-      out += c;  // UTF-8 passes through; other bytes are the file name's own
-    }
-  }
-  return out + "\"";
-}
-
 void PrintJson(const TriangulateReport& r) {
-  std::printf(
-      "{\"file\": %s, \"origin\": [%s, %s, %s], \"n_points\": %lld, \"n_vertices\": %lld, "
-      "\"n_duplicates\": %lld, \"n_triangles\": %lld, \"n_hull_edges\": %lld, "
-      "\"timings\": {\"read\": %.6f, \"triangulate\": %.6f, \"total\": %.6f}, "
-      "\"points_per_second\": %.0f}\n",
-      JsonString(r.file).c_str(), Exact(r.origin[0]).c_str(), Exact(r.origin[1]).c_str(),
-      Exact(r.origin[2]).c_str(), static_cast<long long>(r.n_points),
-      static_cast<long long>(r.n_vertices()), static_cast<long long>(r.n_duplicates),
-      static_cast<long long>(r.n_triangles), static_cast<long long>(r.n_hull_edges), r.read_s,
-      r.triangulate_s, r.total_s, r.points_per_s());
+  JsonObject timings;
+  timings.Fixed("read", r.read_s, 6)
+      .Fixed("triangulate", r.triangulate_s, 6)
+      .Fixed("total", r.total_s, 6);
+  JsonObject json;
+  json.String("file", r.file)
+      .Raw("origin", JsonArray({Exact(r.origin[0]), Exact(r.origin[1]), Exact(r.origin[2])}))
+      .Int("n_points", r.n_points)
+      .Int("n_vertices", r.n_vertices())
+      .Int("n_duplicates", r.n_duplicates)
+      .Int("n_triangles", r.n_triangles)
+      .Int("n_hull_edges", r.n_hull_edges)
+      .Object("timings", timings)
+      .Fixed("points_per_second", r.points_per_s(), 0);
+  std::printf("%s\n", json.str().c_str());
 }
 
 void PrintText(const TriangulateReport& r) {

@@ -26,6 +26,9 @@ struct Command {
 const Command kCommands[] = {
     {"triangulate", RunTriangulate, "FILE [--json]",
      "read a surface, Delaunay-triangulate it, print counts and timings"},
+    {"measure", RunMeasure,
+     "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE] [--json]",
+     "compare surface B with A: volume between them (rho_d), mean gap, cut/fill, timings"},
 };
 
 const Command* FindCommand(const std::string& name) {

@@ -1,0 +1,267 @@
+// Measure() against analytic answers (planes, a paraboloid), brute-force
+// quadrature, and its own invariances (symmetry, shuffling, rigid xy motion).
+#include "measure/measures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "measure/input_error.h"
+#include "tests/testing/point_sets.h"
+
+namespace surfreg {
+namespace {
+
+using Height = std::function<double(double, double)>;
+
+// Random points in [0, side]^2 plus the four corners (so the hull is the square).
+std::vector<Point2> SquareCloud(std::size_t n, double side, uint64_t seed) {
+  std::vector<Point2> p = testing::UniformPoints(n, seed);
+  for (Point2& q : p) q = {q.x * side, q.y * side};
+  p.push_back({0, 0});
+  p.push_back({side, 0});
+  p.push_back({side, side});
+  p.push_back({0, side});
+  return p;
+}
+
+Surface Sample(const std::vector<Point2>& xy, const Height& f, double dx = 0.0, double dy = 0.0) {
+  std::vector<std::array<double, 3>> points;
+  for (const Point2& p : xy) points.push_back({p.x + dx, p.y + dy, f(p.x, p.y)});
+  return MakeSurface(points, {}, "test");
+}
+
+double Rel(double value, double truth) { return std::fabs(value - truth) / std::fabs(truth); }
+
+TEST(MeasureTest, ParallelPlanes) {
+  const Height a = [](double x, double y) { return 1.0 + 0.5 * x - 0.2 * y; };
+  const Height b = [&](double x, double y) { return a(x, y) + 2.0; };
+  const MeasureSummary s = Measure(Sample(SquareCloud(500, 10, 1), a), Sample(SquareCloud(700, 10, 2), b));
+  EXPECT_LT(Rel(s.rho_d, 200.0), 1e-9);
+  EXPECT_LT(Rel(s.overlap_area, 100.0), 1e-12);
+  EXPECT_LT(Rel(s.signed_volume, 200.0), 1e-9);
+  EXPECT_LT(Rel(s.volume_above, 200.0), 1e-9);
+  EXPECT_NEAR(s.volume_below, 0.0, 1e-9);
+  EXPECT_LT(Rel(s.rho_d_axial, 2.0), 1e-9);
+  EXPECT_LT(Rel(s.mean_abs_dz, 2.0), 1e-9);
+  EXPECT_LT(Rel(s.rho_s, 1.0 / 200.0), 1e-9);
+  EXPECT_EQ(s.n_overlap_nodes, 504 + 704 - 4);  // G1 ∪ G2 as a set: shared corners once
+}
+
+TEST(MeasureTest, CrossingPlanes) {
+  // d = x − 5 on [0, 10]^2: ∫|d| = 10·2·(5²/2) = 250, half above, half below.
+  const Height zero = [](double, double) { return 0.0; };
+  const Height ramp = [](double x, double) { return x - 5.0; };
+  for (VolumeMode mode : {VolumeMode::kOverlay}) {
+    MeasureOptions options;
+    options.volume = mode;
+    const MeasureSummary s =
+        Measure(Sample(SquareCloud(400, 10, 3), zero), Sample(SquareCloud(600, 10, 4), ramp), options);
+    EXPECT_LT(Rel(s.rho_d, 250.0), 1e-9);
+    EXPECT_LT(Rel(s.volume_above, 125.0), 1e-9);
+    EXPECT_LT(Rel(s.volume_below, 125.0), 1e-9);
+    EXPECT_NEAR(s.signed_volume, 0.0, 1e-9);
+  }
+}
+
+TEST(MeasureTest, ObliquePlanes) {
+  // d = x − 2y + 1 on [0, 10]^2. Per x-slice ∫|d|dy = (x+1)²/2 + 90 − 10x,
+  // so ρd = [(x+1)³/6]₀¹⁰ + 400 = 1330/6 + 400 = 1865/3; signed = 500 − 1000 + 100.
+  const Height a = [](double x, double y) { return x + y; };
+  const Height b = [](double x, double y) { return 2.0 * x - y + 1.0; };
+  const MeasureSummary s = Measure(Sample(SquareCloud(800, 10, 5), a), Sample(SquareCloud(300, 10, 6), b));
+  EXPECT_LT(Rel(s.rho_d, 1865.0 / 3.0), 1e-9);
+  EXPECT_LT(Rel(s.signed_volume, -400.0), 1e-9);
+  EXPECT_LT(Rel(s.volume_above - s.volume_below, -400.0), 1e-9);
+}
+
+TEST(MeasureTest, SamePlaneOnTwoSamplingsIsZero) {
+  const Height f = [](double x, double y) { return 3.0 - 0.7 * x + 0.1 * y; };
+  const MeasureSummary s = Measure(Sample(SquareCloud(900, 10, 7), f), Sample(SquareCloud(500, 10, 8), f));
+  EXPECT_LT(s.rho_d, 1e-10);
+  EXPECT_LT(s.rho_d_axial, 1e-12);
+}
+
+TEST(MeasureTest, SurfaceAgainstItselfIsExactlyZero) {
+  const Surface a = Sample(SquareCloud(300, 10, 9), [](double x, double y) { return std::sin(x) * y; });
+  const MeasureSummary s = Measure(a, a);
+  EXPECT_EQ(s.rho_d, 0.0);
+  EXPECT_EQ(s.rho_d_axial, 0.0);
+  EXPECT_EQ(s.rho_s, 1.0);
+}
+
+TEST(MeasureTest, ParaboloidConvergesToTheIntegral) {
+  // ∫∫_{[0,1]²} (x² + y²) = 2/3 against the plane z = 0; piecewise-linear
+  // interpolation error is O(h²), so the error must fall ~10× per 10× points.
+  const Height bowl = [](double x, double y) { return x * x + y * y; };
+  const Height flat = [](double, double) { return 0.0; };
+  double previous = 1.0;
+  for (std::size_t n : {1000u, 10000u, 100000u}) {
+    const MeasureSummary s =
+        Measure(Sample(SquareCloud(n, 1, 10 + n), bowl), Sample(SquareCloud(n, 1, 20 + n), flat));
+    const double error = Rel(s.rho_d, 2.0 / 3.0);
+    EXPECT_LT(error, previous / 4.0) << n;
+    previous = error;
+  }
+  EXPECT_LT(previous, 1e-4);
+}
+
+TEST(MeasureTest, SymmetricInItsArguments) {
+  const Surface a = Sample(SquareCloud(600, 10, 30), [](double x, double y) { return std::cos(x) + 0.1 * y * y; });
+  const Surface b = Sample(SquareCloud(450, 10, 31), [](double x, double y) { return std::sin(y) + 0.05 * x; });
+  const MeasureSummary ab = Measure(a, b), ba = Measure(b, a);
+  EXPECT_LT(Rel(ab.rho_d, ba.rho_d), 1e-12);
+  EXPECT_LT(Rel(ab.rho_d_axial, ba.rho_d_axial), 1e-12);
+  EXPECT_LT(Rel(ab.volume_above, ba.volume_below), 1e-12);
+  EXPECT_LT(Rel(ab.overlap_area, ba.overlap_area), 1e-12);
+}
+
+TEST(MeasureTest, ShufflingLeavesEveryMeasureUnchanged) {
+  const Height fa = [](double x, double y) { return std::cos(0.7 * x) * std::sin(0.3 * y); };
+  const Height fb = [](double x, double y) { return 0.2 + 0.1 * x - 0.03 * y * y; };
+  std::vector<Point2> pa = SquareCloud(2000, 10, 40), pb = testing::GridPoints(31, 31, 1.0 / 3.0);
+  const MeasureSummary before = Measure(Sample(pa, fa), Sample(pb, fb));
+  std::mt19937_64 rng(41);
+  std::shuffle(pa.begin(), pa.end(), rng);
+  std::shuffle(pb.begin(), pb.end(), rng);
+  const MeasureSummary after = Measure(Sample(pa, fa), Sample(pb, fb));
+  EXPECT_LT(Rel(after.rho_d, before.rho_d), 1e-12);
+  EXPECT_LT(Rel(after.rho_d_axial, before.rho_d_axial), 1e-12);
+  EXPECT_LT(Rel(after.signed_volume, before.signed_volume), 1e-12);
+  EXPECT_LT(Rel(after.overlap_area, before.overlap_area), 1e-12);
+  EXPECT_EQ(after.n_cells, before.n_cells);
+}
+
+TEST(MeasureTest, InvariantUnderACommonRigidMotionOfXy) {
+  const Height fa = [](double x, double y) { return std::cos(0.5 * x) + 0.2 * y; };
+  const Height fb = [](double x, double y) { return 0.3 * std::sin(x * y / 10.0); };
+  const std::vector<Point2> pa = SquareCloud(1500, 10, 50), pb = SquareCloud(1200, 10, 51);
+  const MeasureSummary base = Measure(Sample(pa, fa), Sample(pb, fb));
+  const double c = std::cos(0.5), s = std::sin(0.5);
+  auto move = [&](const std::vector<Point2>& p, const Height& f) {
+    std::vector<std::array<double, 3>> out;
+    for (const Point2& q : p) out.push_back({c * q.x - s * q.y + 500000.0, s * q.x + c * q.y + 4.5e6, f(q.x, q.y)});
+    return MakeSurface(out, {}, "moved");
+  };
+  const MeasureSummary moved = Measure(move(pa, fa), move(pb, fb));
+  EXPECT_LT(Rel(moved.rho_d, base.rho_d), 1e-9);
+  EXPECT_LT(Rel(moved.overlap_area, base.overlap_area), 1e-9);
+  EXPECT_LT(Rel(moved.rho_d_axial, base.rho_d_axial), 1e-9);
+}
+
+TEST(MeasureTest, UnionEqualsOverlayOnIdenticalSamplings) {
+  // Same xy: the union triangulation is each one's, so both are exact.
+  const std::vector<Point2> xy = SquareCloud(500, 10, 60);
+  const Surface a = Sample(xy, [](double x, double y) { return std::sin(x) + y; });
+  const Surface b = Sample(xy, [](double x, double y) { return 0.5 * x - std::cos(y); });
+  MeasureOptions options;
+  options.volume = VolumeMode::kUnion;
+  const MeasureSummary u = Measure(a, b, options), o = Measure(a, b);
+  EXPECT_LT(Rel(u.rho_d, o.rho_d), 1e-12);
+  EXPECT_LT(Rel(u.signed_volume, o.signed_volume), 1e-9);
+}
+
+TEST(MeasureTest, UnionApproximatesOverlay) {
+  const Height fa = [](double x, double y) { return std::sin(0.5 * x) * std::cos(0.4 * y); };
+  const Height fb = [](double x, double y) { return 0.3 + 0.02 * x * y; };
+  MeasureOptions options;
+  options.volume = VolumeMode::kUnion;
+  const Surface a = Sample(SquareCloud(3000, 10, 61), fa), b = Sample(SquareCloud(2500, 10, 62), fb);
+  const MeasureSummary u = Measure(a, b, options), o = Measure(a, b);
+  EXPECT_LT(Rel(u.rho_d, o.rho_d), 0.02);
+  EXPECT_NE(u.rho_d, o.rho_d);
+}
+
+TEST(MeasureTest, ConstantPerPointWeightScalesTheVolume) {
+  const std::vector<Point2> pa = SquareCloud(300, 10, 70);
+  std::vector<std::array<double, 3>> points;
+  for (const Point2& p : pa) points.push_back({p.x, p.y, 0.0});
+  const Surface a = MakeSurface(points, std::vector<double>(points.size(), 2.0), "weighted");
+  const Surface b = Sample(SquareCloud(400, 10, 71), [](double x, double) { return x - 5.0; });
+  MeasureOptions options;
+  options.weight = WeightMode::kPerPoint;
+  const MeasureSummary s = Measure(a, b, options);
+  EXPECT_LT(Rel(s.rho_d, 500.0), 1e-9);
+  EXPECT_LT(Rel(s.weight_integral, 200.0), 1e-9);
+  EXPECT_LT(Rel(s.mean_abs_dz, 2.5), 1e-9);
+}
+
+TEST(MeasureTest, LinearPerPointWeight) {
+  // μ = x/10 on A (exactly linear), d = 1: ∫μ = 50 over the square.
+  std::vector<std::array<double, 3>> points;
+  std::vector<double> weight;
+  for (const Point2& p : SquareCloud(300, 10, 72)) {
+    points.push_back({p.x, p.y, 0.0});
+    weight.push_back(p.x / 10.0);
+  }
+  const Surface a = MakeSurface(points, weight, "weighted");
+  const Surface b = Sample(SquareCloud(200, 10, 73), [](double, double) { return 1.0; });
+  MeasureOptions options;
+  options.weight = WeightMode::kPerPoint;
+  const MeasureSummary s = Measure(a, b, options);
+  EXPECT_LT(Rel(s.rho_d, 50.0), 1e-9);
+  EXPECT_LT(Rel(s.weight_integral, 50.0), 1e-9);
+}
+
+TEST(MeasureTest, MaskPolygonRestrictsTheIntegral) {
+  // d = x − 5; an L-shaped (non-convex) mask: [0,5]x[0,10] ∪ [5,10]x[0,2].
+  // ∫_mask |x − 5| = 10·(5²/2) + 2·(5²/2) = 150; mask area 50 + 10 = 60.
+  const Height zero = [](double, double) { return 0.0; };
+  const Height ramp = [](double x, double) { return x - 5.0; };
+  MeasureOptions options;
+  options.weight = WeightMode::kMask;
+  options.mask_polygon = {{0, 0}, {10, 0}, {10, 2}, {5, 2}, {5, 10}, {0, 10}};
+  const MeasureSummary s =
+      Measure(Sample(SquareCloud(500, 10, 80), zero), Sample(SquareCloud(500, 10, 81), ramp), options);
+  EXPECT_LT(Rel(s.rho_d, 150.0), 1e-9);
+  EXPECT_LT(Rel(s.weight_integral, 60.0), 1e-9);
+  EXPECT_LT(Rel(s.overlap_area, 100.0), 1e-12);  // |Ω| itself is unweighted
+}
+
+TEST(MeasureTest, PartialOverlap) {
+  // B covers [5, 15] x [0, 10]: Ω = [5, 10] x [0, 10].
+  const Height a = [](double, double) { return 0.0; };
+  const Height b = [](double, double) { return 1.0; };
+  const MeasureSummary s =
+      Measure(Sample(SquareCloud(400, 10, 90), a), Sample(SquareCloud(400, 10, 91), b, 5.0, 0.0));
+  EXPECT_LT(Rel(s.overlap_area, 50.0), 1e-12);
+  EXPECT_LT(Rel(s.rho_d, 50.0), 1e-12);
+}
+
+TEST(MeasureTest, DisjointOrSliverOverlapIsAnError) {
+  const Height f = [](double, double) { return 0.0; };
+  const Surface a = Sample(SquareCloud(100, 10, 92), f);
+  EXPECT_THROW(Measure(a, Sample(SquareCloud(100, 10, 93), f, 20.0, 0.0)), InputError);
+  // Touching along the edge x = 10 only.
+  EXPECT_THROW(Measure(a, Sample(SquareCloud(100, 10, 94), f, 10.0, 0.0)), InputError);
+  MeasureOptions bad;
+  bad.min_overlap_fraction = 2.0;
+  EXPECT_THROW(Measure(a, a, bad), InputError);
+  MeasureOptions no_weights;
+  no_weights.weight = WeightMode::kPerPoint;
+  EXPECT_THROW(Measure(a, a, no_weights), InputError);
+  MeasureOptions bow_tie;
+  bow_tie.weight = WeightMode::kMask;
+  bow_tie.mask_polygon = {{0, 0}, {10, 10}, {10, 0}, {0, 10}};
+  EXPECT_THROW(Measure(a, a, bow_tie), InputError);
+}
+
+TEST(MeasureTest, DuplicatePointsAreAveraged) {
+  // Two samples at each xy with heights 0 and 2: the surface is z = 1.
+  std::vector<std::array<double, 3>> points;
+  for (const Point2& p : SquareCloud(200, 10, 95)) {
+    points.push_back({p.x, p.y, 0.0});
+    points.push_back({p.x, p.y, 2.0});
+  }
+  const Surface a = MakeSurface(points, {}, "dup");
+  const Surface b = Sample(SquareCloud(300, 10, 96), [](double, double) { return 1.0; });
+  const MeasureSummary s = Measure(a, b);
+  EXPECT_EQ(s.n_duplicates_a, 204);
+  EXPECT_LT(s.rho_d, 1e-10);
+}
+
+}  // namespace
+}  // namespace surfreg

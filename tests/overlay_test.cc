@@ -1,0 +1,219 @@
+// The overlay against brute force: every pair of triangles clipped directly,
+// and ρd against midpoint quadrature of |F̂_B − F̂_A| (with a Richardson
+// estimate of the quadrature's own error), on random smooth pairs and on a
+// real DEM against an irregular resampling of itself.
+#include "measure/overlay.h"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "measure/locator.h"
+#include "measure/measures.h"
+#include "measure/spanning_tree.h"
+#include "tests/testing/point_sets.h"
+
+namespace surfreg {
+namespace {
+
+// Area of triangle P ∩ triangle Q by an independent convex clip.
+double IntersectionArea(const std::array<Point2, 3>& p, const std::array<Point2, 3>& q) {
+  std::vector<Point2> poly(p.begin(), p.end());
+  for (int i = 0; i < 3; ++i) {
+    const Point2 a = q[i], b = q[(i + 1) % 3];
+    auto side = [&](const Point2& r) { return (b.x - a.x) * (r.y - a.y) - (b.y - a.y) * (r.x - a.x); };
+    std::vector<Point2> out;
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const Point2 r = poly[k], s = poly[(k + 1) % poly.size()];
+      const double sr = side(r), ss = side(s);
+      if (sr >= 0) out.push_back(r);
+      if ((sr > 0 && ss < 0) || (sr < 0 && ss > 0)) {
+        const double t = sr / (sr - ss);
+        out.push_back({r.x + t * (s.x - r.x), r.y + t * (s.y - r.y)});
+      }
+    }
+    poly = out;
+    if (poly.empty()) return 0.0;
+  }
+  double twice = 0.0;
+  for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+    twice += (poly[k].x - poly[0].x) * (poly[k + 1].y - poly[0].y) -
+             (poly[k].y - poly[0].y) * (poly[k + 1].x - poly[0].x);
+  }
+  return 0.5 * twice;
+}
+
+std::array<Point2, 3> Corners(const std::vector<Point2>& p, const Triangulation& m, int32_t t) {
+  return {p[m.triangles[3 * t]], p[m.triangles[3 * t + 1]], p[m.triangles[3 * t + 2]]};
+}
+
+struct Pair {
+  std::vector<Point2> a, b;
+  Triangulation ma, mb;
+  std::vector<Location> a_in_b, b_in_a;
+};
+
+Pair MakePair(std::vector<Point2> a, std::vector<Point2> b) {
+  Pair s{std::move(a), std::move(b), {}, {}, {}, {}};
+  s.ma = Triangulate(s.a);
+  s.mb = Triangulate(s.b);
+  s.a_in_b = LocateAll(s.b, s.mb, s.a, s.ma, EuclideanMst(s.a, s.ma));
+  s.b_in_a = LocateAll(s.a, s.ma, s.b, s.mb, EuclideanMst(s.b, s.mb));
+  return s;
+}
+
+void ExpectCellsMatchBruteForce(const Pair& s) {
+  std::map<std::pair<int32_t, int32_t>, double> cells;
+  ForEachOverlayCell(s.a, s.ma, s.a_in_b, s.b, s.mb, s.b_in_a, [&](const OverlayCell& c) {
+    const auto key = std::make_pair(c.triangle_a, c.triangle_b);
+    EXPECT_EQ(cells.count(key), 0u) << "cell visited twice";
+    cells[key] = c.area;
+  });
+  int missing = 0;
+  double total = 0.0;
+  for (int32_t ta = 0; ta < s.ma.num_triangles(); ++ta) {
+    for (int32_t tb = 0; tb < s.mb.num_triangles(); ++tb) {
+      const double area = IntersectionArea(Corners(s.a, s.ma, ta), Corners(s.b, s.mb, tb));
+      const auto it = cells.find({ta, tb});
+      if (area > 1e-9) {
+        if (it == cells.end()) {
+          ++missing;
+          continue;
+        }
+        EXPECT_NEAR(it->second, area, 1e-12 + 1e-9 * area);
+      } else if (it != cells.end()) {
+        EXPECT_LT(it->second, 1e-9) << "spurious cell " << ta << " " << tb;
+      }
+      total += std::max(area, 0.0);
+    }
+  }
+  EXPECT_EQ(missing, 0);
+  double sum = 0.0;
+  for (const auto& kv : cells) sum += kv.second;
+  EXPECT_NEAR(sum, total, 1e-9 * total);
+}
+
+TEST(OverlayTest, RandomMeshesMatchBruteForcePairs) {
+  for (uint64_t seed : {1, 2, 3}) {
+    ExpectCellsMatchBruteForce(MakePair(testing::UniformPoints(120, seed), testing::UniformPoints(90, seed + 10)));
+  }
+}
+
+TEST(OverlayTest, SharedGridVerticesAndEdges) {
+  // Both on grids that share vertices and whole edges: every contact is degenerate.
+  std::vector<Point2> a = testing::GridPoints(9, 9, 1.0);
+  std::vector<Point2> b = testing::GridPoints(5, 5, 2.0);
+  ExpectCellsMatchBruteForce(MakePair(a, b));
+  ExpectCellsMatchBruteForce(MakePair(a, a));
+}
+
+TEST(OverlayTest, PartialOverlapAndNoVertexInside) {
+  // A thin horizontal strip and a thin vertical strip crossing: no vertex of
+  // either lies in the other's hull... except none: the overlap must still be found
+  // through the B vertices located in A or the propagation across A's edges.
+  std::vector<Point2> a = testing::UniformPoints(60, 4), b = testing::UniformPoints(60, 5);
+  for (Point2& p : b) p = {p.x + 0.5, p.y + 0.3};
+  ExpectCellsMatchBruteForce(MakePair(a, b));
+}
+
+// Midpoint rule of |F̂_B − F̂_A| on an m x m grid over [x0,x1]x[y0,y1], with
+// samples outside either hull contributing nothing.
+double Quadrature(const std::vector<Point2>& pa, const Triangulation& ma, const std::vector<double>& za,
+                  const std::vector<Point2>& pb, const Triangulation& mb, const std::vector<double>& zb,
+                  double x0, double x1, double y0, double y1, int m) {
+  auto value = [](const Triangulation& mesh, const std::vector<double>& z, const Location& l) {
+    const int32_t* v = &mesh.triangles[3 * l.triangle];
+    return l.barycentric[0] * z[v[0]] + l.barycentric[1] * z[v[1]] + l.barycentric[2] * z[v[2]];
+  };
+  const double hx = (x1 - x0) / m, hy = (y1 - y0) / m;
+  double sum = 0.0;
+  int32_t ta = 0, tb = 0;
+  for (int i = 0; i < m; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const Point2 q{x0 + (i + 0.5) * hx, y0 + (j + 0.5) * hy};
+      const Location la = LocatePoint(pa, ma, q, ta), lb = LocatePoint(pb, mb, q, tb);
+      ta = la.triangle;
+      tb = lb.triangle;
+      if (la.found() && lb.found()) sum += std::fabs(value(mb, zb, lb) - value(ma, za, la));
+    }
+  }
+  return sum * hx * hy;
+}
+
+Surface ToSurface(const std::vector<Point2>& xy, const std::vector<double>& z) {
+  std::vector<std::array<double, 3>> points;
+  for (std::size_t i = 0; i < xy.size(); ++i) points.push_back({xy[i].x, xy[i].y, z[i]});
+  return MakeSurface(points, {}, "q", 0.0);
+}
+
+void ExpectOverlayMatchesQuadrature(const std::vector<Point2>& pa, const std::vector<double>& za,
+                                    const std::vector<Point2>& pb, const std::vector<double>& zb,
+                                    double x0, double x1, double y0, double y1, int m) {
+  const Triangulation ma = Triangulate(pa), mb = Triangulate(pb);
+  const double coarse = Quadrature(pa, ma, za, pb, mb, zb, x0, x1, y0, y1, m);
+  const double fine = Quadrature(pa, ma, za, pb, mb, zb, x0, x1, y0, y1, 2 * m);
+  const double quadrature_error = std::fabs(fine - coarse) / 3.0;  // O(h²) Richardson
+  const double rho_d = Measure(ToSurface(pa, za), ToSurface(pb, zb)).rho_d;
+  std::printf("overlay %.12g  quadrature %.12g  (estimated error %.3g)\n", rho_d, fine, quadrature_error);
+  EXPECT_LT(std::fabs(rho_d - fine), 3.0 * quadrature_error + 1e-9 * rho_d);
+  EXPECT_LT(std::fabs(rho_d - fine), 1e-3 * rho_d);
+}
+
+TEST(OverlayTest, RhoDMatchesQuadratureOnRandomSmoothPairs) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 3; ++trial) {
+    const double k1 = 3 + 2 * u(rng), k2 = 3 + 2 * u(rng), s = 0.3 * u(rng);
+    std::vector<Point2> pa = testing::UniformPoints(150, 100 + trial), pb = testing::UniformPoints(110, 200 + trial);
+    for (auto* p : {&pa, &pb}) {
+      p->insert(p->end(), {{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    }
+    std::vector<double> za, zb;
+    for (const Point2& p : pa) za.push_back(std::sin(k1 * p.x) * std::cos(k2 * p.y));
+    for (const Point2& p : pb) zb.push_back(s + 0.4 * std::cos(k2 * p.x + k1 * p.y));
+    ExpectOverlayMatchesQuadrature(pa, za, pb, zb, 0, 1, 0, 1, 300);
+  }
+}
+
+TEST(OverlayTest, RealDemAgainstAnIrregularResamplingOfItself) {
+  // The Maunga Whau volcano grid (87 x 61, 10 m) against 3000 random points
+  // with heights bilinearly interpolated from the grid.
+  std::ifstream in("configs/data/volcano.xyz");
+  ASSERT_TRUE(in.good()) << "run from the repository root";
+  std::vector<Point2> pa;
+  std::vector<double> za;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    double x, y, z;
+    fields >> x >> y >> z;
+    pa.push_back({x, y});
+    za.push_back(z);
+  }
+  ASSERT_EQ(pa.size(), 87u * 61u);
+  auto grid = [&](int r, int c) { return za[static_cast<std::size_t>(r) * 61 + c]; };  // x = 10 r, y = 10 c
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> ux(0.0, 860.0), uy(0.0, 600.0);
+  std::vector<Point2> pb;
+  std::vector<double> zb;
+  for (int k = 0; k < 3000; ++k) {
+    const double x = ux(rng), y = uy(rng);
+    const int r = std::min(85, static_cast<int>(x / 10)), c = std::min(59, static_cast<int>(y / 10));
+    const double fx = x / 10 - r, fy = y / 10 - c;
+    pb.push_back({x, y});
+    zb.push_back((1 - fx) * (1 - fy) * grid(r, c) + fx * (1 - fy) * grid(r + 1, c) +
+                 (1 - fx) * fy * grid(r, c + 1) + fx * fy * grid(r + 1, c + 1));
+  }
+  double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;  // B's bounding box holds Ω
+  for (const Point2& p : pb) x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
+  ExpectOverlayMatchesQuadrature(pa, za, pb, zb, x0, x1, y0, y1, 1200);
+}
+
+}  // namespace
+}  // namespace surfreg
