@@ -266,14 +266,26 @@ Triangulation Triangulate(const std::vector<Point2>& points, const DelaunayOptio
     result.vertex_of_input[order[k]] = label[kept];
   }
 
-  // Compact: drop ghosts, renumber triangles, hull neighbours become -1.
+  // Compact: drop ghosts, hull neighbours become -1, and number triangles by
+  // their lowest vertex (counting sort), so that spatially ordered input
+  // gives a mesh whose triangles and vertices are near each other in memory.
   const std::vector<int32_t>& vertex = builder.vertex();
   const std::vector<int32_t>& twin = builder.twin();
   const auto num_slots = static_cast<int32_t>(vertex.size() / 3);
   std::vector<int32_t> new_index(num_slots, -1);
   int32_t num_finite = 0;
-  for (int32_t t = 0; t < num_slots; ++t) {
-    if (!builder.IsGhost(t)) new_index[t] = num_finite++;
+  {
+    std::vector<int32_t> start(n + 1, 0);
+    for (int32_t t = 0; t < num_slots; ++t) {
+      if (builder.IsGhost(t)) continue;
+      new_index[t] = std::min({label[vertex[3 * t]], label[vertex[3 * t + 1]], label[vertex[3 * t + 2]]});
+      ++start[new_index[t] + 1];
+    }
+    for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+    num_finite = start[n];
+    for (int32_t t = 0; t < num_slots; ++t) {
+      if (new_index[t] >= 0) new_index[t] = start[new_index[t]]++;
+    }
   }
   result.triangles.resize(3 * static_cast<std::size_t>(num_finite));
   result.neighbors.resize(3 * static_cast<std::size_t>(num_finite));

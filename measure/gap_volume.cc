@@ -105,9 +105,14 @@ VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation&
     const int32_t* v = &mesh.triangles[3 * t];
     return PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
   };
+  int32_t last_a = -1;
+  Plane fa;  // F̂_A on the current A triangle: all its cells come in a row
   const OverlayStats stats = ForEachOverlayCell(
       xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, [&](const OverlayCell& cell) {
-        const Plane fa = plane_of(xy_a, mesh_a, z_a, cell.triangle_a);
+        if (cell.triangle_a != last_a) {
+          last_a = cell.triangle_a;
+          fa = plane_of(xy_a, mesh_a, z_a, cell.triangle_a);
+        }
         const Plane fb = plane_of(xy_b, mesh_b, z_b, cell.triangle_b);
         // d = F̂_B − F̂_A as one plane about A's reference corner.
         Plane d{fa.x0, fa.y0, fb.At({fa.x0, fa.y0}) - fa.z0, fb.gx - fa.gx, fb.gy - fa.gy};

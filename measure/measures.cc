@@ -11,6 +11,7 @@
 #include "measure/locator.h"
 #include "measure/overlay.h"
 #include "measure/spanning_tree.h"
+#include "measure/spatial_sort.h"
 #include "measure/volume.h"
 #include "measure/weights.h"
 
@@ -49,6 +50,19 @@ void MergeDuplicateHeights(Prepared& s) {
     s.z[i] = sum[v] / count[v];
     if (!s.weight.empty()) s.weight[i] = wsum[v] / count[v];
   }
+}
+
+void SortSpatially(Prepared& s) {
+  const std::vector<int32_t> order = SpatialOrder(s.xy, /*brio=*/false, 0);
+  auto permute = [&order](auto& values) {
+    if (values.empty()) return;
+    auto sorted = values;
+    for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = values[order[k]];
+    values.swap(sorted);
+  };
+  permute(s.xy);
+  permute(s.z);
+  permute(s.weight);
 }
 
 double HullArea(const std::vector<Point2>& p, const Triangulation& mesh) {
@@ -113,6 +127,9 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
                            b.origin[2] - a.origin[2]};
   for (Point2& p : pb.xy) p = {p.x + shift[0], p.y + shift[1]};
   for (double& z : pb.z) z += shift[2];
+  // Work in Hilbert order: every later stage then walks memory locally.
+  SortSpatially(pa);
+  SortSpatially(pb);
 
   Clock::time_point stage = Clock::now();
   pa.mesh = Triangulate(pa.xy);

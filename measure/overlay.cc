@@ -54,29 +54,45 @@ class OverlayBuilder {
     return cache.side;
   }
 
-  // Whether the closures of T_A and tb meet (no separating edge line). On
-  // success o[j][k] is the sign of A's vertex k against tb's edge line j.
-  bool Meets(int32_t tb, const int8_t* s[3], int o[3][3]) {
-    for (int i = 0; i < 3; ++i) {
-      if (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0) return false;
-    }
+  // o[j][k]: the sign of T_A's vertex k against tb's edge line j.
+  void EdgeSigns(int32_t tb, int o[3][3]) const {
     for (int j = 0; j < 3; ++j) {
       const Point2& p = pb_[mb_.triangles[3 * tb + (j + 1) % 3]];
       const Point2& q = pb_[mb_.triangles[3 * tb + (j + 2) % 3]];
       for (int k = 0; k < 3; ++k) o[j][k] = Sign(Orient2D(p, q, a_[k]));
+    }
+  }
+
+  // Whether the closures of T_A and tb meet: no edge line of either has the
+  // other triangle strictly outside. Sets *have_o if it filled o (EdgeSigns).
+  bool Meets(int32_t tb, const int8_t* s[3], int o[3][3], bool* have_o) const {
+    *have_o = false;
+    bool corner_inside = false;  // a corner of tb in T_A's closure decides at once
+    for (int k = 0; k < 3; ++k) corner_inside |= s[k][0] >= 0 && s[k][1] >= 0 && s[k][2] >= 0;
+    if (corner_inside) return true;
+    for (int i = 0; i < 3; ++i) {
+      if (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0) return false;
+    }
+    EdgeSigns(tb, o);
+    *have_o = true;
+    for (int j = 0; j < 3; ++j) {
       if (o[j][0] < 0 && o[j][1] < 0 && o[j][2] < 0) return false;
     }
     return true;
   }
 
   // Hands tb to the A neighbours across T_A's edges that tb's closure meets.
-  void Propagate(int32_t ta, const int8_t* s[3], const int o[3][3], int32_t tb) {
+  void Propagate(int32_t ta, const int8_t* s[3], int o[3][3], bool have_o, int32_t tb) {
     for (int i = 0; i < 3; ++i) {
       const int32_t next = ma_.neighbors[3 * ta + i];
       if (next < 0 || seed_[next] >= 0) continue;
       const int e0 = (i + 1) % 3, e1 = (i + 2) % 3;  // the edge's endpoints in T_A
       bool separated = (s[0][i] > 0 && s[1][i] > 0 && s[2][i] > 0) ||
                        (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0);
+      if (!separated && !have_o) {
+        EdgeSigns(tb, o);
+        have_o = true;
+      }
       for (int j = 0; j < 3 && !separated; ++j) separated = o[j][e0] < 0 && o[j][e1] < 0;
       if (!separated) Seed(next, tb);
     }
@@ -113,13 +129,14 @@ void OverlayBuilder::ProcessA(int32_t ta, const std::function<void(const Overlay
     const int8_t* s[3] = {Sides(mb_.triangles[3 * tb]), Sides(mb_.triangles[3 * tb + 1]),
                           Sides(mb_.triangles[3 * tb + 2])};
     int o[3][3];
-    if (!Meets(tb, s, o)) continue;
+    bool have_o;
+    if (!Meets(tb, s, o, &have_o)) continue;
     if (Clip(tb, s, cell)) {
       cell.triangle_b = tb;
       ++stats_.cells;
       visit(cell);
     }
-    Propagate(ta, s, o, tb);
+    Propagate(ta, s, o, have_o, tb);
     for (int j = 0; j < 3; ++j) {
       const int32_t next = mb_.neighbors[3 * tb + j];
       if (next >= 0 && b_stamp_[next] != ta) {
@@ -135,11 +152,14 @@ void OverlayBuilder::ProcessA(int32_t ta, const std::function<void(const Overlay
 // computed points, by their floating-point side. Returns false for an empty
 // or zero-area result.
 bool OverlayBuilder::Clip(int32_t tb, const int8_t* s[3], OverlayCell& cell) const {
-  Point2 poly[8], next[8];
+  // Plain arrays: Point2's member initializers would zero them on every call.
+  double x[8], y[8], next_x[8], next_y[8];
   int origin[8], next_origin[8];  // B corner index 0..2, or -1 for a computed point
   int n = 3;
   for (int k = 0; k < 3; ++k) {
-    poly[k] = pb_[mb_.triangles[3 * tb + k]];
+    const Point2& p = pb_[mb_.triangles[3 * tb + k]];
+    x[k] = p.x;
+    y[k] = p.y;
     origin[k] = k;
   }
   for (int i = 0; i < 3 && n > 0; ++i) {
@@ -148,38 +168,43 @@ bool OverlayBuilder::Clip(int32_t tb, const int8_t* s[3], OverlayCell& cell) con
     const double ex = e1.x - e0.x, ey = e1.y - e0.y;
     double value[8];
     int side[8];
+    bool all_inside = true;
     for (int k = 0; k < n; ++k) {
-      value[k] = ex * (poly[k].y - e0.y) - ey * (poly[k].x - e0.x);
+      value[k] = ex * (y[k] - e0.y) - ey * (x[k] - e0.x);
       side[k] = origin[k] >= 0 ? s[origin[k]][i] : Sign(value[k]);
+      all_inside = all_inside && side[k] >= 0;
     }
+    if (all_inside) continue;  // the common case: nothing to cut on this edge
     int m = 0;
     for (int k = 0; k < n; ++k) {
       const int l = k + 1 == n ? 0 : k + 1;
       if (side[k] >= 0) {
-        next[m] = poly[k];
+        next_x[m] = x[k];
+        next_y[m] = y[k];
         next_origin[m++] = origin[k];
       }
       if ((side[k] > 0 && side[l] < 0) || (side[k] < 0 && side[l] > 0)) {
         const double denominator = value[k] - value[l];
         double t = denominator != 0.0 ? value[k] / denominator : 0.5;
         t = std::min(1.0, std::max(0.0, t));
-        next[m] = {poly[k].x + t * (poly[l].x - poly[k].x), poly[k].y + t * (poly[l].y - poly[k].y)};
+        next_x[m] = x[k] + t * (x[l] - x[k]);
+        next_y[m] = y[k] + t * (y[l] - y[k]);
         next_origin[m++] = -1;
       }
     }
     n = m;
-    std::copy(next, next + m, poly);
+    std::copy(next_x, next_x + m, x);
+    std::copy(next_y, next_y + m, y);
     std::copy(next_origin, next_origin + m, origin);
   }
   if (n < 3) return false;
   double twice_area = 0.0;
   for (int k = 1; k + 1 < n; ++k) {
-    twice_area += (poly[k].x - poly[0].x) * (poly[k + 1].y - poly[0].y) -
-                  (poly[k].y - poly[0].y) * (poly[k + 1].x - poly[0].x);
+    twice_area += (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
   }
   if (!(twice_area > 0.0)) return false;
   cell.num_vertices = n;
-  std::copy(poly, poly + n, cell.vertices.begin());
+  for (int k = 0; k < n; ++k) cell.vertices[k] = {x[k], y[k]};
   cell.area = 0.5 * twice_area;
   return true;
 }
