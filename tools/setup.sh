@@ -46,8 +46,8 @@ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build_dir" -j "$jobs"
 
 if [ "$mode" = run ]; then
-  echo "== default job: surfreg triangulate configs/data/volcano.xyz"
-  "$build_dir/tools/surfreg" triangulate configs/data/volcano.xyz
+  echo "== default job: surfreg measure configs/data/volcano_a.xyz configs/data/volcano_b.xyz"
+  "$build_dir/tools/surfreg" measure configs/data/volcano_a.xyz configs/data/volcano_b.xyz
 else
   echo "== running the test suite"
   ctest --test-dir "$build_dir" --output-on-failure -j "$jobs"
