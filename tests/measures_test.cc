@@ -9,7 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include "measure/delaunay.h"
 #include "measure/input_error.h"
+#include "measure/locator.h"
+#include "measure/volume.h"
 #include "tests/testing/point_sets.h"
 
 namespace surfreg {
@@ -173,6 +176,55 @@ TEST(MeasureTest, UnionApproximatesOverlay) {
   const MeasureSummary u = Measure(a, b, options), o = Measure(a, b);
   EXPECT_LT(Rel(u.rho_d, o.rho_d), 0.02);
   EXPECT_NE(u.rho_d, o.rho_d);
+}
+
+// Union mode assembled independently: nodes of A in Conv(B) and of B in
+// Conv(A) found by brute-force location, the gap there by barycentric
+// interpolation, the Delaunay triangulation of those nodes, and the paper's
+// closed form per triangle.
+TEST(MeasureTest, UnionModeIsThePapersFormulaOnTheUnionTriangulation) {
+  const Height fa = [](double x, double y) { return std::sin(0.5 * x) + 0.1 * y; };
+  const Height fb = [](double x, double y) { return 0.2 * x - std::cos(0.3 * y); };
+  std::vector<Point2> pa = testing::UniformPoints(150, 63), pb = testing::UniformPoints(120, 64);
+  for (Point2& p : pa) p = {10 * p.x, 10 * p.y};
+  for (Point2& p : pb) p = {10 * p.x + 1.0, 10 * p.y - 0.5};
+  const Triangulation ma = Triangulate(pa), mb = Triangulate(pb);
+  auto height_at = [](const std::vector<Point2>& p, const Triangulation& m, const Height& f,
+                      const Location& l) {
+    double z = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const Point2& v = p[m.triangles[3 * l.triangle + i]];
+      z += l.barycentric[i] * f(v.x, v.y);
+    }
+    return z;
+  };
+  std::vector<Point2> nodes;
+  std::vector<double> gap;
+  for (const Point2& p : pa) {
+    const Location l = LocatePointBruteForce(pb, mb, p);
+    if (!l.found()) continue;
+    nodes.push_back(p);
+    gap.push_back(height_at(pb, mb, fb, l) - fa(p.x, p.y));
+  }
+  for (const Point2& p : pb) {
+    const Location l = LocatePointBruteForce(pa, ma, p);
+    if (!l.found()) continue;
+    nodes.push_back(p);
+    gap.push_back(fb(p.x, p.y) - height_at(pa, ma, fa, l));
+  }
+  const Triangulation mu = Triangulate(nodes);
+  double expected = 0.0;
+  for (int32_t t = 0; t < mu.num_triangles(); ++t) {
+    const int32_t* v = &mu.triangles[3 * t];
+    const Point2 &a = nodes[v[0]], &b = nodes[v[1]], &c = nodes[v[2]];
+    const double area = 0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+    expected += AbsVolumePaper(area, gap[v[0]], gap[v[1]], gap[v[2]]);
+  }
+  MeasureOptions options;
+  options.volume = VolumeMode::kUnion;
+  const MeasureSummary s = Measure(Sample(pa, fa), Sample(pb, fb), options);
+  EXPECT_LT(Rel(s.rho_d, expected), 1e-12);
+  EXPECT_EQ(s.n_cells, mu.num_triangles());
 }
 
 TEST(MeasureTest, ConstantPerPointWeightScalesTheVolume) {
