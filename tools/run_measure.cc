@@ -52,27 +52,11 @@ VolumeMode ParseVolumeMode(const std::string& value) {
                    " for flag '--volume' (expected overlay or union)");
 }
 
-std::string ReadText(const std::string& path) {
-  struct Closer {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-  };
-  errno = 0;
-  std::unique_ptr<std::FILE, Closer> file(std::fopen(path.c_str(), "rb"));
-  if (!file) Fail(path, 0, std::string("cannot open: ") + std::strerror(errno));
-  std::string data;
-  char chunk[1 << 16];
-  std::size_t n;
-  while ((n = std::fread(chunk, 1, sizeof(chunk), file.get())) > 0) data.append(chunk, n);
-  // A directory opens fine on Linux and fails here with EISDIR.
-  if (std::ferror(file.get())) Fail(path, 0, std::string("cannot read: ") + std::strerror(errno));
-  return data;
-}
-
 // A mask polygon file: one "x y" vertex per line (blank-separated, input
 // coordinates), '#' comments (whole line or trailing), blank lines skipped.
 // A last vertex equal to the first (an explicitly closed ring) is dropped.
 std::vector<std::array<double, 2>> ReadPolygon(const std::string& path) {
-  const std::string data = ReadText(path);
+  const std::string data = io_internal::ReadFile(path);
   std::vector<std::array<double, 2>> polygon;
   io_internal::LineCursor cursor(data);
   std::string_view line;

@@ -126,12 +126,7 @@ std::string ReadAll(std::istream& in, const std::string& name) {
   return data;
 }
 
-}  // namespace io_internal
-
-namespace {
-
-using io_internal::Fail;
-
+// Whole file as bytes; unreadable files and directories are InputErrors.
 std::string ReadFile(const std::string& path) {
   struct Closer {
     void operator()(std::FILE* f) const { std::fclose(f); }
@@ -152,6 +147,13 @@ std::string ReadFile(const std::string& path) {
   data.resize(used);
   return data;
 }
+
+}  // namespace io_internal
+
+namespace {
+
+using io_internal::Fail;
+
 
 // The lower-case extension of the file name in `path`, with its dot; empty if none.
 std::string Extension(const std::string& path) {
@@ -178,7 +180,7 @@ Surface ReadSurface(const std::string& path, const ReadOptions& options) {
                                          : "unknown surface format " + io_internal::Quote(ext);
     Fail(path, 0, what + " (expected .xyz .txt .csv .ply .off .obj)");
   }
-  const std::string data = ReadFile(path);
+  const std::string data = io_internal::ReadFile(path);
   return parse(data, path, options);
 }
 

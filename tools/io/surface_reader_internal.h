@@ -72,6 +72,10 @@ Surface Finish(PointList&& list, const std::string& name, const ReadOptions& opt
 // The whole stream as one buffer.
 std::string ReadAll(std::istream& in, const std::string& name);
 
+// The whole file at `path`; an unreadable file or a directory throws
+// InputError naming it.
+std::string ReadFile(const std::string& path);
+
 Surface ParseXyz(std::string_view data, const std::string& name, const ReadOptions& options);
 Surface ParsePly(std::string_view data, const std::string& name, const ReadOptions& options);
 Surface ParseOff(std::string_view data, const std::string& name, const ReadOptions& options);
