@@ -1,6 +1,7 @@
 #include "measure/gap_volume.h"
 
 #include <algorithm>
+#include <functional>
 
 #include "measure/input_error.h"
 #include "measure/overlay.h"
@@ -94,33 +95,71 @@ void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightF
   }
 }
 
+namespace {
+
+// Integrates overlay cells as they come; one per thread.
+class CellIntegrator {
+ public:
+  CellIntegrator(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
+                 const std::vector<double>& z_a, const std::vector<Point2>& xy_b,
+                 const Triangulation& mesh_b, const std::vector<double>& z_b,
+                 const WeightField& mu)
+      : xy_a_(xy_a), mesh_a_(mesh_a), z_a_(z_a), xy_b_(xy_b), mesh_b_(mesh_b), z_b_(z_b), mu_(mu) {}
+
+  void operator()(const OverlayCell& cell) {
+    if (cell.triangle_a != last_a_) {  // all cells of one A triangle come in a row
+      last_a_ = cell.triangle_a;
+      fa_ = PlaneOf(xy_a_, mesh_a_, z_a_, cell.triangle_a);
+    }
+    const Plane fb = PlaneOf(xy_b_, mesh_b_, z_b_, cell.triangle_b);
+    // d = F̂_B − F̂_A as one plane about A's reference corner.
+    const Plane d{fa_.x0, fa_.y0, fb.At({fa_.x0, fa_.y0}) - fa_.z0, fb.gx - fa_.gx, fb.gy - fa_.gy};
+    const Plane mu_plane = mu_.mode == WeightMode::kPerPoint
+                               ? mu_.CellPlane(cell.triangle_a, cell.triangle_b)
+                               : Plane();
+    IntegrateConvex(cell.vertices.data(), cell.num_vertices, d, mu_, mu_plane, &result);
+  }
+
+  VolumeResult result;
+
+ private:
+  static Plane PlaneOf(const std::vector<Point2>& xy, const Triangulation& mesh,
+                       const std::vector<double>& z, int32_t t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    return PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+  }
+
+  const std::vector<Point2>& xy_a_;
+  const Triangulation& mesh_a_;
+  const std::vector<double>& z_a_;
+  const std::vector<Point2>& xy_b_;
+  const Triangulation& mesh_b_;
+  const std::vector<double>& z_b_;
+  const WeightField& mu_;
+  int32_t last_a_ = -1;
+  Plane fa_;
+};
+
+}  // namespace
+
 VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                            const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
                            const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
-                           const WeightField& mu) {
-  VolumeResult result;
-  auto plane_of = [](const std::vector<Point2>& xy, const Triangulation& mesh,
-                     const std::vector<double>& z, int32_t t) {
-    const int32_t* v = &mesh.triangles[3 * t];
-    return PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
-  };
-  int32_t last_a = -1;
-  Plane fa;  // F̂_A on the current A triangle: all its cells come in a row
-  const OverlayStats stats = ForEachOverlayCell(
-      xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, [&](const OverlayCell& cell) {
-        if (cell.triangle_a != last_a) {
-          last_a = cell.triangle_a;
-          fa = plane_of(xy_a, mesh_a, z_a, cell.triangle_a);
-        }
-        const Plane fb = plane_of(xy_b, mesh_b, z_b, cell.triangle_b);
-        // d = F̂_B − F̂_A as one plane about A's reference corner.
-        Plane d{fa.x0, fa.y0, fb.At({fa.x0, fa.y0}) - fa.z0, fb.gx - fa.gx, fb.gy - fa.gy};
-        const Plane mu_plane = mu.mode == WeightMode::kPerPoint
-                                   ? mu.CellPlane(cell.triangle_a, cell.triangle_b)
-                                   : Plane();
-        IntegrateConvex(cell.vertices.data(), cell.num_vertices, d, mu, mu_plane, &result);
-      });
+                           const WeightField& mu, bool parallel) {
+  CellIntegrator first(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu);
+  if (!parallel) {
+    const OverlayStats stats =
+        ForEachOverlayCell(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, std::ref(first));
+    first.result.cells = stats.cells;
+    return first.result;
+  }
+  CellIntegrator second(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu);
+  const OverlayStats stats = ForEachOverlayCellInTwo(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a,
+                                                     std::ref(first), std::ref(second));
+  VolumeResult result = first.result;
+  result.gap += second.result.gap;
+  result.area += second.result.area;
   result.cells = stats.cells;
   return result;
 }

@@ -30,11 +30,13 @@ struct VolumeResult {
 void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightField& mu,
                      const Plane& mu_plane, VolumeResult* result);
 
+// With `parallel`, on two threads (overlay.h, ForEachOverlayCellInTwo); the
+// result is deterministic but may differ from the serial one in rounding.
 VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                            const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
                            const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
-                           const WeightField& mu);
+                           const WeightField& mu, bool parallel = false);
 
 // The union's triangles use the paper's closed form for ∫|d| (volume.h,
 // AbsVolumePaper) with μ = 1.

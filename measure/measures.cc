@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <thread>
 
 #include "measure/delaunay.h"
 #include "measure/gap_volume.h"
@@ -83,6 +85,33 @@ double Interpolate(const Triangulation& mesh, const std::vector<double>& values,
          l.barycentric[2] * values[v[2]];
 }
 
+// Runs first() here and second() on another thread (or both here when not
+// parallel); an exception from either is rethrown after both finished.
+template <typename First, typename Second>
+void RunBoth(bool parallel, First&& first, Second&& second) {
+  if (!parallel) {
+    first();
+    second();
+    return;
+  }
+  std::exception_ptr error;
+  std::thread worker([&] {
+    try {
+      second();
+    } catch (...) {
+      error = std::current_exception();
+    }
+  });
+  try {
+    first();
+  } catch (...) {
+    worker.join();
+    throw;
+  }
+  worker.join();
+  if (error) std::rethrow_exception(error);
+}
+
 }  // namespace
 
 bool MeasureOptions::IsValid(std::string* error) const {
@@ -131,9 +160,9 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   SortSpatially(pa);
   SortSpatially(pb);
 
+  const bool parallel = options.parallel;
   Clock::time_point stage = Clock::now();
-  pa.mesh = Triangulate(pa.xy);
-  pb.mesh = Triangulate(pb.xy);
+  RunBoth(parallel, [&] { pa.mesh = Triangulate(pa.xy); }, [&] { pb.mesh = Triangulate(pb.xy); });
   summary.timings.triangulate = Seconds(stage);
   summary.n_duplicates_a = pa.mesh.num_duplicates;
   summary.n_duplicates_b = pb.mesh.num_duplicates;
@@ -143,14 +172,15 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   pb.hull_area = HullArea(pb.xy, pb.mesh);
 
   stage = Clock::now();
-  pa.tree = EuclideanMst(pa.xy, pa.mesh);
-  pb.tree = EuclideanMst(pb.xy, pb.mesh);
+  RunBoth(parallel, [&] { pa.tree = EuclideanMst(pa.xy, pa.mesh); },
+          [&] { pb.tree = EuclideanMst(pb.xy, pb.mesh); });
   summary.timings.spanning_tree = Seconds(stage);
 
   stage = Clock::now();
   LocateAllStats stats_a, stats_b;
-  const std::vector<Location> a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a);
-  const std::vector<Location> b_in_a = LocateAll(pa.xy, pa.mesh, pb.xy, pb.mesh, pb.tree, &stats_b);
+  std::vector<Location> a_in_b, b_in_a;
+  RunBoth(parallel, [&] { a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a); },
+          [&] { b_in_a = LocateAll(pa.xy, pa.mesh, pb.xy, pb.mesh, pb.tree, &stats_b); });
   summary.walk_steps = stats_a.steps + stats_b.steps;
   summary.timings.locate = Seconds(stage);
 
@@ -188,7 +218,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   stage = Clock::now();
   VolumeResult volume;
   if (options.volume == VolumeMode::kOverlay) {
-    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu);
+    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu, parallel);
   } else {
     volume = UnionVolume(pa.xy, pa.mesh, a_in_b, gaps.a, pb.xy, pb.mesh, b_in_a, gaps.b, mu);
   }

@@ -45,6 +45,11 @@ struct MeasureOptions {
   // An overlap smaller than this fraction of the smaller convex hull's area
   // is reported as an error (a sliver, or surfaces that do not overlap).
   double min_overlap_fraction = 1e-6;
+  // Use two threads: for the two surfaces' independent stages
+  // (triangulation, spanning tree, location: bit-identical results) and for
+  // the overlay, split into two halves of A's triangles (deterministic; the
+  // sums may differ from the serial ones in the last bits).
+  bool parallel = true;
 
   bool IsValid(std::string* error) const;
 };

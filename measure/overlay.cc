@@ -1,6 +1,8 @@
 #include "measure/overlay.h"
 
 #include <algorithm>
+#include <thread>
+#include <utility>
 
 #include "measure/predicates.h"
 
@@ -16,19 +18,44 @@ struct SideCache {
   int8_t side[3] = {0, 0, 0};
 };
 
+// One search over the A triangles in [begin, end). Seeds for triangles
+// outside the range go to `handoff` instead; `done` is shared between
+// builders, each writing only its own range while they run concurrently.
 class OverlayBuilder {
  public:
   OverlayBuilder(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
-                 const std::vector<Point2>& points_b, const Triangulation& mesh_b)
+                 const std::vector<Point2>& points_b, const Triangulation& mesh_b,
+                 std::vector<char>& done, int32_t begin, int32_t end)
       : pa_(points_a), ma_(mesh_a), pb_(points_b), mb_(mesh_b),
-        seed_(mesh_a.num_triangles(), -1), done_(mesh_a.num_triangles(), 0),
+        seed_(mesh_a.num_triangles(), -1), done_(done), begin_(begin), end_(end),
         b_stamp_(mesh_b.num_triangles(), -1), sides_(points_b.size()) {}
+
+  bool InRange(int32_t ta) const { return ta >= begin_ && ta < end_; }
 
   void Seed(int32_t ta, int32_t tb) {
     if (ta < 0 || tb < 0 || seed_[ta] >= 0) return;
     seed_[ta] = tb;
-    pending_.push_back(ta);
+    if (!InRange(ta)) {
+      handoff_.push_back({ta, tb});  // another builder's; its `done` is not ours to read now
+      return;
+    }
+    if (!done_[ta]) pending_.push_back(ta);
   }
+
+  // Seeds from the vertex locations, for the triangles in range.
+  void SeedFromLocations(const std::vector<Location>& a_in_b, const std::vector<Location>& b_in_a) {
+    for (std::size_t v = 0; v < a_in_b.size(); ++v) {
+      const int32_t ta = ma_.vertex_triangle[v];
+      if (a_in_b[v].found() && ta >= 0 && InRange(ta)) Seed(ta, a_in_b[v].triangle);
+    }
+    for (std::size_t u = 0; u < b_in_a.size(); ++u) {
+      if (b_in_a[u].found() && mb_.vertex_triangle[u] >= 0 && InRange(b_in_a[u].triangle)) {
+        Seed(b_in_a[u].triangle, mb_.vertex_triangle[u]);
+      }
+    }
+  }
+
+  const std::vector<std::pair<int32_t, int32_t>>& handoff() const { return handoff_; }
 
   OverlayStats Run(const std::function<void(const OverlayCell&)>& visit) {
     std::reverse(pending_.begin(), pending_.end());  // lowest triangles first
@@ -106,7 +133,9 @@ class OverlayBuilder {
   const std::vector<Point2>& pb_;
   const Triangulation& mb_;
   std::vector<int32_t> seed_;   // per A triangle: a B triangle meeting it, or -1
-  std::vector<char> done_;      // per A triangle
+  std::vector<char>& done_;     // per A triangle, shared
+  const int32_t begin_, end_;
+  std::vector<std::pair<int32_t, int32_t>> handoff_;
   std::vector<int32_t> b_stamp_;  // per B triangle: the last T_A whose search queued it
   std::vector<SideCache> sides_;  // per B vertex
   std::vector<int32_t> pending_, queue_;
@@ -216,20 +245,44 @@ OverlayStats ForEachOverlayCell(const std::vector<Point2>& points_a, const Trian
                                 const std::vector<Point2>& points_b, const Triangulation& mesh_b,
                                 const std::vector<Location>& b_in_a,
                                 const std::function<void(const OverlayCell&)>& visit) {
-  OverlayBuilder builder(points_a, mesh_a, points_b, mesh_b);
   // Seeds: a triangle of A at each of A's vertices located in B, and the
   // triangle of A holding each of B's vertices.
-  for (std::size_t v = 0; v < a_in_b.size(); ++v) {
-    if (a_in_b[v].found() && mesh_a.vertex_triangle[v] >= 0) {
-      builder.Seed(mesh_a.vertex_triangle[v], a_in_b[v].triangle);
-    }
-  }
-  for (std::size_t u = 0; u < b_in_a.size(); ++u) {
-    if (b_in_a[u].found() && mesh_b.vertex_triangle[u] >= 0) {
-      builder.Seed(b_in_a[u].triangle, mesh_b.vertex_triangle[u]);
-    }
-  }
+  std::vector<char> done(mesh_a.num_triangles(), 0);
+  OverlayBuilder builder(points_a, mesh_a, points_b, mesh_b, done, 0, mesh_a.num_triangles());
+  builder.SeedFromLocations(a_in_b, b_in_a);
   return builder.Run(visit);
+}
+
+OverlayStats ForEachOverlayCellInTwo(const std::vector<Point2>& points_a,
+                                     const Triangulation& mesh_a,
+                                     const std::vector<Location>& a_in_b,
+                                     const std::vector<Point2>& points_b,
+                                     const Triangulation& mesh_b,
+                                     const std::vector<Location>& b_in_a,
+                                     const std::function<void(const OverlayCell&)>& visit_first,
+                                     const std::function<void(const OverlayCell&)>& visit_second) {
+  const int32_t n = mesh_a.num_triangles();
+  const int32_t middle = n / 2;
+  std::vector<char> done(n, 0);
+  OverlayBuilder first(points_a, mesh_a, points_b, mesh_b, done, 0, middle);
+  OverlayBuilder second(points_a, mesh_a, points_b, mesh_b, done, middle, n);
+  OverlayStats second_stats;
+  std::thread worker([&] {
+    second.SeedFromLocations(a_in_b, b_in_a);
+    second_stats = second.Run(visit_second);
+  });
+  first.SeedFromLocations(a_in_b, b_in_a);
+  OverlayStats stats = first.Run(visit_first);
+  worker.join();
+  // Triangles reached only across the boundary between the halves.
+  OverlayBuilder rest(points_a, mesh_a, points_b, mesh_b, done, 0, n);
+  for (const auto* handoff : {&first.handoff(), &second.handoff()}) {
+    for (const auto& [ta, tb] : *handoff) rest.Seed(ta, tb);
+  }
+  const OverlayStats rest_stats = rest.Run(visit_first);
+  stats.cells += second_stats.cells + rest_stats.cells;
+  stats.pairs_tested += second_stats.pairs_tested + rest_stats.pairs_tested;
+  return stats;
 }
 
 }  // namespace surfreg

@@ -43,4 +43,19 @@ OverlayStats ForEachOverlayCell(const std::vector<Point2>& points_a, const Trian
                                 const std::vector<Location>& b_in_a,
                                 const std::function<void(const OverlayCell&)>& visit);
 
+// The same cells, visited by two threads, each over half of A's triangles
+// (by index: a spatially coherent half), then the few triangles reached only
+// across the boundary on the calling thread. `visit_first` is called from the
+// calling thread only and `visit_second` from the other thread only, so each
+// may accumulate without locks. Which cells each sees depends only on the
+// input, never on timing.
+OverlayStats ForEachOverlayCellInTwo(const std::vector<Point2>& points_a,
+                                     const Triangulation& mesh_a,
+                                     const std::vector<Location>& a_in_b,
+                                     const std::vector<Point2>& points_b,
+                                     const Triangulation& mesh_b,
+                                     const std::vector<Location>& b_in_a,
+                                     const std::function<void(const OverlayCell&)>& visit_first,
+                                     const std::function<void(const OverlayCell&)>& visit_second);
+
 }  // namespace surfreg

@@ -44,8 +44,9 @@ inline double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
   const double det = left - right;
   const double scale = std::fabs(left) + std::fabs(right);
   const double bound = predicates_internal::kOrientBound * scale;
-  // The scale test also rejects NaN from overflowed products.
-  if ((det > bound || -det > bound) && scale >= predicates_internal::kOrientMinScale) return det;
+  // One well-predicted branch (the sign of det is not); the tests also reject
+  // NaN from overflowed products.
+  if (std::fabs(det) > bound && scale >= predicates_internal::kOrientMinScale) return det;
   return predicates_internal::Orient2DExact(a, b, c);
 }
 
@@ -76,7 +77,7 @@ inline double InCircle(const Point2& a, const Point2& b, const Point2& c, const 
   const double largest = std::fmax(std::fmax(std::fmax(std::fabs(adx), std::fabs(ady)),
                                              std::fmax(std::fabs(bdx), std::fabs(bdy))),
                                    std::fmax(std::fabs(cdx), std::fabs(cdy)));
-  if ((det > bound || -det > bound) && permanent >= predicates_internal::kInCircleMinScale &&
+  if (std::fabs(det) > bound && permanent >= predicates_internal::kInCircleMinScale &&
       largest <= predicates_internal::kMaxDifference) {
     return det;
   }

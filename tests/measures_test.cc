@@ -138,6 +138,21 @@ TEST(MeasureTest, ShufflingLeavesEveryMeasureUnchanged) {
   EXPECT_EQ(after.n_cells, before.n_cells);
 }
 
+TEST(MeasureTest, ParallelAndSerialAgree) {
+  const Height fa = [](double x, double y) { return std::cos(0.7 * x) * std::sin(0.3 * y); };
+  const Height fb = [](double x, double y) { return 0.2 + 0.1 * x - 0.03 * y * y; };
+  const Surface a = Sample(SquareCloud(20000, 10, 42), fa), b = Sample(SquareCloud(15000, 10, 43), fb);
+  MeasureOptions serial;
+  serial.parallel = false;
+  const MeasureSummary p = Measure(a, b), s = Measure(a, b, serial);
+  EXPECT_LT(Rel(p.rho_d, s.rho_d), 1e-12);
+  EXPECT_LT(Rel(p.overlap_area, s.overlap_area), 1e-12);
+  EXPECT_LT(Rel(p.volume_above, s.volume_above), 1e-12);
+  EXPECT_EQ(p.rho_d_axial, s.rho_d_axial);  // per-node work: bit-identical
+  EXPECT_EQ(p.n_cells, s.n_cells);
+  EXPECT_EQ(p.walk_steps, s.walk_steps);
+}
+
 TEST(MeasureTest, InvariantUnderACommonRigidMotionOfXy) {
   const Height fa = [](double x, double y) { return std::cos(0.5 * x) + 0.2 * y; };
   const Height fb = [](double x, double y) { return 0.3 * std::sin(x * y / 10.0); };

@@ -98,6 +98,30 @@ void ExpectCellsMatchBruteForce(const Pair& s) {
   EXPECT_NEAR(sum, total, 1e-9 * total);
 }
 
+// The two-thread overlay visits exactly the serial overlay's cells.
+void ExpectSameCellsInTwo(const Pair& s) {
+  std::map<std::pair<int32_t, int32_t>, double> serial, first, second;
+  ForEachOverlayCell(s.a, s.ma, s.a_in_b, s.b, s.mb, s.b_in_a,
+                     [&](const OverlayCell& c) { serial[{c.triangle_a, c.triangle_b}] = c.area; });
+  const OverlayStats stats = ForEachOverlayCellInTwo(
+      s.a, s.ma, s.a_in_b, s.b, s.mb, s.b_in_a,
+      [&](const OverlayCell& c) { first[{c.triangle_a, c.triangle_b}] = c.area; },
+      [&](const OverlayCell& c) { second[{c.triangle_a, c.triangle_b}] = c.area; });
+  std::map<std::pair<int32_t, int32_t>, double> both = first;
+  for (const auto& kv : second) EXPECT_TRUE(both.insert(kv).second) << "cell visited by both threads";
+  EXPECT_EQ(both, serial);
+  EXPECT_EQ(stats.cells, static_cast<int64_t>(serial.size()));
+}
+
+TEST(OverlayTest, TwoThreadsVisitTheSerialCells) {
+  ExpectSameCellsInTwo(MakePair(testing::UniformPoints(3000, 21), testing::UniformPoints(2000, 22)));
+  ExpectSameCellsInTwo(MakePair(testing::GridPoints(40, 40, 1.0), testing::GridPoints(20, 20, 2.0)));
+  std::vector<Point2> strip = testing::UniformPoints(500, 23);
+  for (Point2& p : strip) p = {p.x * 40.0, 18.0 + p.y * 2.0};  // a thin strip across the grid
+  ExpectSameCellsInTwo(MakePair(testing::GridPoints(40, 40, 1.0), strip));
+  ExpectSameCellsInTwo(MakePair(strip, testing::GridPoints(40, 40, 1.0)));
+}
+
 TEST(OverlayTest, RandomMeshesMatchBruteForcePairs) {
   for (uint64_t seed : {1, 2, 3}) {
     ExpectCellsMatchBruteForce(MakePair(testing::UniformPoints(120, seed), testing::UniformPoints(90, seed + 10)));
