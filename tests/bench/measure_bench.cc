@@ -430,13 +430,15 @@ void CheckSummary(const Input& input, const MeasureSummary& s) {
   }
 }
 
-void BM_MeasureSurfreg(benchmark::State& state, Distribution d, int64_t n) {
+void MeasureSurfreg(benchmark::State& state, Distribution d, int64_t n, bool parallel) {
   Input* input = Setup(state, d, n, Input::kSorted);
   if (!input) return;
   MeasureSummary summary;
+  MeasureOptions options;
+  options.parallel = parallel;
   try {
     for (auto _ : state) {
-      summary = Measure(input->a, input->b);
+      summary = Measure(input->a, input->b, options);
       Keep(summary.rho_d);
       benchmark::ClobberMemory();
     }
@@ -458,6 +460,18 @@ void BM_MeasureSurfreg(benchmark::State& state, Distribution d, int64_t n) {
   state.counters["t_interpolate"] = summary.timings.interpolate;
   state.counters["t_volume"] = summary.timings.volume;
   state.counters["t_total"] = summary.timings.total;
+}
+
+// The default: two threads (A's and B's stages side by side, the overlay in
+// two halves). Wall time is what a user waits; CPU time here is the calling
+// thread's only.
+void BM_MeasureSurfreg(benchmark::State& state, Distribution d, int64_t n) {
+  MeasureSurfreg(state, d, n, /*parallel=*/true);
+}
+
+// One thread, like the CGAL row.
+void BM_MeasureSurfregSerial(benchmark::State& state, Distribution d, int64_t n) {
+  MeasureSurfreg(state, d, n, /*parallel=*/false);
 }
 
 #ifdef SURFREG_HAVE_CGAL
@@ -499,6 +513,7 @@ void RegisterAll() {
       {"BM_Stage/locate", BM_Locate},           {"BM_Stage/interpolate", BM_Interpolate},
       {"BM_Stage/overlay", BM_Overlay},         {"BM_Stage/union", BM_Union},
       {"BM_Measure/surfreg", BM_MeasureSurfreg},
+      {"BM_Measure/surfreg_serial", BM_MeasureSurfregSerial},
 #ifdef SURFREG_HAVE_CGAL
       {"BM_Measure/cgal_union_triangulation", BM_MeasureCgal},
 #endif

@@ -81,7 +81,8 @@ def ns_per_point(r):
 stages = [("triangulate", "triangulate (both)"), ("spanning_tree", "spanning tree (both EMSTs)"),
           ("locate", "locate (both ways)"), ("interpolate", "interpolate (node gaps)"),
           ("overlay", "overlay volume"), ("union", "union volume"),
-          ("surfreg", "**whole Measure**"), ("cgal_union_triangulation", "CGAL union triangulation")]
+          ("surfreg", "**whole Measure** (2 threads)"), ("surfreg_serial", "whole Measure, 1 thread"),
+          ("cgal_union_triangulation", "CGAL union triangulation")]
 dists = [d for d in ("uniform", "jittered") if any(k[1] == d for k in rows)]
 sizes = sorted({k[2] for k in rows})
 problems, notes = [], []
@@ -115,7 +116,8 @@ for dist in dists:
         if values and values[0] and values[-1]:
             g = values[-1] / values[0]
             growth = "%.2f" % g
-            if key not in ("triangulate", "cgal_union_triangulation", "surfreg") and g > 1.5:
+            if key not in ("triangulate", "cgal_union_triangulation", "surfreg",
+                           "surfreg_serial") and g > 1.5:
                 growth += " (grows)"
                 # Per step of N: a jump only at the last step points to the
                 # caches (the 1e6 working set is larger than L3), steady
@@ -130,14 +132,15 @@ for dist in dists:
 print()
 print("### Whole measure vs CGAL's Delaunay triangulation of A ∪ B (2N points)")
 print()
-print("| distribution | N | surfreg Measure | CGAL union | surfreg/CGAL time | (CPU time) | Measure: triangulate / tree / locate / interpolate / volume |")
+print("| distribution | N | surfreg Measure (2 threads) | CGAL union | surfreg/CGAL time | 1 thread/CGAL time | Measure: triangulate / tree / locate / interpolate / volume |")
 print("|---|---:|---:|---:|---:|---:|---|")
 large = []
 for dist in dists:
     for n in sizes:
         s, c = rows.get(("surfreg", dist, n)), rows.get(("cgal_union_triangulation", dist, n))
         ratio = s["real"] / c["real"] if ok(s) and ok(c) else None
-        cpu_ratio = s["cpu"] / c["cpu"] if ok(s) and ok(c) and c["cpu"] > 0 else None
+        serial = rows.get(("surfreg_serial", dist, n))
+        cpu_ratio = serial["real"] / c["real"] if ok(serial) and ok(c) else None
         if n == max(sizes) and ratio is not None:
             large.append((dist, n, ratio))
         split = "-"
