@@ -42,40 +42,46 @@ int ClipByTriangle(const Point2* polygon, int n, const std::array<Point2, 3>& t,
   return n;
 }
 
-// Fan of a convex polygon with μ = 1 on it.
-void FanUniform(const Point2* p, int n, const Plane& d, GapIntegrals* gap) {
+// Fan of a convex polygon with μ = 1 on it; returns the polygon's area.
+double FanUniform(const Point2* p, int n, const Plane& d, GapIntegrals* gap) {
   const double d0 = d.At(p[0]);
   double d1 = d.At(p[1]);
+  double total = 0.0;
   for (int k = 1; k + 1 < n; ++k) {
     const double d2 = d.At(p[k + 1]);
     const double area = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
-    if (area > 0.0) *gap += IntegrateGap(area, d0, d1, d2);
+    if (area > 0.0) {
+      *gap += IntegrateGap(area, d0, d1, d2);
+      total += area;
+    }
     d1 = d2;
   }
+  return total;
 }
 
 }  // namespace
 
 void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightField& mu,
                      const Plane& mu_plane, VolumeResult* result) {
-  for (int k = 1; k + 1 < n; ++k) {
-    result->area += 0.5 * std::max(0.0, TwiceArea(polygon[0], polygon[k], polygon[k + 1]));
-  }
   switch (mu.mode) {
     case WeightMode::kUniform:
-      FanUniform(polygon, n, d, &result->gap);
+      result->area += FanUniform(polygon, n, d, &result->gap);
       break;
     case WeightMode::kPerPoint:
       for (int k = 1; k + 1 < n; ++k) {
         const Point2* t[3] = {&polygon[0], &polygon[k], &polygon[k + 1]};
         const double area = 0.5 * TwiceArea(*t[0], *t[1], *t[2]);
         if (!(area > 0.0)) continue;
+        result->area += area;
         const double dv[3] = {d.At(*t[0]), d.At(*t[1]), d.At(*t[2])};
         const double mv[3] = {mu_plane.At(*t[0]), mu_plane.At(*t[1]), mu_plane.At(*t[2])};
         result->gap += IntegrateGapWeighted(area, dv, mv);
       }
       break;
     case WeightMode::kMask: {
+      for (int k = 1; k + 1 < n; ++k) {  // |Ω| is unweighted: the whole cell counts
+        result->area += 0.5 * std::max(0.0, TwiceArea(polygon[0], polygon[k], polygon[k + 1]));
+      }
       double lo_x = polygon[0].x, hi_x = lo_x, lo_y = polygon[0].y, hi_y = lo_y;
       for (int k = 1; k < n; ++k) {
         lo_x = std::min(lo_x, polygon[k].x), hi_x = std::max(hi_x, polygon[k].x);

@@ -35,6 +35,15 @@ struct Location {
   bool found() const { return where != Where::kOutside; }
 };
 
+// The piecewise-linear interpolant of per-vertex `values` at a found
+// location (location.found() must hold).
+inline double InterpolateAt(const Triangulation& mesh, const std::vector<double>& values,
+                            const Location& location) {
+  const int32_t* v = &mesh.triangles[3 * location.triangle];
+  return location.barycentric[0] * values[v[0]] + location.barycentric[1] * values[v[1]] +
+         location.barycentric[2] * values[v[2]];
+}
+
 // Locates p in `mesh` (vertex positions `points`), walking from
 // `start_triangle` (any triangle; nearer is faster). `steps`, if given,
 // receives the number of triangles visited.

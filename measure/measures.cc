@@ -78,12 +78,6 @@ double HullArea(const std::vector<Point2>& p, const Triangulation& mesh) {
   return 0.5 * twice;
 }
 
-// F̂ at a located point: the barycentric combination of vertex values.
-double Interpolate(const Triangulation& mesh, const std::vector<double>& values, const Location& l) {
-  const int32_t* v = &mesh.triangles[3 * l.triangle];
-  return l.barycentric[0] * values[v[0]] + l.barycentric[1] * values[v[1]] +
-         l.barycentric[2] * values[v[2]];
-}
 
 // Runs first() here and second() on another thread (or both here when not
 // parallel); an exception from either is rethrown after both finished.
@@ -195,7 +189,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   double gap_sum = 0.0, node_weight = 0.0;
   for (std::size_t i = 0; i < pa.xy.size(); ++i) {
     if (!a_in_b[i].found()) continue;
-    gaps.a[i] = Interpolate(pb.mesh, pb.z, a_in_b[i]) - pa.z[i];
+    gaps.a[i] = InterpolateAt(pb.mesh, pb.z, a_in_b[i]) - pa.z[i];
     if (pa.mesh.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
     const double w = mu.AtNodeA(i);
     gap_sum += w * std::fabs(gaps.a[i]);
@@ -204,7 +198,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   }
   for (std::size_t j = 0; j < pb.xy.size(); ++j) {
     if (!b_in_a[j].found()) continue;
-    gaps.b[j] = pb.z[j] - Interpolate(pa.mesh, pa.z, b_in_a[j]);
+    gaps.b[j] = pb.z[j] - InterpolateAt(pa.mesh, pa.z, b_in_a[j]);
     if (pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
     if (b_in_a[j].where == Where::kOnVertex) continue;  // the same node of G1 ∪ G2 as A's
     const double w = mu.AtNodeB(j);

@@ -37,11 +37,6 @@ bool InTriangle(const Point2& a, const Point2& b, const Point2& c, const Point2&
   return Orient2D(a, b, p) >= 0.0 && Orient2D(b, c, p) >= 0.0 && Orient2D(c, a, p) >= 0.0;
 }
 
-double Interpolate(const Triangulation& mesh, const std::vector<double>& values, const Location& l) {
-  const int32_t* v = &mesh.triangles[3 * l.triangle];
-  return l.barycentric[0] * values[v[0]] + l.barycentric[1] * values[v[1]] +
-         l.barycentric[2] * values[v[2]];
-}
 
 }  // namespace
 
@@ -164,7 +159,7 @@ double WeightField::AtNodeA(std::size_t i) const {
     case WeightMode::kUniform: return 1.0;
     case WeightMode::kMask: return InsidePolygon(mask_, (*xy_a_)[i]) ? 1.0 : 0.0;
     case WeightMode::kPerPoint:
-      return weights_on_a_ ? (*weight_)[i] : Interpolate(*mesh_, *weight_, (*other_in_this_)[i]);
+      return weights_on_a_ ? (*weight_)[i] : InterpolateAt(*mesh_, *weight_, (*other_in_this_)[i]);
   }
   return 1.0;
 }
@@ -174,7 +169,7 @@ double WeightField::AtNodeB(std::size_t j) const {
     case WeightMode::kUniform: return 1.0;
     case WeightMode::kMask: return InsidePolygon(mask_, (*xy_b_)[j]) ? 1.0 : 0.0;
     case WeightMode::kPerPoint:
-      return weights_on_a_ ? Interpolate(*mesh_, *weight_, (*other_in_this_)[j]) : (*weight_)[j];
+      return weights_on_a_ ? InterpolateAt(*mesh_, *weight_, (*other_in_this_)[j]) : (*weight_)[j];
   }
   return 1.0;
 }
