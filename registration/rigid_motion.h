@@ -31,4 +31,17 @@ Eigen::Matrix4d ReferenceFromMoving(const RigidMotion& motion);
 // Unit quaternion (w, x, y, z) of R(ω).
 Eigen::Vector4d MotionQuaternion(const RigidMotion& motion);
 
+// R(ω) as a matrix.
+Eigen::Matrix3d RotationMatrix(const std::array<double, 3>& rotation_vector);
+
+// What the analytic Jacobians need: for q = R(ω)(p − c), the derivative of
+// the moved point T(p) with respect to ω is −[q]× · M with M = R(ω)·J_r(ω)
+// (J_r the right Jacobian of SO(3)); with respect to t it is the identity.
+// So for any direction n, d(n·T(p))/dω = −Mᵀ (n × q). Series near ω = 0.
+struct MotionDerivative {
+  Eigen::Matrix3d rotation;  // R(ω)
+  Eigen::Matrix3d m;         // R(ω) J_r(ω)
+};
+MotionDerivative DifferentiateMotion(const std::array<double, 3>& rotation_vector);
+
 }  // namespace surfreg

@@ -1,0 +1,319 @@
+#include "registration/align.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include "measure/input_error.h"
+#include "registration/pair_state.h"
+#include "registration/solvers.h"
+
+namespace surfreg {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point from) {
+  return std::chrono::duration<double>(Clock::now() - from).count();
+}
+
+struct Level {
+  ReferenceSide reference;
+  MovingSide moving;
+};
+
+double RmsRadius(const MovingSide& side) {
+  double sum = 0;
+  for (const Eigen::Vector3d& p : side.points) sum += (p - side.centroid).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(side.points.size()));
+}
+
+// Moving input → reference input for θ about centre c (A's local frame).
+Eigen::Matrix4d MatrixOf(const std::array<double, 6>& theta, const Eigen::Vector3d& centre_local,
+                         const std::array<double, 3>& reference_origin) {
+  const Eigen::Matrix3d rotation = RotationMatrix({theta[0], theta[1], theta[2]});
+  const Eigen::Vector3d centre =
+      centre_local + Eigen::Vector3d(reference_origin[0], reference_origin[1], reference_origin[2]);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.topLeftCorner<3, 3>() = rotation;
+  m.topRightCorner<3, 1>() = centre + Eigen::Vector3d(theta[3], theta[4], theta[5]) - rotation * centre;
+  return m;
+}
+
+// The deterministic perturbation of multi-start s ≥ 1: a random axis and
+// direction (seeded by s), of the configured magnitudes, free parameters only.
+std::array<double, 6> Perturbed(const std::array<double, 6>& theta, int s,
+                                const AlignOptions& options, double shift) {
+  if (s == 0) return theta;
+  std::mt19937_64 rng(0x5eed0000ULL + static_cast<uint64_t>(s));
+  std::normal_distribution<double> normal;
+  Eigen::Vector3d axis(normal(rng), normal(rng), normal(rng)), direction(normal(rng), normal(rng), normal(rng));
+  axis.normalize();
+  direction.normalize();
+  const double angle = options.multi_start_angle_deg * M_PI / 180.0;
+  std::array<double, 6> out = theta;
+  for (int k = 0; k < 3; ++k) {
+    if (options.free[k]) out[k] += angle * axis[k];
+    if (options.free[3 + k]) out[3 + k] += shift * direction[k];
+  }
+  return out;
+}
+
+MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
+  MeasureOptions m;
+  m.weight = options.weight;
+  m.mask_polygon = options.mask_polygon;
+  m.parallel = options.num_threads > 1;
+  return m;
+}
+
+double MeasureOfCost(const AlignOptions& options, const MeasureSummary& s) {
+  return options.cost == CostKind::kAxial ? s.rho_d_axial : s.mean_abs_dz;
+}
+
+}  // namespace
+
+bool AlignOptions::IsValid(std::string* error) const {
+  auto fail = [error](const std::string& message) {
+    *error = message;
+    return false;
+  };
+  if (!(loss_scale >= 0) || !std::isfinite(loss_scale)) return fail("loss_scale must be >= 0");
+  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (!(function_tolerance > 0 && function_tolerance < 1)) return fail("function_tolerance must be in (0, 1)");
+  if (!(trim_fraction >= 0 && trim_fraction < 0.5)) return fail("trim_fraction must be in [0, 0.5)");
+  if (std::none_of(free.begin(), free.end(), [](bool f) { return f; })) {
+    return fail("free: at least one parameter must be free");
+  }
+  if (levels < 1 || levels > 8) return fail("levels must be in [1, 8]");
+  if (!(level_factor >= 1.5 && level_factor <= 64)) return fail("level_factor must be in [1.5, 64]");
+  if (multi_start < 0 || multi_start > 1000) return fail("multi_start must be in [0, 1000]");
+  if (!(multi_start_angle_deg >= 0 && multi_start_angle_deg <= 90)) {
+    return fail("multi_start_angle_deg must be in [0, 90]");
+  }
+  if (!(multi_start_shift >= 0) || !std::isfinite(multi_start_shift)) return fail("multi_start_shift must be >= 0");
+  if (!(max_fold_fraction >= 0 && max_fold_fraction <= 1)) return fail("max_fold_fraction must be in [0, 1]");
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(initial_rotation[k]) || !std::isfinite(initial_translation[k])) {
+      return fail("initial motion must be finite");
+    }
+  }
+  if (weight == WeightMode::kPerPoint) return fail("per-point weights are not supported by align (use a mask)");
+  if (cost == CostKind::kVolume && trim_fraction > 0) return fail("trim_fraction applies to the axial cost only");
+  if (cost == CostKind::kVolume && weight == WeightMode::kMask) {
+    return fail("a mask applies to the axial cost only");
+  }
+  if (num_threads < 1) return fail("threads must be >= 1");
+  MeasureOptions m;
+  m.weight = weight;
+  m.mask_polygon = mask_polygon;
+  return m.IsValid(error);
+}
+
+const char* VerdictName(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kConvergedImproved: return "converged_improved";
+    case Verdict::kConvergedNotImproved: return "converged_not_improved";
+    case Verdict::kIllConditioned: return "ill_conditioned";
+    case Verdict::kFailed: return "failed";
+  }
+  return "?";
+}
+
+std::array<double, 3> EulerDegrees(const Eigen::Matrix3d& r) {
+  const double degrees = 180.0 / M_PI;
+  const double ry = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+  return {std::atan2(r(2, 1), r(2, 2)) * degrees, ry * degrees,
+          std::atan2(r(1, 0), r(0, 0)) * degrees};
+}
+
+Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix) {
+  std::vector<std::array<double, 3>> points(surface.size());
+  // Rotate local coordinates and move the origin separately: no large
+  // coordinates are multiplied by the rotation.
+  const Eigen::Matrix3d r = matrix.topLeftCorner<3, 3>();
+  const Eigen::Vector3d origin(surface.origin[0], surface.origin[1], surface.origin[2]);
+  const Eigen::Vector3d moved_origin = r * origin + matrix.topRightCorner<3, 1>();
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    const Eigen::Vector3d p = r * Eigen::Vector3d(surface.xy[i].x, surface.xy[i].y, surface.z[i]);
+    points[i] = {p.x() + moved_origin.x(), p.y() + moved_origin.y(), p.z() + moved_origin.z()};
+  }
+  return MakeSurface(points, surface.weight, surface.source);
+}
+
+AlignResult Align(const Surface& reference, const Surface& moving, const AlignOptions& options_in) {
+  const Clock::time_point start = Clock::now();
+  std::string error;
+  if (!options_in.IsValid(&error)) throw InputError("align options: " + error);
+  AlignOptions options = options_in;
+  const std::array<double, 3> shift = {moving.origin[0] - reference.origin[0],
+                                       moving.origin[1] - reference.origin[1],
+                                       moving.origin[2] - reference.origin[2]};
+  // Levels, coarsest first; all share the full cloud's centroid so θ means
+  // the same motion on every level.
+  std::vector<std::unique_ptr<Level>> levels;
+  for (int l = 0; l < options.levels; ++l) {
+    const double keep = std::pow(options.level_factor, -(options.levels - 1 - l));
+    auto level = std::make_unique<Level>();
+    level->reference = PrepareReference(reference, keep);
+    level->moving = PrepareMoving(moving, shift, keep);
+    levels.push_back(std::move(level));
+  }
+  Level& finest = *levels.back();
+  for (auto& level : levels) level->moving.centroid = finest.moving.centroid;
+
+  SolveContext context;
+  context.options = &options;
+  context.rotation_scale = std::max(RmsRadius(finest.moving), 1e-300);
+  for (const auto& p : options.mask_polygon) {
+    context.axial.mask.push_back({p[0] - reference.origin[0], p[1] - reference.origin[1]});
+  }
+  context.axial.trim_fraction = options.trim_fraction;
+
+  AlignResult result;
+  const std::array<double, 6> theta0 = {options.initial_rotation[0], options.initial_rotation[1],
+                                        options.initial_rotation[2], options.initial_translation[0],
+                                        options.initial_translation[1], options.initial_translation[2]};
+  {
+    PairState check(finest.reference, finest.moving, options.max_fold_fraction);
+    UpdateStats stats;
+    if (!check.Update(theta0, &stats)) {
+      throw InputError("the initial motion folds " + moving.source + ": " +
+                       std::to_string(stats.folded) +
+                       " triangles turn over in the xy projection (tilt too large for a height field)");
+    }
+    if (options.cost == CostKind::kAxial && options.loss != LossKind::kNone &&
+        !(options.loss_scale > 0)) {
+      AxialResiduals residuals;
+      ComputeAxialResiduals(check, context.axial, false, &residuals);
+      std::vector<double> magnitudes;
+      for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+        if (residuals.active[k]) magnitudes.push_back(std::fabs(residuals.r[k]));
+      }
+      double median = 0;
+      if (!magnitudes.empty()) {
+        std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
+        median = magnitudes[magnitudes.size() / 2];
+      }
+      options.loss_scale = median > 0 ? 3.0 * 1.4826 * median : 1e-9 * context.rotation_scale;
+    }
+  }
+  const Eigen::Vector3d centre = finest.moving.centroid;
+  const MeasureOptions measure_options = MeasureOptionsFor(options);
+  result.before = Measure(reference, TransformSurface(moving, MatrixOf(theta0, centre, reference.origin)),
+                          measure_options);
+
+  const double spacing = std::sqrt(finest.moving.hull_area / static_cast<double>(finest.moving.points.size()));
+  const double start_shift = options.multi_start_shift > 0 ? options.multi_start_shift : 5.0 * spacing;
+  SolveResult best;
+  bool have_best = false;
+  int iterations = 0;
+  for (int s = 0; s <= options.multi_start; ++s) {
+    std::array<double, 6> theta = Perturbed(theta0, s, options, start_shift);
+    SolveResult solved;
+    bool usable = true;
+    for (std::size_t l = 0; l < levels.size() && usable; ++l) {
+      PairState state(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
+      context.level = static_cast<int>(l);
+      context.start = s;
+      context.seconds_offset = Seconds(start);
+      context.log = &result.log;
+      if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
+        const SolveResult rough = SolveAxial(state, context, theta);
+        iterations += std::max(0, rough.iterations);
+        if (rough.usable) theta = rough.theta;
+      }
+      solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
+                                                : SolveVolume(state, context, theta);
+      iterations += std::max(0, solved.iterations);
+      result.remeshes += state.remeshes();
+      usable = solved.usable;
+      if (usable) theta = solved.theta;
+    }
+    if (usable && (!have_best || solved.final_cost < best.final_cost)) {
+      best = solved;
+      have_best = true;
+    }
+  }
+  result.iterations = iterations;
+
+  std::array<double, 6> theta = have_best ? best.theta : theta0;
+  result.termination = have_best ? best.message : "no usable solution";
+  PairState final_state(finest.reference, finest.moving, options.max_fold_fraction);
+  UpdateStats stats;
+  const bool unfolded = final_state.Update(theta, &stats);
+  result.folded_triangles = stats.folded;
+  bool failed = !have_best || !unfolded;
+  std::string reason = !have_best ? "the solver found no usable solution"
+                       : !unfolded ? "the moving surface folds at the solution"
+                                   : "";
+  if (!failed) {
+    try {
+      result.after = Measure(reference, TransformSurface(moving, MatrixOf(theta, centre, reference.origin)),
+                             measure_options);
+    } catch (const InputError& e) {
+      failed = true;
+      reason = std::string("the surfaces no longer overlap at the solution: ") + e.what();
+    }
+  }
+  const double before_measure = MeasureOfCost(options, result.before);
+  bool keep_initial = failed;
+  if (failed) {
+    result.verdict = Verdict::kFailed;
+  } else if (MeasureOfCost(options, result.after) > before_measure) {
+    keep_initial = true;
+    result.verdict = best.converged ? Verdict::kConvergedNotImproved : Verdict::kFailed;
+    reason = "the measure did not decrease; the initial motion is kept";
+  } else if (!best.converged) {
+    result.verdict = Verdict::kFailed;
+    reason = "no convergence within max_iterations (" + best.message + ")";
+  } else {
+    result.verdict = Verdict::kConvergedImproved;
+  }
+  if (keep_initial) {
+    theta = theta0;
+    result.after = result.before;
+    final_state.Update(theta, &stats);
+  }
+
+  const Information info = AnalyseInformation(final_state, context, options.compute_covariance);
+  result.observability = info.observability;
+  result.constrained = info.constrained;
+  result.condition_number = info.condition_number;
+  for (int k = 0; k < 6; ++k) {
+    result.stddev[k] = !options.free[k] ? 0.0
+                       : info.covariance_ok ? std::sqrt(std::max(0.0, info.covariance(k, k)))
+                                            : std::nan("");
+  }
+  if (result.verdict == Verdict::kConvergedImproved) {
+    std::string loose;
+    for (int k = 0; k < 6; ++k) {
+      if (options.free[k] && !info.constrained[k]) loose += std::string(loose.empty() ? "" : ", ") + kParameterNames[k];
+    }
+    if (!loose.empty()) {
+      result.verdict = Verdict::kIllConditioned;
+      reason = "not determined by the data (flat or featureless surface): " + loose;
+    }
+  }
+  result.verdict_reason = reason;
+
+  result.motion = MotionOf(finest.moving, theta);
+  result.matrix = MatrixOf(theta, centre, reference.origin);
+  for (int k = 0; k < 3; ++k) {
+    result.rotation_vector[k] = theta[k];
+    result.translation[k] = theta[3 + k];
+    result.centre[k] = centre[k] + reference.origin[k];
+  }
+  const Eigen::Vector4d q = MotionQuaternion(result.motion);
+  result.quaternion = {q[0], q[1], q[2], q[3]};
+  result.euler_deg = EulerDegrees(result.matrix.topLeftCorner<3, 3>());
+  const double smaller = std::min(finest.reference.hull_area, finest.moving.hull_area);
+  result.overlap_fraction_before = result.before.overlap_area / smaller;
+  result.overlap_fraction_after = result.after.overlap_area / smaller;
+  result.seconds = Seconds(start);
+  return result;
+}
+
+}  // namespace surfreg

@@ -1,0 +1,158 @@
+#pragma once
+// Rigid registration of a moving surface B onto a reference surface A
+// (DESIGN.md 4): find θ = (ω, t) minimizing ρ'd (axial cost, least squares
+// with an optional robust loss) or ρd per unit overlap area (volume cost),
+// where B moves by T(p) = R(ω)(p − c) + c + t about its centroid c.
+//
+// B keeps its own triangulation while it moves; a motion that folds B's xy
+// projection (a triangle turning over) is detected: the solver treats it as
+// an infeasible step, and a final fold is a failed verdict.
+//
+// The result is reported in input coordinates (the 4×4 matrix maps moving
+// input points onto the reference) together with the measures before and
+// after, the overlap fraction, how well each parameter is determined by the
+// data, standard deviations, and a verdict that is never "improved" when
+// the measure got worse.
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "measure/measures.h"
+#include "measure/surface.h"
+#include "registration/rigid_motion.h"
+
+namespace surfreg {
+
+enum class CostKind { kAxial, kVolume };
+enum class LossKind { kNone, kHuber, kSoftL1, kCauchy };
+// Trust-region step for the axial cost.
+enum class TrustRegionKind { kLevenbergMarquardt, kDogleg };
+// Line-search direction for the volume cost.
+enum class LineSearchKind { kLbfgs, kBfgs, kNonlinearCg };
+
+// Parameter order everywhere: rx, ry, rz (rotation vector, radians), tx, ty, tz.
+inline constexpr std::array<const char*, 6> kParameterNames = {"rx", "ry", "rz", "tx", "ty", "tz"};
+
+struct AlignOptions {
+  // The volume cost is the default: on two different samplings of one
+  // surface its minimum lies closer to the true motion than the axial
+  // cost's (measured: tests/align_test.cc, README).
+  CostKind cost = CostKind::kVolume;
+  // Volume cost: first solve with the axial cost (trust region, fast and
+  // with a wide basin) on the coarsest level, then refine with the volume cost.
+  bool prealign = true;
+  LossKind loss = LossKind::kNone;
+  // Scale of the robust loss in data units (residuals beyond it are
+  // down-weighted); 0 = automatic: 3 × 1.4826 × median |residual| at the
+  // initial motion.
+  double loss_scale = 0.0;
+  TrustRegionKind trust_region = TrustRegionKind::kLevenbergMarquardt;
+  LineSearchKind line_search = LineSearchKind::kLbfgs;
+  int max_iterations = 100;  // per level and start
+  // Relative decrease of the cost below which the solver stops.
+  double function_tolerance = 1e-12;
+  // Drop this fraction (0 ≤ f < 0.5) of the worst residuals at each
+  // evaluation: for partial overlap and regions that really changed. Axial
+  // cost only.
+  double trim_fraction = 0.0;
+  // Which of rx, ry, rz, tx, ty, tz the solver may change; the others keep
+  // their initial value.
+  std::array<bool, 6> free = {true, true, true, true, true, true};
+  // Coarse-to-fine: `levels` ≥ 1 solves, the first on both clouds subsampled
+  // by level_factor^(levels−1), each starting where the previous ended.
+  int levels = 1;
+  double level_factor = 4.0;
+  // Multi-start: besides the initial guess, this many starts perturbed by
+  // ±multi_start_angle_deg about each axis and ±multi_start_shift (data
+  // units) along each axis (deterministic pattern); the lowest final cost wins.
+  int multi_start = 0;
+  double multi_start_angle_deg = 2.0;
+  double multi_start_shift = 0.0;  // 0 = 5 mean sample spacings
+  // Initial motion (rotation vector and translation; the centre is always
+  // the moving surface's centroid).
+  std::array<double, 3> initial_rotation = {0, 0, 0};
+  std::array<double, 3> initial_translation = {0, 0, 0};
+  // The weight μ used by the cost and the reported measures (uniform or a
+  // mask polygon in input coordinates, as in MeasureOptions). A mask
+  // applies to the axial cost only.
+  WeightMode weight = WeightMode::kUniform;
+  std::vector<std::array<double, 2>> mask_polygon;
+  // Moving triangles that turn over in projection under a tilt: up to this
+  // share of the moving surface's area they are slivers standing nearly
+  // vertical, and the moving surface is re-triangulated at that pose
+  // (counted in AlignResult::remeshes); beyond it the surface overlaps
+  // itself in xy, which the solver treats as an infeasible step.
+  double max_fold_fraction = 0.01;
+  bool compute_covariance = true;
+  int num_threads = 2;
+  // Called after every solver iteration (progress, logs).
+  struct Iteration {
+    int level = 0;      // 0 = coarsest
+    int start = 0;      // multi-start index
+    int iteration = 0;
+    double cost = 0;    // the solver's objective
+    double step_norm = 0;
+    double gradient_norm = 0;
+    double seconds = 0;  // since the start of Align
+  };
+  std::function<void(const Iteration&)> on_iteration;
+
+  bool IsValid(std::string* error) const;
+};
+
+enum class Verdict {
+  kConvergedImproved,     // the solver converged and the measure decreased
+  kConvergedNotImproved,  // converged, but the measure did not decrease: the initial motion is kept
+  kIllConditioned,        // a free parameter is not determined by the data (flat or featureless surface)
+  kFailed,                // the solver failed, hit its iteration limit, or the moving surface folded
+};
+const char* VerdictName(Verdict verdict);  // "converged_improved", ...
+
+struct AlignResult {
+  RigidMotion motion;           // in the reference's local frame (centre = moving centroid)
+  Eigen::Matrix4d matrix;       // moving → reference, input coordinates
+  std::array<double, 3> rotation_vector{};  // radians (same as motion.rotation_vector)
+  std::array<double, 4> quaternion{};       // w, x, y, z
+  std::array<double, 3> euler_deg{};        // rx, ry, rz: R = Rz · Ry · Rx
+  std::array<double, 3> translation{};      // t: the shift of the moving centroid
+  std::array<double, 3> centre{};           // c, input coordinates
+  // Standard deviations of rx, ry, rz (radians), tx, ty, tz (data units) from
+  // the axial residuals at the solution; 0 for locked parameters, NaN when
+  // the covariance is not defined (rank deficient).
+  std::array<double, 6> stddev{};
+  // In [0, 1]: how much of each parameter's information is not shared with
+  // other directions (1 = fully determined); `constrained` is false for a
+  // free parameter the data do not determine.
+  std::array<double, 6> observability{};
+  std::array<bool, 6> constrained{};
+  double condition_number = 0;  // of the information matrix (rotations scaled by the RMS radius)
+
+  MeasureSummary before, after;  // Measure(reference, moving moved by the initial / final motion)
+  double overlap_fraction_before = 0, overlap_fraction_after = 0;  // of the smaller hull
+  int iterations = 0;            // solver iterations over all levels and starts
+  std::string termination;       // the solver's message (last level)
+  Verdict verdict = Verdict::kFailed;
+  std::string verdict_reason;
+  int folded_triangles = 0;      // moving triangles turned over at the final motion
+  int remeshes = 0;              // re-triangulations of the moving surface after sliver folds
+  double seconds = 0;
+  std::vector<AlignOptions::Iteration> log;
+};
+
+// Aligns `moving` onto `reference`. Throws InputError for invalid surfaces or
+// options, surfaces that do not overlap at the initial motion, or an initial
+// motion that folds the moving surface.
+AlignResult Align(const Surface& reference, const Surface& moving,
+                  const AlignOptions& options = AlignOptions());
+
+// `surface` with every sample moved by `matrix` (input coordinates), e.g. the
+// aligned moving surface.
+Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix);
+
+// Euler angles (degrees) rx, ry, rz of a rotation R = Rz · Ry · Rx.
+std::array<double, 3> EulerDegrees(const Eigen::Matrix3d& rotation);
+
+}  // namespace surfreg

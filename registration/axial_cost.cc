@@ -1,0 +1,110 @@
+#include "registration/axial_cost.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "measure/weights.h"
+
+namespace surfreg {
+namespace {
+
+// (−∂F/∂x, −∂F/∂y, 1) of the plane through three points.
+Eigen::Vector3d UpNormal(const Point2& p0, const Point2& p1, const Point2& p2, double z0,
+                         double z1, double z2) {
+  const double ax = p1.x - p0.x, ay = p1.y - p0.y, az = z1 - z0;
+  const double bx = p2.x - p0.x, by = p2.y - p0.y, bz = z2 - z0;
+  const double det = ax * by - ay * bx;  // > 0: counter-clockwise, not folded
+  const double gx = (az * by - ay * bz) / det;
+  const double gy = (ax * bz - az * bx) / det;
+  return Eigen::Vector3d(-gx, -gy, 1.0);
+}
+
+void Store(const Eigen::Vector3d& rotation_part, const Eigen::Vector3d& translation_part,
+           std::array<double, 6>* row) {
+  for (int k = 0; k < 3; ++k) {
+    (*row)[k] = rotation_part[k];
+    (*row)[3 + k] = translation_part[k];
+  }
+}
+
+}  // namespace
+
+void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings, bool jacobians,
+                           AxialResiduals* out) {
+  const ReferenceSide& a = state.reference();
+  const MovingSide& b = state.moving();
+  const Triangulation& mesh_b = state.moving_mesh();
+  const std::size_t na = a.xy.size(), nb = b.points.size();
+  out->r.assign(na + nb, 0.0);
+  out->active.assign(na + nb, 0);
+  if (jacobians) out->jacobian.assign(na + nb, std::array<double, 6>{});
+  const Eigen::Matrix3d mt = state.derivative().m.transpose();
+  const std::vector<Point2>& bxy = state.moved_xy();
+  const std::vector<double>& bz = state.moved_z();
+  const std::vector<Eigen::Vector3d>& bq = state.moved_q();
+  const bool masked = !settings.mask.empty();
+
+  int64_t overlap = 0;
+  for (std::size_t i = 0; i < na; ++i) {
+    const Location& loc = state.a_in_b()[i];
+    if (!loc.found()) continue;
+    ++overlap;
+    if (masked && !InsidePolygon(settings.mask, a.xy[i])) continue;
+    const int32_t* v = &mesh_b.triangles[3 * loc.triangle];
+    const auto& l = loc.barycentric;
+    out->r[i] = l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i];
+    out->active[i] = 1;
+    if (!jacobians) continue;
+    const Eigen::Vector3d n =
+        UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], bz[v[0]], bz[v[1]], bz[v[2]]);
+    const Eigen::Vector3d q = l[0] * bq[v[0]] + l[1] * bq[v[1]] + l[2] * bq[v[2]];
+    Store(-(mt * n.cross(q)), n, &out->jacobian[i]);
+  }
+  for (std::size_t j = 0; j < nb; ++j) {
+    const Location& loc = state.b_in_a()[j];
+    if (!loc.found()) continue;
+    ++overlap;
+    if (masked && !InsidePolygon(settings.mask, bxy[j])) continue;
+    const int32_t* v = &a.mesh.triangles[3 * loc.triangle];
+    const auto& l = loc.barycentric;
+    const std::size_t k = na + j;
+    out->r[k] = l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j];
+    out->active[k] = 1;
+    if (!jacobians) continue;
+    const Eigen::Vector3d n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]],
+                                       a.z[v[2]]);
+    Store(mt * n.cross(bq[j]), -n, &out->jacobian[k]);
+  }
+  out->overlap_count = overlap;
+
+  int64_t active = 0;
+  for (uint8_t flag : out->active) active += flag;
+  out->trim_threshold = 0.0;
+  if (settings.trim_fraction > 0.0 && active > 0) {
+    std::vector<double> magnitudes;
+    magnitudes.reserve(active);
+    for (std::size_t k = 0; k < out->r.size(); ++k) {
+      if (out->active[k]) magnitudes.push_back(std::fabs(out->r[k]));
+    }
+    const std::size_t keep = static_cast<std::size_t>(
+        std::ceil((1.0 - settings.trim_fraction) * static_cast<double>(magnitudes.size())));
+    if (keep > 0 && keep < magnitudes.size()) {
+      std::nth_element(magnitudes.begin(), magnitudes.begin() + (keep - 1), magnitudes.end());
+      const double threshold = magnitudes[keep - 1];
+      out->trim_threshold = threshold;
+      for (std::size_t k = 0; k < out->r.size(); ++k) {
+        if (out->active[k] && std::fabs(out->r[k]) > threshold) {
+          out->active[k] = 0;
+          out->r[k] = 0.0;
+          if (jacobians) out->jacobian[k] = {};
+          --active;
+        }
+      }
+    }
+  }
+  out->active_count = active;
+}
+
+}  // namespace surfreg

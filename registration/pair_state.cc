@@ -1,0 +1,211 @@
+#include "registration/pair_state.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "measure/input_error.h"
+#include "measure/predicates.h"
+#include "measure/spatial_sort.h"
+
+namespace surfreg {
+namespace {
+
+uint64_t Mix(uint64_t x) {  // splitmix64 finalizer: a fixed pseudo-random key per index
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+struct Cloud {
+  std::vector<Point2> xy;
+  std::vector<double> z;
+};
+
+// Subsampled, Hilbert-sorted, duplicates merged (mean height), triangulated.
+Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
+                   double keep_fraction, Triangulation* mesh) {
+  Cloud all;
+  const std::size_t n = surface.size();
+  const double threshold = keep_fraction * 18446744073709551616.0;  // 2^64
+  for (std::size_t i = 0; i < n; ++i) {
+    if (keep_fraction < 1.0 && static_cast<double>(Mix(i)) >= threshold) continue;
+    all.xy.push_back({surface.xy[i].x + shift[0], surface.xy[i].y + shift[1]});
+    all.z.push_back(surface.z[i] + shift[2]);
+  }
+  if (all.xy.size() < 3) {
+    throw InputError(surface.source + ": too few points left after subsampling by " +
+                     std::to_string(keep_fraction));
+  }
+  const std::vector<int32_t> order = SpatialOrder(all.xy, /*brio=*/false, 0);
+  Cloud sorted;
+  sorted.xy.reserve(order.size());
+  sorted.z.reserve(order.size());
+  for (int32_t k : order) {
+    sorted.xy.push_back(all.xy[k]);
+    sorted.z.push_back(all.z[k]);
+  }
+  *mesh = Triangulate(sorted.xy);
+  if (mesh->num_duplicates == 0) return sorted;
+  // Keep one point per xy with the mean height, then triangulate the rest:
+  // a moving surface must not carry unreferenced points.
+  std::vector<double> sum(sorted.xy.size(), 0.0);
+  std::vector<int32_t> count(sorted.xy.size(), 0);
+  for (std::size_t i = 0; i < sorted.xy.size(); ++i) {
+    sum[mesh->vertex_of_input[i]] += sorted.z[i];
+    ++count[mesh->vertex_of_input[i]];
+  }
+  Cloud unique;
+  for (std::size_t i = 0; i < sorted.xy.size(); ++i) {
+    if (mesh->vertex_of_input[i] != static_cast<int32_t>(i)) continue;
+    unique.xy.push_back(sorted.xy[i]);
+    unique.z.push_back(sum[i] / count[i]);
+  }
+  *mesh = Triangulate(unique.xy);
+  return unique;
+}
+
+double HullArea(const std::vector<Point2>& p, const Triangulation& mesh) {
+  double twice = 0.0;
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const Point2& a = p[mesh.triangles[3 * t]];
+    const Point2& b = p[mesh.triangles[3 * t + 1]];
+    const Point2& c = p[mesh.triangles[3 * t + 2]];
+    twice += (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  }
+  return 0.5 * twice;
+}
+
+}  // namespace
+
+ReferenceSide PrepareReference(const Surface& surface, double keep_fraction) {
+  ValidateSurface(surface);
+  ReferenceSide side;
+  Cloud cloud = PrepareCloud(surface, {0, 0, 0}, keep_fraction, &side.mesh);
+  side.xy = std::move(cloud.xy);
+  side.z = std::move(cloud.z);
+  side.tree = EuclideanMst(side.xy, side.mesh);
+  side.hull_area = HullArea(side.xy, side.mesh);
+  return side;
+}
+
+MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
+                         double keep_fraction) {
+  ValidateSurface(surface);
+  MovingSide side;
+  Cloud cloud = PrepareCloud(surface, shift, keep_fraction, &side.mesh);
+  side.tree = EuclideanMst(cloud.xy, side.mesh);
+  side.hull_area = HullArea(cloud.xy, side.mesh);
+  side.points.resize(cloud.xy.size());
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < cloud.xy.size(); ++i) {
+    side.points[i] = Eigen::Vector3d(cloud.xy[i].x, cloud.xy[i].y, cloud.z[i]);
+    sum += side.points[i];
+  }
+  side.centroid = sum / static_cast<double>(cloud.xy.size());
+  return side;
+}
+
+RigidMotion MotionOf(const MovingSide& moving, const std::array<double, 6>& theta) {
+  RigidMotion motion;
+  motion.rotation_vector = {theta[0], theta[1], theta[2]};
+  motion.translation = {theta[3], theta[4], theta[5]};
+  motion.centre = {moving.centroid.x(), moving.centroid.y(), moving.centroid.z()};
+  return motion;
+}
+
+namespace {
+
+double TriangleArea3d(const std::vector<Eigen::Vector3d>& p, const int32_t* v) {
+  return 0.5 * (p[v[1]] - p[v[0]]).cross(p[v[2]] - p[v[0]]).norm();
+}
+
+double SurfaceArea(const std::vector<Eigen::Vector3d>& p, const Triangulation& mesh) {
+  double area = 0;
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) area += TriangleArea3d(p, &mesh.triangles[3 * t]);
+  return area;
+}
+
+}  // namespace
+
+PairState::PairState(const ReferenceSide& reference, const MovingSide& moving,
+                     double max_fold_fraction)
+    : reference_(reference), moving_(moving), max_fold_fraction_(max_fold_fraction),
+      mesh_(moving.mesh) {
+  const std::size_t n = moving.points.size();
+  moved_xy_.resize(n);
+  moved_z_.resize(n);
+  moved_q_.resize(n);
+  area3d_ = SurfaceArea(moving.points, mesh_);
+}
+
+bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
+  theta_ = theta;
+  derivative_ = DifferentiateMotion({theta[0], theta[1], theta[2]});
+  const Eigen::Matrix3d& rotation = derivative_.rotation;
+  const Eigen::Vector3d offset = moving_.centroid + Eigen::Vector3d(theta[3], theta[4], theta[5]);
+  const std::size_t n = moving_.points.size();
+  for (std::size_t j = 0; j < n; ++j) {
+    const Eigen::Vector3d q = rotation * (moving_.points[j] - moving_.centroid);
+    moved_q_[j] = q;
+    moved_xy_[j] = {q.x() + offset.x(), q.y() + offset.y()};
+    moved_z_[j] = q.z() + offset.z();
+  }
+  // A fold turns a triangle's projection over; walking and the overlay
+  // assume a valid planar mesh, so nothing is located then.
+  int32_t folded = 0;
+  double folded_area = 0;
+  for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
+    const int32_t* v = &mesh_.triangles[3 * t];
+    if (Orient2D(moved_xy_[v[0]], moved_xy_[v[1]], moved_xy_[v[2]]) <= 0.0) {
+      ++folded;
+      folded_area += TriangleArea3d(moving_.points, v);
+    }
+  }
+  folded_ = folded;
+  const double fraction = area3d_ > 0 ? folded_area / area3d_ : 0.0;
+  if (stats != nullptr) {
+    stats->folded = folded;
+    stats->folded_area_fraction = fraction;
+  }
+  if (folded > 0 && fraction > max_fold_fraction_) return false;
+  bool relocate_all = !located_;
+  if (folded > 0) {
+    // Only slivers turned over: the height field seen from above at this
+    // pose is B's Delaunay triangulation there.
+    mesh_ = Triangulate(moved_xy_);
+    area3d_ = SurfaceArea(moving_.points, mesh_);
+    ++remeshes_;
+    if (stats != nullptr) stats->remeshed = true;
+    relocate_all = true;
+  }
+  const Triangulation& mesh_b = mesh_;
+
+  LocateAllStats all_a, all_b;
+  if (relocate_all) {
+    a_in_b_ = LocateAll(moved_xy_, mesh_b, reference_.xy, reference_.mesh, reference_.tree, &all_a);
+    b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_b, moving_.tree, &all_b);
+    located_ = true;
+    if (stats != nullptr) stats->walk_steps = all_a.steps + all_b.steps;
+    return true;
+  }
+  // Steps of a solver are small: most walks end within a triangle or two.
+  int64_t steps_total = 0;
+  for (std::size_t i = 0; i < reference_.xy.size(); ++i) {
+    int steps = 0;
+    a_in_b_[i] = LocatePoint(moved_xy_, mesh_b, reference_.xy[i], a_in_b_[i].triangle, &steps);
+    steps_total += steps;
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    int steps = 0;
+    b_in_a_[j] = LocatePoint(reference_.xy, reference_.mesh, moved_xy_[j], b_in_a_[j].triangle,
+                             &steps);
+    steps_total += steps;
+  }
+  if (stats != nullptr) stats->walk_steps = steps_total;
+  return true;
+}
+
+}  // namespace surfreg

@@ -1,0 +1,338 @@
+#include "registration/solvers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <ceres/ceres.h>
+
+#include "registration/volume_cost.h"
+
+namespace surfreg {
+namespace {
+
+// The free parameters as a vector of lengths: rotations × scale, translations.
+struct ParameterMap {
+  std::vector<int> free;  // indices into (rx, ry, rz, tx, ty, tz)
+  double rotation_scale = 1.0;
+  std::array<double, 6> fixed{};  // full θ supplying the locked values
+
+  ParameterMap(const AlignOptions& options, double scale, const std::array<double, 6>& theta0)
+      : rotation_scale(scale), fixed(theta0) {
+    for (int k = 0; k < 6; ++k) {
+      if (options.free[k]) free.push_back(k);
+    }
+  }
+  int size() const { return static_cast<int>(free.size()); }
+  double Factor(int k) const { return k < 3 ? rotation_scale : 1.0; }
+  std::array<double, 6> Full(const double* x) const {
+    std::array<double, 6> theta = fixed;
+    for (int i = 0; i < size(); ++i) theta[free[i]] = x[i] / Factor(free[i]);
+    return theta;
+  }
+  std::vector<double> Reduce(const std::array<double, 6>& theta) const {
+    std::vector<double> x(free.size());
+    for (int i = 0; i < size(); ++i) x[i] = theta[free[i]] * Factor(free[i]);
+    return x;
+  }
+};
+
+class LogCallback : public ceres::IterationCallback {
+ public:
+  explicit LogCallback(const SolveContext& context) : context_(context) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    AlignOptions::Iteration entry;
+    entry.level = context_.level;
+    entry.start = context_.start;
+    entry.iteration = summary.iteration;
+    entry.cost = summary.cost;
+    entry.step_norm = summary.step_norm;
+    entry.gradient_norm = summary.gradient_max_norm;
+    entry.seconds = context_.seconds_offset + summary.cumulative_time_in_seconds;
+    if (context_.log != nullptr) context_.log->push_back(entry);
+    if (context_.options->on_iteration) context_.options->on_iteration(entry);
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const SolveContext& context_;
+};
+
+// Evaluates all node residuals once per new θ; the cost functions read them.
+class AxialEvaluation : public ceres::EvaluationCallback {
+ public:
+  AxialEvaluation(PairState& state, const AxialSettings& settings, const ParameterMap& map,
+                  const double* x)
+      : state_(state), settings_(settings), map_(map), x_(x) {}
+
+  void PrepareForEvaluation(bool evaluate_jacobians, bool new_evaluation_point) override {
+    if (new_evaluation_point) {
+      ok_ = state_.Update(map_.Full(x_));
+      have_jacobians_ = false;
+      if (ok_) {
+        ComputeAxialResiduals(state_, settings_, evaluate_jacobians, &residuals);
+        have_jacobians_ = evaluate_jacobians;
+      }
+    } else if (ok_ && evaluate_jacobians && !have_jacobians_) {
+      ComputeAxialResiduals(state_, settings_, true, &residuals);
+      have_jacobians_ = true;
+    }
+  }
+  bool ok() const { return ok_; }
+  AxialResiduals residuals;
+
+ private:
+  PairState& state_;
+  const AxialSettings& settings_;
+  const ParameterMap& map_;
+  const double* x_;
+  bool ok_ = false, have_jacobians_ = false;
+};
+
+class NodeResidual : public ceres::CostFunction {
+ public:
+  NodeResidual(const AxialEvaluation& evaluation, const ParameterMap& map, std::size_t node)
+      : evaluation_(evaluation), map_(map), node_(node) {
+    set_num_residuals(1);
+    mutable_parameter_block_sizes()->push_back(map.size());
+  }
+  bool Evaluate(double const* const* /*parameters*/, double* residuals,
+                double** jacobians) const override {
+    if (!evaluation_.ok()) return false;  // folded: an infeasible step
+    residuals[0] = evaluation_.residuals.r[node_];
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      const std::array<double, 6>& row = evaluation_.residuals.jacobian[node_];
+      for (int i = 0; i < map_.size(); ++i) {
+        jacobians[0][i] = row[map_.free[i]] / map_.Factor(map_.free[i]);
+      }
+    }
+    return true;
+  }
+
+ private:
+  const AxialEvaluation& evaluation_;
+  const ParameterMap& map_;
+  std::size_t node_;
+};
+
+std::unique_ptr<ceres::LossFunction> MakeLoss(LossKind kind, double scale) {
+  switch (kind) {
+    case LossKind::kNone: return nullptr;
+    case LossKind::kHuber: return std::make_unique<ceres::HuberLoss>(scale);
+    case LossKind::kSoftL1: return std::make_unique<ceres::SoftLOneLoss>(scale);
+    case LossKind::kCauchy: return std::make_unique<ceres::CauchyLoss>(scale);
+  }
+  return nullptr;
+}
+
+// Residual scale for the robust loss: 3 × 1.4826 × median |r| at the start.
+double AutomaticLossScale(PairState& state, const AxialSettings& settings,
+                          const std::array<double, 6>& theta0) {
+  AxialResiduals residuals;
+  if (!state.Update(theta0)) return 1.0;
+  ComputeAxialResiduals(state, settings, false, &residuals);
+  std::vector<double> magnitudes;
+  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+    if (residuals.active[k]) magnitudes.push_back(std::fabs(residuals.r[k]));
+  }
+  if (magnitudes.empty()) return 1.0;
+  std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
+                   magnitudes.end());
+  const double median = magnitudes[magnitudes.size() / 2];
+  return median > 0 ? 3.0 * 1.4826 * median : 1e-12;
+}
+
+void FillResult(const ParameterMap& map, const std::vector<double>& x, double initial_cost,
+                double final_cost, int iterations, ceres::TerminationType termination,
+                bool usable, const std::string& message, SolveResult* result) {
+  result->theta = map.Full(x.data());
+  result->initial_cost = initial_cost;
+  result->final_cost = final_cost;
+  result->iterations = iterations;
+  result->converged = termination == ceres::CONVERGENCE || termination == ceres::USER_SUCCESS;
+  result->usable = usable;
+  result->message = message;
+}
+
+}  // namespace
+
+SolveResult SolveAxial(PairState& state, const SolveContext& context,
+                       const std::array<double, 6>& theta0) {
+  const AlignOptions& options = *context.options;
+  ParameterMap map(options, context.rotation_scale, theta0);
+  std::vector<double> x = map.Reduce(theta0);
+  const std::size_t nodes = state.reference().xy.size() + state.moving().points.size();
+
+  double scale = options.loss_scale;
+  if (options.loss != LossKind::kNone && !(scale > 0)) {
+    scale = AutomaticLossScale(state, context.axial, theta0);
+  }
+  std::unique_ptr<ceres::LossFunction> loss = MakeLoss(options.loss, scale);
+  AxialEvaluation evaluation(state, context.axial, map, x.data());
+  ceres::Problem::Options problem_options;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.evaluation_callback = &evaluation;
+  ceres::Problem problem(problem_options);
+  for (std::size_t k = 0; k < nodes; ++k) {
+    problem.AddResidualBlock(new NodeResidual(evaluation, map, k), loss.get(), x.data());
+  }
+
+  ceres::Solver::Options solver;
+  solver.minimizer_type = ceres::TRUST_REGION;
+  solver.trust_region_strategy_type = options.trust_region == TrustRegionKind::kDogleg
+                                          ? ceres::DOGLEG
+                                          : ceres::LEVENBERG_MARQUARDT;
+  solver.linear_solver_type = ceres::DENSE_QR;
+  solver.max_num_iterations = options.max_iterations;
+  solver.function_tolerance = options.function_tolerance;
+  solver.gradient_tolerance = 1e-16;
+  solver.parameter_tolerance = 1e-14;
+  solver.num_threads = std::max(1, options.num_threads);
+  solver.logging_type = ceres::SILENT;
+  LogCallback log(context);
+  solver.callbacks.push_back(&log);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver, &problem, &summary);
+  SolveResult result;
+  FillResult(map, x, summary.initial_cost, summary.final_cost,
+             static_cast<int>(summary.iterations.size()) - 1, summary.termination_type,
+             summary.IsSolutionUsable() && std::isfinite(summary.final_cost), summary.message,
+             &result);
+  return result;
+}
+
+namespace {
+
+class VolumeFunction : public ceres::FirstOrderFunction {
+ public:
+  VolumeFunction(PairState& state, const ParameterMap& map, bool parallel)
+      : state_(state), map_(map), parallel_(parallel) {}
+  bool Evaluate(const double* x, double* cost, double* gradient) const override {
+    if (!state_.Update(map_.Full(x))) return false;
+    const VolumeCostValue value = EvaluateVolumeCost(state_, gradient != nullptr, parallel_);
+    if (!(value.area > 0)) return false;
+    *cost = value.PerArea();
+    if (gradient != nullptr) {
+      const Eigen::Matrix<double, 6, 1> g = value.PerAreaGradient();
+      for (int i = 0; i < map_.size(); ++i) gradient[i] = g[map_.free[i]] / map_.Factor(map_.free[i]);
+    }
+    return std::isfinite(*cost);
+  }
+  int NumParameters() const override { return map_.size(); }
+
+ private:
+  PairState& state_;
+  const ParameterMap& map_;
+  bool parallel_;
+};
+
+}  // namespace
+
+SolveResult SolveVolume(PairState& state, const SolveContext& context,
+                        const std::array<double, 6>& theta0) {
+  const AlignOptions& options = *context.options;
+  ParameterMap map(options, context.rotation_scale, theta0);
+  std::vector<double> x = map.Reduce(theta0);
+  ceres::GradientProblem problem(new VolumeFunction(state, map, options.num_threads > 1));
+  ceres::GradientProblemSolver::Options solver;
+  switch (options.line_search) {
+    case LineSearchKind::kLbfgs: solver.line_search_direction_type = ceres::LBFGS; break;
+    case LineSearchKind::kBfgs: solver.line_search_direction_type = ceres::BFGS; break;
+    case LineSearchKind::kNonlinearCg:
+      solver.line_search_direction_type = ceres::NONLINEAR_CONJUGATE_GRADIENT;
+      break;
+  }
+  solver.max_num_iterations = options.max_iterations;
+  solver.function_tolerance = options.function_tolerance;
+  solver.gradient_tolerance = 1e-16;
+  solver.parameter_tolerance = 1e-14;
+  solver.logging_type = ceres::SILENT;
+  LogCallback log(context);
+  solver.callbacks.push_back(&log);
+  ceres::GradientProblemSolver::Summary summary;
+  ceres::Solve(solver, problem, x.data(), &summary);
+  SolveResult result;
+  FillResult(map, x, summary.initial_cost, summary.final_cost,
+             static_cast<int>(summary.iterations.size()) - 1, summary.termination_type,
+             summary.IsSolutionUsable() && std::isfinite(summary.final_cost), summary.message,
+             &result);
+  return result;
+}
+
+Information AnalyseInformation(PairState& state, const SolveContext& context, bool covariance) {
+  Information info;
+  const AlignOptions& options = *context.options;
+  const std::array<double, 6> theta = state.theta();
+  ParameterMap map(options, context.rotation_scale, theta);
+  const int n = map.size();
+  AxialResiduals residuals;
+  if (!state.Update(theta)) return info;
+  ComputeAxialResiduals(state, context.axial, true, &residuals);
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
+  double sum_squares = 0;
+  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+    if (!residuals.active[k]) continue;
+    Eigen::VectorXd row(n);
+    for (int i = 0; i < n; ++i) row[i] = residuals.jacobian[k][map.free[i]] / map.Factor(map.free[i]);
+    h.noalias() += row * row.transpose();
+    sum_squares += residuals.r[k] * residuals.r[k];
+  }
+  for (int k = 0; k < 6; ++k) {
+    info.observability[k] = options.free[k] ? 0.0 : 1.0;
+    info.constrained[k] = !options.free[k];
+  }
+  if (n == 0) return info;
+  // o_i = 1 / (H_ii (H⁻¹)_ii): 1 when parameter i is uncorrelated with the
+  // others, → 0 when a combination of it and others leaves the cost flat.
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(h);
+  const Eigen::VectorXd lambda = eigen.eigenvalues();
+  const double largest = std::max(lambda.maxCoeff(), 0.0);
+  const double floor = std::max(largest * 1e-15, std::numeric_limits<double>::min());
+  info.condition_number = largest / std::max(lambda.minCoeff(), floor);
+  for (int i = 0; i < n; ++i) {
+    double inverse_ii = 0;
+    for (int e = 0; e < n; ++e) {
+      const double v = eigen.eigenvectors()(i, e);
+      inverse_ii += v * v / std::max(lambda[e], floor);
+    }
+    const double o = h(i, i) > floor ? 1.0 / (h(i, i) * inverse_ii) : 0.0;
+    info.observability[map.free[i]] = std::min(1.0, o);
+    info.constrained[map.free[i]] = o > 1e-6 && lambda.minCoeff() > 1e-12 * largest;
+  }
+  if (!covariance || residuals.active_count <= n) return info;
+
+  // ceres::Covariance over the same residuals (no loss: the Gauss-Newton
+  // information), scaled by the residual variance.
+  std::vector<double> x = map.Reduce(theta);
+  AxialEvaluation evaluation(state, context.axial, map, x.data());
+  ceres::Problem::Options problem_options;
+  problem_options.evaluation_callback = &evaluation;
+  ceres::Problem problem(problem_options);
+  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+    if (residuals.active[k]) problem.AddResidualBlock(new NodeResidual(evaluation, map, k), nullptr, x.data());
+  }
+  evaluation.PrepareForEvaluation(true, true);  // in case Covariance does not call it
+  ceres::Covariance::Options covariance_options;
+  covariance_options.algorithm_type = ceres::DENSE_SVD;
+  covariance_options.null_space_rank = 0;
+  covariance_options.num_threads = std::max(1, options.num_threads);
+  ceres::Covariance solver(covariance_options);
+  const std::vector<std::pair<const double*, const double*>> blocks = {{x.data(), x.data()}};
+  if (!solver.Compute(blocks, &problem)) return info;
+  std::vector<double> block(n * n);
+  if (!solver.GetCovarianceBlock(x.data(), x.data(), block.data())) return info;
+  const double variance = sum_squares / static_cast<double>(residuals.active_count - n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      info.covariance(map.free[i], map.free[j]) =
+          variance * block[i * n + j] / (map.Factor(map.free[i]) * map.Factor(map.free[j]));
+    }
+  }
+  info.covariance_ok = true;
+  return info;
+}
+
+}  // namespace surfreg

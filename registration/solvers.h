@@ -1,0 +1,59 @@
+#pragma once
+// One solve of the registration at one level from one start, with Ceres
+// (internal to align.cc; DESIGN.md 4).
+// - axial: ceres::Problem, one residual block per node (so a robust loss
+//   applies per node), all blocks served from one evaluation of the state per
+//   new θ (ceres::EvaluationCallback), trust region.
+// - volume: ceres::GradientProblem over ρd per unit overlap area, line search.
+// Only the free parameters are optimized; rotations are scaled by a length
+// (the moving cloud's RMS radius) so that all parameters are lengths, which
+// keeps line searches and trust regions well scaled.
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "registration/align.h"
+#include "registration/axial_cost.h"
+#include "registration/pair_state.h"
+
+namespace surfreg {
+
+struct SolveContext {
+  const AlignOptions* options = nullptr;
+  AxialSettings axial;
+  double rotation_scale = 1.0;  // length that multiplies radians
+  int level = 0, start = 0;
+  double seconds_offset = 0;    // time already spent, for the log
+  std::vector<AlignOptions::Iteration>* log = nullptr;
+};
+
+struct SolveResult {
+  std::array<double, 6> theta{};
+  double initial_cost = 0, final_cost = 0;  // the solver's objective
+  int iterations = 0;
+  bool converged = false;  // the solver met a convergence tolerance
+  bool usable = false;     // the solution is finite and evaluable
+  std::string message;
+};
+
+SolveResult SolveAxial(PairState& state, const SolveContext& context,
+                       const std::array<double, 6>& theta0);
+SolveResult SolveVolume(PairState& state, const SolveContext& context,
+                        const std::array<double, 6>& theta0);
+
+struct Information {
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  bool covariance_ok = false;
+  std::array<double, 6> observability{};
+  std::array<bool, 6> constrained{};
+  double condition_number = 0;
+};
+
+// Observability from JᵀJ of the axial residuals at the state's θ, and (if
+// `covariance`) the parameter covariance from ceres::Covariance scaled by the
+// residual variance. Locked parameters get 0 and count as constrained.
+Information AnalyseInformation(PairState& state, const SolveContext& context, bool covariance);
+
+}  // namespace surfreg

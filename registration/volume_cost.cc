@@ -1,0 +1,219 @@
+#include "registration/volume_cost.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "measure/overlay.h"
+#include "measure/weights.h"
+
+namespace surfreg {
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+// Area and centroid of a convex polygon.
+void AreaCentroid(const Point2* p, int n, double* area, Point2* centroid) {
+  double twice = 0, cx = 0, cy = 0;
+  for (int k = 1; k + 1 < n; ++k) {
+    const double t = TwiceArea(p[0], p[k], p[k + 1]);
+    twice += t;
+    cx += t * (p[0].x + p[k].x + p[k + 1].x);
+    cy += t * (p[0].y + p[k].y + p[k + 1].y);
+  }
+  *area = 0.5 * twice;
+  *centroid = twice > 0 ? Point2{cx / (3 * twice), cy / (3 * twice)} : p[0];
+}
+
+// The moved B triangle as a linear map: height, and the material point q
+// (relative to c + t) above any xy.
+struct MovedTriangle {
+  Point2 p0;
+  double inv[4];  // inverse of [p1 − p0, p2 − p0]
+  Eigen::Vector3d q0, dq1, dq2;
+  Plane height;
+  Eigen::Vector3d normal;  // (−∇F, 1)
+
+  Eigen::Vector3d QAt(const Point2& x) const {
+    const double dx = x.x - p0.x, dy = x.y - p0.y;
+    const double l1 = inv[0] * dx + inv[1] * dy, l2 = inv[2] * dx + inv[3] * dy;
+    return q0 + l1 * dq1 + l2 * dq2;
+  }
+};
+
+class Accumulator {
+ public:
+  Accumulator(const PairState& state, bool gradient) : state_(state), gradient_(gradient) {
+    mt_ = state.derivative().m.transpose();
+  }
+
+  void operator()(const OverlayCell& cell) {
+    const ReferenceSide& a = state_.reference();
+    if (cell.triangle_a != last_a_) {
+      last_a_ = cell.triangle_a;
+      const int32_t* v = &a.mesh.triangles[3 * cell.triangle_a];
+      fa_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
+      for (int k = 0; k < 3; ++k) ta_[k] = a.xy[v[k]];
+    }
+    if (cell.triangle_b != last_b_) {
+      last_b_ = cell.triangle_b;
+      SetMovedTriangle(cell.triangle_b);
+    }
+    ++value.cells;
+    double dv[8];
+    for (int k = 0; k < cell.num_vertices; ++k) {
+      dv[k] = tb_.height.At(cell.vertices[k]) - fa_.At(cell.vertices[k]);
+    }
+    // Split the cell by the sign of d (linear on it).
+    Point2 pos[10], neg[10];
+    int np = 0, nn = 0;
+    for (int k = 0; k < cell.num_vertices; ++k) {
+      const int l = k + 1 == cell.num_vertices ? 0 : k + 1;
+      if (dv[k] >= 0) pos[np++] = cell.vertices[k];
+      if (dv[k] <= 0) neg[nn++] = cell.vertices[k];
+      if ((dv[k] > 0 && dv[l] < 0) || (dv[k] < 0 && dv[l] > 0)) {
+        const double s = dv[k] / (dv[k] - dv[l]);
+        const Point2 cut{cell.vertices[k].x + s * (cell.vertices[l].x - cell.vertices[k].x),
+                         cell.vertices[k].y + s * (cell.vertices[l].y - cell.vertices[k].y)};
+        pos[np++] = cut;
+        neg[nn++] = cut;
+      }
+    }
+    value.area += cell.area;
+    AddPart(pos, np, +1.0);
+    AddPart(neg, nn, -1.0);
+    if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b);
+  }
+
+  VolumeCostValue value;
+
+ private:
+  void SetMovedTriangle(int32_t t) {
+    const Triangulation& mesh_b = state_.moving_mesh();
+    const int32_t* v = &mesh_b.triangles[3 * t];
+    const auto& xy = state_.moved_xy();
+    const auto& z = state_.moved_z();
+    const auto& q = state_.moved_q();
+    tb_.p0 = xy[v[0]];
+    const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
+    const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
+    const double det = ax * by - ay * bx;
+    tb_.inv[0] = by / det, tb_.inv[1] = -bx / det, tb_.inv[2] = -ay / det, tb_.inv[3] = ax / det;
+    tb_.q0 = q[v[0]];
+    tb_.dq1 = q[v[1]] - q[v[0]];
+    tb_.dq2 = q[v[2]] - q[v[0]];
+    tb_.height = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+    tb_.normal = Eigen::Vector3d(-tb_.height.gx, -tb_.height.gy, 1.0);
+    has_hull_edge_ = false;
+    for (int k = 0; k < 3; ++k) has_hull_edge_ |= mesh_b.neighbors[3 * t + k] < 0;
+  }
+
+  // ∫ over one sign part: |d| (exact: d is linear), and sign · ∂_θF̂_B'.
+  void AddPart(const Point2* p, int n, double sign) {
+    if (n < 3) return;
+    double area;
+    Point2 c;
+    AreaCentroid(p, n, &area, &c);
+    if (!(area > 0)) return;
+    const double d = tb_.height.At(c) - fa_.At(c);
+    value.abs += area * std::max(0.0, sign * d);
+    if (!gradient_) return;
+    const Eigen::Vector3d q = tb_.QAt(c);
+    const double w = sign * area;
+    value.d_abs.head<3>() += w * -(mt_ * tb_.normal.cross(q));
+    value.d_abs.tail<3>() += w * tb_.normal;
+  }
+
+  // B's hull edges of this cell's B triangle, within its A triangle: the
+  // moving part of ∂Ω.
+  void AddBoundary(int32_t t) {
+    const Triangulation& mesh_b = state_.moving_mesh();
+    const int32_t* v = &mesh_b.triangles[3 * t];
+    const auto& xy = state_.moved_xy();
+    const auto& q = state_.moved_q();
+    for (int i = 0; i < 3; ++i) {
+      if (mesh_b.neighbors[3 * t + i] >= 0) continue;
+      const int32_t va = v[(i + 1) % 3], vb = v[(i + 2) % 3];  // interior on the left
+      const Point2 e0 = xy[va], e1 = xy[vb];
+      double s0 = 0.0, s1 = 1.0;
+      for (int k = 0; k < 3 && s0 < s1; ++k) {  // clip to T_A (counter-clockwise)
+        const Point2& c0 = ta_[k];
+        const Point2& c1 = ta_[(k + 1) % 3];
+        const double f0 = TwiceArea(c0, c1, e0), f1 = TwiceArea(c0, c1, e1);
+        if (f0 >= 0 && f1 >= 0) continue;
+        if (f0 < 0 && f1 < 0) {
+          s1 = s0;
+          break;
+        }
+        const double s = f0 / (f0 - f1);
+        if (f0 < 0) s0 = std::max(s0, s); else s1 = std::min(s1, s);
+      }
+      if (!(s1 > s0)) continue;
+      const double ex = e1.x - e0.x, ey = e1.y - e0.y;
+      const double length = std::hypot(ex, ey);
+      const Eigen::Vector3d m(ey / length, -ex / length, 0.0);  // outward normal
+      auto point = [&](double s) { return Point2{e0.x + s * ex, e0.y + s * ey}; };
+      auto g = [&](double s) {
+        const Eigen::Vector3d qs = (1 - s) * q[va] + s * q[vb];
+        Vector6 out;
+        out.head<3>() = -(mt_ * m.cross(qs));
+        out.tail<3>() = m;
+        return out;
+      };
+      auto d = [&](double s) { const Point2 p = point(s); return tb_.height.At(p) - fa_.At(p); };
+      value.d_area += (s1 - s0) * length * g(0.5 * (s0 + s1));
+      // ∫|d| g ds, split where d changes sign; Simpson is exact for the quadratic.
+      const double d0 = d(s0), d1 = d(s1);
+      double cuts[3] = {s0, s1, s1};
+      int pieces = 1;
+      if ((d0 > 0 && d1 < 0) || (d0 < 0 && d1 > 0)) {
+        cuts[1] = s0 + (s1 - s0) * d0 / (d0 - d1);
+        cuts[2] = s1;
+        pieces = 2;
+      }
+      for (int k = 0; k < pieces; ++k) {
+        const double a0 = cuts[k], a1 = cuts[k + 1], am = 0.5 * (a0 + a1);
+        value.d_abs += (a1 - a0) * length / 6.0 *
+                       (std::fabs(d(a0)) * g(a0) + 4.0 * std::fabs(d(am)) * g(am) +
+                        std::fabs(d(a1)) * g(a1));
+      }
+    }
+  }
+
+  const PairState& state_;
+  const bool gradient_;
+  Eigen::Matrix3d mt_;
+  int32_t last_a_ = -1, last_b_ = -1;
+  Plane fa_;
+  Point2 ta_[3];
+  MovedTriangle tb_;
+  bool has_hull_edge_ = false;
+};
+
+}  // namespace
+
+VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel) {
+  const ReferenceSide& a = state.reference();
+  Accumulator first(state, gradient), second(state, gradient);
+  if (parallel) {
+    ForEachOverlayCellInTwo(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
+                            std::ref(first), std::ref(second));
+  } else {
+    ForEachOverlayCell(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
+                       std::ref(first));
+  }
+  VolumeCostValue total = first.value;
+  total.abs += second.value.abs;
+  total.area += second.value.area;
+  total.d_abs += second.value.d_abs;
+  total.d_area += second.value.d_area;
+  total.cells += second.value.cells;
+  return total;
+}
+
+}  // namespace surfreg

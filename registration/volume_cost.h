@@ -1,0 +1,40 @@
+#pragma once
+// The volume cost (DESIGN.md 4): ρd per unit overlap area,
+//   f(θ) = ∫_Ω |F̂_B'(x) − F̂_A(x)| dx / |Ω|,  Ω = region(A) ∩ region(B'),
+// evaluated exactly on the overlay of A's mesh and B's moved mesh, with its
+// exact gradient:
+//   ∇∫|d| = ∫_Ω sign(d) ∂_θF̂_B' dx + ∮_{∂Ω ∩ ∂B'} |d| V_n ds,
+//   ∇|Ω|  = ∮_{∂Ω ∩ ∂B'} V_n ds,
+// where ∂_θF̂_B' = n·u (the Eulerian derivative of the moving height at fixed
+// xy: n = (−∇F̂_B', 1), u = ∂T/∂θ at the material point above x) is affine on
+// each overlay cell, so its integrals over the positive and negative parts
+// of a cell are exact (area × value at the part's centroid), and V_n = u·n_out
+// is the outward speed of B's moving boundary (A's boundary is fixed), whose
+// product with |d| is piecewise quadratic along each edge (Simpson is exact).
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "registration/pair_state.h"
+
+namespace surfreg {
+
+struct VolumeCostValue {
+  double abs = 0;   // ∫_Ω |d|
+  double area = 0;  // |Ω|
+  Eigen::Matrix<double, 6, 1> d_abs = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 6, 1> d_area = Eigen::Matrix<double, 6, 1>::Zero();
+  int64_t cells = 0;
+
+  double PerArea() const { return area > 0 ? abs / area : 0.0; }
+  Eigen::Matrix<double, 6, 1> PerAreaGradient() const {
+    return area > 0 ? Eigen::Matrix<double, 6, 1>((d_abs - PerArea() * d_area) / area)
+                    : Eigen::Matrix<double, 6, 1>::Zero();
+  }
+};
+
+// At the state's current θ (state.Update must have succeeded). With
+// `parallel`, on two threads (deterministic: fixed split, fixed summation order).
+VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel);
+
+}  // namespace surfreg
