@@ -262,7 +262,7 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   bool keep_initial = failed;
   if (failed) {
     result.verdict = Verdict::kFailed;
-  } else if (MeasureOfCost(options, result.after) > before_measure) {
+  } else if (!(MeasureOfCost(options, result.after) < before_measure)) {
     keep_initial = true;
     result.verdict = best.converged ? Verdict::kConvergedNotImproved : Verdict::kFailed;
     reason = "the measure did not decrease; the initial motion is kept";

@@ -300,7 +300,13 @@ Information AnalyseInformation(PairState& state, const SolveContext& context, bo
     }
     const double o = h(i, i) > floor ? 1.0 / (h(i, i) * inverse_ii) : 0.0;
     info.observability[map.free[i]] = std::min(1.0, o);
-    info.constrained[map.free[i]] = o > 1e-6 && lambda.minCoeff() > 1e-12 * largest;
+    // Unconstrained: a noticeable part of the parameter lies in directions
+    // along which the cost is flat to rounding.
+    double null_weight = 0;
+    for (int e = 0; e < n; ++e) {
+      if (lambda[e] < 1e-10 * largest) null_weight += eigen.eigenvectors()(i, e) * eigen.eigenvectors()(i, e);
+    }
+    info.constrained[map.free[i]] = largest > 0 && null_weight < 0.01;
   }
   if (!covariance || residuals.active_count <= n) return info;
 
