@@ -230,6 +230,8 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   }
   summary.rho_d = volume.gap.abs;
   summary.overlap_area = volume.area;
+  summary.hull_area_a = pa.hull_area;
+  summary.hull_area_b = pb.hull_area;
   summary.weight_integral = volume.gap.weight;
   summary.signed_volume = volume.gap.signed_volume;
   summary.volume_above = volume.gap.above;

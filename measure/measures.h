@@ -63,6 +63,7 @@ struct MeasureSummary {
   double rho_d_axial = 0;    // ρ'd: mean |d| at the nodes inside Ω, units
   double rho_s = 0;          // 1 / ρd, or 1 when ρd = 0
   double overlap_area = 0;   // |Ω|, units² (unweighted)
+  double hull_area_a = 0, hull_area_b = 0;  // areas of the two meshes (convex hulls), units²
   double weight_integral = 0;  // ∫_Ω μ (equals overlap_area for uniform μ)
   double mean_abs_dz = 0;    // ρd / ∫_Ω μ: mean vertical distance, units
   double signed_volume = 0;  // ∫_Ω (F̂_B − F̂_A) μ

@@ -245,6 +245,7 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   UpdateStats stats;
   const bool unfolded = final_state.Update(theta, &stats);
   result.folded_triangles = stats.folded;
+  result.folded_area_fraction = stats.folded_area_fraction;
   bool failed = !have_best || !unfolded;
   std::string reason = !have_best ? "the solver found no usable solution"
                        : !unfolded ? "the moving surface folds at the solution"
@@ -309,9 +310,11 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   const Eigen::Vector4d q = MotionQuaternion(result.motion);
   result.quaternion = {q[0], q[1], q[2], q[3]};
   result.euler_deg = EulerDegrees(result.matrix.topLeftCorner<3, 3>());
-  const double smaller = std::min(finest.reference.hull_area, finest.moving.hull_area);
-  result.overlap_fraction_before = result.before.overlap_area / smaller;
-  result.overlap_fraction_after = result.after.overlap_area / smaller;
+  auto fraction = [](const MeasureSummary& s) {
+    return s.overlap_area / std::min(s.hull_area_a, s.hull_area_b);
+  };
+  result.overlap_fraction_before = fraction(result.before);
+  result.overlap_fraction_after = fraction(result.after);
   result.seconds = Seconds(start);
   return result;
 }

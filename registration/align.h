@@ -85,7 +85,7 @@ struct AlignOptions {
   // vertical, and the moving surface is re-triangulated at that pose
   // (counted in AlignResult::remeshes); beyond it the surface overlaps
   // itself in xy, which the solver treats as an infeasible step.
-  double max_fold_fraction = 0.01;
+  double max_fold_fraction = 0.1;
   bool compute_covariance = true;
   int num_threads = 2;
   // Called after every solver iteration (progress, logs).
@@ -136,7 +136,11 @@ struct AlignResult {
   std::string termination;       // the solver's message (last level)
   Verdict verdict = Verdict::kFailed;
   std::string verdict_reason;
-  int folded_triangles = 0;      // moving triangles turned over at the final motion
+  // Moving triangles (of its own mesh) turned over at the final motion, and
+  // their share of its area: the parts steeper than vertical at that pose,
+  // where the moving surface is re-triangulated as seen from above.
+  int folded_triangles = 0;
+  double folded_area_fraction = 0;
   int remeshes = 0;              // re-triangulations of the moving surface after sliver folds
   double seconds = 0;
   std::vector<AlignOptions::Iteration> log;

@@ -105,6 +105,16 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     }
   }
   out->active_count = active;
+  if (settings.normalize_count > 0 && active > 0) {
+    const double scale = std::sqrt(settings.normalize_count / static_cast<double>(active));
+    for (std::size_t k = 0; k < out->r.size(); ++k) {
+      if (!out->active[k]) continue;
+      out->r[k] *= scale;
+      if (jacobians) {
+        for (double& value : out->jacobian[k]) value *= scale;
+      }
+    }
+  }
 }
 
 }  // namespace surfreg

@@ -31,6 +31,10 @@ struct AxialSettings {
   double trim_fraction = 0.0;  // drop this fraction of the largest |r| (0 ≤ f < 0.5)
   // μ as a mask: a simple polygon in A's local frame (empty: μ = 1).
   std::vector<Point2> mask;
+  // If > 0, residuals are scaled by sqrt(normalize_count / active nodes), so
+  // the sum of squares is a mean over the overlap: otherwise sliding the
+  // surfaces apart lowers the cost by dropping nodes (partial overlap).
+  double normalize_count = 0;
 };
 
 // Residuals (and Jacobians if `jacobians`) at the state's current θ.

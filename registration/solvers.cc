@@ -171,7 +171,15 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
     scale = AutomaticLossScale(state, context.axial, theta0);
   }
   std::unique_ptr<ceres::LossFunction> loss = MakeLoss(options.loss, scale);
-  AxialEvaluation evaluation(state, context.axial, map, x.data());
+  AxialSettings settings = context.axial;
+  {
+    AxialResiduals start;
+    if (state.Update(theta0)) {
+      ComputeAxialResiduals(state, settings, false, &start);
+      settings.normalize_count = static_cast<double>(start.active_count);
+    }
+  }
+  AxialEvaluation evaluation(state, settings, map, x.data());
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.evaluation_callback = &evaluation;
