@@ -26,4 +26,12 @@ int RunTriangulate(const std::vector<std::string>& args);
 // --volume/--weights values and bad polygon files are InputErrors (one line).
 int RunMeasure(const std::vector<std::string>& args);
 
+// align --config FILE.yaml | REFERENCE MOVING [--key=value ...] [--json]:
+// rigid registration of MOVING onto REFERENCE (registration/align.h) with the
+// settings of tools/align_config.h (every config key is also a flag; flags
+// win). Writes the transform JSON, the aligned surface and a per-iteration
+// CSV where asked (atomically), and prints a summary or, with --json, the
+// transform JSON. Bad settings and files are InputErrors naming the key.
+int RunAlign(const std::vector<std::string>& args);
+
 }  // namespace surfreg

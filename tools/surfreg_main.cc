@@ -29,6 +29,9 @@ const Command kCommands[] = {
     {"measure", RunMeasure,
      "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE] [--json]",
      "compare surface B with A: volume between them (rho_d), mean gap, cut/fill, timings"},
+    {"align", RunAlign,
+     "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json]",
+     "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary"},
 };
 
 const Command* FindCommand(const std::string& name) {

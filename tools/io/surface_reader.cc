@@ -148,13 +148,6 @@ std::string ReadFile(const std::string& path) {
   return data;
 }
 
-}  // namespace io_internal
-
-namespace {
-
-using io_internal::Fail;
-
-
 // The lower-case extension of the file name in `path`, with its dot; empty if none.
 std::string Extension(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
@@ -165,11 +158,19 @@ std::string Extension(const std::string& path) {
   return ext;
 }
 
+}  // namespace io_internal
+
+namespace {
+
+using io_internal::Fail;
+
+
+
 }  // namespace
 
 Surface ReadSurface(const std::string& path, const ReadOptions& options) {
   using Parser = Surface (*)(std::string_view, const std::string&, const ReadOptions&);
-  const std::string ext = Extension(path);
+  const std::string ext = io_internal::Extension(path);
   Parser parse = nullptr;
   if (ext == ".xyz" || ext == ".txt" || ext == ".csv") parse = io_internal::ParseXyz;
   if (ext == ".ply") parse = io_internal::ParsePly;

@@ -81,4 +81,7 @@ Surface ParsePly(std::string_view data, const std::string& name, const ReadOptio
 Surface ParseOff(std::string_view data, const std::string& name, const ReadOptions& options);
 Surface ParseObj(std::string_view data, const std::string& name, const ReadOptions& options);
 
+// The lower-case extension of the file name in `path`, with its dot; empty if none.
+std::string Extension(const std::string& path);
+
 }  // namespace surfreg::io_internal

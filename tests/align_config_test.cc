@@ -1,0 +1,552 @@
+// The `surfreg align` settings (tools/align_config.h): every key from YAML
+// and from flags, precedence, each class of error message, the shipped
+// configs and the README's table of defaults; and the writers it uses
+// (tools/io/surface_writer.h, tools/atomic_file.h).
+#include "tools/align_config.h"
+
+#include <dirent.h>
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "measure/input_error.h"
+#include "tools/atomic_file.h"
+#include "tools/io/surface_reader.h"
+#include "tools/io/surface_writer.h"
+
+namespace surfreg {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A fresh empty directory per test, removed with its files afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = ::testing::TempDir() + "/align_config_test.XXXXXX";
+    path_ = mkdtemp(pattern.data()) ? pattern : "";
+    EXPECT_FALSE(path_.empty());
+  }
+  ~TempDir() {
+    for (const std::string& name : Files()) ::unlink((path_ + "/" + name).c_str());
+    ::rmdir(path_.c_str());
+  }
+  const std::string& path() const { return path_; }
+  std::string File(const std::string& name, const std::string& text) const {
+    const std::string file = path_ + "/" + name;
+    std::ofstream(file, std::ios::binary) << text;
+    return file;
+  }
+  std::vector<std::string> Files() const {
+    std::vector<std::string> names;
+    if (DIR* dir = opendir(path_.c_str())) {
+      while (const dirent* entry = readdir(dir)) {
+        const std::string name = entry->d_name;
+        if (name != "." && name != "..") names.push_back(name);
+      }
+      closedir(dir);
+    }
+    return names;
+  }
+
+ private:
+  std::string path_;
+};
+
+AlignConfig FromYaml(const std::string& text, const std::string& file = "t.yaml") {
+  AlignConfig config;
+  ApplyAlignYaml(text, file, &config);
+  return config;
+}
+
+// The InputError message of `f()` ("" if none is thrown).
+template <typename F>
+std::string ErrorOf(F f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "not one line: " << message;
+    return message;
+  }
+  return "";
+}
+
+std::string YamlError(const std::string& text) {
+  return ErrorOf([&] { FromYaml(text); });
+}
+
+std::string FlagError(const std::string& key, const std::string& value) {
+  return ErrorOf([&] {
+    AlignConfig config;
+    ApplyAlignFlag(key, value, &config);
+  });
+}
+
+::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  const std::string shown = text.size() > 400 ? text.substr(0, 400) + "..." : text;
+  return ::testing::AssertionFailure() << "'" << shown << "' does not contain '" << part << "'";
+}
+
+std::string Contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// --- keys and values ------------------------------------------------------
+
+TEST(AlignConfig, DefaultsAreAlignOptionsDefaults) {
+  const AlignConfig config;
+  const AlignOptions defaults;
+  EXPECT_EQ(config.options.cost, defaults.cost);
+  EXPECT_EQ(AlignConfigValue(config, "cost"),
+            defaults.cost == CostKind::kAxial ? "axial" : "volume");
+  EXPECT_EQ(AlignConfigValue(config, "loss"), "none");
+  EXPECT_EQ(AlignConfigValue(config, "trust_region"), "levenberg_marquardt");
+  EXPECT_EQ(AlignConfigValue(config, "line_search"), "lbfgs");
+  EXPECT_EQ(AlignConfigValue(config, "max_iterations"), std::to_string(defaults.max_iterations));
+  EXPECT_EQ(AlignConfigValue(config, "free"), "all");
+  EXPECT_EQ(AlignConfigValue(config, "initial_rotation_deg"), "[0, 0, 0]");
+  EXPECT_EQ(AlignConfigValue(config, "covariance"), "true");
+  EXPECT_EQ(AlignConfigValue(config, "progress"), "false");
+  for (const char* key : {"reference", "moving", "mask", "output", "aligned", "log"}) {
+    EXPECT_EQ(AlignConfigValue(config, key), "") << key;
+  }
+  EXPECT_TRUE(config.origin.empty());
+  EXPECT_EQ(config.Where("cost"), "key 'cost'");
+}
+
+// Writing each default back as a value changes nothing: the printed defaults
+// (used in the README) are exactly the struct's.
+TEST(AlignConfig, EveryDefaultReadsBackUnchanged) {
+  const AlignConfig defaults;
+  for (const AlignConfigKey& key : AlignConfigKeys()) {
+    const std::string text = AlignConfigValue(defaults, key.name);
+    if (text.empty()) continue;  // a file key naming no file
+    AlignConfig yaml = FromYaml(std::string(key.name) + ": " + text + "\n");
+    AlignConfig flag;
+    ApplyAlignFlag(key.name, text, &flag);
+    for (const AlignConfigKey& other : AlignConfigKeys()) {
+      EXPECT_EQ(AlignConfigValue(yaml, other.name), AlignConfigValue(defaults, other.name))
+          << key.name << " -> " << other.name;
+      EXPECT_EQ(AlignConfigValue(flag, other.name), AlignConfigValue(defaults, other.name));
+    }
+  }
+}
+
+const char* const kEveryKey = R"(# every key
+reference: a.xyz
+moving: "b c.ply"
+cost: volume
+prealign: false
+loss: soft_l1
+loss_scale: 0.25
+trust_region: dogleg
+line_search: nonlinear_cg
+max_iterations: 7
+function_tolerance: 1e-9
+trim_fraction: 0.1
+free: [rx, ry, translation]
+levels: 3
+level_factor: 2.5
+multi_start: 4
+multi_start_angle_deg: 5
+multi_start_shift: 12.5
+initial_rotation_deg: [1, -2, 90]
+initial_translation: [10, -20, 0.5]
+mask: poly.txt
+max_fold_fraction: 0.125
+covariance: no
+threads: 1
+output: out.json
+aligned: moved.ply
+log: iterations.csv
+progress: yes
+)";
+
+TEST(AlignConfig, EveryKeyFromYaml) {
+  const AlignConfig c = FromYaml(kEveryKey);
+  const AlignOptions& o = c.options;
+  EXPECT_EQ(c.reference, "a.xyz");
+  EXPECT_EQ(c.moving, "b c.ply");
+  EXPECT_EQ(o.cost, CostKind::kVolume);
+  EXPECT_FALSE(o.prealign);
+  EXPECT_EQ(o.loss, LossKind::kSoftL1);
+  EXPECT_EQ(o.loss_scale, 0.25);
+  EXPECT_EQ(o.trust_region, TrustRegionKind::kDogleg);
+  EXPECT_EQ(o.line_search, LineSearchKind::kNonlinearCg);
+  EXPECT_EQ(o.max_iterations, 7);
+  EXPECT_EQ(o.function_tolerance, 1e-9);
+  EXPECT_EQ(o.trim_fraction, 0.1);
+  EXPECT_EQ(o.free, (std::array<bool, 6>{true, true, false, true, true, true}));
+  EXPECT_EQ(o.levels, 3);
+  EXPECT_EQ(o.level_factor, 2.5);
+  EXPECT_EQ(o.multi_start, 4);
+  EXPECT_EQ(o.multi_start_angle_deg, 5);
+  EXPECT_EQ(o.multi_start_shift, 12.5);
+  EXPECT_DOUBLE_EQ(o.initial_rotation[0], kPi / 180);
+  EXPECT_DOUBLE_EQ(o.initial_rotation[1], -2 * kPi / 180);
+  EXPECT_DOUBLE_EQ(o.initial_rotation[2], kPi / 2);
+  EXPECT_EQ(o.initial_translation, (std::array<double, 3>{10, -20, 0.5}));
+  EXPECT_EQ(c.mask, "poly.txt");
+  EXPECT_EQ(o.weight, WeightMode::kUniform);  // until FinishAlignConfig reads the polygon
+  EXPECT_EQ(o.max_fold_fraction, 0.125);
+  EXPECT_FALSE(o.compute_covariance);
+  EXPECT_EQ(o.num_threads, 1);
+  EXPECT_EQ(c.output, "out.json");
+  EXPECT_EQ(c.aligned, "moved.ply");
+  EXPECT_EQ(c.log, "iterations.csv");
+  EXPECT_TRUE(c.progress);
+  EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
+  EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
+  EXPECT_EQ(c.Where("progress"), "t.yaml:28: key 'progress'");
+  EXPECT_EQ(AlignConfigValue(c, "free"), "[rx, ry, tx, ty, tz]");
+  EXPECT_EQ(AlignConfigValue(c, "initial_rotation_deg"), "[1, -2, 90]");
+}
+
+TEST(AlignConfig, EveryKeyFromFlags) {
+  // The same settings as flag text: each key's value read back must agree.
+  const AlignConfig yaml = FromYaml(kEveryKey);
+  AlignConfig flags;
+  for (const AlignConfigKey& key : AlignConfigKeys()) {
+    std::string text = AlignConfigValue(yaml, key.name);
+    if (text.front() == '[') text = text.substr(1, text.size() - 2);  // "1, -2, 90"
+    ApplyAlignFlag(key.name, text, &flags);
+    EXPECT_EQ(flags.Where(key.name), "flag '--" + std::string(key.name) + "'");
+  }
+  for (const AlignConfigKey& key : AlignConfigKeys()) {
+    EXPECT_EQ(AlignConfigValue(flags, key.name), AlignConfigValue(yaml, key.name)) << key.name;
+  }
+}
+
+TEST(AlignConfig, ValueSpellings) {
+  EXPECT_TRUE(FromYaml("progress: TRUE").progress);
+  EXPECT_TRUE(FromYaml("progress: on").progress);
+  EXPECT_FALSE(FromYaml("covariance: Off").options.compute_covariance);
+  EXPECT_EQ(FromYaml("initial_translation: 1,2,3").options.initial_translation,
+            (std::array<double, 3>{1, 2, 3}));
+  EXPECT_EQ(FromYaml("initial_translation: '[1, 2, 3]'").options.initial_translation,
+            (std::array<double, 3>{1, 2, 3}));
+  EXPECT_EQ(AlignConfigValue(FromYaml("free: rotation,tz"), "free"), "[rx, ry, rz, tz]");
+  EXPECT_EQ(AlignConfigValue(FromYaml("free: [translation, all]"), "free"), "all");
+  EXPECT_EQ(AlignConfigValue(FromYaml("free: tz"), "free"), "[tz]");
+  // Nothing after a file key: no file (e.g. to switch off a config's output).
+  EXPECT_EQ(FromYaml("output: out.json\n").output, "out.json");
+  EXPECT_EQ(FromYaml("output:\n").output, "");
+  EXPECT_EQ(FromYaml("output: ~\n").output, "");
+  AlignConfig config = FromYaml("output: out.json\n");
+  ApplyAlignFlag("output", "", &config);
+  EXPECT_EQ(config.output, "");
+}
+
+// --- precedence -------------------------------------------------------------
+
+TEST(AlignConfig, FlagsOverrideTheFile) {
+  AlignConfig config = FromYaml("reference: a.xyz\nmoving: b.xyz\ncost: volume\nlevels: 3\n");
+  ApplyAlignFlag("cost", "axial", &config);
+  ApplyAlignFlag("moving", "c.xyz", &config);
+  EXPECT_EQ(config.options.cost, CostKind::kAxial);
+  EXPECT_EQ(config.options.levels, 3);
+  EXPECT_EQ(config.moving, "c.xyz");
+  EXPECT_EQ(config.Where("moving"), "flag '--moving'");
+  EXPECT_EQ(config.Where("levels"), "t.yaml:4: key 'levels'");
+}
+
+TEST(AlignConfig, ArgumentsThenFlags) {
+  AlignConfig config;
+  ApplyAlignArguments("a.xyz", "b.xyz", &config);
+  ApplyAlignFlag("reference", "r.ply", &config);
+  EXPECT_EQ(config.reference, "r.ply");
+  EXPECT_EQ(config.moving, "b.xyz");
+  EXPECT_EQ(config.Where("moving"), "argument MOVING");
+  EXPECT_TRUE(Contains(ErrorOf([] {
+                         AlignConfig c;
+                         ApplyAlignArguments("a.xyz", "", &c);
+                       }),
+                       "argument MOVING expects a surface file"));
+}
+
+// --- errors: each names where and what ----------------------------------------
+
+TEST(AlignConfigErrors, UnknownKeySuggestsTheNearest) {
+  const std::string e = YamlError("reference: a.xyz\n# comment\ncots: axial\n");
+  EXPECT_TRUE(Contains(e, "t.yaml:3: unknown key 'cots' (did you mean 'cost'?)"));
+  EXPECT_TRUE(Contains(YamlError("max-iterations: 3"), "did you mean 'max_iterations'?"));
+  EXPECT_TRUE(Contains(YamlError("iterations: 3"), "did you mean 'max_iterations'?"));
+  EXPECT_TRUE(Contains(YamlError("Threads: 3"), "did you mean 'threads'?"));
+  const std::string far = YamlError("banana_split: 1");
+  EXPECT_TRUE(Contains(far, "unknown key 'banana_split' (known keys: reference, moving, cost"));
+  EXPECT_TRUE(Contains(FlagError("cots", "x"), "flag '--cots': unknown key 'cots'"));
+  EXPECT_EQ(NearestAlignKey("outptu"), "output");
+  EXPECT_EQ(NearestAlignKey("zzzzzzzz"), "");
+}
+
+TEST(AlignConfigErrors, WrongTypeNamesKeyLineTypeAndValue) {
+  EXPECT_TRUE(Contains(YamlError("cost: axial\nmax_iterations: 1.5\n"),
+                       "t.yaml:2: key 'max_iterations' expects an integer >= 1, got '1.5'"));
+  EXPECT_TRUE(
+      Contains(YamlError("levels: 0"), "key 'levels' expects an integer in [1, 8], got '0'"));
+  EXPECT_TRUE(Contains(YamlError("levels: 9"), "got '9'"));
+  EXPECT_TRUE(Contains(YamlError("function_tolerance: 0"), "expects a number in (0, 1), got '0'"));
+  EXPECT_TRUE(Contains(YamlError("max_fold_fraction: 1.5"), "expects a number in [0, 1]"));
+  EXPECT_EQ(FromYaml("max_fold_fraction: 1").options.max_fold_fraction, 1.0);
+  EXPECT_TRUE(Contains(YamlError("loss_scale: -1"), "expects a number >= 0, got '-1'"));
+  EXPECT_TRUE(Contains(YamlError("loss_scale: .inf"), "got '.inf'"));
+  EXPECT_TRUE(Contains(YamlError("trim_fraction: 0.5"), "expects a number in [0, 0.5)"));
+  EXPECT_TRUE(Contains(YamlError("level_factor: 1"), "expects a number in [1.5, 64], got '1'"));
+  EXPECT_TRUE(Contains(YamlError("covariance: maybe"), "expects true or false, got 'maybe'"));
+  EXPECT_TRUE(Contains(YamlError("threads: [1, 2]"), "expects an integer >= 1, got '[1, 2]'"));
+  EXPECT_TRUE(Contains(YamlError("levels:\n  a: 1\n"), "got a mapping"));
+  EXPECT_TRUE(Contains(YamlError("levels:"), "expects an integer in [1, 8], got nothing"));
+  EXPECT_TRUE(Contains(YamlError("reference:"), "key 'reference' expects a surface file"));
+  EXPECT_TRUE(Contains(YamlError("initial_translation: [1, 2]"),
+                       "key 'initial_translation' expects a list of 3 numbers [tx, ty, tz], "
+                       "got '[1, 2]'"));
+  EXPECT_TRUE(Contains(YamlError("initial_rotation_deg: [1, x, 2]"), "got '[1, x, 2]'"));
+  EXPECT_TRUE(Contains(YamlError("initial_rotation_deg: [[1], 2, 3]"), "got a nested list"));
+  EXPECT_TRUE(Contains(YamlError("initial_rotation_deg: 5"), "got '5'"));
+  EXPECT_TRUE(Contains(YamlError("free: [rx, rw]"), "key 'free' expects a list of rx, ry"));
+  EXPECT_TRUE(Contains(YamlError("free: []"), "key 'free' expects"));
+  EXPECT_TRUE(Contains(FlagError("max_iterations", "ten"),
+                       "flag '--max_iterations' expects an integer >= 1, got 'ten'"));
+  EXPECT_TRUE(Contains(FlagError("initial_translation", "1,2,3,4"), "got '1,2,3,4'"));
+}
+
+TEST(AlignConfigErrors, UnknownEnumValueListsTheAllowed) {
+  EXPECT_TRUE(Contains(YamlError("cost: axail"),
+                       "t.yaml:1: key 'cost' expects one of axial, volume, got 'axail'"));
+  EXPECT_TRUE(Contains(YamlError("loss: l1"), "expects one of none, huber, soft_l1, cauchy"));
+  EXPECT_TRUE(Contains(YamlError("trust_region: lm"), "one of levenberg_marquardt, dogleg"));
+  EXPECT_TRUE(Contains(FlagError("line_search", "cg"),
+                       "flag '--line_search' expects one of lbfgs, bfgs, nonlinear_cg, got 'cg'"));
+}
+
+TEST(AlignConfigErrors, NotAMapping) {
+  EXPECT_TRUE(Contains(YamlError("- reference\n- moving\n"),
+                       "t.yaml: expected a YAML mapping of 'key: value' lines, found a list"));
+  EXPECT_TRUE(Contains(YamlError("just text"), "found a single value"));
+  EXPECT_TRUE(Contains(YamlError("# only a comment\n"), "found nothing (an empty file)"));
+  EXPECT_TRUE(Contains(YamlError(""), "found nothing"));
+}
+
+TEST(AlignConfigErrors, SyntaxErrorsAndRepeatedKeys) {
+  EXPECT_TRUE(Contains(YamlError("cost: axial\nlevels: [1, 2\n"), "t.yaml:"));
+  EXPECT_TRUE(Contains(YamlError("cost: axial\nlevels: [1, 2\n"), "not valid YAML"));
+  EXPECT_TRUE(Contains(YamlError("cost: axial\n  levels: 2\n"), "t.yaml:2: not valid YAML"));
+  EXPECT_TRUE(Contains(YamlError("cost: axial\nlevels: 2\ncost: volume\n"),
+                       "t.yaml:3: key 'cost' given twice (also at line 1)"));
+  EXPECT_TRUE(Contains(YamlError("[a, b]: 1"), "t.yaml:1: expected a key name"));
+}
+
+TEST(AlignConfigErrors, ConfigFileAndSurfaceFiles) {
+  TempDir dir;
+  AlignConfig config;
+  const std::string missing = dir.path() + "/none.yaml";
+  EXPECT_TRUE(Contains(ErrorOf([&] { ApplyAlignConfigFile(missing, &config); }),
+                       "flag '--config': " + missing + ": cannot open"));
+  const std::string file =
+      dir.File("c.yaml", "reference: " + dir.path() + "/no_such.xyz\nmoving: b.xyz\n");
+  ApplyAlignConfigFile(file, &config);
+  EXPECT_EQ(config.config_file, file);
+  EXPECT_TRUE(Contains(ErrorOf([&] { ReadAlignSurface(config, "reference"); }),
+                       file + ":1: key 'reference': " + dir.path() + "/no_such.xyz: cannot open"));
+  const std::string bad = dir.File("bad.xyz", "0 0 0\n1 0 0\n0 1 x\n");
+  ApplyAlignFlag("moving", bad, &config);
+  EXPECT_TRUE(Contains(ErrorOf([&] { ReadAlignSurface(config, "moving"); }),
+                       "flag '--moving': " + bad + ":3: z is not a number"));
+}
+
+TEST(AlignConfigErrors, FinishChecksRequiredKeysAndOutputs) {
+  TempDir dir;
+  const std::string a = dir.File("a.xyz", "0 0 0\n1 0 0\n0 1 0\n");
+  const std::string head = "reference: " + a + "\nmoving: " + a + "\n";
+  const auto finish_error = [](const std::string& yaml) {
+    return ErrorOf([&] {
+      AlignConfig config = FromYaml(yaml);
+      FinishAlignConfig(&config);
+    });
+  };
+  EXPECT_TRUE(Contains(finish_error("moving: " + a + "\n"), "no 'reference' surface given"));
+  EXPECT_EQ(finish_error(head + "output: " + dir.path() + "/t.json\n"), "");
+  EXPECT_TRUE(Contains(finish_error(head + "output: " + dir.path() + "/no_dir/t.json\n"),
+                       "t.yaml:3: key 'output': cannot write '" + dir.path() +
+                           "/no_dir/t.json': directory '" + dir.path() +
+                           "/no_dir' does not exist"));
+  EXPECT_TRUE(Contains(finish_error(head + "log: " + dir.path() + "\n"), "it is a directory"));
+  EXPECT_TRUE(Contains(finish_error(head + "aligned: " + dir.path() + "/m.obj\n"),
+                       "key 'aligned': cannot write a surface as"));
+  EXPECT_TRUE(Contains(finish_error(head + "aligned: " + a + "\n"),
+                       "key 'aligned': '" + a + "' is also the reference file"));
+  EXPECT_TRUE(
+      Contains(finish_error(head + "output: " + dir.path() + "/o\nlog: " + dir.path() + "/o\n"),
+               "key 'log': '" + dir.path() + "/o' is also the output file"));
+  EXPECT_TRUE(Contains(finish_error(head + "mask: " + dir.path() + "/no_mask.txt\n"),
+                       "t.yaml:3: key 'mask': " + dir.path() + "/no_mask.txt: cannot open"));
+  EXPECT_EQ(dir.Files().size(), 1u) << "nothing but a.xyz may be created";
+
+  // Settings valid one by one but not together name the key at fault.
+  EXPECT_TRUE(Contains(finish_error(head + "cost: volume\ntrim_fraction: 0.1\n"),
+                       "t.yaml:4: key 'trim_fraction': "));
+  AlignConfig config =
+      FromYaml(head + "cost: axial\nmask: " + dir.File("m.txt", "0 0\n1 0\n1 1\n0 1\n"));
+  FinishAlignConfig(&config);
+  EXPECT_EQ(config.options.weight, WeightMode::kMask);
+  EXPECT_EQ(config.options.mask_polygon.size(), 4u);
+}
+
+// --- the shipped configs and the README ------------------------------------
+
+TEST(AlignConfig, ShippedConfigsParseAndNameExistingData) {
+  for (const char* file : {"configs/terrain_volcano.yaml", "configs/face_mannequin.yaml"}) {
+    AlignConfig config;
+    ApplyAlignConfigFile(file, &config);
+    for (const char* key : {"output", "aligned", "log"}) {
+      EXPECT_EQ(AlignConfigValue(config, key).rfind("out/", 0), 0u) << file << " " << key;
+      ApplyAlignFlag(key, "", &config);  // out/ need not exist here
+    }
+    FinishAlignConfig(&config);
+    for (const char* key : {"reference", "moving"}) {
+      EXPECT_GE(ReadAlignSurface(config, key).size(), 3000u) << file << " " << key;
+    }
+    // Each key of the example is documented there by a comment.
+    std::ifstream in(file);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#' || line[0] == ' ') continue;
+      EXPECT_NE(line.find(" # "), std::string::npos) << file << ": no comment on: " << line;
+    }
+  }
+}
+
+TEST(AlignConfig, ReadmeTableListsEveryKeyWithItsDefault) {
+  std::ifstream in("README.md");
+  ASSERT_TRUE(in) << "run from the project root";
+  std::stringstream text;
+  text << in.rdbuf();
+  const AlignConfig defaults;
+  for (const AlignConfigKey& key : AlignConfigKeys()) {
+    const std::string name = key.name;
+    std::string value = "`" + AlignConfigValue(defaults, name) + "`";
+    if (value == "``") value = name == "reference" || name == "moving" ? "(required)" : "none";
+    const std::string row = "| `" + name + "` | " + value + " |";
+    EXPECT_TRUE(Contains(text.str(), row));
+  }
+}
+
+// --- writers ----------------------------------------------------------------
+
+Surface SampleSurface(bool weights) {
+  std::vector<std::array<double, 3>> points = {{500000.125, 4100000.5, 123.25},
+                                               {500010.0, 4100000.0, -0.1},
+                                               {500000.0, 4100012.75, 1e-7},
+                                               {500007.3, 4100007.1, 3.0 / 7}};
+  std::vector<double> w;
+  if (weights) w = {1, 0.5, 0, 2.0 / 3};
+  return MakeSurface(points, w, "sample");
+}
+
+void ExpectSamePoints(const Surface& a, const Surface& b) {
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_EQ(a.weight.size(), b.weight.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a.xy[i].x + a.origin[0], b.xy[i].x + b.origin[0]) << i;
+    EXPECT_EQ(a.xy[i].y + a.origin[1], b.xy[i].y + b.origin[1]) << i;
+    EXPECT_EQ(a.z[i] + a.origin[2], b.z[i] + b.origin[2]) << i;
+    if (!a.weight.empty()) {
+      EXPECT_EQ(a.weight[i], b.weight[i]) << i;
+    }
+  }
+}
+
+TEST(SurfaceWriter, RoundTripsThroughTheReaders) {
+  TempDir dir;
+  for (const bool weights : {false, true}) {
+    const Surface surface = SampleSurface(weights);
+    for (const char* name : {"s.xyz", "s.txt", "S.PLY"}) {
+      const std::string path = dir.path() + "/" + name;
+      WriteSurface(path, surface, "test", {"a comment", "two\nlines"});
+      ExpectSamePoints(surface, ReadSurface(path));
+    }
+  }
+  EXPECT_TRUE(Contains(Contents(dir.path() + "/S.PLY"),
+                       "format binary_little_endian 1.0\ncomment a comment\n"
+                       "comment two lines\nelement vertex 4\nproperty double x\n"));
+  EXPECT_EQ(dir.Files().size(), 3u);  // no temporary files left
+}
+
+TEST(SurfaceWriter, XyzText) {
+  const std::string text = SurfaceToXyz(SampleSurface(false), {"c"});
+  EXPECT_EQ(text.substr(0, text.find('\n', 4) + 1), "# c\n500000.125 4100000.5 123.25\n");
+  // Heights pass through the local frame (z - 62): the last bits may change.
+  const std::string weighted = SurfaceToXyz(SampleSurface(true));
+  EXPECT_TRUE(Contains(weighted, "\n500010 4100000 -0.1"));
+  EXPECT_TRUE(Contains(weighted, " 0.5\n500000 4100012.75 1.00000001"));  // not 5e+05
+}
+
+TEST(SurfaceWriter, UnknownExtension) {
+  TempDir dir;
+  EXPECT_TRUE(Contains(
+      ErrorOf([&] { WriteSurface(dir.path() + "/s.obj", SampleSurface(false), "key 'aligned'"); }),
+      "key 'aligned': cannot write a surface as"));
+  EXPECT_TRUE(dir.Files().empty());
+}
+
+TEST(AtomicFile, WritesAndReplaces) {
+  TempDir dir;
+  const std::string path = dir.path() + "/out.json";
+  WriteFileAtomically(path, "first", "test");
+  WriteFileAtomically(path, "second", "test");
+  EXPECT_EQ(Contents(path), "second");
+  EXPECT_EQ(dir.Files(), std::vector<std::string>{"out.json"});
+  struct stat info;
+  ASSERT_EQ(::stat(path.c_str(), &info), 0);
+  const mode_t mask = ::umask(0);
+  ::umask(mask);
+  EXPECT_EQ(info.st_mode & 0777, 0666 & ~mask);  // like any new file, not mkstemp's 0600
+}
+
+TEST(AtomicFile, BadPathsNameTheLabelAndCreateNothing) {
+  TempDir dir;
+  EXPECT_TRUE(Contains(ErrorOf([&] { WriteFileAtomically(dir.path() + "/missing/o", "d", "k"); }),
+                       "k: cannot write '" + dir.path() + "/missing/o': directory '" + dir.path() +
+                           "/missing' does not exist"));
+  const std::string file = dir.File("file", "x");
+  EXPECT_TRUE(Contains(ErrorOf([&] { WriteFileAtomically(file + "/o", "d", "k"); }),
+                       "'" + file + "' is not a directory"));
+  EXPECT_TRUE(Contains(ErrorOf([&] { WriteFileAtomically(dir.path(), "d", "key 'log'"); }),
+                       "key 'log': cannot write '" + dir.path() + "': it is a directory"));
+  EXPECT_EQ(dir.Files(), std::vector<std::string>{"file"});
+}
+
+// A write that fails half-way (file size limit: EFBIG) removes the temporary
+// file and leaves the previous file untouched.
+TEST(AtomicFile, FailedWriteLeavesNoTemporaryFile) {
+  TempDir dir;
+  const std::string path = dir.File("out.json", "old");
+  struct rlimit saved;
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
+  void (*saved_handler)(int) = std::signal(SIGXFSZ, SIG_IGN);
+  struct rlimit small = saved;
+  small.rlim_cur = 64;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+  const std::string error =
+      ErrorOf([&] { WriteFileAtomically(path, std::string(4096, 'x'), "key 'output'"); });
+  setrlimit(RLIMIT_FSIZE, &saved);
+  std::signal(SIGXFSZ, saved_handler);
+  EXPECT_TRUE(Contains(error, "key 'output': cannot write '" + path + "': File too large"));
+  EXPECT_EQ(dir.Files(), std::vector<std::string>{"out.json"});
+  EXPECT_EQ(Contents(path), "old");
+}
+
+}  // namespace
+}  // namespace surfreg

@@ -1,0 +1,596 @@
+#include "tools/align_config.h"
+
+#include <sys/stat.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <utility>
+
+#include "measure/input_error.h"
+#include "tools/atomic_file.h"
+#include "tools/io/polygon_reader.h"
+#include "tools/io/surface_reader.h"
+#include "tools/io/surface_reader_internal.h"
+#include "tools/io/surface_writer.h"
+
+namespace surfreg {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// One value to set, from a YAML node or a flag's text.
+struct Value {
+  enum Kind { kNull, kScalar, kList, kMapping };
+  std::string where;     // start of messages: "t.yaml:3: key 'cost'"
+  std::string expected;  // the key's type text
+  Kind kind = kScalar;
+  std::string text;                // kScalar
+  std::vector<std::string> items;  // kList (every item a scalar)
+  bool nested = false;             // kList with a non-scalar item
+};
+
+std::string Shown(const Value& v) {
+  switch (v.kind) {
+    case Value::kNull:
+      return "nothing";
+    case Value::kMapping:
+      return "a mapping";
+    case Value::kList: {
+      if (v.nested) return "a nested list";
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.items.size(); ++i) out += (i ? ", " : "") + v.items[i];
+      return io_internal::Quote(out + "]");
+    }
+    case Value::kScalar:
+      break;
+  }
+  return io_internal::Quote(v.text);
+}
+
+[[noreturn]] void Reject(const Value& v) {
+  throw InputError(v.where + " expects " + v.expected + ", got " + Shown(v));
+}
+
+std::string Scalar(const Value& v) {
+  if (v.kind != Value::kScalar) Reject(v);
+  return v.text;
+}
+
+// List items from a YAML sequence, or from "a,b,c" / "[a, b, c]" text.
+std::vector<std::string> Items(const Value& v) {
+  if (v.kind == Value::kList && !v.nested) return v.items;
+  std::string text = Scalar(v);
+  if (text.size() >= 2 && text.front() == '[' && text.back() == ']') {
+    text = text.substr(1, text.size() - 2);
+  }
+  std::vector<std::string> items;
+  if (text.find_first_not_of(" \t") == std::string::npos) return items;  // "" or "[]"
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    std::string item = text.substr(start, comma - start);
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    items.push_back(item);
+    if (comma == text.size()) return items;
+    start = comma + 1;
+  }
+}
+
+double NumberOf(const Value& v, const std::string& text) {
+  double value = 0;
+  if (io_internal::ParseNumber(text, &value) != io_internal::NumberStatus::kOk ||
+      !std::isfinite(value)) {
+    Reject(v);
+  }
+  return value;
+}
+
+// A number in the interval lo..hi, `bounds` saying which ends are open:
+// "[]", "[)", "(]" or "()".
+double Number(const Value& v, double lo, double hi, const char* bounds = "[]") {
+  const double value = NumberOf(v, Scalar(v));
+  const bool above = bounds[0] == '(' ? value > lo : value >= lo;
+  const bool below = bounds[1] == ')' ? value < hi : value <= hi;
+  if (!above || !below) Reject(v);
+  return value;
+}
+
+int Integer(const Value& v, int lo, int hi = std::numeric_limits<int>::max()) {
+  const std::string text = Scalar(v);
+  int value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() || value < lo ||
+      value > hi) {
+    Reject(v);
+  }
+  return value;
+}
+
+bool Boolean(const Value& v) {
+  std::string text = Scalar(v);
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (text == "true" || text == "yes" || text == "on" || text == "1") return true;
+  if (text == "false" || text == "no" || text == "off" || text == "0") return false;
+  Reject(v);
+}
+
+// A file name; nothing (YAML null, or "" from a flag) means none, unless required.
+std::string Path(const Value& v, bool required) {
+  const std::string text = v.kind == Value::kNull ? "" : Scalar(v);
+  if (text.empty() && required) Reject(v);
+  return text;
+}
+
+std::array<double, 3> Vector3(const Value& v) {
+  const std::vector<std::string> items = Items(v);
+  if (items.size() != 3) Reject(v);
+  std::array<double, 3> out;
+  for (int k = 0; k < 3; ++k) out[k] = NumberOf(v, items[k]);
+  return out;
+}
+
+template <typename Enum>
+using Names = std::vector<std::pair<const char*, Enum>>;
+
+template <typename Enum>
+Enum Choice(const Value& v, const Names<Enum>& names) {
+  const std::string text = Scalar(v);
+  for (const auto& [name, value] : names) {
+    if (text == name) return value;
+  }
+  Reject(v);
+}
+
+template <typename Enum>
+std::string NameOf(Enum value, const Names<Enum>& names) {
+  for (const auto& [name, candidate] : names) {
+    if (candidate == value) return name;
+  }
+  return "?";
+}
+
+const Names<CostKind> kCosts = {{"axial", CostKind::kAxial}, {"volume", CostKind::kVolume}};
+const Names<LossKind> kLosses = {{"none", LossKind::kNone},
+                                 {"huber", LossKind::kHuber},
+                                 {"soft_l1", LossKind::kSoftL1},
+                                 {"cauchy", LossKind::kCauchy}};
+const Names<TrustRegionKind> kTrustRegions = {
+    {"levenberg_marquardt", TrustRegionKind::kLevenbergMarquardt},
+    {"dogleg", TrustRegionKind::kDogleg}};
+const Names<LineSearchKind> kLineSearches = {{"lbfgs", LineSearchKind::kLbfgs},
+                                             {"bfgs", LineSearchKind::kBfgs},
+                                             {"nonlinear_cg", LineSearchKind::kNonlinearCg}};
+
+// free: parameter names and groups, united; at least one.
+std::array<bool, 6> FreeParameters(const Value& v) {
+  std::array<bool, 6> free = {false, false, false, false, false, false};
+  const std::vector<std::string> items = Items(v);
+  if (items.empty()) Reject(v);
+  for (const std::string& item : items) {
+    const auto set = [&free](int first, int last) {
+      for (int k = first; k < last; ++k) free[k] = true;
+    };
+    if (item == "all") {
+      set(0, 6);
+    } else if (item == "rotation") {
+      set(0, 3);
+    } else if (item == "translation") {
+      set(3, 6);
+    } else {
+      const auto* name = std::find(kParameterNames.begin(), kParameterNames.end(), item);
+      if (name == kParameterNames.end()) Reject(v);
+      const int k = static_cast<int>(name - kParameterNames.begin());
+      set(k, k + 1);
+    }
+  }
+  return free;
+}
+
+std::string FreeText(const std::array<bool, 6>& free) {
+  if (std::all_of(free.begin(), free.end(), [](bool b) { return b; })) return "all";
+  std::string out;
+  for (int k = 0; k < 6; ++k) {
+    if (free[k]) out += std::string(out.empty() ? "" : ", ") + kParameterNames[k];
+  }
+  return "[" + out + "]";
+}
+
+std::string Text(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.15g", value + 0.0);  // hides deg↔rad rounding
+  return buffer;
+}
+
+std::string Text(const std::array<double, 3>& v, double scale = 1.0) {
+  return "[" + Text(v[0] * scale) + ", " + Text(v[1] * scale) + ", " + Text(v[2] * scale) + "]";
+}
+
+std::string Text(bool value) { return value ? "true" : "false"; }
+
+struct KeyEntry {
+  AlignConfigKey key;
+  void (*set)(const Value&, AlignConfig*);
+  std::string (*get)(const AlignConfig&);
+};
+
+using C = AlignConfig;
+const std::vector<KeyEntry>& Table() {
+  static const std::vector<KeyEntry> table = {
+      {{"reference", "a surface file (.xyz .txt .csv .ply .off .obj)", "the fixed surface"},
+       [](const Value& v, C* c) { c->reference = Path(v, true); },
+       [](const C& c) { return c.reference; }},
+      {{"moving", "a surface file (.xyz .txt .csv .ply .off .obj)",
+        "the surface moved onto the reference"},
+       [](const Value& v, C* c) { c->moving = Path(v, true); },
+       [](const C& c) { return c.moving; }},
+      {{"cost", "one of axial, volume",
+        "axial: least squares on the vertical gaps at the nodes (rho'_d); volume: rho_d per "
+        "unit overlap area"},
+       [](const Value& v, C* c) { c->options.cost = Choice(v, kCosts); },
+       [](const C& c) { return NameOf(c.options.cost, kCosts); }},
+      {{"prealign", "true or false",
+        "volume cost: first solve with the axial cost on the coarsest level"},
+       [](const Value& v, C* c) { c->options.prealign = Boolean(v); },
+       [](const C& c) { return Text(c.options.prealign); }},
+      {{"loss", "one of none, huber, soft_l1, cauchy", "robust loss of the axial residuals"},
+       [](const Value& v, C* c) { c->options.loss = Choice(v, kLosses); },
+       [](const C& c) { return NameOf(c.options.loss, kLosses); }},
+      {{"loss_scale", "a number >= 0",
+        "scale of the robust loss (data units); 0 = 3 x 1.4826 x median |residual|"},
+       [](const Value& v, C* c) { c->options.loss_scale = Number(v, 0, HUGE_VAL); },
+       [](const C& c) { return Text(c.options.loss_scale); }},
+      {{"trust_region", "one of levenberg_marquardt, dogleg", "trust-region step (axial cost)"},
+       [](const Value& v, C* c) { c->options.trust_region = Choice(v, kTrustRegions); },
+       [](const C& c) { return NameOf(c.options.trust_region, kTrustRegions); }},
+      {{"line_search", "one of lbfgs, bfgs, nonlinear_cg", "line-search direction (volume cost)"},
+       [](const Value& v, C* c) { c->options.line_search = Choice(v, kLineSearches); },
+       [](const C& c) { return NameOf(c.options.line_search, kLineSearches); }},
+      {{"max_iterations", "an integer >= 1", "solver iterations per level and start"},
+       [](const Value& v, C* c) { c->options.max_iterations = Integer(v, 1); },
+       [](const C& c) { return std::to_string(c.options.max_iterations); }},
+      {{"function_tolerance", "a number in (0, 1)",
+        "the solver stops when the cost decreases by less than this fraction"},
+       [](const Value& v, C* c) { c->options.function_tolerance = Number(v, 0, 1, "()"); },
+       [](const C& c) { return Text(c.options.function_tolerance); }},
+      {{"trim_fraction", "a number in [0, 0.5)",
+        "fraction of the largest axial residuals dropped at each evaluation"},
+       [](const Value& v, C* c) { c->options.trim_fraction = Number(v, 0, 0.5, "[)"); },
+       [](const C& c) { return Text(c.options.trim_fraction); }},
+      {{"free", "a list of rx, ry, rz, tx, ty, tz, rotation, translation, all",
+        "the parameters the solver may change (the others keep their initial value)"},
+       [](const Value& v, C* c) { c->options.free = FreeParameters(v); },
+       [](const C& c) { return FreeText(c.options.free); }},
+      {{"levels", "an integer in [1, 8]", "coarse-to-fine levels"},
+       [](const Value& v, C* c) { c->options.levels = Integer(v, 1, 8); },
+       [](const C& c) { return std::to_string(c.options.levels); }},
+      {{"level_factor", "a number in [1.5, 64]", "subsampling factor between levels"},
+       [](const Value& v, C* c) { c->options.level_factor = Number(v, 1.5, 64); },
+       [](const C& c) { return Text(c.options.level_factor); }},
+      {{"multi_start", "an integer in [0, 1000]", "extra starts around the initial motion"},
+       [](const Value& v, C* c) { c->options.multi_start = Integer(v, 0, 1000); },
+       [](const C& c) { return std::to_string(c.options.multi_start); }},
+      {{"multi_start_angle_deg", "a number in [0, 90]", "rotation of the extra starts (degrees)"},
+       [](const Value& v, C* c) { c->options.multi_start_angle_deg = Number(v, 0, 90); },
+       [](const C& c) { return Text(c.options.multi_start_angle_deg); }},
+      {{"multi_start_shift", "a number >= 0",
+        "shift of the extra starts (data units); 0 = 5 mean sample spacings"},
+       [](const Value& v, C* c) { c->options.multi_start_shift = Number(v, 0, HUGE_VAL); },
+       [](const C& c) { return Text(c.options.multi_start_shift); }},
+      {{"initial_rotation_deg", "a list of 3 numbers [rx, ry, rz]",
+        "initial rotation vector (degrees), about the moving centroid"},
+       [](const Value& v, C* c) {
+         const std::array<double, 3> deg = Vector3(v);
+         for (int k = 0; k < 3; ++k) c->options.initial_rotation[k] = deg[k] * kPi / 180;
+       },
+       [](const C& c) { return Text(c.options.initial_rotation, 180 / kPi); }},
+      {{"initial_translation", "a list of 3 numbers [tx, ty, tz]",
+        "initial shift of the moving centroid (data units)"},
+       [](const Value& v, C* c) { c->options.initial_translation = Vector3(v); },
+       [](const C& c) { return Text(c.options.initial_translation); }},
+      {{"mask", "a polygon file, or nothing",
+        "weight 1 inside the polygon ('x y' per line, input coordinates), 0 outside"},
+       [](const Value& v, C* c) { c->mask = Path(v, false); },
+       [](const C& c) { return c.mask; }},
+      {{"max_fold_fraction", "a number in [0, 1]",
+        "share of the moving surface's area that may fold over (slivers: re-triangulated)"},
+       [](const Value& v, C* c) { c->options.max_fold_fraction = Number(v, 0, 1); },
+       [](const C& c) { return Text(c.options.max_fold_fraction); }},
+      {{"covariance", "true or false", "compute the parameters' standard deviations"},
+       [](const Value& v, C* c) { c->options.compute_covariance = Boolean(v); },
+       [](const C& c) { return Text(c.options.compute_covariance); }},
+      {{"threads", "an integer >= 1", "threads for the solver and the measures"},
+       [](const Value& v, C* c) { c->options.num_threads = Integer(v, 1); },
+       [](const C& c) { return std::to_string(c.options.num_threads); }},
+      {{"output", "a file name, or nothing", "the transform JSON"},
+       [](const Value& v, C* c) { c->output = Path(v, false); },
+       [](const C& c) { return c.output; }},
+      {{"aligned", "a file name ending in .ply, .xyz or .txt, or nothing",
+        "the moving surface after the motion (input coordinates)"},
+       [](const Value& v, C* c) { c->aligned = Path(v, false); },
+       [](const C& c) { return c.aligned; }},
+      {{"log", "a file name, or nothing", "per-iteration CSV"},
+       [](const Value& v, C* c) { c->log = Path(v, false); },
+       [](const C& c) { return c.log; }},
+      {{"progress", "true or false", "a line per solver iteration on stderr"},
+       [](const Value& v, C* c) { c->progress = Boolean(v); },
+       [](const C& c) { return Text(c.progress); }},
+  };
+  return table;
+}
+
+const KeyEntry* FindEntry(const std::string& name) {
+  for (const KeyEntry& entry : Table()) {
+    if (name == entry.key.name) return &entry;
+  }
+  return nullptr;
+}
+
+// Optimal string alignment distance (edits and adjacent transpositions).
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+std::string UnknownKeyMessage(const std::string& name) {
+  const std::string nearest = NearestAlignKey(name);
+  if (!nearest.empty()) {
+    return "unknown key " + io_internal::Quote(name) + " (did you mean '" + nearest + "'?)";
+  }
+  std::string known;
+  for (const KeyEntry& entry : Table()) {
+    known += std::string(known.empty() ? "" : ", ") + entry.key.name;
+  }
+  return "unknown key " + io_internal::Quote(name) + " (known keys: " + known + ")";
+}
+
+void Apply(const KeyEntry& entry, Value value, const std::string& where, AlignConfig* config) {
+  value.where = where;
+  value.expected = entry.key.type;
+  entry.set(value, config);
+  config->origin[entry.key.name] = where;
+}
+
+const char* KindName(const YAML::Node& node) {
+  if (node.IsSequence()) return "a list";
+  if (node.IsScalar()) return "a single value";
+  return "nothing (an empty file)";
+}
+
+Value ValueOf(const YAML::Node& node) {
+  Value value;
+  if (node.IsNull()) {
+    value.kind = Value::kNull;
+  } else if (node.IsScalar()) {
+    value.text = node.Scalar();
+  } else if (node.IsMap()) {
+    value.kind = Value::kMapping;
+  } else {
+    value.kind = Value::kList;
+    for (const YAML::Node& item : node) {
+      if (item.IsScalar()) {
+        value.items.push_back(item.Scalar());
+      } else {
+        value.nested = true;
+      }
+    }
+  }
+  return value;
+}
+
+// The key named first (as a whole word) in `message`, or "": to say where a
+// setting that AlignOptions::IsValid rejects came from.
+std::string FirstKeyIn(const std::string& message) {
+  const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  std::size_t first = std::string::npos;
+  std::string found;
+  for (const KeyEntry& entry : Table()) {
+    const std::string key = entry.key.name;
+    for (std::size_t at = message.find(key); at != std::string::npos && at < first;
+         at = message.find(key, at + 1)) {
+      const std::size_t end = at + key.size();
+      if ((at == 0 || !word(message[at - 1])) && (end == message.size() || !word(message[end]))) {
+        first = at;
+        found = key;
+      }
+    }
+  }
+  return found;
+}
+
+// "t.yaml:3: ", or "t.yaml: " when yaml-cpp has no position.
+std::string At(const std::string& file, const YAML::Mark& mark) {
+  return file + (mark.is_null() ? "" : ":" + std::to_string(mark.line + 1)) + ": ";
+}
+
+// Same file: the same name, or (both existing) the same inode.
+bool SameFile(const std::string& a, const std::string& b) {
+  struct stat sa, sb;
+  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
+                    sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
+}
+
+// The pairs of a parsed mapping, checked and applied in file order.
+void ApplyMapping(const YAML::Node& root, const std::string& file, AlignConfig* config) {
+  std::map<std::string, int> seen;  // key -> line
+  for (const auto& pair : root) {
+    const int line = pair.first.Mark().line + 1;
+    const std::string at = At(file, pair.first.Mark());
+    if (!pair.first.IsScalar()) {
+      throw InputError(at + "expected a key name, found a list or mapping");
+    }
+    const std::string name = pair.first.Scalar();
+    const KeyEntry* entry = FindEntry(name);
+    if (entry == nullptr) throw InputError(at + UnknownKeyMessage(name));
+    const auto [previous, inserted] = seen.emplace(name, line);
+    if (!inserted) {
+      throw InputError(at + "key '" + name + "' given twice (also at line " +
+                       std::to_string(previous->second) + ")");
+    }
+    Apply(*entry, ValueOf(pair.second), at + "key '" + name + "'", config);
+  }
+}
+
+}  // namespace
+
+std::string AlignConfig::Where(const std::string& key) const {
+  const auto found = origin.find(key);
+  return found != origin.end() ? found->second : "key '" + key + "'";
+}
+
+const std::vector<AlignConfigKey>& AlignConfigKeys() {
+  static const std::vector<AlignConfigKey> keys = [] {
+    std::vector<AlignConfigKey> out;
+    for (const KeyEntry& entry : Table()) out.push_back(entry.key);
+    return out;
+  }();
+  return keys;
+}
+
+std::string AlignConfigValue(const AlignConfig& config, const std::string& key) {
+  const KeyEntry* entry = FindEntry(key);
+  if (entry == nullptr) throw InputError(UnknownKeyMessage(key));
+  return entry->get(config);
+}
+
+std::string NearestAlignKey(const std::string& name) {
+  std::string wanted = name;
+  for (char& c : wanted) {
+    c = c == '-' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, wanted.size() / 3) + 1;
+  for (const KeyEntry& entry : Table()) {
+    const std::string key = entry.key.name;
+    std::size_t distance = EditDistance(wanted, key);
+    // "iterations" for "max_iterations": a part of a key is close enough.
+    const bool part = wanted.size() >= 3 && (key.find(wanted) != std::string::npos ||
+                                             wanted.find(key) != std::string::npos);
+    if (part) distance = std::min<std::size_t>(distance, 1);
+    if (distance < best_distance) {
+      best = key;
+      best_distance = distance;
+    }
+  }
+  return best;
+}
+
+void ApplyAlignYaml(const std::string& yaml_text, const std::string& file, AlignConfig* config) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(At(file, e.mark) + "not valid YAML: " + e.msg);
+  }
+  if (!root.IsMap()) {
+    throw InputError(file + ": expected a YAML mapping of 'key: value' lines, found " +
+                     KindName(root));
+  }
+  try {
+    ApplyMapping(root, file, config);
+  } catch (const YAML::Exception& e) {  // not expected once parsed; kept one line all the same
+    throw InputError(At(file, e.mark) + e.msg);
+  }
+}
+
+void ApplyAlignConfigFile(const std::string& path, AlignConfig* config) {
+  std::string text;
+  try {
+    text = io_internal::ReadFile(path);
+  } catch (const InputError& e) {
+    throw InputError(std::string("flag '--config': ") + e.what());
+  }
+  config->config_file = path;
+  ApplyAlignYaml(text, path, config);
+}
+
+void ApplyAlignFlag(const std::string& key, const std::string& value, AlignConfig* config) {
+  const std::string where = "flag '--" + key + "'";
+  const KeyEntry* entry = FindEntry(key);
+  if (entry == nullptr) throw InputError(where + ": " + UnknownKeyMessage(key));
+  Value v;
+  v.text = value;
+  Apply(*entry, v, where, config);
+}
+
+void ApplyAlignArguments(const std::string& reference, const std::string& moving,
+                         AlignConfig* config) {
+  Value v;
+  v.text = reference;
+  Apply(*FindEntry("reference"), v, "argument REFERENCE", config);
+  v.text = moving;
+  Apply(*FindEntry("moving"), v, "argument MOVING", config);
+}
+
+void FinishAlignConfig(AlignConfig* config) {
+  const std::string source = config->config_file.empty() ? "" : config->config_file + ": ";
+  for (const char* key : {"reference", "moving"}) {
+    if (AlignConfigValue(*config, key).empty()) {
+      throw InputError(source + "no '" + key + "' surface given (add '" + key +
+                       ": FILE' to the config or give --" + key + "=FILE)");
+    }
+  }
+  // Outputs must not overwrite an input or each other.
+  std::vector<std::pair<std::string, std::string>> files = {{"reference", config->reference},
+                                                            {"moving", config->moving}};
+  if (!config->mask.empty()) files.emplace_back("mask", config->mask);
+  for (const char* key : {"output", "aligned", "log"}) {
+    const std::string path = AlignConfigValue(*config, key);
+    if (path.empty()) continue;
+    const std::string where = config->Where(key);
+    if (std::string(key) == "aligned" && !IsWritableSurfacePath(path)) {
+      throw InputError(where + ": cannot write a surface as '" + path +
+                       "' (expected a name ending in .ply, .xyz or .txt)");
+    }
+    CheckOutputPath(path, where);
+    for (const auto& [other, other_path] : files) {
+      if (SameFile(path, other_path)) {
+        throw InputError(where + ": '" + path + "' is also the " + other + " file");
+      }
+    }
+    files.emplace_back(key, path);
+  }
+  if (!config->mask.empty()) {
+    try {
+      config->options.mask_polygon = ReadPolygon(config->mask);
+    } catch (const InputError& e) {
+      throw InputError(config->Where("mask") + ": " + e.what());
+    }
+    config->options.weight = WeightMode::kMask;
+  }
+  // The keys' own checks come first; this catches the combinations (and any
+  // rule the table does not know), naming the key the message names.
+  std::string error;
+  if (!config->options.IsValid(&error)) {
+    const std::string key = FirstKeyIn(error);
+    throw InputError((key.empty() ? config->config_file.empty() ? "settings" : config->config_file
+                                  : config->Where(key)) +
+                     ": " + error);
+  }
+}
+
+Surface ReadAlignSurface(const AlignConfig& config, const std::string& key) {
+  try {
+    return ReadSurface(AlignConfigValue(config, key));
+  } catch (const InputError& e) {
+    throw InputError(config.Where(key) + ": " + e.what());
+  }
+}
+
+}  // namespace surfreg

@@ -1,0 +1,89 @@
+#pragma once
+// The settings of `surfreg align` (DESIGN.md 6): one table of keys, each a
+// field of AlignOptions or an input/output setting, read from a YAML mapping
+// ("key: value" lines) and from command-line flags of the same names.
+//
+// Precedence: AlignOptions' own defaults < the config file (or the
+// REFERENCE MOVING arguments) < flags given on the command line. Relative
+// paths are used as given, i.e. relative to the current directory.
+//
+// Error policy: every problem throws InputError with one line saying where
+// ("t.yaml:3: key 'cost'", "flag '--cost'", "argument MOVING") and what.
+// This is the only user of yaml-cpp; its exceptions are converted here.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "measure/surface.h"
+#include "registration/align.h"
+
+namespace surfreg {
+
+struct AlignConfig {
+  std::string reference;  // fixed surface file (required)
+  std::string moving;     // surface file moved onto the reference (required)
+  // Solver settings. initial_rotation is in radians here (the key
+  // initial_rotation_deg is in degrees); weight and mask_polygon are set by
+  // FinishAlignConfig from `mask`.
+  AlignOptions options;
+  std::string mask;         // polygon file (input coordinates) for μ; "" = uniform
+  std::string output;       // transform JSON; "" = none
+  std::string aligned;      // the moved `moving` surface (.ply, .xyz, .txt); "" = none
+  std::string log;          // per-iteration CSV; "" = none
+  bool progress = false;    // one line per solver iteration on stderr
+  std::string config_file;  // "" when the run has no config file
+  // Where each key was last set: "t.yaml:3: key 'cost'", "flag '--cost'",
+  // "argument MOVING". Keys left at their default are absent.
+  std::map<std::string, std::string> origin;
+
+  // origin[key], or "key 'KEY'" for a default: the start of a message.
+  std::string Where(const std::string& key) const;
+};
+
+struct AlignConfigKey {
+  const char* name;
+  const char* type;  // what a value looks like ("an integer >= 1"), for messages and docs
+  const char* help;  // one line
+};
+
+// Every key, in the order of the documentation.
+const std::vector<AlignConfigKey>& AlignConfigKeys();
+
+// The value of `key` in `config` as YAML text ("axial", "100", "[0, 0, 0]");
+// "" for a file key that names no file. Throws InputError for an unknown key.
+std::string AlignConfigValue(const AlignConfig& config, const std::string& key);
+
+// The known key closest to `name` (edit distance, or one containing the
+// other), or "" when none is close.
+std::string NearestAlignKey(const std::string& name);
+
+// Applies the YAML mapping `yaml_text` on top of *config; `file` names it in
+// messages. Rejects text that is not a mapping, unknown and repeated keys,
+// and values of the wrong type.
+void ApplyAlignYaml(const std::string& yaml_text, const std::string& file, AlignConfig* config);
+
+// Reads the file at `path` (errors name "flag '--config'") and applies it.
+void ApplyAlignConfigFile(const std::string& path, AlignConfig* config);
+
+// A flag --KEY=VALUE given on the command line (VALUE as gflags holds it:
+// booleans "true"/"false"; lists as "1,2,3" or "[1, 2, 3]"; "" for a file
+// key means no file).
+void ApplyAlignFlag(const std::string& key, const std::string& value, AlignConfig* config);
+
+// The positional form: surfreg align REFERENCE MOVING.
+void ApplyAlignArguments(const std::string& reference, const std::string& moving,
+                         AlignConfig* config);
+
+// Once every setting is applied: checks that reference and moving are given,
+// that the output files can be written (their directories exist, `aligned`
+// has a known extension, no output names an input or another output), reads
+// the mask polygon into options, and checks the options as a whole
+// (AlignOptions::IsValid, e.g. a mask with the volume cost). Throws
+// InputError naming the key.
+void FinishAlignConfig(AlignConfig* config);
+
+// Reads config.reference or config.moving (`key` is "reference" or
+// "moving"); a read error is prefixed with where the key was set.
+Surface ReadAlignSurface(const AlignConfig& config, const std::string& key);
+
+}  // namespace surfreg

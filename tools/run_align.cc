@@ -1,0 +1,271 @@
+// surfreg align --config FILE.yaml [--key=value ...] | REFERENCE MOVING [--key=value ...]:
+// rigid registration of MOVING onto REFERENCE (registration/align.h), with the
+// settings of tools/align_config.h; writes the transform JSON, the aligned
+// surface and a per-iteration CSV where asked, and prints a summary.
+#include <gflags/gflags.h>
+#include <glog/logging.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "measure/input_error.h"
+#include "registration/align.h"
+#include "tools/align_config.h"
+#include "tools/atomic_file.h"
+#include "tools/commands.h"
+#include "tools/io/surface_writer.h"
+#include "tools/json_writer.h"
+
+// Every config key is a flag. Non-boolean flags are strings, so that
+// tools/align_config.cc parses values from files and flags alike (same
+// checks, same messages); "" (the default) means "not given". The defaults
+// are AlignOptions' (README.md, "Aligning surfaces"), not repeated here.
+DEFINE_string(config, "", "align: the YAML config file (instead of REFERENCE MOVING)");
+DEFINE_string(reference, "", "align: the fixed surface file");
+DEFINE_string(moving, "", "align: the surface file moved onto the reference");
+DEFINE_string(cost, "", "align: volume (rho_d per overlap area) | axial (rho'_d, least squares)");
+DEFINE_bool(prealign, true, "align: volume cost: first solve with the axial cost (coarsest level)");
+DEFINE_string(loss, "", "align: none | huber | soft_l1 | cauchy (axial cost)");
+DEFINE_string(loss_scale, "", "align: robust loss scale, data units");
+DEFINE_string(trust_region, "", "align: levenberg_marquardt | dogleg (axial cost)");
+DEFINE_string(line_search, "", "align: lbfgs | bfgs | nonlinear_cg (volume cost)");
+DEFINE_string(max_iterations, "", "align: solver iterations per level and start");
+DEFINE_string(function_tolerance, "", "align: relative cost decrease to stop");
+DEFINE_string(trim_fraction, "", "align: fraction of worst residuals dropped");
+DEFINE_string(free, "", "align: free parameters, e.g. all, translation, rotation,tz, rx,ry,tz");
+DEFINE_string(levels, "", "align: coarse-to-fine levels");
+DEFINE_string(level_factor, "", "align: subsampling factor between levels");
+DEFINE_string(multi_start, "", "align: extra starts around the initial motion");
+DEFINE_string(multi_start_angle_deg, "", "align: rotation of the extra starts");
+DEFINE_string(multi_start_shift, "", "align: shift of the extra starts");
+DEFINE_string(initial_rotation_deg, "", "align: initial rotation vector rx,ry,rz in degrees");
+DEFINE_string(initial_translation, "", "align: initial shift tx,ty,tz of the moving centroid");
+DEFINE_string(mask, "", "align: polygon file: weight 1 inside, 0 outside");
+DEFINE_string(max_fold_fraction, "", "align: area share of moving triangles that may fold");
+DEFINE_bool(covariance, true, "align: compute the parameters' standard deviations");
+DEFINE_string(threads, "", "align: threads");
+DEFINE_string(output, "", "align: write the transform JSON here");
+DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, .xyz, .txt)");
+DEFINE_string(log, "", "align: write a per-iteration CSV here");
+DEFINE_bool(progress, false, "align: print a line per solver iteration on stderr");
+
+namespace surfreg {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+
+double Since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Settings: the config file or the two arguments, then the flags given.
+AlignConfig LoadConfig(const std::vector<std::string>& args) {
+  const bool has_config = !FLAGS_config.empty();
+  if (has_config && !args.empty()) {
+    throw UsageError("align: give either --config FILE.yaml or REFERENCE MOVING, not both");
+  }
+  if (!has_config && args.size() != 2) {
+    if (args.size() > 2) throw UsageError("align: too many arguments");
+    if (args.empty()) throw UsageError("align: missing REFERENCE MOVING or --config FILE.yaml");
+    const std::string& only = args[0];
+    const bool yaml = (only.size() > 5 && only.compare(only.size() - 5, 5, ".yaml") == 0) ||
+                      (only.size() > 4 && only.compare(only.size() - 4, 4, ".yml") == 0);
+    throw UsageError(yaml ? "align: missing MOVING (for a config file: --config " + only + ")"
+                          : "align: missing MOVING");
+  }
+  AlignConfig config;
+  if (has_config) {
+    ApplyAlignConfigFile(FLAGS_config, &config);
+  } else {
+    ApplyAlignArguments(args[0], args[1], &config);
+  }
+  for (const AlignConfigKey& key : AlignConfigKeys()) {
+    gflags::CommandLineFlagInfo info;
+    CHECK(gflags::GetCommandLineFlagInfo(key.name, &info)) << "no flag for key " << key.name;
+    if (!info.is_default) ApplyAlignFlag(key.name, info.current_value, &config);
+  }
+  FinishAlignConfig(&config);
+  return config;
+}
+
+// Per iteration on stderr: always with `progress`, otherwise once the run
+// has taken more than a second (a quiet fast run, a visible slow one).
+void PrintProgress(const AlignOptions::Iteration& it, const AlignConfig& config,
+                   Clock::time_point start) {
+  if (!config.progress && Since(start) < 1.0) return;
+  std::fprintf(stderr,
+               "align: level %d/%d start %d iteration %3d  cost %.9g  step %.3g  gradient %.3g  "
+               "%.2f s\n",
+               it.level + 1, config.options.levels, it.start, it.iteration, it.cost, it.step_norm,
+               it.gradient_norm, it.seconds);
+}
+
+std::string Numbers(const double* values, int n) {
+  std::vector<std::string> out;
+  for (int k = 0; k < n; ++k) out.push_back(JsonNumber(values[k]));
+  return JsonArray(out);
+}
+
+JsonObject MeasuresJson(const MeasureSummary& s, double overlap_fraction) {
+  JsonObject json;
+  json.Number("rho_d", s.rho_d)
+      .Number("rho_d_axial", s.rho_d_axial)
+      .Number("mean_abs_dz", s.mean_abs_dz)
+      .Number("overlap_area", s.overlap_area)
+      .Number("overlap_fraction", overlap_fraction)
+      .Int("n_overlap_nodes", s.n_overlap_nodes);
+  return json;
+}
+
+template <typename T, typename Write>
+JsonObject PerParameter(const std::array<T, 6>& values, Write write) {
+  JsonObject json;
+  for (int k = 0; k < 6; ++k) write(&json, kParameterNames[k], values[k]);
+  return json;
+}
+
+std::string TransformJson(const AlignConfig& config, const AlignResult& r) {
+  std::vector<std::string> rows;
+  for (int i = 0; i < 4; ++i) {
+    const double row[4] = {r.matrix(i, 0), r.matrix(i, 1), r.matrix(i, 2), r.matrix(i, 3)};
+    rows.push_back(Numbers(row, 4));
+  }
+  std::vector<std::string> free;
+  for (int k = 0; k < 6; ++k) {
+    if (config.options.free[k]) free.push_back(JsonString(kParameterNames[k]));
+  }
+  const auto number = [](JsonObject* j, const char* key, double v) { j->Number(key, v); };
+  const auto boolean = [](JsonObject* j, const char* key, bool v) {
+    j->Raw(key, v ? "true" : "false");
+  };
+  JsonObject json;
+  json.Raw("matrix", JsonArray(rows))
+      .Raw("rotation_vector", Numbers(r.rotation_vector.data(), 3))
+      .Raw("quaternion", Numbers(r.quaternion.data(), 4))
+      .Raw("euler_deg", Numbers(r.euler_deg.data(), 3))
+      .Raw("translation", Numbers(r.translation.data(), 3))
+      .Raw("centre", Numbers(r.centre.data(), 3))
+      .Object("stddev", PerParameter(r.stddev, number))
+      .Object("before", MeasuresJson(r.before, r.overlap_fraction_before))
+      .Object("after", MeasuresJson(r.after, r.overlap_fraction_after))
+      .Int("iterations", r.iterations)
+      .String("termination", r.termination)
+      .Fixed("seconds", r.seconds, 6)
+      .String("verdict", VerdictName(r.verdict))
+      .String("verdict_reason", r.verdict_reason)
+      .Object("observability", PerParameter(r.observability, number))
+      .Object("constrained", PerParameter(r.constrained, boolean))
+      .Number("condition_number", r.condition_number)
+      .Int("folded_triangles", r.folded_triangles)
+      .Int("remeshes", r.remeshes)
+      .String("cost", AlignConfigValue(config, "cost"))
+      .Raw("free", JsonArray(free))
+      .String("reference", config.reference)
+      .String("moving", config.moving);
+  return json.str() + "\n";
+}
+
+std::string LogCsv(const std::vector<AlignOptions::Iteration>& log) {
+  std::string csv = "level,start,iteration,cost,step_norm,gradient_norm,seconds\n";
+  char line[256];
+  for (const AlignOptions::Iteration& it : log) {
+    std::snprintf(line, sizeof(line), "%d,%d,%d,%.17g,%.17g,%.17g,%.6f\n", it.level, it.start,
+                  it.iteration, it.cost, it.step_norm, it.gradient_norm, it.seconds);
+    csv += line;
+  }
+  return csv;
+}
+
+// Comment lines of the aligned surface file: where it came from, the matrix.
+std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignResult& r) {
+  std::vector<std::string> lines = {
+      "aligned: " + config.moving + " moved onto " + config.reference + " by surfreg align",
+      std::string("verdict: ") + VerdictName(r.verdict) +
+          "; matrix (moving -> reference, input coordinates, row-major):"};
+  for (int i = 0; i < 4; ++i) {
+    char row[160];
+    std::snprintf(row, sizeof(row), "  %.17g %.17g %.17g %.17g", r.matrix(i, 0), r.matrix(i, 1),
+                  r.matrix(i, 2), r.matrix(i, 3));
+    lines.push_back(row);
+  }
+  return lines;
+}
+
+void PrintSummary(const AlignConfig& config, const Surface& reference, const Surface& moving,
+                  const AlignResult& r) {
+  const double angle = std::sqrt(r.rotation_vector[0] * r.rotation_vector[0] +
+                                 r.rotation_vector[1] * r.rotation_vector[1] +
+                                 r.rotation_vector[2] * r.rotation_vector[2]);
+  const auto& v = r.rotation_vector;
+  const auto& sd = r.stddev;
+  std::printf("reference:    %s  (%zu points)\n", config.reference.c_str(), reference.size());
+  std::printf("moving:       %s  (%zu points)\n", config.moving.c_str(), moving.size());
+  std::printf("cost:         %s, free %s\n", AlignConfigValue(config, "cost").c_str(),
+              AlignConfigValue(config, "free").c_str());
+  std::printf("verdict:      %s%s%s%s\n", VerdictName(r.verdict),
+              r.verdict_reason.empty() ? "" : "  (", r.verdict_reason.c_str(),
+              r.verdict_reason.empty() ? "" : ")");
+  std::printf("rotation:     %.6f deg; vector rx %.6f ry %.6f rz %.6f deg\n", angle * kDegrees,
+              v[0] * kDegrees, v[1] * kDegrees, v[2] * kDegrees);
+  std::printf("euler:        rx %.6f ry %.6f rz %.6f deg  (R = Rz Ry Rx)\n", r.euler_deg[0],
+              r.euler_deg[1], r.euler_deg[2]);
+  std::printf("translation:  tx %.6g ty %.6g tz %.6g units  (shift of the moving centroid)\n",
+              r.translation[0], r.translation[1], r.translation[2]);
+  std::printf("stddev:       rx %.3g ry %.3g rz %.3g deg, tx %.3g ty %.3g tz %.3g units\n",
+              sd[0] * kDegrees, sd[1] * kDegrees, sd[2] * kDegrees, sd[3], sd[4], sd[5]);
+  std::printf("rho'_d:       %.6g -> %.6g units  (mean |dz| at the nodes)\n", r.before.rho_d_axial,
+              r.after.rho_d_axial);
+  std::printf("mean |dz|:    %.6g -> %.6g units  (rho_d / overlap area)\n", r.before.mean_abs_dz,
+              r.after.mean_abs_dz);
+  std::printf("overlap:      %.2f%% -> %.2f%% of the smaller hull\n",
+              100 * r.overlap_fraction_before, 100 * r.overlap_fraction_after);
+  std::printf("iterations:   %d  (%s)\n", r.iterations, r.termination.c_str());
+  std::printf("time:         %.3f s\n", r.seconds);
+  for (const char* key : {"output", "aligned", "log"}) {
+    const std::string path = AlignConfigValue(config, key);
+    if (!path.empty()) std::printf("%-13s %s\n", (std::string(key) + ":").c_str(), path.c_str());
+  }
+}
+
+}  // namespace
+
+int RunAlign(const std::vector<std::string>& args) {
+  const Clock::time_point start = Clock::now();
+  AlignConfig config = LoadConfig(args);
+  const Surface reference = ReadAlignSurface(config, "reference");
+  const Surface moving = ReadAlignSurface(config, "moving");
+  std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
+  config.options.on_iteration = [&config, &seen, start](const AlignOptions::Iteration& it) {
+    seen.push_back(it);
+    PrintProgress(it, config, start);
+  };
+  const AlignResult result = Align(reference, moving, config.options);
+  LOG(INFO) << "aligned " << config.moving << " onto " << config.reference << ": "
+            << VerdictName(result.verdict) << " in " << Since(start) << " s";
+  if (result.verdict == Verdict::kFailed || result.verdict == Verdict::kIllConditioned) {
+    LOG(WARNING) << "align: " << VerdictName(result.verdict) << ": " << result.verdict_reason;
+  }
+
+  const std::string json = TransformJson(config, result);
+  if (!config.output.empty()) WriteFileAtomically(config.output, json, config.Where("output"));
+  if (!config.aligned.empty()) {
+    WriteSurface(config.aligned, TransformSurface(moving, result.matrix), config.Where("aligned"),
+                 AlignedComments(config, result));
+  }
+  if (!config.log.empty()) {
+    WriteFileAtomically(config.log, LogCsv(result.log.empty() ? seen : result.log),
+                        config.Where("log"));
+  }
+  if (FLAGS_json) {
+    std::printf("%s", json.c_str());
+  } else {
+    PrintSummary(config, reference, moving, result);
+  }
+  return 0;
+}
+
+}  // namespace surfreg
