@@ -221,10 +221,13 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
       context.seconds_offset = Seconds(start);
       context.log = &result.log;
       if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
+        context.cost = "axial";
         const SolveResult rough = SolveAxial(state, context, theta);
         iterations += std::max(0, rough.iterations);
         if (rough.usable) theta = rough.theta;
       }
+      context.cost = options.cost == CostKind::kAxial ? "axial" : "volume";
+      context.seconds_offset = Seconds(start);
       solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
                                                 : SolveVolume(state, context, theta);
       iterations += std::max(0, solved.iterations);

@@ -92,6 +92,7 @@ struct AlignOptions {
   struct Iteration {
     int level = 0;      // 0 = coarsest
     int start = 0;      // multi-start index
+    const char* cost_name = "axial";  // the cost being minimized: "axial" (also the prealignment) or "volume"
     int iteration = 0;
     double cost = 0;    // the solver's objective
     double step_norm = 0;

@@ -47,6 +47,7 @@ class LogCallback : public ceres::IterationCallback {
     AlignOptions::Iteration entry;
     entry.level = context_.level;
     entry.start = context_.start;
+    entry.cost_name = context_.cost;
     entry.iteration = summary.iteration;
     entry.cost = summary.cost;
     entry.step_norm = summary.step_norm;

@@ -25,6 +25,7 @@ struct SolveContext {
   AxialSettings axial;
   double rotation_scale = 1.0;  // length that multiplies radians
   int level = 0, start = 0;
+  const char* cost = "axial";  // for the log
   double seconds_offset = 0;    // time already spent, for the log
   std::vector<AlignOptions::Iteration>* log = nullptr;
 };

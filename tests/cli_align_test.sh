@@ -252,8 +252,8 @@ print('  $name: %s, rotation off by %.5f deg, points off by %.3g (spacing %.3g),
       % (r['verdict'], angle, shift, spacing, r['iterations'], r['seconds']))
 assert angle < 0.05 and shift < 0.1 * spacing, (angle, shift, spacing)
 rows = open('$tmp/$name.csv').read().splitlines()
-assert rows[0] == 'level,start,iteration,cost,step_norm,gradient_norm,seconds', rows[0]
-assert len(rows) > 2 and all(len(row.split(',')) == 7 for row in rows), rows[:3]
+assert rows[0] == 'level,start,cost_kind,iteration,cost,step_norm,gradient_norm,seconds', rows[0]
+assert len(rows) > 2 and all(len(row.split(',')) == 8 for row in rows), rows[:3]
 "
   # The aligned surface reads back, and measures as the JSON's 'after'.
   run measure "$(python3 -c "import json; print(json.load(open('$tmp/$name.json'))['reference'])")" \

@@ -98,9 +98,9 @@ void PrintProgress(const AlignOptions::Iteration& it, const AlignConfig& config,
                    Clock::time_point start) {
   if (!config.progress && Since(start) < 1.0) return;
   std::fprintf(stderr,
-               "align: level %d/%d start %d iteration %3d  cost %.9g  step %.3g  gradient %.3g  "
+               "align: level %d/%d start %d %s iteration %3d  cost %.9g  step %.3g  gradient %.3g  "
                "%.2f s\n",
-               it.level + 1, config.options.levels, it.start, it.iteration, it.cost, it.step_norm,
+               it.level + 1, config.options.levels, it.start, it.cost_name, it.iteration, it.cost, it.step_norm,
                it.gradient_norm, it.seconds);
 }
 
@@ -170,11 +170,11 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r) {
 }
 
 std::string LogCsv(const std::vector<AlignOptions::Iteration>& log) {
-  std::string csv = "level,start,iteration,cost,step_norm,gradient_norm,seconds\n";
+  std::string csv = "level,start,cost_kind,iteration,cost,step_norm,gradient_norm,seconds\n";
   char line[256];
   for (const AlignOptions::Iteration& it : log) {
-    std::snprintf(line, sizeof(line), "%d,%d,%d,%.17g,%.17g,%.17g,%.6f\n", it.level, it.start,
-                  it.iteration, it.cost, it.step_norm, it.gradient_norm, it.seconds);
+    std::snprintf(line, sizeof(line), "%d,%d,%s,%d,%.17g,%.17g,%.17g,%.6f\n", it.level, it.start,
+                  it.cost_name, it.iteration, it.cost, it.step_norm, it.gradient_norm, it.seconds);
     csv += line;
   }
   return csv;
