@@ -85,7 +85,7 @@ struct AlignOptions {
   // vertical, and the moving surface is re-triangulated at that pose
   // (counted in AlignResult::remeshes); beyond it the surface overlaps
   // itself in xy, which the solver treats as an infeasible step.
-  double max_fold_fraction = 0.1;
+  double max_fold_fraction = 0.5;
   bool compute_covariance = true;
   int num_threads = 2;
   // Called after every solver iteration (progress, logs).
