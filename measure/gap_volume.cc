@@ -13,8 +13,26 @@ double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
   return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
 }
 
-// Convex polygon clipped by a counter-clockwise triangle (Sutherland-Hodgman);
-// returns the number of corners written to `out` (room for 9).
+// Fan of a convex polygon with μ = 1 on it; returns the polygon's area.
+double FanUniform(const Point2* p, int n, const Plane& d, GapIntegrals* gap) {
+  const double d0 = d.At(p[0]);
+  double d1 = d.At(p[1]);
+  double total = 0.0;
+  for (int k = 1; k + 1 < n; ++k) {
+    const double d2 = d.At(p[k + 1]);
+    const double area = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
+    if (area > 0.0) {
+      *gap += IntegrateGap(area, d0, d1, d2);
+      total += area;
+    }
+    d1 = d2;
+  }
+  return total;
+}
+
+}  // namespace
+
+// Sutherland-Hodgman, one edge of the triangle at a time.
 int ClipByTriangle(const Point2* polygon, int n, const std::array<Point2, 3>& t, Point2* out) {
   Point2 buffer[2][12];
   std::copy(polygon, polygon + n, buffer[0]);
@@ -41,25 +59,6 @@ int ClipByTriangle(const Point2* polygon, int n, const std::array<Point2, 3>& t,
   std::copy(buffer[current], buffer[current] + n, out);
   return n;
 }
-
-// Fan of a convex polygon with μ = 1 on it; returns the polygon's area.
-double FanUniform(const Point2* p, int n, const Plane& d, GapIntegrals* gap) {
-  const double d0 = d.At(p[0]);
-  double d1 = d.At(p[1]);
-  double total = 0.0;
-  for (int k = 1; k + 1 < n; ++k) {
-    const double d2 = d.At(p[k + 1]);
-    const double area = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
-    if (area > 0.0) {
-      *gap += IntegrateGap(area, d0, d1, d2);
-      total += area;
-    }
-    d1 = d2;
-  }
-  return total;
-}
-
-}  // namespace
 
 void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightField& mu,
                      const Plane& mu_plane, VolumeResult* result) {

@@ -2,6 +2,7 @@
 // Integration of the gap d = F̂_B − F̂_A over the overlap, for measures.cc:
 // on the overlay cells (exact) or on the Delaunay triangulation of the nodes
 // of A ∪ B inside Ω (the paper's union mode). Both in A's local frame.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +24,12 @@ struct VolumeResult {
   double area = 0.0;    // unweighted area integrated over
   int64_t cells = 0;    // overlay cells or union triangles
 };
+
+// A convex polygon (n corners, counter-clockwise) clipped by a
+// counter-clockwise triangle; writes the corners of the intersection to
+// `out` (room for 9) and returns their number (< 3: empty).
+int ClipByTriangle(const Point2* polygon, int n, const std::array<Point2, 3>& triangle,
+                   Point2* out);
 
 // Adds the integrals over a convex polygon (counter-clockwise, n corners) on
 // which d is the linear function `d`, with μ as `mu` says (`mu_plane` for

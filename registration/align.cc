@@ -8,6 +8,7 @@
 #include <random>
 
 #include "measure/input_error.h"
+#include "measure/weights.h"
 #include "registration/pair_state.h"
 #include "registration/solvers.h"
 
@@ -102,9 +103,6 @@ bool AlignOptions::IsValid(std::string* error) const {
   }
   if (weight == WeightMode::kPerPoint) return fail("per-point weights are not supported by align (use a mask)");
   if (cost == CostKind::kVolume && trim_fraction > 0) return fail("trim_fraction applies to the axial cost only");
-  if (cost == CostKind::kVolume && weight == WeightMode::kMask) {
-    return fail("a mask applies to the axial cost only");
-  }
   if (num_threads < 1) return fail("threads must be >= 1");
   MeasureOptions m;
   m.weight = weight;
@@ -171,6 +169,7 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
     context.axial.mask.push_back({p[0] - reference.origin[0], p[1] - reference.origin[1]});
   }
   context.axial.trim_fraction = options.trim_fraction;
+  if (!context.axial.mask.empty()) context.mask_triangles = TriangulatePolygon(context.axial.mask);
 
   AlignResult result;
   const std::array<double, 6> theta0 = {options.initial_rotation[0], options.initial_rotation[1],

@@ -76,8 +76,7 @@ struct AlignOptions {
   std::array<double, 3> initial_rotation = {0, 0, 0};
   std::array<double, 3> initial_translation = {0, 0, 0};
   // The weight μ used by the cost and the reported measures (uniform or a
-  // mask polygon in input coordinates, as in MeasureOptions). A mask
-  // applies to the axial cost only.
+  // mask polygon in input coordinates, as in MeasureOptions).
   WeightMode weight = WeightMode::kUniform;
   std::vector<std::array<double, 2>> mask_polygon;
   // Moving triangles that turn over in projection under a tilt: up to this

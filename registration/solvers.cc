@@ -217,11 +217,12 @@ namespace {
 
 class VolumeFunction : public ceres::FirstOrderFunction {
  public:
-  VolumeFunction(PairState& state, const ParameterMap& map, bool parallel)
-      : state_(state), map_(map), parallel_(parallel) {}
+  VolumeFunction(PairState& state, const ParameterMap& map, bool parallel,
+                 const std::vector<std::array<Point2, 3>>* mask)
+      : state_(state), map_(map), parallel_(parallel), mask_(mask) {}
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
     if (!state_.Update(map_.Full(x))) return false;
-    const VolumeCostValue value = EvaluateVolumeCost(state_, gradient != nullptr, parallel_);
+    const VolumeCostValue value = EvaluateVolumeCost(state_, gradient != nullptr, parallel_, mask_);
     if (!(value.area > 0)) return false;
     *cost = value.PerArea();
     if (gradient != nullptr) {
@@ -236,6 +237,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   PairState& state_;
   const ParameterMap& map_;
   bool parallel_;
+  const std::vector<std::array<Point2, 3>>* mask_;
 };
 
 }  // namespace
@@ -245,7 +247,9 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   const AlignOptions& options = *context.options;
   ParameterMap map(options, context.rotation_scale, theta0);
   std::vector<double> x = map.Reduce(theta0);
-  ceres::GradientProblem problem(new VolumeFunction(state, map, options.num_threads > 1));
+  ceres::GradientProblem problem(new VolumeFunction(
+      state, map, options.num_threads > 1,
+      context.mask_triangles.empty() ? nullptr : &context.mask_triangles));
   ceres::GradientProblemSolver::Options solver;
   switch (options.line_search) {
     case LineSearchKind::kLbfgs: solver.line_search_direction_type = ceres::LBFGS; break;

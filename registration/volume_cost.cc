@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include "measure/gap_volume.h"
 #include "measure/overlay.h"
 #include "measure/weights.h"
 
@@ -48,7 +49,9 @@ struct MovedTriangle {
 
 class Accumulator {
  public:
-  Accumulator(const PairState& state, bool gradient) : state_(state), gradient_(gradient) {
+  Accumulator(const PairState& state, bool gradient,
+              const std::vector<std::array<Point2, 3>>* mask)
+      : state_(state), gradient_(gradient), mask_(mask) {
     mt_ = state.derivative().m.transpose();
   }
 
@@ -65,29 +68,34 @@ class Accumulator {
       SetMovedTriangle(cell.triangle_b);
     }
     ++value.cells;
-    double dv[8];
-    for (int k = 0; k < cell.num_vertices; ++k) {
-      dv[k] = tb_.height.At(cell.vertices[k]) - fa_.At(cell.vertices[k]);
+    if (mask_ == nullptr) {
+      value.area += cell.area;
+      AddPolygon(cell.vertices.data(), cell.num_vertices);
+      if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, nullptr);
+      return;
     }
-    // Split the cell by the sign of d (linear on it).
-    Point2 pos[10], neg[10];
-    int np = 0, nn = 0;
-    for (int k = 0; k < cell.num_vertices; ++k) {
-      const int l = k + 1 == cell.num_vertices ? 0 : k + 1;
-      if (dv[k] >= 0) pos[np++] = cell.vertices[k];
-      if (dv[k] <= 0) neg[nn++] = cell.vertices[k];
-      if ((dv[k] > 0 && dv[l] < 0) || (dv[k] < 0 && dv[l] > 0)) {
-        const double s = dv[k] / (dv[k] - dv[l]);
-        const Point2 cut{cell.vertices[k].x + s * (cell.vertices[l].x - cell.vertices[k].x),
-                         cell.vertices[k].y + s * (cell.vertices[l].y - cell.vertices[k].y)};
-        pos[np++] = cut;
-        neg[nn++] = cut;
+    const Point2* p = cell.vertices.data();
+    double lo_x = p[0].x, hi_x = lo_x, lo_y = p[0].y, hi_y = lo_y;
+    for (int k = 1; k < cell.num_vertices; ++k) {
+      lo_x = std::min(lo_x, p[k].x), hi_x = std::max(hi_x, p[k].x);
+      lo_y = std::min(lo_y, p[k].y), hi_y = std::max(hi_y, p[k].y);
+    }
+    Point2 piece[12];
+    for (const auto& t : *mask_) {
+      if (std::max({t[0].x, t[1].x, t[2].x}) < lo_x || std::min({t[0].x, t[1].x, t[2].x}) > hi_x ||
+          std::max({t[0].y, t[1].y, t[2].y}) < lo_y || std::min({t[0].y, t[1].y, t[2].y}) > hi_y) {
+        continue;
       }
+      const int m = ClipByTriangle(p, cell.num_vertices, t, piece);
+      if (m < 3) continue;
+      double area;
+      Point2 centroid;
+      AreaCentroid(piece, m, &area, &centroid);
+      if (!(area > 0)) continue;
+      value.area += area;
+      AddPolygon(piece, m);
+      if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, &t);
     }
-    value.area += cell.area;
-    AddPart(pos, np, +1.0);
-    AddPart(neg, nn, -1.0);
-    if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b);
   }
 
   VolumeCostValue value;
@@ -113,6 +121,27 @@ class Accumulator {
     for (int k = 0; k < 3; ++k) has_hull_edge_ |= mesh_b.neighbors[3 * t + k] < 0;
   }
 
+  // A convex piece of a cell: split by the sign of d (linear on it).
+  void AddPolygon(const Point2* p, int n) {
+    double dv[12];
+    for (int k = 0; k < n; ++k) dv[k] = tb_.height.At(p[k]) - fa_.At(p[k]);
+    Point2 pos[14], neg[14];
+    int np = 0, nn = 0;
+    for (int k = 0; k < n; ++k) {
+      const int l = k + 1 == n ? 0 : k + 1;
+      if (dv[k] >= 0) pos[np++] = p[k];
+      if (dv[k] <= 0) neg[nn++] = p[k];
+      if ((dv[k] > 0 && dv[l] < 0) || (dv[k] < 0 && dv[l] > 0)) {
+        const double s = dv[k] / (dv[k] - dv[l]);
+        const Point2 cut{p[k].x + s * (p[l].x - p[k].x), p[k].y + s * (p[l].y - p[k].y)};
+        pos[np++] = cut;
+        neg[nn++] = cut;
+      }
+    }
+    AddPart(pos, np, +1.0);
+    AddPart(neg, nn, -1.0);
+  }
+
   // ∫ over one sign part: |d| (exact: d is linear), and sign · ∂_θF̂_B'.
   void AddPart(const Point2* p, int n, double sign) {
     if (n < 3) return;
@@ -129,9 +158,9 @@ class Accumulator {
     value.d_abs.tail<3>() += w * tb_.normal;
   }
 
-  // B's hull edges of this cell's B triangle, within its A triangle: the
-  // moving part of ∂Ω.
-  void AddBoundary(int32_t t) {
+  // B's hull edges of this cell's B triangle, within its A triangle (and
+  // the mask triangle, if any): the moving part of ∂Ω.
+  void AddBoundary(int32_t t, const std::array<Point2, 3>* mask_triangle) {
     const Triangulation& mesh_b = state_.moving_mesh();
     const int32_t* v = &mesh_b.triangles[3 * t];
     const auto& xy = state_.moved_xy();
@@ -141,9 +170,10 @@ class Accumulator {
       const int32_t va = v[(i + 1) % 3], vb = v[(i + 2) % 3];  // interior on the left
       const Point2 e0 = xy[va], e1 = xy[vb];
       double s0 = 0.0, s1 = 1.0;
-      for (int k = 0; k < 3 && s0 < s1; ++k) {  // clip to T_A (counter-clockwise)
-        const Point2& c0 = ta_[k];
-        const Point2& c1 = ta_[(k + 1) % 3];
+      const int clip_edges = mask_triangle != nullptr ? 6 : 3;
+      for (int k = 0; k < clip_edges && s0 < s1; ++k) {  // clip to T_A (and the mask), counter-clockwise
+        const Point2& c0 = k < 3 ? ta_[k] : (*mask_triangle)[k - 3];
+        const Point2& c1 = k < 3 ? ta_[(k + 1) % 3] : (*mask_triangle)[(k - 2) % 3];
         const double f0 = TwiceArea(c0, c1, e0), f1 = TwiceArea(c0, c1, e1);
         if (f0 >= 0 && f1 >= 0) continue;
         if (f0 < 0 && f1 < 0) {
@@ -187,6 +217,7 @@ class Accumulator {
 
   const PairState& state_;
   const bool gradient_;
+  const std::vector<std::array<Point2, 3>>* mask_;
   Eigen::Matrix3d mt_;
   int32_t last_a_ = -1, last_b_ = -1;
   Plane fa_;
@@ -197,9 +228,10 @@ class Accumulator {
 
 }  // namespace
 
-VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel) {
+VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
+                                   const std::vector<std::array<Point2, 3>>* mask) {
   const ReferenceSide& a = state.reference();
-  Accumulator first(state, gradient), second(state, gradient);
+  Accumulator first(state, gradient, mask), second(state, gradient, mask);
   if (parallel) {
     ForEachOverlayCellInTwo(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
                             std::ref(first), std::ref(second));

@@ -11,7 +11,9 @@
 // of a cell are exact (area × value at the part's centroid), and V_n = u·n_out
 // is the outward speed of B's moving boundary (A's boundary is fixed), whose
 // product with |d| is piecewise quadratic along each edge (Simpson is exact).
+#include <array>
 #include <cstdint>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -34,7 +36,12 @@ struct VolumeCostValue {
 };
 
 // At the state's current θ (state.Update must have succeeded). With
-// `parallel`, on two threads (deterministic: fixed split, fixed summation order).
-VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel);
+// `parallel`, on two threads (deterministic: fixed split, fixed summation
+// order). With `mask` (disjoint counter-clockwise triangles in A's frame, e.g.
+// TriangulatePolygon of a mask polygon), μ = 1 on them and 0 elsewhere: both
+// integrals and the area are taken over Ω ∩ mask, whose boundary moves only
+// where it is B's (the mask is fixed to the reference).
+VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
+                                   const std::vector<std::array<Point2, 3>>* mask = nullptr);
 
 }  // namespace surfreg

@@ -1,10 +1,14 @@
 #include "registration/align.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
 #include "measure/input_error.h"
+#include "measure/weights.h"
+#include "registration/pair_state.h"
+#include "registration/volume_cost.h"
 #include "testing/surface_pairs.h"
 
 namespace surfreg {
@@ -223,6 +227,78 @@ TEST(AlignTest, InvalidOptionsAreInputErrors) {
   options = AlignOptions();
   options.levels = 0;
   EXPECT_THROW(Align(s, s, options), InputError);
+}
+
+// Terrain that really changed (a deposit on the moving survey): a mask
+// polygon that leaves it out gives the motion of the stable part; without
+// it the deposit pulls the fit.
+TEST(AlignTest, MaskExcludesChangedRegion) {
+  const double spacing = 100.0 / std::sqrt(5000.0);
+  auto changed = [](double x, double y) {
+    return testing::SmoothTerrain(x, y) + 6.0 * std::exp(-((x - 75) * (x - 75) + (y - 75) * (y - 75)) / 60.0);
+  };
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 5000, 0, 100, 0, 100, 21);
+  const auto b = testing::SampleUniform(changed, 5000, 0, 100, 0, 100, 22);
+  const Pair pair = MakePair(a, b, kAxes[3], 3.0, {4, -3, 2}, spacing);
+  // The volume cost is an L1 measure: a local change barely moves its
+  // minimum, with or without the mask.
+  AlignOptions options;
+  const MotionError volume_unmasked = AlignAndCompare(pair, options);
+  const std::vector<std::array<double, 2>> stable = {{0, 0}, {100, 0}, {100, 55}, {55, 55}, {55, 100}, {0, 100}};
+  options.weight = WeightMode::kMask;
+  options.mask_polygon = stable;
+  AlignResult result;
+  const MotionError volume_masked = AlignAndCompare(pair, options, &result);
+  EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
+  // The axial cost is least squares: the deposit pulls it unless masked.
+  options = AlignOptions();
+  options.cost = CostKind::kAxial;
+  const MotionError axial_unmasked = AlignAndCompare(pair, options);
+  options.weight = WeightMode::kMask;
+  options.mask_polygon = stable;
+  const MotionError axial_masked = AlignAndCompare(pair, options);
+  std::printf("rotation error (deg) volume %.4f masked %.4f, axial %.4f masked %.4f\n",
+              volume_unmasked.rotation_deg, volume_masked.rotation_deg, axial_unmasked.rotation_deg,
+              axial_masked.rotation_deg);
+  for (const MotionError& e : {volume_unmasked, volume_masked}) {
+    EXPECT_LT(e.rotation_deg, 0.02);
+    EXPECT_LT(e.translation, 0.05);
+  }
+  EXPECT_LT(volume_masked.rotation_deg, volume_unmasked.rotation_deg);
+  EXPECT_GT(axial_unmasked.rotation_deg, 3 * axial_masked.rotation_deg);
+  EXPECT_LT(axial_masked.rotation_deg, 0.15);
+}
+
+// The masked volume cost's gradient against central differences: the mask
+// is fixed to the reference, so only B's boundary inside it moves.
+TEST(AlignTest, MaskedVolumeGradientMatchesDifferences) {
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 1500, 0, 100, 0, 100, 23);
+  const auto b = testing::SampleUniform(testing::SmoothTerrain, 1200, 10, 90, 5, 95, 24);
+  const Surface sa = MakeSurface(a), sb = MakeSurface(b);
+  const ReferenceSide ref = PrepareReference(sa);
+  const MovingSide mov = PrepareMoving(sb, {sb.origin[0] - sa.origin[0], sb.origin[1] - sa.origin[1],
+                                            sb.origin[2] - sa.origin[2]});
+  std::vector<Point2> polygon = {{-30, -40}, {20, -45}, {35, 10}, {-5, 30}, {-40, 0}};
+  const auto mask = TriangulatePolygon(polygon);
+  PairState state(ref, mov);
+  const std::array<double, 6> theta = {0.01, -0.02, 0.05, 1.5, -2.0, 0.3};
+  ASSERT_TRUE(state.Update(theta));
+  const VolumeCostValue value = EvaluateVolumeCost(state, true, false, &mask);
+  const VolumeCostValue whole = EvaluateVolumeCost(state, false, false);
+  EXPECT_LT(value.area, 0.9 * whole.area);
+  const Eigen::Matrix<double, 6, 1> g = value.PerAreaGradient();
+  for (int k = 0; k < 6; ++k) {
+    const double h = 1e-6;
+    std::array<double, 6> plus = theta, minus = theta;
+    plus[k] += h;
+    minus[k] -= h;
+    ASSERT_TRUE(state.Update(plus));
+    const double fp = EvaluateVolumeCost(state, false, false, &mask).PerArea();
+    ASSERT_TRUE(state.Update(minus));
+    const double fm = EvaluateVolumeCost(state, false, false, &mask).PerArea();
+    const double scale = k < 3 ? 50.0 : 1.0;  // compare rotations as lengths
+    EXPECT_NEAR(g[k] / scale, (fp - fm) / (2 * h) / scale, 1e-5 * g.norm()) << "parameter " << k;
+  }
 }
 
 TEST(AlignTest, EulerAnglesMatchComposition) {
