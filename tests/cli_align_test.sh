@@ -188,8 +188,8 @@ expect_error "flag '--free' expects a list of rx, ry, rz, tx, ty, tz" \
 expect_error "flag '--mask': $tmp/no_mask.txt: cannot open" \
   align "$ref" "$mov" --mask="$tmp/no_mask.txt" --output="$out/t.json"
 printf '0 0\n400 0\n400 400\n' >"$tmp/mask.txt"
-expect_error "flag '--mask': " align "$ref" "$mov" --cost=volume --mask="$tmp/mask.txt" \
-  --output="$out/t.json"
+expect_error "flag '--trim_fraction': " align "$ref" "$mov" --cost=volume --trim_fraction=0.1 \
+  --mask="$tmp/mask.txt" --output="$out/t.json"
 
 # Align's own InputErrors (no overlap at the initial motion) keep the contract.
 python3 - "$mov" "$tmp/far.xyz" <<'EOF'
