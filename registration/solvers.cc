@@ -198,7 +198,11 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
   solver.max_num_iterations = options.max_iterations;
   solver.function_tolerance = options.function_tolerance;
   solver.gradient_tolerance = 1e-16;
-  solver.parameter_tolerance = 1e-14;
+  // A node entering or leaving the overlap makes the cost jump by its
+  // residual; near the solution that can stall the decrease test while the
+  // steps shrink to nothing. Steps of 1e-10 of the parameters' size are far
+  // below any accuracy the data support.
+  solver.parameter_tolerance = 1e-10;
   solver.num_threads = std::max(1, options.num_threads);
   solver.logging_type = ceres::SILENT;
   LogCallback log(context);
