@@ -303,4 +303,15 @@ Triangulation Triangulate(const std::vector<Point2>& points, const DelaunayOptio
   return result;
 }
 
+double MeshArea(const std::vector<Point2>& p, const Triangulation& mesh) {
+  double twice = 0.0;
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const Point2& a = p[mesh.triangles[3 * t]];
+    const Point2& b = p[mesh.triangles[3 * t + 1]];
+    const Point2& c = p[mesh.triangles[3 * t + 2]];
+    twice += (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  }
+  return 0.5 * twice;
+}
+
 }  // namespace surfreg

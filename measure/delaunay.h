@@ -50,4 +50,8 @@ struct DelaunayOptions {
 Triangulation Triangulate(const std::vector<Point2>& points,
                           const DelaunayOptions& options = DelaunayOptions());
 
+// The area covered by the mesh's triangles (the convex hull's area for a
+// Delaunay triangulation; signed sum, so folded triangles subtract).
+double MeshArea(const std::vector<Point2>& points, const Triangulation& mesh);
+
 }  // namespace surfreg

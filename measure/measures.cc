@@ -67,16 +67,6 @@ void SortSpatially(Prepared& s) {
   permute(s.weight);
 }
 
-double HullArea(const std::vector<Point2>& p, const Triangulation& mesh) {
-  double twice = 0.0;
-  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
-    const Point2& a = p[mesh.triangles[3 * t]];
-    const Point2& b = p[mesh.triangles[3 * t + 1]];
-    const Point2& c = p[mesh.triangles[3 * t + 2]];
-    twice += (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-  }
-  return 0.5 * twice;
-}
 
 
 // Runs first() here and second() on another thread (or both here when not
@@ -162,8 +152,8 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.n_duplicates_b = pb.mesh.num_duplicates;
   MergeDuplicateHeights(pa);
   MergeDuplicateHeights(pb);
-  pa.hull_area = HullArea(pa.xy, pa.mesh);
-  pb.hull_area = HullArea(pb.xy, pb.mesh);
+  pa.hull_area = MeshArea(pa.xy, pa.mesh);
+  pb.hull_area = MeshArea(pb.xy, pb.mesh);
 
   stage = Clock::now();
   RunBoth(parallel, [&] { pa.tree = EuclideanMst(pa.xy, pa.mesh); },

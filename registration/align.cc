@@ -185,18 +185,7 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
     }
     if (options.cost == CostKind::kAxial && options.loss != LossKind::kNone &&
         !(options.loss_scale > 0)) {
-      AxialResiduals residuals;
-      ComputeAxialResiduals(check, context.axial, false, &residuals);
-      std::vector<double> magnitudes;
-      for (std::size_t k = 0; k < residuals.r.size(); ++k) {
-        if (residuals.active[k]) magnitudes.push_back(std::fabs(residuals.r[k]));
-      }
-      double median = 0;
-      if (!magnitudes.empty()) {
-        std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
-        median = magnitudes[magnitudes.size() / 2];
-      }
-      options.loss_scale = median > 0 ? 3.0 * 1.4826 * median : 1e-9 * context.rotation_scale;
+      options.loss_scale = AutomaticLossScale(check, context.axial, 1e-9 * context.rotation_scale);
     }
   }
   const Eigen::Vector3d centre = finest.moving.centroid;

@@ -67,16 +67,6 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
   return unique;
 }
 
-double HullArea(const std::vector<Point2>& p, const Triangulation& mesh) {
-  double twice = 0.0;
-  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
-    const Point2& a = p[mesh.triangles[3 * t]];
-    const Point2& b = p[mesh.triangles[3 * t + 1]];
-    const Point2& c = p[mesh.triangles[3 * t + 2]];
-    twice += (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-  }
-  return 0.5 * twice;
-}
 
 }  // namespace
 
@@ -87,7 +77,7 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction) {
   side.xy = std::move(cloud.xy);
   side.z = std::move(cloud.z);
   side.tree = EuclideanMst(side.xy, side.mesh);
-  side.hull_area = HullArea(side.xy, side.mesh);
+  side.hull_area = MeshArea(side.xy, side.mesh);
   return side;
 }
 
@@ -97,7 +87,7 @@ MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& sh
   MovingSide side;
   Cloud cloud = PrepareCloud(surface, shift, keep_fraction, &side.mesh);
   side.tree = EuclideanMst(cloud.xy, side.mesh);
-  side.hull_area = HullArea(cloud.xy, side.mesh);
+  side.hull_area = MeshArea(cloud.xy, side.mesh);
   side.points.resize(cloud.xy.size());
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < cloud.xy.size(); ++i) {

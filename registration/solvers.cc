@@ -129,23 +129,6 @@ std::unique_ptr<ceres::LossFunction> MakeLoss(LossKind kind, double scale) {
   return nullptr;
 }
 
-// Residual scale for the robust loss: 3 × 1.4826 × median |r| at the start.
-double AutomaticLossScale(PairState& state, const AxialSettings& settings,
-                          const std::array<double, 6>& theta0) {
-  AxialResiduals residuals;
-  if (!state.Update(theta0)) return 1.0;
-  ComputeAxialResiduals(state, settings, false, &residuals);
-  std::vector<double> magnitudes;
-  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
-    if (residuals.active[k]) magnitudes.push_back(std::fabs(residuals.r[k]));
-  }
-  if (magnitudes.empty()) return 1.0;
-  std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
-                   magnitudes.end());
-  const double median = magnitudes[magnitudes.size() / 2];
-  return median > 0 ? 3.0 * 1.4826 * median : 1e-12;
-}
-
 void FillResult(const ParameterMap& map, const std::vector<double>& x, double initial_cost,
                 double final_cost, int iterations, ceres::TerminationType termination,
                 bool usable, const std::string& message, SolveResult* result) {
@@ -160,6 +143,20 @@ void FillResult(const ParameterMap& map, const std::vector<double>& x, double in
 
 }  // namespace
 
+double AutomaticLossScale(const PairState& state, const AxialSettings& settings, double floor) {
+  AxialResiduals residuals;
+  ComputeAxialResiduals(state, settings, false, &residuals);
+  std::vector<double> magnitudes;
+  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+    if (residuals.active[k]) magnitudes.push_back(std::fabs(residuals.r[k]));
+  }
+  if (magnitudes.empty()) return floor;
+  std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
+                   magnitudes.end());
+  const double median = magnitudes[magnitudes.size() / 2];
+  return median > 0 ? 3.0 * 1.4826 * median : floor;
+}
+
 SolveResult SolveAxial(PairState& state, const SolveContext& context,
                        const std::array<double, 6>& theta0) {
   const AlignOptions& options = *context.options;
@@ -169,7 +166,7 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
 
   double scale = options.loss_scale;
   if (options.loss != LossKind::kNone && !(scale > 0)) {
-    scale = AutomaticLossScale(state, context.axial, theta0);
+    scale = state.Update(theta0) ? AutomaticLossScale(state, context.axial, 1e-12) : 1.0;
   }
   std::unique_ptr<ceres::LossFunction> loss = MakeLoss(options.loss, scale);
   AxialSettings settings = context.axial;

@@ -40,6 +40,10 @@ struct SolveResult {
   std::string message;
 };
 
+// Scale of the robust loss at the state's current θ: 3 × 1.4826 × median
+// |residual| over the active nodes (a robust σ, times 3), or `floor` if that is 0.
+double AutomaticLossScale(const PairState& state, const AxialSettings& settings, double floor);
+
 SolveResult SolveAxial(PairState& state, const SolveContext& context,
                        const std::array<double, 6>& theta0);
 SolveResult SolveVolume(PairState& state, const SolveContext& context,
