@@ -1,6 +1,7 @@
 #include "measure/gap_volume.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 #include "measure/input_error.h"
@@ -28,6 +29,61 @@ double FanUniform(const Point2* p, int n, const Plane& d, GapIntegrals* gap) {
     d1 = d2;
   }
   return total;
+}
+
+// The part of a convex polygon where the linear function g > 0 (corners to
+// `out`, room for n + 1); returns their number (< 3: empty).
+int ClipAbove(const Point2* p, int n, const Plane& g, Point2* out) {
+  double value[12];
+  double largest = -HUGE_VAL;
+  for (int k = 0; k < n; ++k) value[k] = g.At(p[k]), largest = std::max(largest, value[k]);
+  // {g > 0} is what counts: a piece where g <= 0 everywhere has none of it
+  // (g = 0 on a whole piece, e.g. unchanged flat ground at L = 0).
+  if (!(largest > 0.0)) return 0;
+  int m = 0;
+  for (int k = 0; k < n; ++k) {
+    const int l = k + 1 == n ? 0 : k + 1;
+    if (value[k] >= 0.0) out[m++] = p[k];
+    if ((value[k] > 0.0 && value[l] < 0.0) || (value[k] < 0.0 && value[l] > 0.0)) {
+      const double s = value[k] / (value[k] - value[l]);
+      out[m++] = {p[k].x + s * (p[l].x - p[k].x), p[k].y + s * (p[l].y - p[k].y)};
+    }
+  }
+  return m;
+}
+
+// ∫ f μ and ∫ μ over a convex polygon, f and μ linear (μ = 1 when `mu` is
+// null): per fan triangle ∫ f μ = S/12 (Σ f_i m_i + Σ f_i Σ m_i), exact.
+void IntegrateLinear(const Point2* p, int n, const Plane& f, const Plane* mu, double* f_mu,
+                     double* mu_area) {
+  for (int k = 1; k + 1 < n; ++k) {
+    const double area = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
+    if (!(area > 0.0)) continue;
+    const double fv[3] = {f.At(p[0]), f.At(p[k]), f.At(p[k + 1])};
+    if (mu == nullptr) {
+      *f_mu += area * (fv[0] + fv[1] + fv[2]) / 3.0;
+      *mu_area += area;
+      continue;
+    }
+    const double mv[3] = {mu->At(p[0]), mu->At(p[k]), mu->At(p[k + 1])};
+    *f_mu += area / 12.0 *
+             (fv[0] * mv[0] + fv[1] * mv[1] + fv[2] * mv[2] +
+              (fv[0] + fv[1] + fv[2]) * (mv[0] + mv[1] + mv[2]));
+    *mu_area += area * (mv[0] + mv[1] + mv[2]) / 3.0;
+  }
+}
+
+// Fill and cut beyond ±lod on one convex piece.
+void AddDetectedChange(const Point2* p, int n, const Plane& d, const Plane* mu, double lod,
+                       DetectedChange* change) {
+  Point2 part[14];
+  const Plane above{d.x0, d.y0, d.z0 - lod, d.gx, d.gy};    // d − L ≥ 0
+  const Plane below{d.x0, d.y0, -d.z0 - lod, -d.gx, -d.gy};  // −d − L ≥ 0
+  const Plane minus_d{d.x0, d.y0, -d.z0, -d.gx, -d.gy};
+  int m = ClipAbove(p, n, above, part);
+  if (m >= 3) IntegrateLinear(part, m, d, mu, &change->fill, &change->fill_area);
+  m = ClipAbove(p, n, below, part);
+  if (m >= 3) IntegrateLinear(part, m, minus_d, mu, &change->cut, &change->cut_area);
 }
 
 }  // namespace
@@ -61,10 +117,11 @@ int ClipByTriangle(const Point2* polygon, int n, const std::array<Point2, 3>& t,
 }
 
 void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightField& mu,
-                     const Plane& mu_plane, VolumeResult* result) {
+                     const Plane& mu_plane, VolumeResult* result, double lod) {
   switch (mu.mode) {
     case WeightMode::kUniform:
       result->area += FanUniform(polygon, n, d, &result->gap);
+      if (lod >= 0.0) AddDetectedChange(polygon, n, d, nullptr, lod, &result->change);
       break;
     case WeightMode::kPerPoint:
       for (int k = 1; k + 1 < n; ++k) {
@@ -76,6 +133,7 @@ void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightF
         const double mv[3] = {mu_plane.At(*t[0]), mu_plane.At(*t[1]), mu_plane.At(*t[2])};
         result->gap += IntegrateGapWeighted(area, dv, mv);
       }
+      if (lod >= 0.0) AddDetectedChange(polygon, n, d, &mu_plane, lod, &result->change);
       break;
     case WeightMode::kMask: {
       for (int k = 1; k + 1 < n; ++k) {  // |Ω| is unweighted: the whole cell counts
@@ -93,7 +151,9 @@ void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightF
           continue;
         }
         const int m = ClipByTriangle(polygon, n, t, piece);
-        if (m >= 3) FanUniform(piece, m, d, &result->gap);
+        if (m < 3) continue;
+        FanUniform(piece, m, d, &result->gap);
+        if (lod >= 0.0) AddDetectedChange(piece, m, d, nullptr, lod, &result->change);
       }
       break;
     }
@@ -108,8 +168,9 @@ class CellIntegrator {
   CellIntegrator(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                  const std::vector<double>& z_a, const std::vector<Point2>& xy_b,
                  const Triangulation& mesh_b, const std::vector<double>& z_b,
-                 const WeightField& mu)
-      : xy_a_(xy_a), mesh_a_(mesh_a), z_a_(z_a), xy_b_(xy_b), mesh_b_(mesh_b), z_b_(z_b), mu_(mu) {}
+                 const WeightField& mu, double lod)
+      : xy_a_(xy_a), mesh_a_(mesh_a), z_a_(z_a), xy_b_(xy_b), mesh_b_(mesh_b), z_b_(z_b), mu_(mu),
+        lod_(lod) {}
 
   void operator()(const OverlayCell& cell) {
     if (cell.triangle_a != last_a_) {  // all cells of one A triangle come in a row
@@ -122,7 +183,7 @@ class CellIntegrator {
     const Plane mu_plane = mu_.mode == WeightMode::kPerPoint
                                ? mu_.CellPlane(cell.triangle_a, cell.triangle_b)
                                : Plane();
-    IntegrateConvex(cell.vertices.data(), cell.num_vertices, d, mu_, mu_plane, &result);
+    IntegrateConvex(cell.vertices.data(), cell.num_vertices, d, mu_, mu_plane, &result, lod_);
   }
 
   VolumeResult result;
@@ -141,6 +202,7 @@ class CellIntegrator {
   const Triangulation& mesh_b_;
   const std::vector<double>& z_b_;
   const WeightField& mu_;
+  const double lod_;
   int32_t last_a_ = -1;
   Plane fa_;
 };
@@ -151,19 +213,20 @@ VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation&
                            const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
                            const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
-                           const WeightField& mu, bool parallel) {
-  CellIntegrator first(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu);
+                           const WeightField& mu, bool parallel, double lod) {
+  CellIntegrator first(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod);
   if (!parallel) {
     const OverlayStats stats =
         ForEachOverlayCell(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, std::ref(first));
     first.result.cells = stats.cells;
     return first.result;
   }
-  CellIntegrator second(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu);
+  CellIntegrator second(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod);
   const OverlayStats stats = ForEachOverlayCellInTwo(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a,
                                                      std::ref(first), std::ref(second));
   VolumeResult result = first.result;
   result.gap += second.result.gap;
+  result.change += second.result.change;
   result.area += second.result.area;
   result.cells = stats.cells;
   return result;

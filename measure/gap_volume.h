@@ -19,10 +19,24 @@ struct NodeGaps {
   std::vector<double> a, b;
 };
 
+// Change beyond a level of detection L >= 0 (geomorphic change detection):
+// only where |d| > L does the gap count as change.
+struct DetectedChange {
+  double fill = 0;       // ∫_{d > L} d μ
+  double cut = 0;        // ∫_{d < −L} |d| μ
+  double fill_area = 0;  // ∫_{d > L} μ
+  double cut_area = 0;   // ∫_{d < −L} μ
+  DetectedChange& operator+=(const DetectedChange& o) {
+    fill += o.fill, cut += o.cut, fill_area += o.fill_area, cut_area += o.cut_area;
+    return *this;
+  }
+};
+
 struct VolumeResult {
-  GapIntegrals gap;     // ∫|d|μ, ∫d⁺μ, ∫d⁻μ, ∫dμ, ∫μ
-  double area = 0.0;    // unweighted area integrated over
-  int64_t cells = 0;    // overlay cells or union triangles
+  GapIntegrals gap;        // ∫|d|μ, ∫d⁺μ, ∫d⁻μ, ∫dμ, ∫μ
+  DetectedChange change;   // with the `lod` given (all zero when lod < 0)
+  double area = 0.0;       // unweighted area integrated over
+  int64_t cells = 0;       // overlay cells or union triangles
 };
 
 // A convex polygon (n corners, counter-clockwise) clipped by a
@@ -33,9 +47,10 @@ int ClipByTriangle(const Point2* polygon, int n, const std::array<Point2, 3>& tr
 
 // Adds the integrals over a convex polygon (counter-clockwise, n corners) on
 // which d is the linear function `d`, with μ as `mu` says (`mu_plane` for
-// per-point weights).
+// per-point weights); with lod >= 0 also the change beyond ±lod (each piece
+// clipped by the lines d = ±lod: exact for linear d and μ); lod < 0: not.
 void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightField& mu,
-                     const Plane& mu_plane, VolumeResult* result);
+                     const Plane& mu_plane, VolumeResult* result, double lod = -1.0);
 
 // With `parallel`, on two threads (overlay.h, ForEachOverlayCellInTwo); the
 // result is deterministic but may differ from the serial one in rounding.
@@ -43,7 +58,7 @@ VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation&
                            const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
                            const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
-                           const WeightField& mu, bool parallel = false);
+                           const WeightField& mu, bool parallel = false, double lod = -1.0);
 
 // The union's triangles use the paper's closed form for ∫|d| (volume.h,
 // AbsVolumePaper) with μ = 1.

@@ -54,8 +54,9 @@ void MergeDuplicateHeights(Prepared& s) {
   }
 }
 
-void SortSpatially(Prepared& s) {
-  const std::vector<int32_t> order = SpatialOrder(s.xy, /*brio=*/false, 0);
+// Returns the order: sorted index k holds input index order[k].
+std::vector<int32_t> SortSpatially(Prepared& s) {
+  std::vector<int32_t> order = SpatialOrder(s.xy, /*brio=*/false, 0);
   auto permute = [&order](auto& values) {
     if (values.empty()) return;
     auto sorted = values;
@@ -65,6 +66,7 @@ void SortSpatially(Prepared& s) {
   permute(s.xy);
   permute(s.z);
   permute(s.weight);
+  return order;
 }
 
 
@@ -101,6 +103,14 @@ void RunBoth(bool parallel, First&& first, Second&& second) {
 bool MeasureOptions::IsValid(std::string* error) const {
   if (!(min_overlap_fraction >= 0.0 && min_overlap_fraction < 1.0)) {
     *error = "min_overlap_fraction must be in [0, 1)";
+    return false;
+  }
+  if (!(level_of_detection >= 0.0 && std::isfinite(level_of_detection))) {
+    *error = "level_of_detection must be a finite number >= 0";
+    return false;
+  }
+  if (detect_change && volume != VolumeMode::kOverlay) {
+    *error = "change detection (cut/fill beyond a level of detection) needs the overlay volume mode";
     return false;
   }
   if (weight == WeightMode::kMask) return ValidMaskPolygon(mask_polygon, error);
@@ -141,7 +151,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   for (Point2& p : pb.xy) p = {p.x + shift[0], p.y + shift[1]};
   for (double& z : pb.z) z += shift[2];
   // Work in Hilbert order: every later stage then walks memory locally.
-  SortSpatially(pa);
+  const std::vector<int32_t> order_a = SortSpatially(pa);
   SortSpatially(pb);
 
   const bool parallel = options.parallel;
@@ -202,7 +212,8 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   stage = Clock::now();
   VolumeResult volume;
   if (options.volume == VolumeMode::kOverlay) {
-    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu, parallel);
+    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu, parallel,
+                           options.detect_change ? options.level_of_detection : -1.0);
   } else {
     volume = UnionVolume(pa.xy, pa.mesh, a_in_b, gaps.a, pb.xy, pb.mesh, b_in_a, gaps.b, mu);
   }
@@ -229,6 +240,17 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.mean_abs_dz = volume.gap.weight > 0.0 ? volume.gap.abs / volume.gap.weight : 0.0;
   summary.rho_s = summary.rho_d > 0.0 ? 1.0 / summary.rho_d : 1.0;
   summary.n_cells = volume.cells;
+  summary.level_of_detection = options.level_of_detection;
+  summary.fill_detected = volume.change.fill;
+  summary.cut_detected = volume.change.cut;
+  summary.fill_area = volume.change.fill_area;
+  summary.cut_area = volume.change.cut_area;
+  if (options.keep_node_gaps) {
+    summary.dz_a.assign(pa.xy.size(), std::nan(""));
+    for (std::size_t k = 0; k < pa.xy.size(); ++k) {
+      if (a_in_b[k].found()) summary.dz_a[order_a[k]] = gaps.a[k];
+    }
+  }
   summary.timings.total = Seconds(start);
   return summary;
 }

@@ -50,6 +50,14 @@ struct MeasureOptions {
   // the overlay, split into two halves of A's triangles (deterministic; the
   // sums may differ from the serial ones in the last bits).
   bool parallel = true;
+  // Change detection (terrain): also compute fill and cut counting only
+  // where |d| > level_of_detection (L >= 0; at L = 0 the areas of gain and
+  // loss). Overlay mode only.
+  bool detect_change = false;
+  double level_of_detection = 0.0;
+  // Keep d at every sample of A (MeasureSummary::dz_a): the DoD on A's
+  // nodes, e.g. on a reference raster's cells.
+  bool keep_node_gaps = false;
 
   bool IsValid(std::string* error) const;
 };
@@ -69,6 +77,17 @@ struct MeasureSummary {
   double signed_volume = 0;  // ∫_Ω (F̂_B − F̂_A) μ
   double volume_above = 0;   // ∫_Ω max(F̂_B − F̂_A, 0) μ: B above A ("fill")
   double volume_below = 0;   // ∫_Ω max(F̂_A − F̂_B, 0) μ: B below A ("cut")
+  // With MeasureOptions::detect_change, beyond the level of detection L
+  // (fill and cut equal volume_above and volume_below when L = 0):
+  // fill ∫_{d>L} d μ, cut ∫_{d<−L} |d| μ, and the (weighted) areas where
+  // change is detected. If every gap is known to ±L, each volume is known
+  // to ± L times its area.
+  double level_of_detection = 0;
+  double fill_detected = 0, cut_detected = 0;
+  double fill_area = 0, cut_area = 0;
+  // d = F̂_B − F̂_A at each sample of A, in A's input order (NaN outside Ω);
+  // filled only with MeasureOptions::keep_node_gaps.
+  std::vector<double> dz_a;
   int64_t n_points_a = 0, n_points_b = 0;          // input samples
   int64_t n_duplicates_a = 0, n_duplicates_b = 0;  // merged (heights averaged)
   int64_t n_overlap_nodes = 0;  // nodes of G1 ∪ G2 (as a set of xy) inside Ω

@@ -1,0 +1,72 @@
+#include "measure/dz_statistics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+namespace surfreg {
+namespace {
+
+// The q-quantile (0..1) of sorted values, linear between order statistics.
+double Quantile(const std::vector<double>& sorted, double q) {
+  const double position = q * static_cast<double>(sorted.size() - 1);
+  const std::size_t below = static_cast<std::size_t>(std::floor(position));
+  const std::size_t above = std::min(below + 1, sorted.size() - 1);
+  const double t = position - static_cast<double>(below);
+  return sorted[below] + t * (sorted[above] - sorted[below]);
+}
+
+}  // namespace
+
+DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vector<bool>& keep) {
+  std::vector<double> values;
+  values.reserve(dz.size());
+  for (std::size_t i = 0; i < dz.size(); ++i) {
+    if (!keep.empty() && !keep[i]) continue;
+    if (std::isfinite(dz[i])) values.push_back(dz[i]);
+  }
+  DzStatistics s;
+  s.count = static_cast<int64_t>(values.size());
+  if (values.empty()) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    s.mean = s.median = s.nmad = s.stddev = s.rmse = s.le90 = s.min = s.max = nan;
+    return s;
+  }
+  // Mean and spread by Welford's update: no cancellation for large offsets.
+  double mean = 0.0, m2 = 0.0, squares = 0.0;
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    const double delta = values[k] - mean;
+    mean += delta / static_cast<double>(k + 1);
+    m2 += delta * (values[k] - mean);
+    squares += values[k] * values[k];
+  }
+  s.mean = mean;
+  s.stddev = values.size() > 1 ? std::sqrt(m2 / static_cast<double>(values.size() - 1)) : 0.0;
+  s.rmse = std::sqrt(squares / static_cast<double>(values.size()));
+  std::sort(values.begin(), values.end());
+  s.min = values.front();
+  s.max = values.back();
+  s.median = Quantile(values, 0.5);
+  std::vector<double> deviation(values.size()), magnitude(values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    deviation[k] = std::fabs(values[k] - s.median);
+    magnitude[k] = std::fabs(values[k]);
+  }
+  std::sort(deviation.begin(), deviation.end());
+  std::sort(magnitude.begin(), magnitude.end());
+  s.nmad = 1.4826 * Quantile(deviation, 0.5);
+  s.le90 = Quantile(magnitude, 0.9);
+  return s;
+}
+
+std::string DzStatisticsLine(const DzStatistics& s, const std::string& units) {
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "n %lld, mean %.4g, median %.4g, NMAD %.4g, std %.4g, RMSE %.4g, LE90 %.4g %s",
+                static_cast<long long>(s.count), s.mean, s.median, s.nmad, s.stddev, s.rmse, s.le90,
+                units.c_str());
+  return line;
+}
+
+}  // namespace surfreg
