@@ -172,6 +172,17 @@ output: out.json
 aligned: moved.ply
 log: iterations.csv
 progress: yes
+reference_crs: EPSG:2193
+moving_crs: lonlat
+frame: enu
+band: 2
+window: [1, 2, 30, 40]
+lod: 0.25
+dod: dod.tif
+dod_png: dod.png
+histogram_png: histogram.png
+change_csv: change.csv
+known_matrix: [1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7]
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -207,6 +218,18 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(c.aligned, "moved.ply");
   EXPECT_EQ(c.log, "iterations.csv");
   EXPECT_TRUE(c.progress);
+  const TerrainSettings& t = c.terrain;
+  EXPECT_EQ(t.reference_crs, "EPSG:2193");
+  EXPECT_EQ(t.moving_crs, "lonlat");
+  EXPECT_EQ(t.frame, "enu");
+  EXPECT_EQ(t.band, 2);
+  EXPECT_EQ(t.window, (std::array<int, 4>{1, 2, 30, 40}));
+  EXPECT_EQ(t.lod, 0.25);
+  EXPECT_EQ(t.dod, "dod.tif");
+  EXPECT_EQ(t.dod_png, "dod.png");
+  EXPECT_EQ(t.histogram_png, "histogram.png");
+  EXPECT_EQ(t.change_csv, "change.csv");
+  EXPECT_EQ(t.known_matrix, (std::vector<double>{1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1}));
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
   EXPECT_EQ(c.Where("progress"), "t.yaml:28: key 'progress'");
@@ -329,6 +352,25 @@ TEST(AlignConfigErrors, UnknownEnumValueListsTheAllowed) {
   EXPECT_TRUE(Contains(YamlError("trust_region: lm"), "one of levenberg_marquardt, dogleg"));
   EXPECT_TRUE(Contains(FlagError("line_search", "cg"),
                        "flag '--line_search' expects one of lbfgs, bfgs, nonlinear_cg, got 'cg'"));
+}
+
+// The terrain keys: shapes, bounds, the matrix's last row.
+TEST(AlignConfigErrors, TerrainKeys) {
+  EXPECT_TRUE(Contains(YamlError("window: [1, 2, 3]"),
+                       "key 'window' expects a list of 4 integers >= 0"));
+  EXPECT_TRUE(Contains(YamlError("window: [1, 2, -3, 4]"), "got '-3'"));
+  EXPECT_TRUE(Contains(YamlError("band: 0"), "key 'band' expects an integer >= 1"));
+  EXPECT_TRUE(Contains(YamlError("frame: lonlat"), "expects one of auto, enu, utm"));
+  EXPECT_TRUE(Contains(YamlError("lod: -0.5"), "key 'lod' expects a number >= 0"));
+  EXPECT_TRUE(Contains(YamlError("known_matrix: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]"),
+                       "key 'known_matrix' expects a list of 16 (or 12) numbers"));
+  // The last row of a rigid motion's matrix is 0 0 0 1.
+  EXPECT_TRUE(Contains(YamlError("known_matrix: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1]"),
+                       "key 'known_matrix'"));
+  EXPECT_TRUE(FromYaml("known_matrix: []").terrain.known_matrix.empty());
+  EXPECT_FALSE(FromYaml("lod: 0").terrain.Active("a.xyz", "b.ply"));
+  EXPECT_TRUE(FromYaml("lod: 0.5").terrain.Active("a.xyz", "b.ply"));
+  EXPECT_TRUE(FromYaml("lod: 0").terrain.Active("a.tif", "b.ply"));
 }
 
 TEST(AlignConfigErrors, NotAMapping) {

@@ -13,6 +13,7 @@
 
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
+#include "tools/config_value.h"
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader.h"
 #include "tools/io/surface_reader_internal.h"
@@ -23,137 +24,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// One value to set, from a YAML node or a flag's text.
-struct Value {
-  enum Kind { kNull, kScalar, kList, kMapping };
-  std::string where;     // start of messages: "t.yaml:3: key 'cost'"
-  std::string expected;  // the key's type text
-  Kind kind = kScalar;
-  std::string text;                // kScalar
-  std::vector<std::string> items;  // kList (every item a scalar)
-  bool nested = false;             // kList with a non-scalar item
-};
-
-std::string Shown(const Value& v) {
-  switch (v.kind) {
-    case Value::kNull:
-      return "nothing";
-    case Value::kMapping:
-      return "a mapping";
-    case Value::kList: {
-      if (v.nested) return "a nested list";
-      std::string out = "[";
-      for (std::size_t i = 0; i < v.items.size(); ++i) out += (i ? ", " : "") + v.items[i];
-      return io_internal::Quote(out + "]");
-    }
-    case Value::kScalar:
-      break;
-  }
-  return io_internal::Quote(v.text);
-}
-
-[[noreturn]] void Reject(const Value& v) {
-  throw InputError(v.where + " expects " + v.expected + ", got " + Shown(v));
-}
-
-std::string Scalar(const Value& v) {
-  if (v.kind != Value::kScalar) Reject(v);
-  return v.text;
-}
-
-// List items from a YAML sequence, or from "a,b,c" / "[a, b, c]" text.
-std::vector<std::string> Items(const Value& v) {
-  if (v.kind == Value::kList && !v.nested) return v.items;
-  std::string text = Scalar(v);
-  if (text.size() >= 2 && text.front() == '[' && text.back() == ']') {
-    text = text.substr(1, text.size() - 2);
-  }
-  std::vector<std::string> items;
-  if (text.find_first_not_of(" \t") == std::string::npos) return items;  // "" or "[]"
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t comma = std::min(text.find(',', start), text.size());
-    std::string item = text.substr(start, comma - start);
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t") + 1);
-    items.push_back(item);
-    if (comma == text.size()) return items;
-    start = comma + 1;
-  }
-}
-
-double NumberOf(const Value& v, const std::string& text) {
-  double value = 0;
-  if (io_internal::ParseNumber(text, &value) != io_internal::NumberStatus::kOk ||
-      !std::isfinite(value)) {
-    Reject(v);
-  }
-  return value;
-}
-
-// A number in the interval lo..hi, `bounds` saying which ends are open:
-// "[]", "[)", "(]" or "()".
-double Number(const Value& v, double lo, double hi, const char* bounds = "[]") {
-  const double value = NumberOf(v, Scalar(v));
-  const bool above = bounds[0] == '(' ? value > lo : value >= lo;
-  const bool below = bounds[1] == ')' ? value < hi : value <= hi;
-  if (!above || !below) Reject(v);
-  return value;
-}
-
-int Integer(const Value& v, int lo, int hi = std::numeric_limits<int>::max()) {
-  const std::string text = Scalar(v);
-  int value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || error != std::errc() || end != text.data() + text.size() || value < lo ||
-      value > hi) {
-    Reject(v);
-  }
-  return value;
-}
-
-bool Boolean(const Value& v) {
-  std::string text = Scalar(v);
-  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (text == "true" || text == "yes" || text == "on" || text == "1") return true;
-  if (text == "false" || text == "no" || text == "off" || text == "0") return false;
-  Reject(v);
-}
-
-// A file name; nothing (YAML null, or "" from a flag) means none, unless required.
-std::string Path(const Value& v, bool required) {
-  const std::string text = v.kind == Value::kNull ? "" : Scalar(v);
-  if (text.empty() && required) Reject(v);
-  return text;
-}
-
-std::array<double, 3> Vector3(const Value& v) {
-  const std::vector<std::string> items = Items(v);
-  if (items.size() != 3) Reject(v);
-  std::array<double, 3> out;
-  for (int k = 0; k < 3; ++k) out[k] = NumberOf(v, items[k]);
-  return out;
-}
-
-template <typename Enum>
-using Names = std::vector<std::pair<const char*, Enum>>;
-
-template <typename Enum>
-Enum Choice(const Value& v, const Names<Enum>& names) {
-  const std::string text = Scalar(v);
-  for (const auto& [name, value] : names) {
-    if (text == name) return value;
-  }
-  Reject(v);
-}
-
-template <typename Enum>
-std::string NameOf(Enum value, const Names<Enum>& names) {
-  for (const auto& [name, candidate] : names) {
-    if (candidate == value) return name;
-  }
-  return "?";
-}
+using namespace config_value;  // the value parsers shared with the terrain keys
 
 const Names<CostKind> kCosts = {{"axial", CostKind::kAxial}, {"volume", CostKind::kVolume}};
 const Names<LossKind> kLosses = {{"none", LossKind::kNone},
@@ -201,31 +72,14 @@ std::string FreeText(const std::array<bool, 6>& free) {
   return "[" + out + "]";
 }
 
-std::string Text(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.15g", value + 0.0);  // hides deg↔rad rounding
-  return buffer;
-}
-
-std::string Text(const std::array<double, 3>& v, double scale = 1.0) {
-  return "[" + Text(v[0] * scale) + ", " + Text(v[1] * scale) + ", " + Text(v[2] * scale) + "]";
-}
-
-std::string Text(bool value) { return value ? "true" : "false"; }
-
-struct KeyEntry {
-  AlignConfigKey key;
-  void (*set)(const Value&, AlignConfig*);
-  std::string (*get)(const AlignConfig&);
-};
-
 using C = AlignConfig;
 const std::vector<KeyEntry>& Table() {
   static const std::vector<KeyEntry> table = {
-      {{"reference", "a surface file (.xyz .txt .csv .ply .off .obj)", "the fixed surface"},
+      {{"reference", "a surface file (.xyz .txt .csv .ply .off .obj, or a GDAL raster)",
+        "the fixed surface"},
        [](const Value& v, C* c) { c->reference = Path(v, true); },
        [](const C& c) { return c.reference; }},
-      {{"moving", "a surface file (.xyz .txt .csv .ply .off .obj)",
+      {{"moving", "a surface file (.xyz .txt .csv .ply .off .obj, or a GDAL raster)",
         "the surface moved onto the reference"},
        [](const Value& v, C* c) { c->moving = Path(v, true); },
        [](const C& c) { return c.moving; }},
@@ -321,7 +175,12 @@ const std::vector<KeyEntry>& Table() {
        [](const Value& v, C* c) { c->progress = Boolean(v); },
        [](const C& c) { return Text(c.progress); }},
   };
-  return table;
+  static const std::vector<KeyEntry> all = [] {
+    std::vector<KeyEntry> keys = table;
+    keys.insert(keys.end(), TerrainKeyTable().begin(), TerrainKeyTable().end());
+    return keys;
+  }();
+  return all;
 }
 
 const KeyEntry* FindEntry(const std::string& name) {
@@ -550,7 +409,8 @@ void FinishAlignConfig(AlignConfig* config) {
   std::vector<std::pair<std::string, std::string>> files = {{"reference", config->reference},
                                                             {"moving", config->moving}};
   if (!config->mask.empty()) files.emplace_back("mask", config->mask);
-  for (const char* key : {"output", "aligned", "log"}) {
+  for (const char* key :
+       {"output", "aligned", "log", "dod", "dod_png", "histogram_png", "change_csv"}) {
     const std::string path = AlignConfigValue(*config, key);
     if (path.empty()) continue;
     const std::string where = config->Where(key);
@@ -558,6 +418,7 @@ void FinishAlignConfig(AlignConfig* config) {
       throw InputError(where + ": cannot write a surface as '" + path +
                        "' (expected a name ending in .ply, .xyz or .txt)");
     }
+    CheckTerrainOutput(key, path, where);
     CheckOutputPath(path, where);
     for (const auto& [other, other_path] : files) {
       if (SameFile(path, other_path)) {

@@ -10,6 +10,7 @@
 // Error policy: every problem throws InputError with one line saying where
 // ("t.yaml:3: key 'cost'", "flag '--cost'", "argument MOVING") and what.
 // This is the only user of yaml-cpp; its exceptions are converted here.
+#include <array>
 #include <map>
 #include <string>
 #include <vector>
@@ -18,6 +19,22 @@
 #include "registration/align.h"
 
 namespace surfreg {
+
+// Terrain: rasters, geographic frames, change detection (README "Terrain").
+struct TerrainSettings {
+  std::string reference_crs, moving_crs;  // "" = the raster's own, or none
+  std::string frame = "auto";             // auto | enu | utm (geographic inputs)
+  int band = 1;                           // raster band
+  std::array<int, 4> window = {0, 0, 0, 0};  // column, row, columns, rows; 0 = all
+  double lod = 0;                         // level of detection for cut/fill (data units)
+  std::string dod;                        // DoD GeoTIFF on the reference raster's grid
+  std::string dod_png, histogram_png;     // figures
+  std::string change_csv;                 // dz at every reference sample before/after
+  std::vector<double> known_matrix;       // 16 numbers (moving -> reference) or empty
+  // Whether any terrain output or setting is asked for (or an input is a
+  // raster): then `align` also reports change and dz statistics.
+  bool Active(const std::string& reference, const std::string& moving) const;
+};
 
 struct AlignConfig {
   std::string reference;  // fixed surface file (required)
@@ -31,6 +48,7 @@ struct AlignConfig {
   std::string aligned;      // the moved `moving` surface (.ply, .xyz, .txt); "" = none
   std::string log;          // per-iteration CSV; "" = none
   bool progress = false;    // one line per solver iteration on stderr
+  TerrainSettings terrain;
   std::string config_file;  // "" when the run has no config file
   // Where each key was last set: "t.yaml:3: key 'cost'", "flag '--cost'",
   // "argument MOVING". Keys left at their default are absent.

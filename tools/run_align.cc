@@ -18,6 +18,9 @@
 #include "tools/commands.h"
 #include "tools/io/surface_writer.h"
 #include "tools/json_writer.h"
+#include "tools/run_align_terrain.h"
+#include "tools/terrain.h"
+#include "tools/transform_json.h"
 
 // Every config key is a flag. Non-boolean flags are strings, so that
 // tools/align_config.cc parses values from files and flags alike (same
@@ -51,6 +54,18 @@ DEFINE_string(output, "", "align: write the transform JSON here");
 DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, .xyz, .txt)");
 DEFINE_string(log, "", "align: write a per-iteration CSV here");
 DEFINE_bool(progress, false, "align: print a line per solver iteration on stderr");
+// Terrain keys (tools/align_config_terrain.cc).
+DEFINE_string(reference_crs, "", "align: CRS of the reference (EPSG:..., WKT, lonlat) if its file has none");
+DEFINE_string(moving_crs, "", "align: CRS of the moving surface if its file has none");
+DEFINE_string(frame, "", "align: auto | enu | utm: metric frame for lon/lat inputs");
+DEFINE_string(band, "", "align: raster band of raster inputs");
+DEFINE_string(window, "", "align: column,row,columns,rows read from raster inputs");
+DEFINE_string(lod, "", "align: level of detection for cut/fill (data units)");
+DEFINE_string(dod, "", "align: write the difference after alignment as GeoTIFF (reference grid)");
+DEFINE_string(dod_png, "", "align: write a map of the difference after alignment (.png)");
+DEFINE_string(histogram_png, "", "align: write dz histograms before/after on stable terrain (.png)");
+DEFINE_string(change_csv, "", "align: write x,y,z,dz_before,dz_after,stable per reference sample");
+DEFINE_string(known_matrix, "", "align: the true moving->reference matrix (16 numbers), to report errors");
 
 namespace surfreg {
 namespace {
@@ -102,71 +117,6 @@ void PrintProgress(const AlignOptions::Iteration& it, const AlignConfig& config,
                "%.2f s\n",
                it.level + 1, config.options.levels, it.start, it.cost_name, it.iteration, it.cost, it.step_norm,
                it.gradient_norm, it.seconds);
-}
-
-std::string Numbers(const double* values, int n) {
-  std::vector<std::string> out;
-  for (int k = 0; k < n; ++k) out.push_back(JsonNumber(values[k]));
-  return JsonArray(out);
-}
-
-JsonObject MeasuresJson(const MeasureSummary& s, double overlap_fraction) {
-  JsonObject json;
-  json.Number("rho_d", s.rho_d)
-      .Number("rho_d_axial", s.rho_d_axial)
-      .Number("mean_abs_dz", s.mean_abs_dz)
-      .Number("overlap_area", s.overlap_area)
-      .Number("overlap_fraction", overlap_fraction)
-      .Int("n_overlap_nodes", s.n_overlap_nodes);
-  return json;
-}
-
-template <typename T, typename Write>
-JsonObject PerParameter(const std::array<T, 6>& values, Write write) {
-  JsonObject json;
-  for (int k = 0; k < 6; ++k) write(&json, kParameterNames[k], values[k]);
-  return json;
-}
-
-std::string TransformJson(const AlignConfig& config, const AlignResult& r) {
-  std::vector<std::string> rows;
-  for (int i = 0; i < 4; ++i) {
-    const double row[4] = {r.matrix(i, 0), r.matrix(i, 1), r.matrix(i, 2), r.matrix(i, 3)};
-    rows.push_back(Numbers(row, 4));
-  }
-  std::vector<std::string> free;
-  for (int k = 0; k < 6; ++k) {
-    if (config.options.free[k]) free.push_back(JsonString(kParameterNames[k]));
-  }
-  const auto number = [](JsonObject* j, const char* key, double v) { j->Number(key, v); };
-  const auto boolean = [](JsonObject* j, const char* key, bool v) {
-    j->Raw(key, v ? "true" : "false");
-  };
-  JsonObject json;
-  json.Raw("matrix", JsonArray(rows))
-      .Raw("rotation_vector", Numbers(r.rotation_vector.data(), 3))
-      .Raw("quaternion", Numbers(r.quaternion.data(), 4))
-      .Raw("euler_deg", Numbers(r.euler_deg.data(), 3))
-      .Raw("translation", Numbers(r.translation.data(), 3))
-      .Raw("centre", Numbers(r.centre.data(), 3))
-      .Object("stddev", PerParameter(r.stddev, number))
-      .Object("before", MeasuresJson(r.before, r.overlap_fraction_before))
-      .Object("after", MeasuresJson(r.after, r.overlap_fraction_after))
-      .Int("iterations", r.iterations)
-      .String("termination", r.termination)
-      .Fixed("seconds", r.seconds, 6)
-      .String("verdict", VerdictName(r.verdict))
-      .String("verdict_reason", r.verdict_reason)
-      .Object("observability", PerParameter(r.observability, number))
-      .Object("constrained", PerParameter(r.constrained, boolean))
-      .Number("condition_number", r.condition_number)
-      .Int("folded_triangles", r.folded_triangles)
-      .Int("remeshes", r.remeshes)
-      .String("cost", AlignConfigValue(config, "cost"))
-      .Raw("free", JsonArray(free))
-      .String("reference", config.reference)
-      .String("moving", config.moving);
-  return json.str() + "\n";
 }
 
 std::string LogCsv(const std::vector<AlignOptions::Iteration>& log) {
@@ -236,8 +186,17 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
 int RunAlign(const std::vector<std::string>& args) {
   const Clock::time_point start = Clock::now();
   AlignConfig config = LoadConfig(args);
-  const Surface reference = ReadAlignSurface(config, "reference");
-  const Surface moving = ReadAlignSurface(config, "moving");
+  // Terrain inputs (rasters, CRSs, change outputs) go through tools/terrain.h.
+  const bool terrain = config.terrain.Active(config.reference, config.moving);
+  TerrainInputs inputs;
+  if (terrain) {
+    inputs = ReadTerrainInputs(config);
+  } else {
+    inputs.reference = ReadAlignSurface(config, "reference");
+    inputs.moving = ReadAlignSurface(config, "moving");
+  }
+  const Surface& reference = inputs.reference;
+  const Surface& moving = inputs.moving;
   std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
   config.options.on_iteration = [&config, &seen, start](const AlignOptions::Iteration& it) {
     seen.push_back(it);
@@ -250,7 +209,11 @@ int RunAlign(const std::vector<std::string>& args) {
     LOG(WARNING) << "align: " << VerdictName(result.verdict) << ": " << result.verdict_reason;
   }
 
-  const std::string json = TransformJson(config, result);
+  TerrainReport report;
+  if (terrain) report = AnalyseTerrain(config, inputs, result);
+  const std::string json =
+      TransformJson(config, result, terrain ? TerrainJsonMember(config, inputs, report) : "");
+  if (terrain) WriteTerrainOutputs(config, inputs, report);
   if (!config.output.empty()) WriteFileAtomically(config.output, json, config.Where("output"));
   if (!config.aligned.empty()) {
     WriteSurface(config.aligned, TransformSurface(moving, result.matrix), config.Where("aligned"),
@@ -264,6 +227,7 @@ int RunAlign(const std::vector<std::string>& args) {
     std::printf("%s", json.c_str());
   } else {
     PrintSummary(config, reference, moving, result);
+    if (terrain) std::printf("%s\n", TerrainSummary(config, inputs, report).c_str());
   }
   return 0;
 }

@@ -19,8 +19,8 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 # Build tools and libraries; libcgal-dev is only the benchmark's reference
 # (the build works without it), python3 checks the CLI's JSON in the tests.
 packages=(cmake make g++ pkg-config libceres-dev libeigen3-dev libgoogle-glog-dev libgflags-dev
-          libgeographiclib-dev libyaml-cpp-dev libgtest-dev libbenchmark-dev)
-if [ "$mode" = test ]; then packages+=(libcgal-dev python3); fi
+          libgeographiclib-dev libyaml-cpp-dev libgdal-dev libcairo2-dev libgtest-dev libbenchmark-dev)
+if [ "$mode" = test ]; then packages+=(libcgal-dev python3 parallel); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "measure/input_error.h"
+#include "tools/io/raster_io.h"
 #include "tools/io/surface_reader_internal.h"
 
 namespace surfreg {
@@ -169,6 +170,9 @@ using io_internal::Fail;
 }  // namespace
 
 Surface ReadSurface(const std::string& path, const ReadOptions& options) {
+  if (IsRasterPath(path)) {
+    return RasterToSurface(ReadRaster(path), nullptr, options.origin_step);
+  }
   using Parser = Surface (*)(std::string_view, const std::string&, const ReadOptions&);
   const std::string ext = io_internal::Extension(path);
   Parser parse = nullptr;

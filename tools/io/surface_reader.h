@@ -19,6 +19,11 @@
 //                   each vertex line; faces are ignored.
 //   .obj            "v x y z [w or colour...]" lines: the first 3 numbers;
 //                   every other line type is ignored. OBJ has no weights.
+//   .tif .tiff .vrt .asc .img .bil .hgt .dem .nc .gpkg .flt
+//                   GDAL rasters: band 1, one sample at the centre of every
+//                   valid cell (nodata, masked, NaN cells skipped); see
+//                   tools/io/raster_io.h for bands, windows and the pixel
+//                   convention. Messages are "<name>: <what is wrong>".
 //
 // Coordinates are kept in input units and stored relative to a local origin
 // (see MakeSurface in measure/surface.h), so UTM-sized values keep their

@@ -1,0 +1,126 @@
+// The terrain keys of `surfreg align` (README "Terrain"): how rasters are
+// read, which geographic frame both surfaces are brought into, and the change
+// outputs. Parsed like every other key (tools/config_value.h).
+#include <algorithm>
+#include <cctype>
+
+#include "tools/config_value.h"
+#include "tools/io/raster_io.h"
+
+namespace surfreg {
+
+bool TerrainSettings::Active(const std::string& reference, const std::string& moving) const {
+  return IsRasterPath(reference) || IsRasterPath(moving) || !reference_crs.empty() ||
+         !moving_crs.empty() || lod > 0 || !dod.empty() || !dod_png.empty() ||
+         !histogram_png.empty() || !change_csv.empty() || !known_matrix.empty();
+}
+
+namespace config_value {
+namespace {
+
+std::array<int, 4> Window(const Value& v) {
+  const std::vector<std::string> items = Items(v);
+  if (items.size() != 4) Reject(v);
+  std::array<int, 4> window;
+  for (int k = 0; k < 4; ++k) {
+    Value item = v;
+    item.kind = Value::kScalar;
+    item.text = items[k];
+    window[k] = Integer(item, 0);
+  }
+  return window;
+}
+
+std::vector<double> Matrix(const Value& v) {
+  const std::vector<std::string> items = Items(v);
+  if (items.empty()) return {};
+  if (items.size() != 16 && items.size() != 12) Reject(v);
+  std::vector<double> m;
+  for (const std::string& item : items) m.push_back(NumberOf(v, item));
+  if (m.size() == 12) m.insert(m.end(), {0.0, 0.0, 0.0, 1.0});
+  if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1) Reject(v);
+  return m;
+}
+
+std::string MatrixText(const std::vector<double>& m) {
+  std::string out = "[";
+  for (std::size_t k = 0; k < m.size(); ++k) out += (k ? ", " : "") + Text(m[k]);
+  return out + "]";
+}
+
+const char* const kFrames[] = {"auto", "enu", "utm"};
+
+}  // namespace
+
+void CheckTerrainOutput(const std::string& key, const std::string& path, const std::string& where) {
+  std::string extension = path.substr(std::min(path.size(), path.find_last_of('.')));
+  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const bool png = key == "dod_png" || key == "histogram_png";
+  if (key == "dod" && extension != ".tif" && extension != ".tiff") {
+    throw InputError(where + ": the DoD is written as GeoTIFF; expected a name ending in .tif, got '" +
+                     path + "'");
+  }
+  if (png && extension != ".png") {
+    throw InputError(where + ": expected a name ending in .png, got '" + path + "'");
+  }
+}
+
+const std::vector<KeyEntry>& TerrainKeyTable() {
+  static const std::vector<KeyEntry> table = {
+      {{"reference_crs", "a CRS (EPSG:4326, EPSG:32760, WKT, lonlat), or nothing",
+        "the reference's coordinate system when its file does not say (rasters carry their own)"},
+       [](const Value& v, C* c) { c->terrain.reference_crs = Path(v, false); },
+       [](const C& c) { return c.terrain.reference_crs; }},
+      {{"moving_crs", "a CRS (EPSG:4326, EPSG:32760, WKT, lonlat), or nothing",
+        "the moving surface's coordinate system when its file does not say"},
+       [](const Value& v, C* c) { c->terrain.moving_crs = Path(v, false); },
+       [](const C& c) { return c.terrain.moving_crs; }},
+      {{"frame", "one of auto, enu, utm",
+        "metric frame for geographic (lon/lat) inputs: UTM if both share a zone (auto), or local "
+        "east-north-up about the overlap's centre"},
+       [](const Value& v, C* c) {
+         const std::string text = Scalar(v);
+         if (std::find(std::begin(kFrames), std::end(kFrames), text) == std::end(kFrames)) Reject(v);
+         c->terrain.frame = text;
+       },
+       [](const C& c) { return c.terrain.frame; }},
+      {{"band", "an integer >= 1", "raster band read from raster inputs"},
+       [](const Value& v, C* c) { c->terrain.band = Integer(v, 1); },
+       [](const C& c) { return std::to_string(c.terrain.band); }},
+      {{"window", "a list of 4 integers >= 0 [column, row, columns, rows]",
+        "part of each raster input read (columns/rows 0 = to the edge)"},
+       [](const Value& v, C* c) { c->terrain.window = Window(v); },
+       [](const C& c) {
+         const auto& w = c.terrain.window;
+         return "[" + std::to_string(w[0]) + ", " + std::to_string(w[1]) + ", " +
+                std::to_string(w[2]) + ", " + std::to_string(w[3]) + "]";
+       }},
+      {{"lod", "a number >= 0",
+        "level of detection (data units): |dz| below it counts as no change in cut/fill"},
+       [](const Value& v, C* c) { c->terrain.lod = Number(v, 0, HUGE_VAL); },
+       [](const C& c) { return Text(c.terrain.lod); }},
+      {{"dod", "a .tif file name, or nothing",
+        "difference of the aligned surfaces (moving - reference) on the reference raster's grid"},
+       [](const Value& v, C* c) { c->terrain.dod = Path(v, false); },
+       [](const C& c) { return c.terrain.dod; }},
+      {{"dod_png", "a .png file name, or nothing", "map of the difference after alignment"},
+       [](const Value& v, C* c) { c->terrain.dod_png = Path(v, false); },
+       [](const C& c) { return c.terrain.dod_png; }},
+      {{"histogram_png", "a .png file name, or nothing",
+        "histograms of dz on stable terrain before and after alignment"},
+       [](const Value& v, C* c) { c->terrain.histogram_png = Path(v, false); },
+       [](const C& c) { return c.terrain.histogram_png; }},
+      {{"change_csv", "a file name, or nothing",
+        "x, y, z, dz before, dz after, stable at every reference sample"},
+       [](const Value& v, C* c) { c->terrain.change_csv = Path(v, false); },
+       [](const C& c) { return c.terrain.change_csv; }},
+      {{"known_matrix", "a list of 16 (or 12) numbers, or []",
+        "the true moving -> reference matrix (row-major), when known: the errors are reported"},
+       [](const Value& v, C* c) { c->terrain.known_matrix = Matrix(v); },
+       [](const C& c) { return MatrixText(c.terrain.known_matrix); }},
+  };
+  return table;
+}
+
+}  // namespace config_value
+}  // namespace surfreg

@@ -1,0 +1,397 @@
+// CRS parsing (GDAL/PROJ) and the common metric frame (GeographicLib); see
+// geo_frame.h.
+#include "tools/geo_frame.h"
+
+#include <cpl_error.h>
+#include <ogr_spatialref.h>
+
+#include <GeographicLib/Geocentric.hpp>
+#include <GeographicLib/LocalCartesian.hpp>
+#include <GeographicLib/Math.hpp>
+#include <GeographicLib/TransverseMercator.hpp>
+#include <GeographicLib/UTMUPS.hpp>
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "measure/input_error.h"
+
+namespace surfreg {
+namespace {
+
+using GeographicLib::Math;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kUtmScale = 0.9996;
+constexpr double kUtmFalseEasting = 500000.0;
+constexpr double kUtmFalseNorthingSouth = 10000000.0;
+
+// While alive, OGR/PROJ errors on this thread are kept here instead of being
+// printed (the same idea as in tools/io/raster_io.cc).
+class QuietGdal {
+ public:
+  QuietGdal() { CPLPushErrorHandlerEx(&Handler, this); }
+  ~QuietGdal() { CPLPopErrorHandler(); }
+  QuietGdal(const QuietGdal&) = delete;
+  QuietGdal& operator=(const QuietGdal&) = delete;
+  std::string Detail() const { return last_.empty() ? "" : " (" + last_ + ")"; }
+
+ private:
+  static void CPL_STDCALL Handler(CPLErr level, CPLErrorNum, const char* message) {
+    auto* self = static_cast<QuietGdal*>(CPLGetErrorHandlerUserData());
+    if (self == nullptr || level < CE_Failure || message == nullptr) return;
+    self->last_ = message;
+    for (char& c : self->last_) {
+      if (c == '\n' || c == '\r') c = ' ';
+    }
+  }
+  std::string last_;
+};
+
+std::string Trim(const std::string& text) {
+  std::size_t b = 0, e = text.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(text[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(text[e - 1]))) --e;
+  return text.substr(b, e - b);
+}
+
+std::string Lower(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+// At most 60 characters of user text, for messages.
+std::string Shown(const std::string& text) {
+  std::string one_line = text.size() > 60 ? text.substr(0, 57) + "..." : text;
+  for (char& c : one_line) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return "'" + one_line + "'";
+}
+
+// The Crs's spatial reference with x = easting/longitude, y = northing/latitude.
+std::unique_ptr<OGRSpatialReference> Import(const Crs& crs) {
+  auto srs = std::make_unique<OGRSpatialReference>();
+  srs->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  QuietGdal quiet;
+  if (crs.wkt.empty() || srs->importFromWkt(crs.wkt.c_str()) != OGRERR_NONE) return nullptr;
+  return srs;
+}
+
+// The ellipsoid and prime meridian of a geographic (or projected) CRS;
+// WGS 84 and Greenwich when unknown.
+struct Datum {
+  double a = GeographicLib::Constants::WGS84_a();
+  double f = GeographicLib::Constants::WGS84_f();
+  double prime_meridian_deg = 0;
+  std::string name = "WGS 84";
+};
+
+Datum DatumOf(const Crs& crs) {
+  Datum datum;
+  const auto srs = Import(crs);
+  if (!srs) return datum;
+  OGRErr error = OGRERR_NONE;
+  const double a = srs->GetSemiMajor(&error);
+  if (error != OGRERR_NONE || !(a > 0)) return datum;
+  const double inverse_f = srs->GetInvFlattening(&error);
+  datum.a = a;
+  datum.f = inverse_f > 0 ? 1.0 / inverse_f : 0.0;  // 0 = sphere
+  datum.prime_meridian_deg = srs->GetPrimeMeridian();
+  const char* name = srs->GetAttrValue("GEOGCS");
+  if (name != nullptr) datum.name = name;
+  return datum;
+}
+
+struct Box {
+  double lon_lo = HUGE_VAL, lon_hi = -HUGE_VAL, lat_lo = HUGE_VAL, lat_hi = -HUGE_VAL;
+  double lon_centre() const { return 0.5 * (lon_lo + lon_hi); }
+  double lat_centre() const { return 0.5 * (lat_lo + lat_hi); }
+};
+
+// Bounding box of a geographic surface (Greenwich longitudes); checks that
+// the coordinates can be degrees.
+Box LonLatBox(const Surface& s, double prime_meridian_deg) {
+  Box box;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double lon = s.origin[0] + s.xy[i].x + prime_meridian_deg;
+    const double lat = s.origin[1] + s.xy[i].y;
+    if (!(std::fabs(lat) <= 90.0) || !(std::fabs(lon) <= 540.0)) {
+      char what[160];
+      std::snprintf(what, sizeof(what),
+                    ": point %zu (%.9g, %.9g) is not a longitude, latitude in degrees", i + 1,
+                    s.origin[0] + s.xy[i].x, lat);
+      throw InputError(s.source + what + " (is the CRS really geographic?)");
+    }
+    box.lon_lo = std::min(box.lon_lo, lon), box.lon_hi = std::max(box.lon_hi, lon);
+    box.lat_lo = std::min(box.lat_lo, lat), box.lat_hi = std::max(box.lat_hi, lat);
+  }
+  return box;
+}
+
+// Centre of the overlap of two boxes, or of their union if they are disjoint.
+void CentreOf(const Box& a, const Box& b, double* lat, double* lon) {
+  Box overlap{std::max(a.lon_lo, b.lon_lo), std::min(a.lon_hi, b.lon_hi),
+              std::max(a.lat_lo, b.lat_lo), std::min(a.lat_hi, b.lat_hi)};
+  if (overlap.lon_lo > overlap.lon_hi || overlap.lat_lo > overlap.lat_hi) {
+    overlap = {std::min(a.lon_lo, b.lon_lo), std::max(a.lon_hi, b.lon_hi),
+               std::min(a.lat_lo, b.lat_lo), std::max(a.lat_hi, b.lat_hi)};
+  }
+  *lat = overlap.lat_centre();
+  *lon = Math::AngNormalize(overlap.lon_centre());
+}
+
+int Zone(double lat, double lon) {
+  return GeographicLib::UTMUPS::StandardZone(lat, Math::AngNormalize(lon));
+}
+
+double CentralMeridian(int zone) { return 6.0 * zone - 183.0; }
+
+// Forward and inverse maps between (lat, lon, h) and the frame's x, y, z.
+class FrameMap {
+ public:
+  FrameMap(const GeoFrame& frame, const Datum& datum)
+      : frame_(frame),
+        tm_(datum.a, datum.f, kUtmScale),
+        enu_(frame.lat0, frame.lon0, frame.h0, GeographicLib::Geocentric(datum.a, datum.f)) {}
+
+  void Forward(double lat, double lon, double h, double* x, double* y, double* z) const {
+    if (frame_.kind == GeoFrame::kUtm) {
+      tm_.Forward(CentralMeridian(frame_.zone), lat, lon, *x, *y);
+      *x += kUtmFalseEasting;
+      *y += frame_.northp ? 0.0 : kUtmFalseNorthingSouth;
+      *z = h;
+    } else {
+      enu_.Forward(lat, lon, h, *x, *y, *z);
+    }
+  }
+  void Reverse(double x, double y, double z, double* lat, double* lon, double* h) const {
+    if (frame_.kind == GeoFrame::kUtm) {
+      tm_.Reverse(CentralMeridian(frame_.zone), x - kUtmFalseEasting,
+                  y - (frame_.northp ? 0.0 : kUtmFalseNorthingSouth), *lat, *lon);
+      *h = z;
+    } else {
+      enu_.Reverse(x, y, z, *lat, *lon, *h);
+    }
+  }
+
+ private:
+  const GeoFrame& frame_;
+  GeographicLib::TransverseMercator tm_;
+  GeographicLib::LocalCartesian enu_;
+};
+
+void Convert(const FrameMap& map, double prime_meridian_deg, Surface* s) {
+  std::vector<std::array<double, 3>> points(s->size());
+  for (std::size_t i = 0; i < s->size(); ++i) {
+    const double lon = s->origin[0] + s->xy[i].x + prime_meridian_deg;
+    const double lat = s->origin[1] + s->xy[i].y;
+    const double h = s->origin[2] + s->z[i];
+    map.Forward(lat, lon, h, &points[i][0], &points[i][1], &points[i][2]);
+  }
+  *s = MakeSurface(points, std::move(s->weight), std::move(s->source), 1.0);
+}
+
+const char* KindName(CrsKind kind) {
+  switch (kind) {
+    case CrsKind::kNone:
+      return "no CRS";
+    case CrsKind::kProjected:
+      return "projected";
+    case CrsKind::kGeographic:
+      return "geographic";
+  }
+  return "?";
+}
+
+GeoFrame GeographicFrame(Surface* reference, Surface* moving, const Datum& datum,
+                         FrameChoice choice) {
+  const Box ref = LonLatBox(*reference, datum.prime_meridian_deg);
+  Box mov = LonLatBox(*moving, datum.prime_meridian_deg);
+  // The same place may be written 360 degrees apart (0..360 vs -180..180).
+  const double shift = 360.0 * std::round((mov.lon_centre() - ref.lon_centre()) / 360.0);
+  mov.lon_lo -= shift, mov.lon_hi -= shift;
+
+  GeoFrame frame;
+  frame.datum = datum.name;
+  double lat = 0, lon = 0;
+  CentreOf(ref, mov, &lat, &lon);
+  const int ref_zone = Zone(ref.lat_centre(), ref.lon_centre());
+  const int centre_zone = Zone(lat, lon);
+  if (choice == FrameChoice::kUtm && centre_zone == GeographicLib::UTMUPS::UPS) {
+    char what[128];
+    std::snprintf(what, sizeof(what), "UTM is not defined at latitude %.4f (polar); use frame enu",
+                  lat);
+    throw InputError(reference->source + " and " + moving->source + ": " + what);
+  }
+  const bool same_zone = ref_zone != GeographicLib::UTMUPS::UPS &&
+                         ref_zone == Zone(mov.lat_centre(), mov.lon_centre());
+  if (choice == FrameChoice::kUtm || (choice == FrameChoice::kAuto && same_zone)) {
+    frame.kind = GeoFrame::kUtm;
+    frame.zone = choice == FrameChoice::kUtm ? centre_zone : ref_zone;
+    frame.northp = lat >= 0;
+  } else {
+    frame.kind = GeoFrame::kEnu;
+    frame.lat0 = lat, frame.lon0 = lon, frame.h0 = 0.0;
+  }
+  const FrameMap map(frame, datum);
+  Convert(map, datum.prime_meridian_deg, reference);
+  Convert(map, datum.prime_meridian_deg, moving);
+  return frame;
+}
+
+}  // namespace
+
+Crs ParseCrs(const std::string& text, const std::string& label) {
+  const std::string trimmed = Trim(text);
+  const std::string lower = Lower(trimmed);
+  Crs crs;
+  crs.name = "none";
+  if (trimmed.empty() || lower == "none") return crs;
+  const bool shorthand = lower == "lonlat" || lower == "geographic";
+  OGRSpatialReference srs;
+  QuietGdal quiet;
+  // Config text must not make us read files or the network.
+  const char* const options[] = {"ALLOW_NETWORK_ACCESS=NO", "ALLOW_FILE_ACCESS=NO", nullptr};
+  if (srs.SetFromUserInput(shorthand ? "EPSG:4326" : trimmed.c_str(), options) != OGRERR_NONE) {
+    throw InputError(label + ": unreadable CRS " + Shown(trimmed) + quiet.Detail());
+  }
+  const char* name = srs.GetName();
+  crs.name = name != nullptr && *name != '\0' ? name : Shown(trimmed);
+  const std::string what = label + ": CRS '" + crs.name + "'";
+  if (srs.IsGeocentric()) {
+    throw InputError(what + " is geocentric; a height field needs a geographic or projected CRS");
+  }
+  if (srs.IsGeographic()) {
+    const double degree = Math::pi() / 180.0;
+    if (std::fabs(srs.GetAngularUnits() - degree) > 1e-12 * degree) {
+      throw InputError(what + ": angular unit is not the degree");
+    }
+    crs.kind = CrsKind::kGeographic;
+  } else if (srs.IsProjected() || srs.IsLocal()) {
+    crs.kind = CrsKind::kProjected;
+    crs.metres_per_unit = srs.GetLinearUnits();
+  } else {
+    throw InputError(what + " is neither projected nor geographic");
+  }
+  char* wkt = nullptr;
+  const char* const wkt_options[] = {"FORMAT=WKT2_2019", nullptr};
+  if (srs.exportToWkt(&wkt, wkt_options) != OGRERR_NONE || wkt == nullptr) {
+    CPLFree(wkt);
+    throw InputError(what + ": cannot be written as WKT" + quiet.Detail());
+  }
+  crs.wkt = wkt;
+  CPLFree(wkt);
+  return crs;
+}
+
+std::string GeoFrame::Describe() const {
+  char text[160];
+  switch (kind) {
+    case kUtm:
+      std::snprintf(text, sizeof(text), "UTM zone %d%c (%s)", zone, northp ? 'N' : 'S',
+                    datum.c_str());
+      return text;
+    case kEnu:
+      std::snprintf(text, sizeof(text), "local ENU about %.4f%c %.4f%c (%s)", std::fabs(lat0),
+                    lat0 < 0 ? 'S' : 'N', std::fabs(lon0), lon0 < 0 ? 'W' : 'E', datum.c_str());
+      return text;
+    case kAsGiven:
+      break;
+  }
+  return "coordinates as given (" + (datum.empty() ? std::string("no CRS") : datum) + ")";
+}
+
+GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surface* moving,
+                             const Crs& moving_crs, FrameChoice choice) {
+  const auto mismatch = [&](const std::string& why) {
+    throw InputError("reference " + reference->source + " (CRS " + reference_crs.name +
+                     ") and moving " + moving->source + " (CRS " + moving_crs.name + "): " + why);
+  };
+  const CrsKind kind = reference_crs.kind;
+  if (kind != moving_crs.kind) {
+    mismatch(std::string("one is ") + KindName(kind) + ", the other " + KindName(moving_crs.kind) +
+             "; give both the same CRS (reproject, or set it)");
+  }
+  GeoFrame frame;
+  if (kind == CrsKind::kNone) {
+    frame.datum = "no CRS";
+    return frame;
+  }
+  const auto ref_srs = Import(reference_crs), mov_srs = Import(moving_crs);
+  if (!ref_srs || !mov_srs) mismatch("a CRS is unreadable");
+  if (kind == CrsKind::kProjected) {
+    if (!ref_srs->IsSame(mov_srs.get())) {
+      const bool metres = reference_crs.metres_per_unit == 1 && moving_crs.metres_per_unit == 1;
+      mismatch(std::string("different projected CRSs") +
+               (metres ? "" : " (and not both in metres)") + "; reproject one onto the other");
+    }
+    frame.datum = reference_crs.name;
+    return frame;
+  }
+  if (!ref_srs->IsSameGeogCS(mov_srs.get())) {
+    mismatch("different geographic datums; transform one onto the other's datum");
+  }
+  return GeographicFrame(reference, moving, DatumOf(reference_crs), choice);
+}
+
+namespace {
+
+// Latitude/longitude of a projected point through PROJ; false if unknown.
+bool ProjectedToLonLat(const Crs& crs, double x, double y, double* lat, double* lon) {
+  QuietGdal quiet;
+  const auto source = Import(crs);
+  if (!source) return false;
+  OGRSpatialReference wgs84;
+  wgs84.SetWellKnownGeogCS("WGS84");
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> transform(
+      OGRCreateCoordinateTransformation(source.get(), &wgs84));
+  if (!transform) return false;
+  double px = x, py = y;
+  if (!transform->Transform(1, &px, &py)) return false;
+  *lon = px, *lat = py;
+  return true;
+}
+
+}  // namespace
+
+GeographicOffset TranslationAsGeographic(const GeoFrame& frame, const Crs& crs,
+                                         const std::array<double, 3>& p_input,
+                                         const std::array<double, 3>& translation) {
+  GeographicOffset offset;
+  const auto& t = translation;
+  if (frame.kind == GeoFrame::kAsGiven) {
+    const double unit = crs.kind == CrsKind::kProjected ? crs.metres_per_unit : 1.0;
+    offset.east_m = t[0] * unit, offset.north_m = t[1] * unit, offset.up_m = t[2];
+    offset.dh_m = t[2];
+    offset.dlat_deg = offset.dlon_deg = kNaN;
+    double lat0, lon0, lat1, lon1;
+    if (crs.kind == CrsKind::kProjected &&
+        ProjectedToLonLat(crs, p_input[0], p_input[1], &lat0, &lon0) &&
+        ProjectedToLonLat(crs, p_input[0] + t[0], p_input[1] + t[1], &lat1, &lon1)) {
+      offset.dlat_deg = lat1 - lat0;
+      offset.dlon_deg = Math::AngDiff(lon0, lon1);
+    }
+    return offset;
+  }
+  const Datum datum = DatumOf(crs);
+  const FrameMap map(frame, datum);
+  const double lat = p_input[1], lon = p_input[0] + datum.prime_meridian_deg, h = p_input[2];
+  double x, y, z, lat1, lon1, h1;
+  map.Forward(lat, lon, h, &x, &y, &z);
+  map.Reverse(x + t[0], y + t[1], z + t[2], &lat1, &lon1, &h1);
+  offset.dlat_deg = lat1 - lat;
+  offset.dlon_deg = Math::AngDiff(lon, lon1);
+  offset.dh_m = h1 - h;
+  const GeographicLib::LocalCartesian at_p(lat, lon, h,
+                                           GeographicLib::Geocentric(datum.a, datum.f));
+  at_p.Forward(lat1, lon1, h1, offset.east_m, offset.north_m, offset.up_m);
+  return offset;
+}
+
+}  // namespace surfreg

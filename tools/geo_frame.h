@@ -1,0 +1,98 @@
+#pragma once
+// Coordinate reference systems of input surfaces, and the one metric frame
+// in which two surfaces are compared. Measure() and Align() treat x, y, z as
+// one Cartesian space, so longitude/latitude in degrees must be turned into
+// metres first, and two surfaces in different CRSs must not be mixed. This
+// is the only GeographicLib user; CRS text is parsed with GDAL/PROJ.
+//
+// Geographic surfaces: x = longitude, y = latitude (degrees, Greenwich or
+// the CRS's prime meridian), z = ellipsoidal height (metres), whatever the
+// axis order the CRS's authority defines. Longitudes must be continuous
+// within a file (a surface crossing the antimeridian uses e.g. 179..181).
+#include <array>
+#include <string>
+
+#include "measure/surface.h"
+
+namespace surfreg {
+
+enum class CrsKind {
+  kNone,        // no CRS known: coordinates are used as they are
+  kProjected,   // planar x, y in a linear unit (also engineering/local CRSs)
+  kGeographic,  // longitude, latitude in degrees on an ellipsoid
+};
+
+struct Crs {
+  CrsKind kind = CrsKind::kNone;
+  std::string wkt;             // WKT2 of the CRS; "" for kNone
+  std::string name;            // e.g. "WGS 84 / UTM zone 60S"; "none" for kNone
+  double metres_per_unit = 1;  // linear unit of a projected CRS (0.3048 for ft); 1 otherwise
+};
+
+// Parses a raster's WKT or a config value: "EPSG:4326", "EPSG:32633", WKT,
+// a PROJ string, or the shorthands "lonlat"/"geographic" (WGS 84 longitude,
+// latitude in degrees, ellipsoidal height) and "none" or "" (kNone); no
+// file or network look-ups. Throws InputError "<label>: unreadable CRS
+// '<text>' (...)" for text that does not parse, and "<label>: ..." for
+// CRSs that cannot describe a height field here (geocentric, vertical only,
+// geographic in units other than degrees).
+Crs ParseCrs(const std::string& text, const std::string& label);
+
+enum class FrameChoice {
+  kAuto,  // geographic pairs: UTM if both lie in one UTM zone, else ENU
+  kEnu,   // geographic pairs: local east-north-up (tangent plane)
+  kUtm,   // geographic pairs: UTM zone of the centre of the data
+};
+
+struct GeoFrame {
+  enum Kind {
+    kAsGiven,  // input coordinates kept (no CRS, or one projected CRS)
+    kEnu,      // GeographicLib::LocalCartesian about (lat0, lon0, h0)
+    kUtm,      // transverse Mercator, UTM zone `zone`, scale 0.9996, false easting 500 km
+  } kind = kAsGiven;
+  double lat0 = 0, lon0 = 0, h0 = 0;  // ENU origin: degrees (Greenwich), metres
+  int zone = 0;                       // UTM zone 1..60
+  bool northp = true;                 // UTM hemisphere (false northing 10000 km if false)
+  std::string datum;  // name of the geographic CRS for kEnu/kUtm ("WGS 84"), else the CRS name
+
+  // One line, e.g. "UTM zone 60S (WGS 84)" or "local ENU about 36.8500S 174.7600E (WGS 84)".
+  std::string Describe() const;
+};
+
+// Brings both surfaces into one metric frame, in place (rebuilt with
+// MakeSurface, origin rounded to 1 m; weights and source kept), and returns
+// that frame:
+//   both kNone                            -> kAsGiven
+//   both projected and the same CRS       -> kAsGiven (in that CRS's unit)
+//   both geographic on the same datum     -> kUtm if `choice` is kUtm, or kAuto and
+//       both bounding-box centres are in the same UTM zone; otherwise kEnu about the
+//       centre of the overlap of the two lon/lat bounding boxes (of their union if
+//       they do not overlap), h0 = 0. UTM heights stay ellipsoidal heights; ENU z is
+//       the height above the tangent plane at the origin.
+//   anything else -> InputError naming both CRSs and both files (reference first).
+// The ellipsoid of the geographic CRS is used (not always WGS 84). Latitudes
+// outside [-90, 90] are an InputError (projected coordinates labelled
+// geographic). kUtm near the poles (where UTM is undefined) is an error.
+GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surface* moving,
+                             const Crs& moving_crs, FrameChoice choice);
+
+// A translation as seen on the ground.
+struct GeographicOffset {
+  double dlat_deg = 0, dlon_deg = 0;         // change of latitude/longitude (NaN if unknown)
+  double dh_m = 0;                           // change of ellipsoidal height (z units for kAsGiven)
+  double east_m = 0, north_m = 0, up_m = 0;  // the displacement in the local ENU frame at p
+};
+
+// The translation `translation` (in the frame's units) applied to the point
+// `p_input` (input coordinates of `crs`: lon, lat, h for geographic), as a
+// change of latitude/longitude/height of that point plus its east/north/up
+// components in metres, measured in the tangent plane at p (so UTM's scale
+// factor and meridian convergence are taken out). For kAsGiven frames:
+// east, north = t.x, t.y times metres_per_unit; up = dh = t.z (vertical
+// units are not known); lat/lon offsets through PROJ (to WGS 84) when the
+// CRS is projected, else NaN.
+GeographicOffset TranslationAsGeographic(const GeoFrame& frame, const Crs& crs,
+                                         const std::array<double, 3>& p_input,
+                                         const std::array<double, 3>& translation);
+
+}  // namespace surfreg

@@ -1,0 +1,64 @@
+#include "tools/run_align_terrain.h"
+
+#include "tools/json_writer.h"
+
+namespace surfreg {
+namespace {
+
+JsonObject StatisticsJson(const DzStatistics& s) {
+  JsonObject json;
+  json.Int("count", s.count)
+      .Number("mean", s.mean)
+      .Number("median", s.median)
+      .Number("nmad", s.nmad)
+      .Number("stddev", s.stddev)
+      .Number("rmse", s.rmse)
+      .Number("le90", s.le90);
+  return json;
+}
+
+}  // namespace
+
+std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in,
+                              const TerrainReport& r) {
+  const GeographicOffset& o = r.offset;
+  JsonObject offset;
+  offset.Number("east_m", o.east_m)
+      .Number("north_m", o.north_m)
+      .Number("up_m", o.up_m)
+      .Number("dlat_deg", o.dlat_deg)
+      .Number("dlon_deg", o.dlon_deg)
+      .Number("dh_m", o.dh_m);
+  const MeasureSummary& a = r.after;
+  const double lod = config.terrain.lod;
+  JsonObject change;
+  change.Number("level_of_detection", lod)
+      .Number("fill", a.fill_detected)
+      .Number("cut", a.cut_detected)
+      .Number("net", a.fill_detected - a.cut_detected)
+      .Number("fill_area", a.fill_area)
+      .Number("cut_area", a.cut_area)
+      .Number("fill_uncertainty", lod * a.fill_area)
+      .Number("cut_uncertainty", lod * a.cut_area)
+      .Number("net_uncertainty", lod * (a.fill_area + a.cut_area))
+      .Number("overlap_area", a.overlap_area);
+  JsonObject terrain;
+  terrain.String("frame", in.frame.Describe())
+      .String("reference_crs", in.reference_crs.name)
+      .String("moving_crs", in.moving_crs.name)
+      .Number("cell_size", r.spacing)
+      .Object("offset", offset)
+      .Object("stable_before", StatisticsJson(r.stable_before))
+      .Object("stable_after", StatisticsJson(r.stable_after))
+      .Object("change", change);
+  if (r.known) {
+    JsonObject known;
+    known.Number("rotation_error_deg", r.rotation_error_deg)
+        .Number("translation_error", r.translation_error)
+        .Number("translation_error_cells", r.translation_error / r.spacing);
+    terrain.Object("known", known);
+  }
+  return "\"terrain\": " + terrain.str();
+}
+
+}  // namespace surfreg

@@ -1,0 +1,277 @@
+#include "tools/terrain.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "measure/input_error.h"
+#include "measure/weights.h"
+#include "tools/atomic_file.h"
+#include "tools/io/surface_reader.h"
+#include "tools/plot.h"
+
+namespace surfreg {
+namespace {
+
+constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+
+struct OneInput {
+  Surface surface;
+  Crs crs;
+  bool is_raster = false;
+  Raster grid;
+  std::vector<int64_t> cells;
+};
+
+// A CRS given by a key wins over none in the file; both given must agree.
+Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::string& key_where,
+               const std::string& path) {
+  if (key_text.empty()) return from_file;
+  const Crs from_key = ParseCrs(key_text, key_where);
+  if (from_file.kind != CrsKind::kNone &&
+      (from_file.kind != from_key.kind || from_file.name != from_key.name)) {
+    throw InputError(key_where + ": '" + from_key.name + "' disagrees with the CRS of " + path +
+                     " ('" + from_file.name + "')");
+  }
+  return from_file.kind != CrsKind::kNone ? from_file : from_key;
+}
+
+OneInput ReadOne(const AlignConfig& config, const std::string& key) {
+  const std::string path = AlignConfigValue(config, key);
+  const std::string crs_key = key + "_crs";
+  OneInput in;
+  Crs file_crs;
+  try {
+    if (IsRasterPath(path)) {
+      RasterReadOptions options;
+      options.band = config.terrain.band;
+      const auto& w = config.terrain.window;
+      options.window = {w[0], w[1], w[2], w[3]};
+      in.grid = ReadRaster(path, options);
+      in.is_raster = true;
+      in.surface = RasterToSurface(in.grid, &in.cells);
+      if (!in.grid.crs_wkt.empty()) file_crs = ParseCrs(in.grid.crs_wkt, path);
+      in.grid.values.clear();
+      in.grid.values.shrink_to_fit();
+    } else {
+      in.surface = ReadSurface(path);
+    }
+  } catch (const InputError& e) {
+    throw InputError(config.Where(key) + ": " + e.what());
+  }
+  in.crs = ResolveCrs(file_crs, AlignConfigValue(config, crs_key), config.Where(crs_key), path);
+  return in;
+}
+
+std::array<double, 3> CentroidInput(const Surface& s) {
+  std::array<double, 3> sum = {0, 0, 0};
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    sum[0] += s.xy[i].x, sum[1] += s.xy[i].y, sum[2] += s.z[i];
+  }
+  const double n = static_cast<double>(s.size());
+  return {s.origin[0] + sum[0] / n, s.origin[1] + sum[1] / n, s.origin[2] + sum[2] / n};
+}
+
+// Cell size in metres (geographic grids: degrees at the grid's latitude).
+double CellSize(const Raster& grid, const Crs& crs) {
+  double dx = std::fabs(grid.geotransform[1]), dy = std::fabs(grid.geotransform[5]);
+  if (crs.kind == CrsKind::kGeographic) {
+    const double latitude = grid.geotransform[3] + 0.5 * grid.rows * grid.geotransform[5];
+    dx *= 111320.0 * std::cos(latitude / kDegrees);
+    dy *= 110574.0;
+  } else {
+    dx *= crs.metres_per_unit, dy *= crs.metres_per_unit;
+  }
+  return std::sqrt(dx * dy);
+}
+
+Eigen::Vector3d Centroid(const Surface& s) {
+  const std::array<double, 3> c = CentroidInput(s);
+  return {c[0], c[1], c[2]};
+}
+
+// "m" when the frame is known to be metric, else the data's own units.
+std::string Units(const TerrainInputs& in) {
+  const bool metric = in.frame.kind != GeoFrame::kAsGiven ||
+                      (in.reference_crs.kind == CrsKind::kProjected &&
+                       in.reference_crs.metres_per_unit == 1.0);
+  return metric ? "m" : "data units";
+}
+
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+}  // namespace
+
+TerrainInputs ReadTerrainInputs(const AlignConfig& config) {
+  OneInput reference = ReadOne(config, "reference");
+  OneInput moving = ReadOne(config, "moving");
+  const bool wants_grid = !config.terrain.dod.empty() || !config.terrain.dod_png.empty();
+  if (wants_grid && !reference.is_raster) {
+    throw InputError(config.Where(config.terrain.dod.empty() ? "dod_png" : "dod") +
+                     ": the DoD is drawn on the reference raster's grid, but the reference (" +
+                     config.reference + ") is not a raster");
+  }
+  TerrainInputs in;
+  in.moving_centroid_input = CentroidInput(moving.surface);
+  const std::string& frame = config.terrain.frame;
+  const FrameChoice choice = frame == "enu"   ? FrameChoice::kEnu
+                             : frame == "utm" ? FrameChoice::kUtm
+                                              : FrameChoice::kAuto;
+  in.frame = ToCommonMetricFrame(&reference.surface, reference.crs, &moving.surface, moving.crs,
+                                 choice);
+  in.reference = std::move(reference.surface);
+  in.moving = std::move(moving.surface);
+  in.reference_crs = reference.crs;
+  in.moving_crs = moving.crs;
+  in.reference_is_raster = reference.is_raster;
+  in.reference_grid = std::move(reference.grid);
+  in.reference_cells = std::move(reference.cells);
+  if (in.reference_is_raster) in.cell_size = CellSize(in.reference_grid, in.reference_crs);
+  return in;
+}
+
+TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
+                             const AlignResult& result) {
+  MeasureOptions options;
+  options.detect_change = true;
+  options.level_of_detection = config.terrain.lod;
+  options.keep_node_gaps = true;
+  options.parallel = config.options.num_threads > 1;
+  TerrainReport report;
+  report.before = Measure(in.reference, in.moving, options);
+  report.after = Measure(in.reference, TransformSurface(in.moving, result.matrix), options);
+
+  // Stable terrain: the mask of the registration (frame coordinates), or all.
+  const auto& mask = config.options.mask_polygon;
+  report.stable.assign(in.reference.size(), true);
+  if (config.options.weight == WeightMode::kMask && !mask.empty()) {
+    std::vector<Point2> polygon;
+    for (const auto& p : mask) polygon.push_back({p[0], p[1]});
+    for (std::size_t i = 0; i < in.reference.size(); ++i) {
+      const Point2 p{in.reference.xy[i].x + in.reference.origin[0],
+                     in.reference.xy[i].y + in.reference.origin[1]};
+      report.stable[i] = InsidePolygon(polygon, p);
+    }
+  }
+  report.stable_before = ComputeDzStatistics(report.before.dz_a, report.stable);
+  report.stable_after = ComputeDzStatistics(report.after.dz_a, report.stable);
+  report.spacing = in.cell_size > 0
+                       ? in.cell_size
+                       : std::sqrt(report.before.hull_area_a /
+                                   static_cast<double>(std::max<int64_t>(1, report.before.n_points_a)));
+  report.offset = TranslationAsGeographic(in.frame, in.moving_crs, in.moving_centroid_input,
+                                          result.translation);
+
+  const std::vector<double>& k = config.terrain.known_matrix;
+  if (k.size() == 16) {
+    Eigen::Matrix4d known;
+    for (int i = 0; i < 16; ++i) known(i / 4, i % 4) = k[i];
+    const Eigen::Matrix3d difference =
+        result.matrix.topLeftCorner<3, 3>() * known.topLeftCorner<3, 3>().transpose();
+    report.rotation_error_deg = Eigen::AngleAxisd(difference).angle() * kDegrees;
+    const Eigen::Vector4d c = Centroid(in.moving).homogeneous();
+    report.translation_error = (result.matrix * c - known * c).head<3>().norm();
+    const Eigen::Vector3d shift = (known * c).head<3>() - c.head<3>();
+    report.known_translation = {shift[0], shift[1], shift[2]};
+    report.known = true;
+  }
+  return report;
+}
+
+void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
+                         const TerrainReport& report) {
+  const TerrainSettings& t = config.terrain;
+  Raster dod;
+  if (in.reference_is_raster) {
+    dod = in.reference_grid;
+    dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));
+    for (std::size_t i = 0; i < in.reference_cells.size(); ++i) {
+      dod.values[in.reference_cells[i]] = report.after.dz_a[i];
+    }
+  }
+  if (!t.dod.empty()) WriteGeoTiff(t.dod, dod, config.Where("dod"));
+  if (!t.dod_png.empty()) {
+    GridField field;
+    field.columns = dod.columns;
+    field.rows = dod.rows;
+    field.values = dod.values;
+    const auto& g = dod.geotransform;
+    field.x_min = std::min(g[0], g[0] + dod.columns * g[1]);
+    field.x_max = std::max(g[0], g[0] + dod.columns * g[1]);
+    field.y_min = std::min(g[3], g[3] + dod.rows * g[5]);
+    field.y_max = std::max(g[3], g[3] + dod.rows * g[5]);
+    const bool degrees = in.reference_crs.kind == CrsKind::kGeographic;
+    FigureText text{"Difference after alignment (moving - reference)",
+                    degrees ? "longitude (deg)" : "easting (" + Units(in) + ")",
+                    degrees ? "latitude (deg)" : "northing (" + Units(in) + ")"};
+    MapStyle style;
+    style.colorbar_label = "dz (" + Units(in) + ")";
+    WriteMapPng(t.dod_png, field, text, style, config.Where("dod_png"));
+  }
+  if (!t.histogram_png.empty()) {
+    std::vector<Series> series(2);
+    series[0].name = "before alignment";
+    series[1].name = "after alignment";
+    for (std::size_t i = 0; i < report.stable.size(); ++i) {
+      if (!report.stable[i]) continue;
+      series[0].x.push_back(report.before.dz_a[i]);
+      series[1].x.push_back(report.after.dz_a[i]);
+    }
+    FigureText text{"dz on stable terrain (moving - reference)", "dz (" + Units(in) + ")",
+                    "reference samples"};
+    WriteHistogramPng(t.histogram_png, series, 60, text, ChartStyle(),
+                      config.Where("histogram_png"));
+  }
+  if (!t.change_csv.empty()) {
+    std::string csv = "x,y,z,dz_before,dz_after,stable\n";
+    char line[192];
+    const Surface& r = in.reference;
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g,%.9g,%.9g,%d\n",
+                    r.xy[i].x + r.origin[0], r.xy[i].y + r.origin[1], r.z[i] + r.origin[2],
+                    report.before.dz_a[i], report.after.dz_a[i], report.stable[i] ? 1 : 0);
+      csv += line;
+    }
+    WriteFileAtomically(t.change_csv, csv, config.Where("change_csv"));
+  }
+}
+
+std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& in,
+                           const TerrainReport& r) {
+  const MeasureSummary& a = r.after;
+  const double lod = config.terrain.lod;
+  std::string text = "frame:        " + in.frame.Describe() + "\n";
+  const GeographicOffset& o = r.offset;
+  text += "shift:        east " + Number(o.east_m) + ", north " + Number(o.north_m) + ", up " +
+          Number(o.up_m) + " m";
+  if (std::isfinite(o.dlat_deg)) {
+    text += " (dlat " + Number(o.dlat_deg) + " deg, dlon " + Number(o.dlon_deg) + " deg)";
+  }
+  text += "\n";
+  if (r.known) {
+    text += "known motion: centroid shift " + Number(r.known_translation[0]) + ", " +
+            Number(r.known_translation[1]) + ", " + Number(r.known_translation[2]) +
+            "; error: rotation " + Number(r.rotation_error_deg) + " deg, translation " +
+            Number(r.translation_error) + " units (" + Number(r.translation_error / r.spacing) +
+            " cells)\n";
+  }
+  text += "dz stable:    before " + DzStatisticsLine(r.stable_before, "") + "\n";
+  text += "              after  " + DzStatisticsLine(r.stable_after, "") + "\n";
+  text += "cut/fill:     fill " + Number(a.fill_detected) + ", cut " + Number(a.cut_detected) +
+          ", net " + Number(a.fill_detected - a.cut_detected) + " units^3";
+  if (lod > 0) {
+    text += " (|dz| > " + Number(lod) + ": +/- " + Number(lod * a.fill_area) + " / " +
+            Number(lod * a.cut_area) + ")";
+  }
+  text += "\n              over areas of gain " + Number(a.fill_area) + " and loss " +
+          Number(a.cut_area) + " units^2 (overlap " + Number(a.overlap_area) + ")";
+  return text;
+}
+
+}  // namespace surfreg

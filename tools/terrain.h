@@ -1,0 +1,67 @@
+#pragma once
+// Terrain co-registration around `surfreg align` (README "Terrain"): reading
+// DEM rasters and point clouds into one metric frame, and after the
+// alignment the change between the surveys: the DoD on the reference grid,
+// cut/fill beyond a level of detection, dz statistics on stable terrain
+// before and after, and the figures.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "measure/dz_statistics.h"
+#include "measure/measures.h"
+#include "registration/align.h"
+#include "tools/align_config.h"
+#include "tools/geo_frame.h"
+#include "tools/io/raster_io.h"
+
+namespace surfreg {
+
+struct TerrainInputs {
+  Surface reference, moving;  // in `frame` (metric), ready for Align
+  Crs reference_crs, moving_crs;
+  GeoFrame frame;
+  // The reference raster's grid (values dropped) and the cell of each
+  // reference sample, when the reference is a raster: for the DoD.
+  bool reference_is_raster = false;
+  Raster reference_grid;
+  std::vector<int64_t> reference_cells;
+  double cell_size = 0;                      // reference raster's (mean) cell size, or 0
+  std::array<double, 3> moving_centroid_input = {0, 0, 0};  // in the moving CRS (lon/lat/h if geographic)
+};
+
+// Reads both inputs of `config` (rasters with the band and window of
+// config.terrain, point files as ReadSurface does), resolves their CRSs
+// (the raster's own, or reference_crs / moving_crs; a key overrides a file
+// that has none, and must agree with one that has) and brings both into one
+// metric frame. Errors name the key or file.
+TerrainInputs ReadTerrainInputs(const AlignConfig& config);
+
+struct TerrainReport {
+  MeasureSummary before, after;     // with change detection and node gaps
+  std::vector<bool> stable;         // per reference sample: inside the mask (all if none)
+  DzStatistics stable_before, stable_after;
+  GeographicOffset offset;          // the moving centroid's shift on the ground
+  double spacing = 0;               // cell size, or mean sample spacing sqrt(area / n)
+  bool known = false;               // errors against config.terrain.known_matrix
+  double rotation_error_deg = 0, translation_error = 0;  // at the moving centroid
+  std::array<double, 3> known_translation = {0, 0, 0};   // the truth's shift of the centroid
+};
+
+// The change before and after `result` (measures with config.terrain.lod,
+// the mask of config.options as stable terrain), and the errors against a
+// known matrix.
+TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& inputs,
+                             const AlignResult& result);
+
+// Writes the DoD GeoTIFF, the change CSV and the figures that config asks
+// for (each atomically).
+void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& inputs,
+                         const TerrainReport& report);
+
+// The summary lines for people (no trailing newline on the last).
+std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& inputs,
+                           const TerrainReport& report);
+
+}  // namespace surfreg

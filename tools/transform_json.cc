@@ -1,0 +1,81 @@
+#include "tools/transform_json.h"
+
+#include <string>
+#include <vector>
+
+#include "tools/json_writer.h"
+
+namespace surfreg {
+namespace {
+
+std::string Numbers(const double* values, int n) {
+  std::vector<std::string> out;
+  for (int k = 0; k < n; ++k) out.push_back(JsonNumber(values[k]));
+  return JsonArray(out);
+}
+
+JsonObject MeasuresJson(const MeasureSummary& s, double overlap_fraction) {
+  JsonObject json;
+  json.Number("rho_d", s.rho_d)
+      .Number("rho_d_axial", s.rho_d_axial)
+      .Number("mean_abs_dz", s.mean_abs_dz)
+      .Number("overlap_area", s.overlap_area)
+      .Number("overlap_fraction", overlap_fraction)
+      .Int("n_overlap_nodes", s.n_overlap_nodes);
+  return json;
+}
+
+template <typename T, typename Write>
+JsonObject PerParameter(const std::array<T, 6>& values, Write write) {
+  JsonObject json;
+  for (int k = 0; k < 6; ++k) write(&json, kParameterNames[k], values[k]);
+  return json;
+}
+
+}  // namespace
+
+std::string TransformJson(const AlignConfig& config, const AlignResult& r,
+                          const std::string& extra_members) {
+  std::vector<std::string> rows;
+  for (int i = 0; i < 4; ++i) {
+    const double row[4] = {r.matrix(i, 0), r.matrix(i, 1), r.matrix(i, 2), r.matrix(i, 3)};
+    rows.push_back(Numbers(row, 4));
+  }
+  std::vector<std::string> free;
+  for (int k = 0; k < 6; ++k) {
+    if (config.options.free[k]) free.push_back(JsonString(kParameterNames[k]));
+  }
+  const auto number = [](JsonObject* j, const char* key, double v) { j->Number(key, v); };
+  const auto boolean = [](JsonObject* j, const char* key, bool v) {
+    j->Raw(key, v ? "true" : "false");
+  };
+  JsonObject json;
+  json.Raw("matrix", JsonArray(rows))
+      .Raw("rotation_vector", Numbers(r.rotation_vector.data(), 3))
+      .Raw("quaternion", Numbers(r.quaternion.data(), 4))
+      .Raw("euler_deg", Numbers(r.euler_deg.data(), 3))
+      .Raw("translation", Numbers(r.translation.data(), 3))
+      .Raw("centre", Numbers(r.centre.data(), 3))
+      .Object("stddev", PerParameter(r.stddev, number))
+      .Object("before", MeasuresJson(r.before, r.overlap_fraction_before))
+      .Object("after", MeasuresJson(r.after, r.overlap_fraction_after))
+      .Int("iterations", r.iterations)
+      .String("termination", r.termination)
+      .Fixed("seconds", r.seconds, 6)
+      .String("verdict", VerdictName(r.verdict))
+      .String("verdict_reason", r.verdict_reason)
+      .Object("observability", PerParameter(r.observability, number))
+      .Object("constrained", PerParameter(r.constrained, boolean))
+      .Number("condition_number", r.condition_number)
+      .Int("folded_triangles", r.folded_triangles)
+      .Int("remeshes", r.remeshes)
+      .String("cost", AlignConfigValue(config, "cost"))
+      .Raw("free", JsonArray(free))
+      .String("reference", config.reference)
+      .String("moving", config.moving);
+  std::string text = json.str();
+  if (!extra_members.empty()) text.insert(text.size() - 1, ", " + extra_members);
+  return text + "\n";
+}
+
+}  // namespace surfreg
