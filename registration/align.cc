@@ -90,6 +90,10 @@ bool AlignOptions::IsValid(std::string* error) const {
   }
   if (levels < 1 || levels > 8) return fail("levels must be in [1, 8]");
   if (!(level_factor >= 1.5 && level_factor <= 64)) return fail("level_factor must be in [1.5, 64]");
+  if (!(subsample > 0 && subsample <= 1)) return fail("subsample must be in (0, 1]");
+  if (linear_solver == LinearSolverKind::kCgnr && trust_region == TrustRegionKind::kDogleg) {
+    return fail("linear_solver cgnr needs trust_region levenberg_marquardt (dogleg needs a factorization)");
+  }
   if (multi_start < 0 || multi_start > 1000) return fail("multi_start must be in [0, 1000]");
   if (!(multi_start_angle_deg >= 0 && multi_start_angle_deg <= 90)) {
     return fail("multi_start_angle_deg must be in [0, 90]");
@@ -101,7 +105,6 @@ bool AlignOptions::IsValid(std::string* error) const {
       return fail("initial motion must be finite");
     }
   }
-  if (weight == WeightMode::kPerPoint) return fail("per-point weights are not supported by align (use a mask)");
   if (cost == CostKind::kVolume && trim_fraction > 0) return fail("trim_fraction applies to the axial cost only");
   if (num_threads < 1) return fail("threads must be >= 1");
   MeasureOptions m;
@@ -145,6 +148,18 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   const Clock::time_point start = Clock::now();
   std::string error;
   if (!options_in.IsValid(&error)) throw InputError("align options: " + error);
+  if (options_in.weight == WeightMode::kPerPoint) {
+    // μ lives on the reference's mesh: the reference is fixed, so μ is too.
+    const std::string name = reference.source.empty() ? "the reference" : reference.source;
+    if (reference.weight.empty()) {
+      throw InputError("align: weight per_point needs per-sample weights on the reference, but " +
+                       name + " has none");
+    }
+    const auto positive = [](double w) { return w > 0; };
+    if (std::none_of(reference.weight.begin(), reference.weight.end(), positive)) {
+      throw InputError("align: weight per_point: every weight of " + name + " is 0");
+    }
+  }
   AlignOptions options = options_in;
   const std::array<double, 3> shift = {moving.origin[0] - reference.origin[0],
                                        moving.origin[1] - reference.origin[1],
@@ -153,13 +168,17 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   // the same motion on every level.
   std::vector<std::unique_ptr<Level>> levels;
   for (int l = 0; l < options.levels; ++l) {
-    const double keep = std::pow(options.level_factor, -(options.levels - 1 - l));
+    const double keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1 - l));
     auto level = std::make_unique<Level>();
-    level->reference = PrepareReference(reference, keep);
+    level->reference = PrepareReference(reference, keep);  // weights kept per point
+    if (options.weight != WeightMode::kPerPoint) level->reference.weight.clear();
     level->moving = PrepareMoving(moving, shift, keep);
     levels.push_back(std::move(level));
   }
   Level& finest = *levels.back();
+  // A subsampled finest level has its own centroid; θ keeps meaning a motion
+  // about the full cloud's.
+  if (options.subsample < 1) finest.moving.centroid = PrepareMoving(moving, shift).centroid;
   for (auto& level : levels) level->moving.centroid = finest.moving.centroid;
 
   SolveContext context;

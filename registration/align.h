@@ -32,6 +32,8 @@ enum class LossKind { kNone, kHuber, kSoftL1, kCauchy };
 enum class TrustRegionKind { kLevenbergMarquardt, kDogleg };
 // Line-search direction for the volume cost.
 enum class LineSearchKind { kLbfgs, kBfgs, kNonlinearCg };
+// Linear solver of the trust-region steps (axial cost and prealignment).
+enum class LinearSolverKind { kDenseQr, kDenseNormalCholesky, kCgnr };
 
 // Parameter order everywhere: rx, ry, rz (rotation vector, radians), tx, ty, tz.
 inline constexpr std::array<const char*, 6> kParameterNames = {"rx", "ry", "rz", "tx", "ty", "tz"};
@@ -51,6 +53,10 @@ struct AlignOptions {
   double loss_scale = 0.0;
   TrustRegionKind trust_region = TrustRegionKind::kLevenbergMarquardt;
   LineSearchKind line_search = LineSearchKind::kLbfgs;
+  // Dense QR is the most stable; dense Cholesky of the normal equations is
+  // faster but squares the condition number; CGNR (conjugate gradients on
+  // the normal equations) is iterative and inexact.
+  LinearSolverKind linear_solver = LinearSolverKind::kDenseQr;
   int max_iterations = 100;  // per level and start
   // Relative decrease of the cost below which the solver stops.
   double function_tolerance = 1e-12;
@@ -65,6 +71,11 @@ struct AlignOptions {
   // by level_factor^(levels−1), each starting where the previous ended.
   int levels = 1;
   double level_factor = 4.0;
+  // Fraction in (0, 1] of each cloud's points (a fixed pseudo-random subset)
+  // solved on at the finest level; coarser levels keep subsample ×
+  // level_factor^−k of them. The centre stays the full moving cloud's
+  // centroid, and the measures before and after use all points.
+  double subsample = 1.0;
   // Multi-start: besides the initial guess, this many starts perturbed by
   // ±multi_start_angle_deg about each axis and ±multi_start_shift (data
   // units) along each axis (deterministic pattern); the lowest final cost wins.
@@ -75,8 +86,12 @@ struct AlignOptions {
   // the moving surface's centroid).
   std::array<double, 3> initial_rotation = {0, 0, 0};
   std::array<double, 3> initial_translation = {0, 0, 0};
-  // The weight μ used by the cost and the reported measures (uniform or a
-  // mask polygon in input coordinates, as in MeasureOptions).
+  // The weight μ used by the cost and the reported measures, as in
+  // MeasureOptions: uniform; a mask polygon in input coordinates; or per
+  // point: the REFERENCE's per-sample weights (Surface::weight, required),
+  // linear on its mesh and fixed with it (carried to every level and
+  // subsample). The axial cost weights node k's squared residual by μ_k
+  // (B's nodes by μ where they land), the volume cost is ∫μ|d| / ∫μ.
   WeightMode weight = WeightMode::kUniform;
   std::vector<std::array<double, 2>> mask_polygon;
   // Moving triangles that turn over in projection under a tilt: up to this
@@ -147,7 +162,8 @@ struct AlignResult {
 };
 
 // Aligns `moving` onto `reference`. Throws InputError for invalid surfaces or
-// options, surfaces that do not overlap at the initial motion, or an initial
+// options (also per-point weights without weights on the reference, or all
+// of them 0), surfaces that do not overlap at the initial motion, or an initial
 // motion that folds the moving surface.
 AlignResult Align(const Surface& reference, const Surface& moving,
                   const AlignOptions& options = AlignOptions());

@@ -45,6 +45,12 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   const std::vector<double>& bz = state.moved_z();
   const std::vector<Eigen::Vector3d>& bq = state.moved_q();
   const bool masked = !settings.mask.empty();
+  const std::vector<double>& mu = a.weight;
+  const bool weighted = !mu.empty();
+  // μ per node, and dμ_j/dθ per B node (for the normalization's derivative).
+  std::vector<double> node_weight(weighted ? na + nb : 0, 0.0);
+  std::vector<std::array<double, 6>> d_weight(weighted && jacobians ? nb : 0,
+                                              std::array<double, 6>{});
 
   int64_t overlap = 0;
   for (std::size_t i = 0; i < na; ++i) {
@@ -52,15 +58,18 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     if (!loc.found()) continue;
     ++overlap;
     if (masked && !InsidePolygon(settings.mask, a.xy[i])) continue;
+    if (weighted && !(mu[i] > 0.0)) continue;
     const int32_t* v = &mesh_b.triangles[3 * loc.triangle];
     const auto& l = loc.barycentric;
-    out->r[i] = l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i];
+    const double root = weighted ? std::sqrt(mu[i]) : 1.0;  // μ_i is fixed: a constant factor
+    if (weighted) node_weight[i] = mu[i];
+    out->r[i] = root * (l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i]);
     out->active[i] = 1;
     if (!jacobians) continue;
     const Eigen::Vector3d n =
         UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], bz[v[0]], bz[v[1]], bz[v[2]]);
     const Eigen::Vector3d q = l[0] * bq[v[0]] + l[1] * bq[v[1]] + l[2] * bq[v[2]];
-    Store(-(mt * n.cross(q)), n, &out->jacobian[i]);
+    Store(-(mt * n.cross(q)) * root, n * root, &out->jacobian[i]);
   }
   for (std::size_t j = 0; j < nb; ++j) {
     const Location& loc = state.b_in_a()[j];
@@ -69,13 +78,33 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     if (masked && !InsidePolygon(settings.mask, bxy[j])) continue;
     const int32_t* v = &a.mesh.triangles[3 * loc.triangle];
     const auto& l = loc.barycentric;
+    double w = 1.0;
+    if (weighted) {
+      w = l[0] * mu[v[0]] + l[1] * mu[v[1]] + l[2] * mu[v[2]];
+      if (!(w > 0.0)) continue;
+    }
     const std::size_t k = na + j;
-    out->r[k] = l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j];
+    const double r = l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j];
+    const double root = std::sqrt(w);
+    out->r[k] = root * r;
     out->active[k] = 1;
+    if (weighted) node_weight[k] = w;
     if (!jacobians) continue;
     const Eigen::Vector3d n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]],
                                        a.z[v[2]]);
-    Store(mt * n.cross(bq[j]), -n, &out->jacobian[k]);
+    Eigen::Vector3d d_rotation = mt * n.cross(bq[j]), d_translation = -n;
+    if (weighted) {
+      // μ(x'_j) is linear on the A triangle: its gradient g moves with x'_j.
+      const Eigen::Vector3d up =
+          UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], mu[v[0]], mu[v[1]], mu[v[2]]);
+      const Eigen::Vector3d g(-up.x(), -up.y(), 0.0);
+      const Eigen::Vector3d dw_rotation = -(mt * g.cross(bq[j]));
+      Store(dw_rotation, g, &d_weight[j]);
+      const double half = r / (2.0 * root);
+      d_rotation = root * d_rotation + half * dw_rotation;
+      d_translation = root * d_translation + half * g;
+    }
+    Store(d_rotation, d_translation, &out->jacobian[k]);
   }
   out->overlap_count = overlap;
 
@@ -105,14 +134,32 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     }
   }
   out->active_count = active;
-  if (settings.normalize_count > 0 && active > 0) {
-    const double scale = std::sqrt(settings.normalize_count / static_cast<double>(active));
+  // Σ μ over the active nodes, and its derivative (B's μ_j only).
+  double total = static_cast<double>(active);
+  Eigen::Matrix<double, 6, 1> d_total = Eigen::Matrix<double, 6, 1>::Zero();
+  if (weighted) {
+    total = 0.0;
     for (std::size_t k = 0; k < out->r.size(); ++k) {
       if (!out->active[k]) continue;
-      out->r[k] *= scale;
-      if (jacobians) {
-        for (double& value : out->jacobian[k]) value *= scale;
+      total += node_weight[k];
+      if (jacobians && k >= na) {
+        d_total += Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d_weight[k - na].data());
       }
+    }
+  }
+  out->active_weight = total;
+  if (settings.normalize_count > 0 && total > 0) {
+    // r̃ = s r with s = sqrt(N / W(θ)): dr̃ = s dr + r ds, ds = −s dW / (2W).
+    const double scale = std::sqrt(settings.normalize_count / total);
+    const Eigen::Matrix<double, 6, 1> d_scale = -0.5 * scale / total * d_total;
+    for (std::size_t k = 0; k < out->r.size(); ++k) {
+      if (!out->active[k]) continue;
+      if (jacobians) {
+        for (int c = 0; c < 6; ++c) {
+          out->jacobian[k][c] = scale * out->jacobian[k][c] + out->r[k] * d_scale[c];
+        }
+      }
+      out->r[k] *= scale;
     }
   }
 }

@@ -8,6 +8,18 @@
 // moved material point relative to c + t; for A's nodes the material point
 // is the barycentric combination of the moved B triangle's corners (the
 // Eulerian derivative of the moving height at fixed xy).
+//
+// Per-point weights μ (ReferenceSide::weight, linear on A's mesh, fixed to
+// the reference): node k's residual is multiplied by sqrt(μ_k), so the sum of
+// squares is Σ μ_k r_k². A's μ_i is a constant; B's μ_j = μ(x'_j) follows the
+// moved node through A's mesh, and its derivative is part of the Jacobian:
+//   d(sqrt(μ) r) = sqrt(μ) dr + r dμ / (2 sqrt(μ)),
+//   dμ/dt = g, dμ/dω = −Mᵀ(g × q),  g = (∂μ/∂x, ∂μ/∂y, 0) on the A triangle.
+// Nodes with μ = 0 are inactive. The second term grows like 1/sqrt(μ) as a
+// node approaches a zero-weight triangle (sqrt(μ) r has an infinite slope
+// there; μ r², the cost, does not): the gradient Jᵀr stays exact and
+// bounded, only the Gauss-Newton matrix is inflated for those few nodes.
+// Trimming and a robust loss see the weighted residuals sqrt(μ) r.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -18,11 +30,13 @@ namespace surfreg {
 
 struct AxialResiduals {
   // Indexed by node: A's nodes first, then B's. Inactive nodes (outside the
-  // overlap, outside the mask, or trimmed) have r = 0 and a zero Jacobian.
+  // overlap, outside the mask, μ = 0, or trimmed) have r = 0 and a zero
+  // Jacobian. With weights, r and the Jacobian are the weighted ones.
   std::vector<double> r;
   std::vector<std::array<double, 6>> jacobian;  // d r / d(rx, ry, rz, tx, ty, tz)
   std::vector<uint8_t> active;
   int64_t active_count = 0;
+  double active_weight = 0;   // Σ μ over the active nodes (= active_count without weights)
   int64_t overlap_count = 0;  // nodes inside the overlap (before trimming and mask)
   double trim_threshold = 0;  // |r| above which nodes were trimmed (0: none)
 };
@@ -31,9 +45,11 @@ struct AxialSettings {
   double trim_fraction = 0.0;  // drop this fraction of the largest |r| (0 ≤ f < 0.5)
   // μ as a mask: a simple polygon in A's local frame (empty: μ = 1).
   std::vector<Point2> mask;
-  // If > 0, residuals are scaled by sqrt(normalize_count / active nodes), so
-  // the sum of squares is a mean over the overlap: otherwise sliding the
-  // surfaces apart lowers the cost by dropping nodes (partial overlap).
+  // If > 0, residuals are scaled by sqrt(normalize_count / active_weight),
+  // so the sum of squares is a (weighted) mean over the overlap: otherwise
+  // sliding the surfaces apart lowers the cost by dropping nodes (partial
+  // overlap). With weights, active_weight depends on θ through B's μ_j and
+  // the Jacobian includes the derivative of the scale.
   double normalize_count = 0;
 };
 

@@ -22,6 +22,7 @@ uint64_t Mix(uint64_t x) {  // splitmix64 finalizer: a fixed pseudo-random key p
 struct Cloud {
   std::vector<Point2> xy;
   std::vector<double> z;
+  std::vector<double> weight;  // empty when the surface has none
 };
 
 // Subsampled, Hilbert-sorted, duplicates merged (mean height), triangulated.
@@ -29,11 +30,13 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
                    double keep_fraction, Triangulation* mesh) {
   Cloud all;
   const std::size_t n = surface.size();
+  const bool weighted = !surface.weight.empty();
   const double threshold = keep_fraction * 18446744073709551616.0;  // 2^64
   for (std::size_t i = 0; i < n; ++i) {
     if (keep_fraction < 1.0 && static_cast<double>(Mix(i)) >= threshold) continue;
     all.xy.push_back({surface.xy[i].x + shift[0], surface.xy[i].y + shift[1]});
     all.z.push_back(surface.z[i] + shift[2]);
+    if (weighted) all.weight.push_back(surface.weight[i]);
   }
   if (all.xy.size() < 3) {
     throw InputError(surface.source + ": too few points left after subsampling by " +
@@ -46,22 +49,26 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
   for (int32_t k : order) {
     sorted.xy.push_back(all.xy[k]);
     sorted.z.push_back(all.z[k]);
+    if (weighted) sorted.weight.push_back(all.weight[k]);
   }
   *mesh = Triangulate(sorted.xy);
   if (mesh->num_duplicates == 0) return sorted;
-  // Keep one point per xy with the mean height, then triangulate the rest:
-  // a moving surface must not carry unreferenced points.
-  std::vector<double> sum(sorted.xy.size(), 0.0);
+  // Keep one point per xy with the mean height (and weight, as Measure
+  // does), then triangulate the rest: a moving surface must not carry
+  // unreferenced points.
+  std::vector<double> sum(sorted.xy.size(), 0.0), weight_sum(weighted ? sorted.xy.size() : 0, 0.0);
   std::vector<int32_t> count(sorted.xy.size(), 0);
   for (std::size_t i = 0; i < sorted.xy.size(); ++i) {
     sum[mesh->vertex_of_input[i]] += sorted.z[i];
     ++count[mesh->vertex_of_input[i]];
+    if (weighted) weight_sum[mesh->vertex_of_input[i]] += sorted.weight[i];
   }
   Cloud unique;
   for (std::size_t i = 0; i < sorted.xy.size(); ++i) {
     if (mesh->vertex_of_input[i] != static_cast<int32_t>(i)) continue;
     unique.xy.push_back(sorted.xy[i]);
     unique.z.push_back(sum[i] / count[i]);
+    if (weighted) unique.weight.push_back(weight_sum[i] / count[i]);
   }
   *mesh = Triangulate(unique.xy);
   return unique;
@@ -76,6 +83,7 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction) {
   Cloud cloud = PrepareCloud(surface, {0, 0, 0}, keep_fraction, &side.mesh);
   side.xy = std::move(cloud.xy);
   side.z = std::move(cloud.z);
+  side.weight = std::move(cloud.weight);
   side.tree = EuclideanMst(side.xy, side.mesh);
   side.hull_area = MeshArea(side.xy, side.mesh);
   return side;

@@ -34,6 +34,10 @@ namespace surfreg {
 struct ReferenceSide {
   std::vector<Point2> xy;  // A's local frame
   std::vector<double> z;
+  // μ at each node (the surface's per-sample weights, merged duplicates
+  // averaged), linear on `mesh`; empty = μ = 1. Fixed to the reference, so
+  // μ does not move with θ. The costs weight by it whenever it is not empty.
+  std::vector<double> weight;
   Triangulation mesh;
   SpanningTree tree;
   double hull_area = 0;
@@ -50,6 +54,7 @@ struct MovingSide {
 // Builds one side from a surface; `shift` is added to every point (moves it
 // into the reference's local frame). Keeps a deterministic pseudo-random
 // `keep_fraction` of the points (1 = all; at least 3): the coarse levels.
+// The reference keeps the surface's weights (if any) of the points kept.
 ReferenceSide PrepareReference(const Surface& surface, double keep_fraction = 1.0);
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
                          double keep_fraction = 1.0);

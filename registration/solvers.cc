@@ -174,7 +174,7 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
     AxialResiduals start;
     if (state.Update(theta0)) {
       ComputeAxialResiduals(state, settings, false, &start);
-      settings.normalize_count = static_cast<double>(start.active_count);
+      settings.normalize_count = start.active_weight;
     }
   }
   AxialEvaluation evaluation(state, settings, map, x.data());
@@ -191,7 +191,13 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
   solver.trust_region_strategy_type = options.trust_region == TrustRegionKind::kDogleg
                                           ? ceres::DOGLEG
                                           : ceres::LEVENBERG_MARQUARDT;
-  solver.linear_solver_type = ceres::DENSE_QR;
+  switch (options.linear_solver) {
+    case LinearSolverKind::kDenseQr: solver.linear_solver_type = ceres::DENSE_QR; break;
+    case LinearSolverKind::kDenseNormalCholesky:
+      solver.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
+      break;
+    case LinearSolverKind::kCgnr: solver.linear_solver_type = ceres::CGNR; break;
+  }
   solver.max_num_iterations = options.max_iterations;
   solver.function_tolerance = options.function_tolerance;
   solver.gradient_tolerance = 1e-16;

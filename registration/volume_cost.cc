@@ -7,6 +7,7 @@
 
 #include "measure/gap_volume.h"
 #include "measure/overlay.h"
+#include "measure/volume.h"
 #include "measure/weights.h"
 
 namespace surfreg {
@@ -31,6 +32,22 @@ void AreaCentroid(const Point2* p, int n, double* area, Point2* centroid) {
   *centroid = twice > 0 ? Point2{cx / (3 * twice), cy / (3 * twice)} : p[0];
 }
 
+// ∫ (x − c)(x − c)ᵀ over a convex polygon, c its centroid: per fan triangle
+// with corners v_k relative to c, S/12 (Σ v_k v_kᵀ + (Σ v_k)(Σ v_k)ᵀ), exact.
+Eigen::Matrix2d SecondMoment(const Point2* p, int n, const Point2& c) {
+  Eigen::Matrix2d total = Eigen::Matrix2d::Zero();
+  const Eigen::Vector2d v0(p[0].x - c.x, p[0].y - c.y);
+  for (int k = 1; k + 1 < n; ++k) {
+    const Eigen::Vector2d v1(p[k].x - c.x, p[k].y - c.y), v2(p[k + 1].x - c.x, p[k + 1].y - c.y);
+    const double area = 0.5 * (v1.x() - v0.x()) * (v2.y() - v0.y()) -
+                        0.5 * (v1.y() - v0.y()) * (v2.x() - v0.x());
+    const Eigen::Vector2d sum = v0 + v1 + v2;
+    total += area / 12.0 * (v0 * v0.transpose() + v1 * v1.transpose() + v2 * v2.transpose() +
+                            sum * sum.transpose());
+  }
+  return total;
+}
+
 // The moved B triangle as a linear map: height, and the material point q
 // (relative to c + t) above any xy.
 struct MovedTriangle {
@@ -40,10 +57,11 @@ struct MovedTriangle {
   Plane height;
   Eigen::Vector3d normal;  // (−∇F, 1)
 
-  Eigen::Vector3d QAt(const Point2& x) const {
-    const double dx = x.x - p0.x, dy = x.y - p0.y;
+  Eigen::Vector3d QAt(const Point2& x) const { return q0 + QStep(x.x - p0.x, x.y - p0.y); }
+  // The change of q over an xy step (dx, dy): q is affine in xy.
+  Eigen::Vector3d QStep(double dx, double dy) const {
     const double l1 = inv[0] * dx + inv[1] * dy, l2 = inv[2] * dx + inv[3] * dy;
-    return q0 + l1 * dq1 + l2 * dq2;
+    return l1 * dq1 + l2 * dq2;
   }
 };
 
@@ -51,7 +69,8 @@ class Accumulator {
  public:
   Accumulator(const PairState& state, bool gradient,
               const std::vector<std::array<Point2, 3>>* mask)
-      : state_(state), gradient_(gradient), mask_(mask) {
+      : state_(state), gradient_(gradient), mask_(mask),
+        weight_(state.reference().weight.empty() ? nullptr : &state.reference().weight) {
     mt_ = state.derivative().m.transpose();
   }
 
@@ -62,6 +81,10 @@ class Accumulator {
       const int32_t* v = &a.mesh.triangles[3 * cell.triangle_a];
       fa_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
       for (int k = 0; k < 3; ++k) ta_[k] = a.xy[v[k]];
+      if (weight_ != nullptr) {  // μ is linear on A's triangle and fixed with it
+        const std::vector<double>& w = *weight_;
+        mu_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
+      }
     }
     if (cell.triangle_b != last_b_) {
       last_b_ = cell.triangle_b;
@@ -69,8 +92,7 @@ class Accumulator {
     }
     ++value.cells;
     if (mask_ == nullptr) {
-      value.area += cell.area;
-      AddPolygon(cell.vertices.data(), cell.num_vertices);
+      AddPolygon(cell.vertices.data(), cell.num_vertices, cell.area);
       if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, nullptr);
       return;
     }
@@ -92,8 +114,7 @@ class Accumulator {
       Point2 centroid;
       AreaCentroid(piece, m, &area, &centroid);
       if (!(area > 0)) continue;
-      value.area += area;
-      AddPolygon(piece, m);
+      AddPolygon(piece, m, area);
       if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, &t);
     }
   }
@@ -121,10 +142,27 @@ class Accumulator {
     for (int k = 0; k < 3; ++k) has_hull_edge_ |= mesh_b.neighbors[3 * t + k] < 0;
   }
 
-  // A convex piece of a cell: split by the sign of d (linear on it).
-  void AddPolygon(const Point2* p, int n) {
+  // A convex piece of a cell (of area `area`): split by the sign of d
+  // (linear on it). With weights, ∫μ|d| and ∫μ come from the closed forms
+  // of volume.h on the piece's fan (as Measure computes them) and the parts
+  // carry only the gradient.
+  void AddPolygon(const Point2* p, int n, double area) {
     double dv[12];
     for (int k = 0; k < n; ++k) dv[k] = tb_.height.At(p[k]) - fa_.At(p[k]);
+    if (weight_ == nullptr) {
+      value.area += area;
+    } else {
+      for (int k = 1; k + 1 < n; ++k) {
+        const double fan = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
+        if (!(fan > 0)) continue;
+        const double d[3] = {dv[0], dv[k], dv[k + 1]};
+        const double m[3] = {mu_.At(p[0]), mu_.At(p[k]), mu_.At(p[k + 1])};
+        const GapIntegrals gap = IntegrateGapWeighted(fan, d, m);
+        value.abs += gap.abs;
+        value.area += gap.weight;
+      }
+      if (!gradient_) return;
+    }
     Point2 pos[14], neg[14];
     int np = 0, nn = 0;
     for (int k = 0; k < n; ++k) {
@@ -143,16 +181,32 @@ class Accumulator {
   }
 
   // ∫ over one sign part: |d| (exact: d is linear), and sign · ∂_θF̂_B'.
+  // With weights, ∫ μ sign ∂_θF̂_B' only: with G(x) = ∂_θF̂_B' (affine) and
+  // Σ the part's second moment about its centroid c,
+  //   ∫ μ G = |part| μ(c) G(c) + DG Σ ∇μ,
+  // exact for the product of two affine functions (∫ (x − c) = 0); DG is
+  // non-zero only in the rotation rows, through q.
   void AddPart(const Point2* p, int n, double sign) {
     if (n < 3) return;
     double area;
     Point2 c;
     AreaCentroid(p, n, &area, &c);
     if (!(area > 0)) return;
-    const double d = tb_.height.At(c) - fa_.At(c);
-    value.abs += area * std::max(0.0, sign * d);
+    if (weight_ == nullptr) {
+      const double d = tb_.height.At(c) - fa_.At(c);
+      value.abs += area * std::max(0.0, sign * d);
+    }
     if (!gradient_) return;
     const Eigen::Vector3d q = tb_.QAt(c);
+    if (weight_ != nullptr) {
+      // ∫ μ q = |part| μ(c) q(c) + Q Σ ∇μ (Q = ∂q/∂xy), and ∫ μ = |part| μ(c).
+      const Eigen::Vector2d m = SecondMoment(p, n, c) * Eigen::Vector2d(mu_.gx, mu_.gy);
+      const double mu_area = mu_.At(c) * area;
+      const Eigen::Vector3d mu_q = mu_area * q + tb_.QStep(m.x(), m.y());
+      value.d_abs.head<3>() += sign * -(mt_ * tb_.normal.cross(mu_q));
+      value.d_abs.tail<3>() += sign * mu_area * tb_.normal;
+      return;
+    }
     const double w = sign * area;
     value.d_abs.head<3>() += w * -(mt_ * tb_.normal.cross(q));
     value.d_abs.tail<3>() += w * tb_.normal;
@@ -196,7 +250,16 @@ class Accumulator {
         return out;
       };
       auto d = [&](double s) { const Point2 p = point(s); return tb_.height.At(p) - fa_.At(p); };
-      value.d_area += (s1 - s0) * length * g(0.5 * (s0 + s1));
+      // μ along the edge (1 without weights): μ g is quadratic, μ|d| g cubic
+      // on each sign piece; Simpson is exact for both.
+      auto mu = [&](double s) { return weight_ == nullptr ? 1.0 : mu_.At(point(s)); };
+      if (weight_ == nullptr) {
+        value.d_area += (s1 - s0) * length * g(0.5 * (s0 + s1));
+      } else {
+        const double sm = 0.5 * (s0 + s1);
+        value.d_area += (s1 - s0) * length / 6.0 *
+                        (mu(s0) * g(s0) + 4.0 * mu(sm) * g(sm) + mu(s1) * g(s1));
+      }
       // ∫|d| g ds, split where d changes sign; Simpson is exact for the quadratic.
       const double d0 = d(s0), d1 = d(s1);
       double cuts[3] = {s0, s1, s1};
@@ -209,8 +272,9 @@ class Accumulator {
       for (int k = 0; k < pieces; ++k) {
         const double a0 = cuts[k], a1 = cuts[k + 1], am = 0.5 * (a0 + a1);
         value.d_abs += (a1 - a0) * length / 6.0 *
-                       (std::fabs(d(a0)) * g(a0) + 4.0 * std::fabs(d(am)) * g(am) +
-                        std::fabs(d(a1)) * g(a1));
+                       (mu(a0) * std::fabs(d(a0)) * g(a0) +
+                        4.0 * mu(am) * std::fabs(d(am)) * g(am) +
+                        mu(a1) * std::fabs(d(a1)) * g(a1));
       }
     }
   }
@@ -218,6 +282,8 @@ class Accumulator {
   const PairState& state_;
   const bool gradient_;
   const std::vector<std::array<Point2, 3>>* mask_;
+  const std::vector<double>* weight_;  // A's per-node μ, or null (μ = 1); owned by the state
+  Plane mu_;                           // μ on the current A triangle
   Eigen::Matrix3d mt_;
   int32_t last_a_ = -1, last_b_ = -1;
   Plane fa_;

@@ -11,6 +11,14 @@
 // of a cell are exact (area × value at the part's centroid), and V_n = u·n_out
 // is the outward speed of B's moving boundary (A's boundary is fixed), whose
 // product with |d| is piecewise quadratic along each edge (Simpson is exact).
+//
+// Per-point weights μ (ReferenceSide::weight, linear on each A triangle and
+// fixed to the reference): f = ∫_Ω μ|d| / ∫_Ω μ, with
+//   ∇∫μ|d| = ∫_Ω μ sign(d) ∂_θF̂_B' dx + ∮_{∂Ω ∩ ∂B'} μ|d| V_n ds,
+//   ∇∫μ    = ∮_{∂Ω ∩ ∂B'} μ V_n ds
+// (μ does not depend on θ at a fixed xy, so no other term): the interior
+// integrand is a product of two affine functions (exact from the part's
+// second moment), the boundary ones are cubic along an edge (Simpson).
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -22,8 +30,8 @@
 namespace surfreg {
 
 struct VolumeCostValue {
-  double abs = 0;   // ∫_Ω |d|
-  double area = 0;  // |Ω|
+  double abs = 0;   // ∫_Ω μ|d|
+  double area = 0;  // ∫_Ω μ (|Ω| when μ = 1)
   Eigen::Matrix<double, 6, 1> d_abs = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 1> d_area = Eigen::Matrix<double, 6, 1>::Zero();
   int64_t cells = 0;
@@ -40,7 +48,8 @@ struct VolumeCostValue {
 // order). With `mask` (disjoint counter-clockwise triangles in A's frame, e.g.
 // TriangulatePolygon of a mask polygon), μ = 1 on them and 0 elsewhere: both
 // integrals and the area are taken over Ω ∩ mask, whose boundary moves only
-// where it is B's (the mask is fixed to the reference).
+// where it is B's (the mask is fixed to the reference). If the reference
+// side has weights, μ is them (times the mask, if both are given).
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
                                    const std::vector<std::array<Point2, 3>>* mask = nullptr);
 

@@ -172,6 +172,8 @@ output: out.json
 aligned: moved.ply
 log: iterations.csv
 progress: yes
+linear_solver: dense_normal_cholesky
+subsample: 0.5
 reference_crs: EPSG:2193
 moving_crs: lonlat
 frame: enu
@@ -183,6 +185,7 @@ dod_png: dod.png
 histogram_png: histogram.png
 change_csv: change.csv
 known_matrix: [1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7]
+mask_raster: stable.tif
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -218,6 +221,8 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(c.aligned, "moved.ply");
   EXPECT_EQ(c.log, "iterations.csv");
   EXPECT_TRUE(c.progress);
+  EXPECT_EQ(o.linear_solver, LinearSolverKind::kDenseNormalCholesky);
+  EXPECT_EQ(o.subsample, 0.5);
   const TerrainSettings& t = c.terrain;
   EXPECT_EQ(t.reference_crs, "EPSG:2193");
   EXPECT_EQ(t.moving_crs, "lonlat");
@@ -230,6 +235,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.histogram_png, "histogram.png");
   EXPECT_EQ(t.change_csv, "change.csv");
   EXPECT_EQ(t.known_matrix, (std::vector<double>{1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1}));
+  EXPECT_EQ(t.mask_raster, "stable.tif");
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
   EXPECT_EQ(c.Where("progress"), "t.yaml:28: key 'progress'");
@@ -354,7 +360,22 @@ TEST(AlignConfigErrors, UnknownEnumValueListsTheAllowed) {
                        "flag '--line_search' expects one of lbfgs, bfgs, nonlinear_cg, got 'cg'"));
 }
 
-// The terrain keys: shapes, bounds, the matrix's last row.
+// linear_solver and subsample (the sweep's keys): every value, both bounds.
+TEST(AlignConfig, LinearSolverAndSubsample) {
+  EXPECT_EQ(FromYaml("linear_solver: dense_qr").options.linear_solver, LinearSolverKind::kDenseQr);
+  EXPECT_EQ(FromYaml("linear_solver: cgnr").options.linear_solver, LinearSolverKind::kCgnr);
+  EXPECT_EQ(AlignConfigValue(FromYaml("linear_solver: dense_normal_cholesky"), "linear_solver"),
+            "dense_normal_cholesky");
+  EXPECT_TRUE(Contains(YamlError("linear_solver: sparse_schur"),
+                       "t.yaml:1: key 'linear_solver' expects one of dense_qr, "
+                       "dense_normal_cholesky, cgnr, got 'sparse_schur'"));
+  EXPECT_EQ(FromYaml("subsample: 1").options.subsample, 1.0);
+  EXPECT_EQ(FromYaml("subsample: 1e-3").options.subsample, 1e-3);
+  EXPECT_TRUE(Contains(YamlError("subsample: 0"), "key 'subsample' expects a number in (0, 1], got '0'"));
+  EXPECT_TRUE(Contains(FlagError("subsample", "1.01"), "flag '--subsample' expects a number in (0, 1]"));
+  EXPECT_TRUE(Contains(FlagError("subsampel", "0.5"), "did you mean 'subsample'?"));
+}
+
 TEST(AlignConfigErrors, TerrainKeys) {
   EXPECT_TRUE(Contains(YamlError("window: [1, 2, 3]"),
                        "key 'window' expects a list of 4 integers >= 0"));

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -269,6 +270,73 @@ TEST(AlignTest, MaskExcludesChangedRegion) {
   EXPECT_LT(axial_masked.rotation_deg, 0.15);
 }
 
+// The same deposit, left out by per-point weights on the reference (0 on
+// the changed quarter, 1 elsewhere: what a raster mask gives), also through
+// coarse-to-fine levels on a subsample, which must carry the weights.
+TEST(AlignTest, PerPointWeightsExcludeChangedRegion) {
+  const double spacing = 100.0 / std::sqrt(5000.0);
+  auto changed = [](double x, double y) {
+    return testing::SmoothTerrain(x, y) + 6.0 * std::exp(-((x - 75) * (x - 75) + (y - 75) * (y - 75)) / 60.0);
+  };
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 5000, 0, 100, 0, 100, 21);
+  const auto b = testing::SampleUniform(changed, 5000, 0, 100, 0, 100, 22);
+  Pair pair = MakePair(a, b, kAxes[3], 3.0, {4, -3, 2}, spacing);
+  for (const auto& p : a) pair.reference.weight.push_back(p[0] > 55 && p[1] > 55 ? 0.0 : 1.0);
+  AlignResult result;
+  MotionError errors[3][2];  // [uniform, weighted, weighted coarse-to-fine][volume, axial]
+  for (int c = 0; c < 2; ++c) {
+    AlignOptions options;
+    options.cost = c == 0 ? CostKind::kVolume : CostKind::kAxial;
+    errors[0][c] = AlignAndCompare(pair, options);
+    options.weight = WeightMode::kPerPoint;
+    errors[1][c] = AlignAndCompare(pair, options, &result);
+    EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
+    EXPECT_LT(result.after.weight_integral, 0.85 * result.after.overlap_area);  // μ in the measures
+    options.levels = 2;
+    options.subsample = 0.5;
+    errors[2][c] = AlignAndCompare(pair, options, &result);
+    EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
+  }
+  std::printf("rotation error (deg) volume %.4f weighted %.4f (levels %.4f), axial %.4f weighted %.4f "
+              "(levels %.4f)\n", errors[0][0].rotation_deg, errors[1][0].rotation_deg,
+              errors[2][0].rotation_deg, errors[0][1].rotation_deg, errors[1][1].rotation_deg,
+              errors[2][1].rotation_deg);
+  std::printf("translation error (spacings) volume %.4f weighted %.4f (levels %.4f), axial %.4f "
+              "weighted %.4f (levels %.4f)\n", errors[0][0].translation, errors[1][0].translation,
+              errors[2][0].translation, errors[0][1].translation, errors[1][1].translation,
+              errors[2][1].translation);
+  EXPECT_LT(errors[1][0].rotation_deg, errors[0][0].rotation_deg);
+  EXPECT_GT(errors[0][1].rotation_deg, 3 * errors[1][1].rotation_deg);
+  for (int w : {1, 2}) {
+    for (int c = 0; c < 2; ++c) {
+      EXPECT_LT(errors[w][c].rotation_deg, c == 0 ? 0.02 : 0.15) << w << c;
+      EXPECT_LT(errors[w][c].translation, c == 0 ? 0.05 : 0.3) << w << c;
+    }
+  }
+}
+
+TEST(AlignTest, PerPointWeightsNeedWeightsOnTheReference) {
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 500, 0, 100, 0, 100, 16);
+  Surface plain = MakeSurface(a, {}, "plain.xyz"), weighted = plain, zero = plain;
+  weighted.weight.assign(a.size(), 1.0);
+  zero.weight.assign(a.size(), 0.0);
+  AlignOptions options;
+  options.weight = WeightMode::kPerPoint;
+  auto message = [&](const Surface& reference, const Surface& moving) {
+    try {
+      Align(reference, moving, options);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // Weights on the moving surface only do not count: μ lives on the reference.
+  EXPECT_EQ(message(plain, weighted),
+            "align: weight per_point needs per-sample weights on the reference, but plain.xyz has none");
+  EXPECT_EQ(message(zero, weighted), "align: weight per_point: every weight of plain.xyz is 0");
+  EXPECT_EQ(message(weighted, plain), "no error");
+}
+
 // The masked volume cost's gradient against central differences: the mask
 // is fixed to the reference, so only B's boundary inside it moves.
 TEST(AlignTest, MaskedVolumeGradientMatchesDifferences) {
@@ -311,6 +379,46 @@ TEST(AlignTest, EulerAnglesMatchComposition) {
   EXPECT_NEAR(e[0], rx * 180 / M_PI, 1e-12);
   EXPECT_NEAR(e[1], ry * 180 / M_PI, 1e-12);
   EXPECT_NEAR(e[2], rz * 180 / M_PI, 1e-12);
+}
+
+// Every linear solver of the trust-region step finds the exact minimum of a
+// self copy (the step's linear algebra changes, the minimum does not).
+TEST(AlignTest, EveryLinearSolverRecoversSelfCopy) {
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 3000, 0, 100, 0, 100, 21);
+  const Pair pair = MakePair(a, a, kAxes[3], 4.0, {6, -5, 2}, 100.0 / std::sqrt(3000.0));
+  for (LinearSolverKind solver :
+       {LinearSolverKind::kDenseQr, LinearSolverKind::kDenseNormalCholesky, LinearSolverKind::kCgnr}) {
+    AlignOptions options;
+    options.cost = CostKind::kAxial;
+    options.linear_solver = solver;
+    options.compute_covariance = false;
+    AlignResult result;
+    const MotionError error = AlignAndCompare(pair, options, &result);
+    EXPECT_LT(error.rotation_deg, 1e-6) << static_cast<int>(solver);
+    EXPECT_LT(error.translation, 1e-6) << static_cast<int>(solver);
+    EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
+  }
+}
+
+// Solving on a quarter of the points still recovers a self copy exactly
+// (the subset is a self copy too); the centre stays the full cloud's
+// centroid, so the motion means the same as without subsampling.
+TEST(AlignTest, SubsampleKeepsTheFullCentroid) {
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 4000, 0, 100, 0, 100, 22);
+  const Pair pair = MakePair(a, a, kAxes[1], -3.0, {-4, 6, 1}, 100.0 / std::sqrt(4000.0));
+  AlignOptions options;
+  options.cost = CostKind::kAxial;
+  options.subsample = 0.25;
+  options.compute_covariance = false;
+  AlignResult result;
+  const MotionError error = AlignAndCompare(pair, options, &result);
+  EXPECT_LT(error.rotation_deg, 1e-6);
+  EXPECT_LT(error.translation, 1e-6);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(result.centre[k], pair.moving_centroid[k], 1e-9);
+  options.subsample = 0.0;
+  EXPECT_THROW(Align(pair.reference, pair.moving, options), InputError);
+  options.subsample = 1e-4;  // fewer than 3 points left
+  EXPECT_THROW(Align(pair.reference, pair.moving, options), InputError);
 }
 
 }  // namespace

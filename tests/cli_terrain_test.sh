@@ -3,7 +3,8 @@
 # (configs/terrain_dem.yaml) recovers its known motion and reports dz
 # statistics at the level of the added noise, writes the DoD GeoTIFF and the
 # figures; bad rasters (no overlap, all nodata) and an unreadable CRS exit 2
-# with one line and write nothing.
+# with one line and write nothing; a stable-terrain mask raster removes
+# exactly its zero, nodata and outside cells from the stable statistics.
 # Usage: cli_terrain_test.sh SURFREG_BINARY   (needs python3, standard library)
 set -u
 if [[ $# -ne 1 ]]; then
@@ -112,6 +113,60 @@ expect_error "not a raster" align configs/data/volcano_a.xyz configs/data/volcan
 expect_error ".tif" align configs/data/volcano_dem.tif configs/data/volcano_dem_moved.tif \
   --dod="$out/d.png"
 expect_error "lod" align configs/data/volcano_dem.tif configs/data/volcano_dem_moved.tif --lod=-1
+
+# --- a stable-terrain mask raster (mask_raster) ---
+# mask_asc NAME ZERO: a 43 x 31 grid of 20 m cells over the example DEM (its
+# last 10 m column outside), column 0 nodata, 1 elsewhere but 0 on the
+# 5 x 5 block of columns 15-19, rows 10-14 (ZERO=1) or everywhere (ZERO=all).
+mask_asc() {
+  {
+    printf 'ncols 43\nnrows 31\nxllcorner 1756000\nyllcorner 5916490\ncellsize 20\nNODATA_value -9999\n'
+    for r in $(seq 0 30); do
+      for c in $(seq 0 42); do
+        if [[ $c -eq 0 ]]; then printf -- '-9999 '
+        elif [[ $2 == all ]] || ((r >= 10 && r <= 14 && c >= 15 && c <= 19)); then printf '0 '
+        else printf '1 '; fi
+      done
+      printf '\n'
+    done
+  } >"$tmp/$1.asc"
+}
+mask_asc stable 1
+dem=(configs/data/volcano_dem.tif configs/data/volcano_dem_moved.tif --covariance=false)
+run align "${dem[@]}" --output="$out/plain.json" --change_csv="$out/plain.csv"
+[[ $rc -eq 0 ]] || fail "mask raster: the run without it"
+run align "${dem[@]}" --mask_raster="$tmp/stable.asc" --output="$out/masked.json" \
+  --change_csv="$out/masked.csv"
+if [[ $rc -ne 0 ]]; then
+  fail "mask raster"
+else
+  python3 - "$out" <<'PY' || fail "mask raster: stable samples"
+import csv, json, math, sys
+out = sys.argv[1]
+def region(x, y):  # reference cells weighted 0: nodata column, outside, the zero block
+    return x < 1756020 or x > 1756860 or (1756300 < x < 1756400 and 5916810 < y < 5916910)
+plain = list(csv.DictReader(open(out + "/plain.csv")))
+masked = list(csv.DictReader(open(out + "/masked.csv")))
+inside = [r for r in plain if region(float(r["x"]), float(r["y"]))]
+# Before alignment the motion is the same in both runs: the count of stable
+# samples with a dz falls by exactly the region's samples with a dz.
+expected = sum(1 for r in inside if math.isfinite(float(r["dz_before"])))
+n = [json.load(open(out + f))["terrain"]["stable_before"]["count"] for f in ("/plain.json", "/masked.json")]
+wrong = [r for r in masked if (r["stable"] == "1") == region(float(r["x"]), float(r["y"]))]
+print("mask raster: stable before %d -> %d, %d region samples with dz (%d in the region), %d flags wrong"
+      % (n[0], n[1], expected, len(inside), len(wrong)))
+if n[0] - n[1] != expected or len(wrong) != 0 or len(masked) != 5307 or expected < 200:
+    sys.exit(1)
+PY
+fi
+rm -rf "${out:?}"/*
+printf '1756100 5916600\n1756500 5916600\n1756500 5917000\n' >"$tmp/poly.txt"
+expect_error "not both" align "${dem[@]}" --mask_raster="$tmp/stable.asc" --mask="$tmp/poly.txt" \
+  --output="$out/t.json"
+mask_asc zero all
+expect_error "no sample of the reference" align "${dem[@]}" --mask_raster="$tmp/zero.asc" \
+  --output="$out/t.json"
+expect_error "mask_raster" align "${dem[@]}" --mask_raster="$tmp/missing.asc" --output="$out/t.json"
 
 if [[ $failures -ne 0 ]]; then
   echo "$failures check(s) failed"

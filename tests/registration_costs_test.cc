@@ -1,11 +1,14 @@
 // Registration internals against independent truth: axial Jacobians vs
 // numeric differentiation (ceres::GradientChecker) and vs planes computed
 // here, the volume cost's gradient vs central differences, its value vs
-// Measure(), re-location vs brute force, folds, and locked parameters.
+// Measure(), re-location vs brute force, folds, and locked parameters; each
+// cost also with per-point weights μ on the reference.
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -38,10 +41,23 @@ struct Sides {
   double radius = 1;  // B's RMS radius: rotations × radius are lengths
 };
 
+// μ(x, y) given as a function, sampled at the reference's points.
+using WeightFunction = std::function<double(double, double)>;
+
+// A smooth weight in [0.2, 0.8] (no zeros: sqrt(μ) is smooth), and a 0/1
+// one (0 on a disc: what a raster mask gives).
+double SmoothWeight(double x, double y) { return 0.5 + 0.3 * std::sin(x / 13.0) * std::cos(y / 17.0); }
+double DiscZero(double x, double y) { return std::hypot(x - 60, y - 45) < 20 ? 0.0 : 1.0; }
+
 std::unique_ptr<Sides> MakeSides(const std::vector<std::array<double, 3>>& pa,
-                                 const std::vector<std::array<double, 3>>& pb) {
+                                 const std::vector<std::array<double, 3>>& pb,
+                                 const WeightFunction& weight = nullptr) {
   auto s = std::make_unique<Sides>();
-  s->a = MakeSurface(pa, {}, "a");
+  std::vector<double> mu;
+  for (const auto& p : pa) {
+    if (weight) mu.push_back(weight(p[0], p[1]));
+  }
+  s->a = MakeSurface(pa, mu, "a");
   s->b = MakeSurface(pb, {}, "b");
   s->reference = PrepareReference(s->a);
   s->moving = PrepareMoving(s->b, {s->b.origin[0] - s->a.origin[0], s->b.origin[1] - s->a.origin[1],
@@ -53,9 +69,10 @@ std::unique_ptr<Sides> MakeSides(const std::vector<std::array<double, 3>>& pa,
 }
 
 // Two different random samplings of SmoothTerrain; B on [b0, b1]².
-std::unique_ptr<Sides> TerrainSides(int na, int nb, double b0, double b1) {
+std::unique_ptr<Sides> TerrainSides(int na, int nb, double b0, double b1,
+                                    const WeightFunction& weight = nullptr) {
   return MakeSides(testing::SampleUniform(testing::SmoothTerrain, na, 0, 100, 0, 100, 11),
-                   testing::SampleUniform(testing::SmoothTerrain, nb, b0, b1, b0, b1, 23));
+                   testing::SampleUniform(testing::SmoothTerrain, nb, b0, b1, b0, b1, 23), weight);
 }
 
 // The moved point computed with Eigen's AngleAxis (not surfreg's rotation code).
@@ -90,7 +107,8 @@ bool HeightAt(const std::vector<Eigen::Vector3d>& corners, const Triangulation& 
 // lengths, so one relative step size suits all six.
 class AxialCost : public ceres::CostFunction {
  public:
-  AxialCost(PairState* state, double radius) : state_(state), radius_(radius) {
+  AxialCost(PairState* state, double radius, AxialSettings settings = AxialSettings())
+      : state_(state), radius_(radius), settings_(std::move(settings)) {
     set_num_residuals(static_cast<int>(state->reference().xy.size() + state->moving().points.size()));
     mutable_parameter_block_sizes()->push_back(6);
   }
@@ -100,7 +118,7 @@ class AxialCost : public ceres::CostFunction {
     if (!state_->Update(theta, &stats) || stats.remeshed) return false;  // a re-mesh changes F̂_B'
     AxialResiduals out;
     const bool want = jacobians != nullptr && jacobians[0] != nullptr;
-    ComputeAxialResiduals(*state_, AxialSettings(), want, &out);
+    ComputeAxialResiduals(*state_, settings_, want, &out);
     for (std::size_t i = 0; i < out.r.size(); ++i) {
       residuals[i] = out.r[i];
       if (!want) continue;
@@ -112,16 +130,17 @@ class AxialCost : public ceres::CostFunction {
  private:
   PairState* state_;
   double radius_;
+  AxialSettings settings_;
 };
 
-TEST(AxialCostTest, JacobiansMatchNumericDifferentiation) {
-  const auto sides = TerrainSides(1500, 1200, 0, 100);
+void CheckAxialJacobians(const Sides& sides_ref, const AxialSettings& settings, const char* label) {
+  const Sides* sides = &sides_ref;
   const Theta thetas[] = {{0.004, -0.003, 0.02, 1.5, -0.8, 0.3},
                           {-0.006, 0.002, -0.05, -2.1, 1.2, -0.4},
                           {0.001, 0.005, 0.3, 6.0, 4.0, 1.0}};
   for (const Theta& theta : thetas) {
     PairState state(sides->reference, sides->moving);
-    AxialCost cost(&state, sides->radius);
+    AxialCost cost(&state, sides->radius, settings);
     ceres::NumericDiffOptions nd;
     // GradientChecker uses Ridders' method, whose first step is 2^5 × this
     // (at least sqrt(ε)): keep it small, the residuals are piecewise smooth
@@ -148,53 +167,99 @@ TEST(AxialCostTest, JacobiansMatchNumericDifferentiation) {
       const double error = (ja.row(i) - jn.row(i)).norm() / norm;
       if (error > 1e-5) ++bad; else worst = std::max(worst, error);
     }
-    std::printf("axial jacobians: %d active rows, %d disagree (> 1e-5), worst agreeing %.2e, "
-                "probe %s max rel %.2e\n", active, bad, worst, probe_ok ? "ok" : "failed",
+    std::printf("axial jacobians (%s): %d active rows, %d disagree (> 1e-5), worst agreeing %.2e, "
+                "probe %s max rel %.2e\n", label, active, bad, worst, probe_ok ? "ok" : "failed",
                 results.maximum_relative_error);
     EXPECT_GT(active, 2000);
     EXPECT_LE(bad, active / 1000);
   }
 }
 
-// r at a node, from planes through corners moved here (Eigen AngleAxis).
-TEST(AxialCostTest, ResidualsEqualIndependentPlanes) {
-  const auto sides = TerrainSides(1500, 1200, 0, 100);
+TEST(AxialCostTest, JacobiansMatchNumericDifferentiation) {
+  CheckAxialJacobians(*TerrainSides(1500, 1200, 0, 100), AxialSettings(), "uniform");
+}
+
+// With μ: sqrt(μ) on every residual, B's μ moving with the node, and the
+// normalization by Σμ (which moves too) all differentiated exactly.
+TEST(AxialCostTest, WeightedJacobiansMatchNumericDifferentiation) {
+  const auto smooth = TerrainSides(1500, 1200, 0, 100, SmoothWeight);
+  CheckAxialJacobians(*smooth, AxialSettings(), "smooth mu");
+  AxialSettings normalized;
+  normalized.normalize_count = 2000;
+  CheckAxialJacobians(*smooth, normalized, "smooth mu, normalized");
+  CheckAxialJacobians(*TerrainSides(1500, 1200, 0, 100, DiscZero), normalized, "0/1 mu, normalized");
+}
+
+// r at a node, from planes through corners moved here (Eigen AngleAxis);
+// with μ, times sqrt(μ): μ(x, y) itself at A's nodes, at B's the plane
+// through μ at A's corners (brute-force search). Σμ|r| / Σμ is Measure's ρ'd
+// when θ moves B in xy only (a tilt changes B's Delaunay mesh in Measure,
+// not in the registration, which keeps B's own mesh).
+void CheckAxialResiduals(const WeightFunction& weight, const Theta& theta) {
+  const auto sides = TerrainSides(1500, 1200, 0, 100, weight);
   const ReferenceSide& a = sides->reference;
   const MovingSide& b = sides->moving;
-  const Theta theta = {0.004, -0.003, 0.2, 3.5, -2.8, 0.3};
   PairState state(a, b);
   ASSERT_TRUE(state.Update(theta));
   ASSERT_EQ(state.remeshes(), 0);
   AxialResiduals out;
   ComputeAxialResiduals(state, AxialSettings(), false, &out);
-  std::vector<Eigen::Vector3d> moved_b, a3(a.xy.size());
+  std::vector<Eigen::Vector3d> moved_b, a3(a.xy.size()), mu3(a.xy.size());
   for (const auto& p : b.points) {
     moved_b.push_back(Moved(b, theta, p));
     EXPECT_LT((moved_b.back() - ApplyMotion(MotionOf(b, theta), p)).norm(), 1e-12);
   }
-  for (std::size_t i = 0; i < a.xy.size(); ++i) a3[i] = {a.xy[i].x, a.xy[i].y, a.z[i]};
+  const Eigen::Vector3d origin(sides->a.origin[0], sides->a.origin[1], sides->a.origin[2]);
+  for (std::size_t i = 0; i < a.xy.size(); ++i) {
+    a3[i] = {a.xy[i].x, a.xy[i].y, a.z[i]};
+    mu3[i] = {a.xy[i].x, a.xy[i].y, weight ? weight(a.xy[i].x + origin.x(), a.xy[i].y + origin.y()) : 1.0};
+  }
   const std::size_t na = a.xy.size();
   int checked = 0, outside = 0;
-  double worst = 0;
-  for (std::size_t k = 0; k < out.r.size(); k += 7) {
+  double worst = 0, sum_abs = 0, sum_mu = 0;
+  for (std::size_t k = 0; k < out.r.size(); ++k) {
     const Eigen::Vector3d node = k < na ? a3[k] : moved_b[k - na];
-    double z;
+    double z, mu = 1;
     const bool inside = k < na ? HeightAt(moved_b, state.moving_mesh(), node.x(), node.y(), &z)
                                : HeightAt(a3, a.mesh, node.x(), node.y(), &z);
-    EXPECT_EQ(inside, out.active[k] != 0) << "node " << k;
-    if (!inside) {
-      ++outside;
+    if (inside && k < na) mu = mu3[k].z();
+    if (inside && k >= na) HeightAt(mu3, a.mesh, node.x(), node.y(), &mu);
+    EXPECT_EQ(inside && mu > 0, out.active[k] != 0) << "node " << k;
+    if (!inside || !(mu > 0)) {
+      outside += !inside;
       EXPECT_EQ(out.r[k], 0.0);
       continue;
     }
     const double expected = z - node.z();  // F̂_B'(x_i) − z_i, or F̂_A(x'_j) − z'_j
-    worst = std::max(worst, std::fabs(out.r[k] - expected));
+    worst = std::max(worst, std::fabs(out.r[k] - std::sqrt(mu) * expected));
+    sum_abs += mu * std::fabs(expected);
+    sum_mu += mu;
     ++checked;
   }
-  std::printf("axial residuals: %d nodes checked, %d outside, max |Δr| %.2e\n", checked, outside, worst);
-  EXPECT_GT(checked, 300);
-  EXPECT_GT(outside, 10);
+  RigidMotion motion = MotionOf(b, theta);
+  for (int k = 0; k < 3; ++k) motion.centre[k] += sides->a.origin[k];  // local → input frame
+  MeasureOptions options;
+  options.weight = weight ? WeightMode::kPerPoint : WeightMode::kUniform;
+  const MeasureSummary m = Measure(sides->a, TransformSurface(sides->b, ReferenceFromMoving(motion)), options);
+  std::printf("axial residuals (%s): %d nodes checked, %d outside, max |dr| %.2e; "
+              "sum mu|r| / sum mu %.12g vs rho'_d %.12g\n", weight ? "weighted" : "uniform", checked,
+              outside, worst, sum_abs / sum_mu, m.rho_d_axial);
+  EXPECT_GT(checked, 2000);
+  EXPECT_GT(outside, 50);
   EXPECT_LT(worst, 1e-10);
+  EXPECT_NEAR(out.active_weight, sum_mu, 1e-9 * sum_mu);
+  if (theta[0] == 0 && theta[1] == 0) {
+    EXPECT_NEAR(sum_abs / sum_mu, m.rho_d_axial, 1e-12 * m.rho_d_axial);
+  }
+}
+
+TEST(AxialCostTest, ResidualsEqualIndependentPlanes) {
+  const Theta tilted = {0.004, -0.003, 0.2, 3.5, -2.8, 0.3}, flat = {0, 0, 0.2, 3.5, -2.8, 0.3};
+  CheckAxialResiduals(nullptr, tilted);
+  CheckAxialResiduals(nullptr, flat);
+  CheckAxialResiduals(SmoothWeight, tilted);
+  CheckAxialResiduals(SmoothWeight, flat);
+  CheckAxialResiduals(DiscZero, flat);
 }
 
 // ---------------------------------------------------------------- 2. volume gradient
@@ -260,9 +325,9 @@ void CheckVolumeGradient(const Sides& sides, const Theta& theta, bool b_inside_a
   // gradient would be off by far more than the tolerance.
   EXPECT_GT(boundary, 100 * tolerance);
   EXPECT_GT(Scaled(fd.area, r).norm(), 1.0);  // units² per unit
-  if (b_inside_a) {
+  if (b_inside_a && sides.reference.weight.empty()) {
     // Ω = B' projected: translations keep its area (ω_z does not: with a
-    // tilt, ∂T/∂ω_z is a rotation about a tilted axis).
+    // tilt, ∂T/∂ω_z is a rotation about a tilted axis). Not ∫μ, with μ.
     for (int k : {3, 4, 5}) EXPECT_NEAR(v.d_area[k], 0.0, 1e-9 * v.d_area.norm()) << k;
   }
 }
@@ -279,13 +344,29 @@ TEST(VolumeCostTest, GradientMatchesCentralDifferencesBInsideA) {
   CheckVolumeGradient(*sides, {-0.01, 0.004, -0.3, -3.1, 2.2, -0.5}, true);
 }
 
+// ∫μ|d| / ∫μ: μ fixed to the reference, linear per cell; the boundary term
+// carries μ (0/1 μ: the disc's edge blurs over one triangle, still linear).
+TEST(VolumeCostTest, WeightedGradientMatchesCentralDifferences) {
+  for (const WeightFunction& weight : {WeightFunction(SmoothWeight), WeightFunction(DiscZero)}) {
+    const auto crossing = TerrainSides(2000, 1500, 0, 100, weight);
+    CheckVolumeGradient(*crossing, {0.004, -0.003, 0.02, 7.5, -4.8, 0.3}, false);
+    CheckVolumeGradient(*crossing, {-0.006, 0.005, -0.15, -5.1, 9.2, -0.8}, false);
+    const auto inside = TerrainSides(2000, 800, 25, 75, weight);
+    CheckVolumeGradient(*inside, {0.008, -0.006, 0.05, 1.5, -0.8, 0.3}, true);
+  }
+}
+
 // ---------------------------------------------------------------- 3. volume value
 
-TEST(VolumeCostTest, ValueEqualsMeasureForXyRigidMotion) {
+// With μ: abs = ρd = ∫μ|d|, area = ∫μ (weight_integral), PerArea = mean |dz|.
+void CheckVolumeValue(const WeightFunction& weight, double tolerance) {
   // Origins differ (B's box is offset) so the frame shift matters.
   const auto sides = MakeSides(testing::SampleUniform(testing::SmoothTerrain, 2000, 0, 100, 0, 100, 5),
-                               testing::SampleUniform(testing::SmoothTerrain, 1500, 13, 120, -9, 90, 6));
+                               testing::SampleUniform(testing::SmoothTerrain, 1500, 13, 120, -9, 90, 6),
+                               weight);
   const Theta thetas[] = {{0, 0, 0, 0, 0, 0}, {0, 0, 0.3, 4.2, -7.7, 0.6}, {0, 0, -1.1, -12, 3, -2}};
+  MeasureOptions options;
+  options.weight = weight ? WeightMode::kPerPoint : WeightMode::kUniform;
   for (const Theta& theta : thetas) {
     PairState state(sides->reference, sides->moving);
     ASSERT_TRUE(state.Update(theta));
@@ -293,14 +374,24 @@ TEST(VolumeCostTest, ValueEqualsMeasureForXyRigidMotion) {
     RigidMotion motion = MotionOf(sides->moving, theta);
     for (int k = 0; k < 3; ++k) motion.centre[k] += sides->a.origin[k];  // local → input frame
     const MeasureSummary m =
-        Measure(sides->a, TransformSurface(sides->b, ReferenceFromMoving(motion)));
-    std::printf("volume value rz=%.2f: abs %.10g vs rho_d %.10g (rel %.1e), area %.10g vs %.10g (rel %.1e)\n",
-                theta[2], v.abs, m.rho_d, std::fabs(v.abs - m.rho_d) / m.rho_d, v.area, m.overlap_area,
-                std::fabs(v.area - m.overlap_area) / m.overlap_area);
-    EXPECT_NEAR(v.abs, m.rho_d, 1e-9 * m.rho_d);
-    EXPECT_NEAR(v.area, m.overlap_area, 1e-9 * m.overlap_area);
-    EXPECT_NEAR(v.PerArea(), m.mean_abs_dz, 1e-9 * m.mean_abs_dz);
+        Measure(sides->a, TransformSurface(sides->b, ReferenceFromMoving(motion)), options);
+    std::printf("volume value (%s) rz=%.2f: abs %.12g vs rho_d %.12g (rel %.1e), "
+                "area %.12g vs %.12g (rel %.1e)\n", weight ? "weighted" : "uniform",
+                theta[2], v.abs, m.rho_d, std::fabs(v.abs - m.rho_d) / m.rho_d, v.area,
+                m.weight_integral, std::fabs(v.area - m.weight_integral) / m.weight_integral);
+    EXPECT_NEAR(v.abs, m.rho_d, tolerance * m.rho_d);
+    EXPECT_NEAR(v.area, m.weight_integral, tolerance * m.weight_integral);
+    EXPECT_NEAR(v.PerArea(), m.mean_abs_dz, tolerance * m.mean_abs_dz);
+    if (weight) {
+      EXPECT_LT(v.area, 0.95 * m.overlap_area);  // μ really weights
+    }
   }
+}
+
+TEST(VolumeCostTest, ValueEqualsMeasureForXyRigidMotion) {
+  CheckVolumeValue(nullptr, 1e-9);
+  CheckVolumeValue(SmoothWeight, 1e-12);
+  CheckVolumeValue(DiscZero, 1e-12);
 }
 
 // ---------------------------------------------------------------- 4. re-location
@@ -343,6 +434,41 @@ TEST(PairStateTest, WalkedLocationsEqualBruteForce) {
     const int differing = CheckLocations(state);
     std::printf("re-location: %lld walk steps, %d nodes in another triangle (on an edge)\n",
                 static_cast<long long>(stats.walk_steps), differing);
+  }
+}
+
+// Subsampled and merged reference nodes keep their own weights: each kept
+// node's μ is the weight function at its xy; two samples at one xy (merged)
+// get the mean of their weights.
+TEST(PairStateTest, ReferenceKeepsWeightsWhenSubsampled) {
+  auto points = testing::SampleUniform(testing::SmoothTerrain, 3000, 0, 100, 0, 100, 7);
+  std::vector<double> mu;
+  for (const auto& p : points) mu.push_back(SmoothWeight(p[0], p[1]));
+  points.push_back(points[10]);  // a duplicate of sample 10 with weight 0
+  mu.push_back(0.0);
+  const Surface a = MakeSurface(points, mu, "a");
+  for (double keep : {1.0, 0.3}) {
+    const ReferenceSide side = PrepareReference(a, keep);
+    ASSERT_EQ(side.weight.size(), side.xy.size());
+    int duplicates = 0;
+    for (std::size_t i = 0; i < side.xy.size(); ++i) {
+      const double x = side.xy[i].x + a.origin[0], y = side.xy[i].y + a.origin[1];
+      if (side.xy[i].x != a.xy[10].x || side.xy[i].y != a.xy[10].y) {
+        EXPECT_DOUBLE_EQ(side.weight[i], SmoothWeight(x, y)) << i;
+        continue;
+      }
+      ++duplicates;  // at 0.3 either copy may have been dropped
+      if (keep == 1.0) {
+        EXPECT_DOUBLE_EQ(side.weight[i], 0.5 * SmoothWeight(x, y));
+      }
+    }
+    std::printf("subsample %.1f: %zu reference nodes carry weights\n", keep, side.xy.size());
+    EXPECT_LT(side.xy.size(), keep * 3300);
+    EXPECT_LE(duplicates, 1);
+    if (keep == 1.0) {
+      EXPECT_EQ(duplicates, 1);
+    }
+    EXPECT_TRUE(PrepareReference(MakeSurface(points, {}, "a"), keep).weight.empty());
   }
 }
 

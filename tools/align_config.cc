@@ -37,6 +37,10 @@ const Names<TrustRegionKind> kTrustRegions = {
 const Names<LineSearchKind> kLineSearches = {{"lbfgs", LineSearchKind::kLbfgs},
                                              {"bfgs", LineSearchKind::kBfgs},
                                              {"nonlinear_cg", LineSearchKind::kNonlinearCg}};
+const Names<LinearSolverKind> kLinearSolvers = {
+    {"dense_qr", LinearSolverKind::kDenseQr},
+    {"dense_normal_cholesky", LinearSolverKind::kDenseNormalCholesky},
+    {"cgnr", LinearSolverKind::kCgnr}};
 
 // free: parameter names and groups, united; at least one.
 std::array<bool, 6> FreeParameters(const Value& v) {
@@ -105,6 +109,10 @@ const std::vector<KeyEntry>& Table() {
       {{"line_search", "one of lbfgs, bfgs, nonlinear_cg", "line-search direction (volume cost)"},
        [](const Value& v, C* c) { c->options.line_search = Choice(v, kLineSearches); },
        [](const C& c) { return NameOf(c.options.line_search, kLineSearches); }},
+      {{"linear_solver", "one of dense_qr, dense_normal_cholesky, cgnr",
+        "linear solver of the trust-region steps (axial cost, prealignment)"},
+       [](const Value& v, C* c) { c->options.linear_solver = Choice(v, kLinearSolvers); },
+       [](const C& c) { return NameOf(c.options.linear_solver, kLinearSolvers); }},
       {{"max_iterations", "an integer >= 1", "solver iterations per level and start"},
        [](const Value& v, C* c) { c->options.max_iterations = Integer(v, 1); },
        [](const C& c) { return std::to_string(c.options.max_iterations); }},
@@ -126,6 +134,10 @@ const std::vector<KeyEntry>& Table() {
       {{"level_factor", "a number in [1.5, 64]", "subsampling factor between levels"},
        [](const Value& v, C* c) { c->options.level_factor = Number(v, 1.5, 64); },
        [](const C& c) { return Text(c.options.level_factor); }},
+      {{"subsample", "a number in (0, 1]",
+        "fraction of each cloud's points solved on at the finest level"},
+       [](const Value& v, C* c) { c->options.subsample = Number(v, 0, 1, "(]"); },
+       [](const C& c) { return Text(c.options.subsample); }},
       {{"multi_start", "an integer in [0, 1000]", "extra starts around the initial motion"},
        [](const Value& v, C* c) { c->options.multi_start = Integer(v, 0, 1000); },
        [](const C& c) { return std::to_string(c.options.multi_start); }},
@@ -188,23 +200,6 @@ const KeyEntry* FindEntry(const std::string& name) {
     if (name == entry.key.name) return &entry;
   }
   return nullptr;
-}
-
-// Optimal string alignment distance (edits and adjacent transpositions).
-std::size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      d[i][j] = std::min(
-          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-      }
-    }
-  }
-  return d[a.size()][b.size()];
 }
 
 std::string UnknownKeyMessage(const std::string& name) {
@@ -409,6 +404,9 @@ void FinishAlignConfig(AlignConfig* config) {
   std::vector<std::pair<std::string, std::string>> files = {{"reference", config->reference},
                                                             {"moving", config->moving}};
   if (!config->mask.empty()) files.emplace_back("mask", config->mask);
+  if (!config->terrain.mask_raster.empty()) {
+    files.emplace_back("mask_raster", config->terrain.mask_raster);
+  }
   for (const char* key :
        {"output", "aligned", "log", "dod", "dod_png", "histogram_png", "change_csv"}) {
     const std::string path = AlignConfigValue(*config, key);

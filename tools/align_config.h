@@ -31,6 +31,7 @@ struct TerrainSettings {
   std::string dod_png, histogram_png;     // figures
   std::string change_csv;                 // dz at every reference sample before/after
   std::vector<double> known_matrix;       // 16 numbers (moving -> reference) or empty
+  std::string mask_raster;                // stable terrain raster (non-zero cells) as μ; "" = none
   // Whether any terrain output or setting is asked for (or an input is a
   // raster): then `align` also reports change and dz statistics.
   bool Active(const std::string& reference, const std::string& moving) const;
@@ -63,6 +64,10 @@ struct AlignConfigKey {
   const char* type;  // what a value looks like ("an integer >= 1"), for messages and docs
   const char* help;  // one line
 };
+
+// Whether `key` is one of the terrain keys (README "Terrain"): settings that
+// only a single `align` run uses (not sweeps or manifests).
+bool IsTerrainKey(const std::string& key);
 
 // Every key, in the order of the documentation.
 const std::vector<AlignConfigKey>& AlignConfigKeys();

@@ -12,7 +12,15 @@ namespace surfreg {
 bool TerrainSettings::Active(const std::string& reference, const std::string& moving) const {
   return IsRasterPath(reference) || IsRasterPath(moving) || !reference_crs.empty() ||
          !moving_crs.empty() || lod > 0 || !dod.empty() || !dod_png.empty() ||
-         !histogram_png.empty() || !change_csv.empty() || !known_matrix.empty();
+         !histogram_png.empty() || !change_csv.empty() || !known_matrix.empty() ||
+         !mask_raster.empty();
+}
+
+bool IsTerrainKey(const std::string& key) {
+  for (const config_value::KeyEntry& entry : config_value::TerrainKeyTable()) {
+    if (key == entry.key.name) return true;
+  }
+  return false;
 }
 
 namespace config_value {
@@ -118,6 +126,11 @@ const std::vector<KeyEntry>& TerrainKeyTable() {
         "the true moving -> reference matrix (row-major), when known: the errors are reported"},
        [](const Value& v, C* c) { c->terrain.known_matrix = Matrix(v); },
        [](const C& c) { return MatrixText(c.terrain.known_matrix); }},
+      {{"mask_raster", "a raster file name, or nothing",
+        "stable terrain as a raster in the reference's CRS: weight 1 at reference samples on "
+        "non-zero valid cells, 0 elsewhere (not with 'mask')"},
+       [](const Value& v, C* c) { c->terrain.mask_raster = Path(v, false); },
+       [](const C& c) { return c.terrain.mask_raster; }},
   };
   return table;
 }

@@ -34,4 +34,21 @@ int RunMeasure(const std::vector<std::string>& args);
 // transform JSON. Bad settings and files are InputErrors naming the key.
 int RunAlign(const std::vector<std::string>& args);
 
+// align --manifest=PAIRS.csv [--config BASE.yaml] [--key=value ...]
+// [--shard=K/N] [--output=SUMMARY.csv]: aligns every pair of the manifest
+// (columns reference, moving, output[, aligned]) with the same settings,
+// writes one transform JSON per pair and a summary CSV (stdout without
+// --output). tools/run_batch.cc.
+int RunAlignManifest(const std::vector<std::string>& args);
+
+// sweep --config SWEEP.yaml [--output=RUNS.csv] [--jobs=N] [--shard=K/N]
+// [--resume]: runs a grid of surface pairs x solver settings x initial
+// perturbations in parallel (tools/sweep.h); writes the per-run CSV, a
+// ranking of the settings (Markdown, also on stdout) and PNG plots.
+int RunSweep(const std::vector<std::string>& args);
+
+// merge OUT.csv IN.csv...: joins CSVs of sweep or manifest shards (same
+// header, rows keyed by run_id), sorted by run_id, written atomically.
+int RunMerge(const std::vector<std::string>& args);
+
 }  // namespace surfreg

@@ -4,6 +4,7 @@
 // a flag's text, parsed and checked with the same messages either way
 // ("t.yaml:3: key 'cost' expects one of axial, volume, got 'fast'").
 // Internal to tools/.
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -172,6 +173,23 @@ struct KeyEntry {
 };
 
 using C = AlignConfig;
+
+// Optimal string alignment distance (edits and adjacent transpositions).
+inline std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[a.size()][b.size()];
+}
 
 // The terrain keys (align_config_terrain.cc), appended to align's own.
 const std::vector<KeyEntry>& TerrainKeyTable();

@@ -35,12 +35,14 @@ DEFINE_string(loss, "", "align: none | huber | soft_l1 | cauchy (axial cost)");
 DEFINE_string(loss_scale, "", "align: robust loss scale, data units");
 DEFINE_string(trust_region, "", "align: levenberg_marquardt | dogleg (axial cost)");
 DEFINE_string(line_search, "", "align: lbfgs | bfgs | nonlinear_cg (volume cost)");
+DEFINE_string(linear_solver, "", "align: dense_qr | dense_normal_cholesky | cgnr (axial cost)");
 DEFINE_string(max_iterations, "", "align: solver iterations per level and start");
 DEFINE_string(function_tolerance, "", "align: relative cost decrease to stop");
 DEFINE_string(trim_fraction, "", "align: fraction of worst residuals dropped");
 DEFINE_string(free, "", "align: free parameters, e.g. all, translation, rotation,tz, rx,ry,tz");
 DEFINE_string(levels, "", "align: coarse-to-fine levels");
 DEFINE_string(level_factor, "", "align: subsampling factor between levels");
+DEFINE_string(subsample, "", "align: fraction of each cloud's points used at the finest level");
 DEFINE_string(multi_start, "", "align: extra starts around the initial motion");
 DEFINE_string(multi_start_angle_deg, "", "align: rotation of the extra starts");
 DEFINE_string(multi_start_shift, "", "align: shift of the extra starts");
@@ -66,6 +68,8 @@ DEFINE_string(dod_png, "", "align: write a map of the difference after alignment
 DEFINE_string(histogram_png, "", "align: write dz histograms before/after on stable terrain (.png)");
 DEFINE_string(change_csv, "", "align: write x,y,z,dz_before,dz_after,stable per reference sample");
 DEFINE_string(known_matrix, "", "align: the true moving->reference matrix (16 numbers), to report errors");
+DEFINE_string(mask_raster, "", "align: stable-terrain raster (reference CRS): weight 1 on non-zero cells");
+DEFINE_string(manifest, "", "align: CSV of pairs (reference,moving,output[,aligned]) to align in turn");
 
 namespace surfreg {
 namespace {
@@ -184,6 +188,7 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
 }  // namespace
 
 int RunAlign(const std::vector<std::string>& args) {
+  if (!FLAGS_manifest.empty()) return RunAlignManifest(args);  // tools/run_batch.cc
   const Clock::time_point start = Clock::now();
   AlignConfig config = LoadConfig(args);
   // Terrain inputs (rasters, CRSs, change outputs) go through tools/terrain.h.
@@ -191,6 +196,8 @@ int RunAlign(const std::vector<std::string>& args) {
   TerrainInputs inputs;
   if (terrain) {
     inputs = ReadTerrainInputs(config);
+    // A mask raster became the reference's per-sample weights: μ for Align.
+    if (!config.terrain.mask_raster.empty()) config.options.weight = WeightMode::kPerPoint;
   } else {
     inputs.reference = ReadAlignSurface(config, "reference");
     inputs.moving = ReadAlignSurface(config, "moving");

@@ -32,6 +32,10 @@ const Command kCommands[] = {
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json]",
      "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary"},
+    {"sweep", RunSweep, "--config SWEEP.yaml [--output=RUNS.csv] [--jobs=N] [--shard=K/N] [--resume]",
+     "run a grid of pairs x solver settings x initial offsets; CSV, ranking, plots"},
+    {"merge", RunMerge, "OUT.csv IN.csv [IN.csv ...]",
+     "join the CSVs of sweep or align --manifest shards, sorted by run_id"},
 };
 
 const Command* FindCommand(const std::string& name) {

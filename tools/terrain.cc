@@ -106,10 +106,58 @@ std::string Number(double value) {
   return text;
 }
 
+// Stable terrain from the raster of key mask_raster (any grid and cell
+// size, in the reference's CRS): 1 at a reference sample whose cell (the one
+// containing it: the nearest cell centre) is valid and non-zero, 0 on
+// nodata, zero cells and outside the raster. Samples are in input
+// coordinates here, before any change of frame.
+std::vector<double> MaskRasterWeights(const AlignConfig& config, const Surface& reference,
+                                      const Crs& reference_crs) {
+  const std::string where = config.Where("mask_raster");
+  const std::string& path = config.terrain.mask_raster;
+  if (!config.mask.empty()) {
+    throw InputError(where + ": give either a mask polygon ('mask') or a mask raster, not both");
+  }
+  Raster mask;
+  try {
+    mask = ReadRaster(path);
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  if (!mask.crs_wkt.empty() && reference_crs.kind != CrsKind::kNone) {
+    const Crs crs = ParseCrs(mask.crs_wkt, where);
+    if (crs.kind != reference_crs.kind || crs.name != reference_crs.name) {
+      throw InputError(where + ": the CRS of " + path + " ('" + crs.name +
+                       "') is not the reference's ('" + reference_crs.name + "')");
+    }
+  }
+  const std::array<double, 6>& g = mask.geotransform;  // north-up (ReadRaster checks)
+  std::vector<double> weight(reference.size(), 0.0);
+  bool any = false;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    const double x = reference.xy[i].x + reference.origin[0];
+    const double y = reference.xy[i].y + reference.origin[1];
+    const double column = std::floor((x - g[0]) / g[1]), row = std::floor((y - g[3]) / g[5]);
+    if (!(column >= 0 && column < mask.columns && row >= 0 && row < mask.rows)) continue;
+    const double value = mask.values[static_cast<std::size_t>(row) * mask.columns +
+                                     static_cast<std::size_t>(column)];
+    weight[i] = std::isnan(value) || value == 0.0 ? 0.0 : 1.0;
+    any = any || weight[i] > 0.0;
+  }
+  if (!any) {
+    throw InputError(where + ": no sample of the reference lies on a valid non-zero cell of " +
+                     path);
+  }
+  return weight;
+}
+
 }  // namespace
 
 TerrainInputs ReadTerrainInputs(const AlignConfig& config) {
   OneInput reference = ReadOne(config, "reference");
+  if (!config.terrain.mask_raster.empty()) {
+    reference.surface.weight = MaskRasterWeights(config, reference.surface, reference.crs);
+  }
   OneInput moving = ReadOne(config, "moving");
   const bool wants_grid = !config.terrain.dod.empty() || !config.terrain.dod_png.empty();
   if (wants_grid && !reference.is_raster) {
@@ -157,6 +205,13 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
       const Point2 p{in.reference.xy[i].x + in.reference.origin[0],
                      in.reference.xy[i].y + in.reference.origin[1]};
       report.stable[i] = InsidePolygon(polygon, p);
+    }
+  }
+  // Or the mask raster's, as read into the reference's weights (μ is 0/1 at
+  // the samples; between them it blurs over one triangle).
+  if (!config.terrain.mask_raster.empty() && in.reference.weight.size() == in.reference.size()) {
+    for (std::size_t i = 0; i < in.reference.size(); ++i) {
+      report.stable[i] = in.reference.weight[i] > 0.5;
     }
   }
   report.stable_before = ComputeDzStatistics(report.before.dz_a, report.stable);
