@@ -49,7 +49,8 @@ std::string Usage() {
   std::string text =
       "usage: surfreg <command> [arguments] [flags]\n\n"
       "Compares and aligns height-field surfaces z = F(x, y).\n"
-      "Surface files: .xyz .txt .csv .ply .off .obj\n\ncommands:\n";
+      "Surface files: .xyz .txt .csv .ply .off .obj, and GDAL rasters (.tif .asc ...)\n\n"
+      "commands:\n";
   for (const Command& command : kCommands) {
     text += "  " + std::string(command.name) + " " + command.synopsis + "\n      " + command.help +
             "\n";

@@ -183,7 +183,9 @@ Surface ReadSurface(const std::string& path, const ReadOptions& options) {
   if (parse == nullptr) {
     const std::string what = ext.empty() ? std::string("no file extension to tell the format")
                                          : "unknown surface format " + io_internal::Quote(ext);
-    Fail(path, 0, what + " (expected .xyz .txt .csv .ply .off .obj)");
+    Fail(path, 0,
+         what + " (expected .xyz .txt .csv .ply .off .obj, or a GDAL raster: .tif .tiff .vrt .asc "
+                ".img .bil .hgt .dem .nc .gpkg .flt)");
   }
   const std::string data = io_internal::ReadFile(path);
   return parse(data, path, options);
