@@ -1,7 +1,10 @@
 #include "measure/locator.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "measure/predicates.h"
 
@@ -43,8 +46,8 @@ class Walker {
       : points_(points), mesh_(mesh), p_(p) {}
 
   Location Run(int32_t t, int k);
-  int steps() const { return steps_; }
-  // A walk longer than this means an invalid mesh (e.g. folded): give up.
+  int64_t steps() const { return steps_; }
+  // A walk longer than WalkStepLimit means an invalid mesh: give up.
   bool exhausted() const { return steps_ > limit_; }
 
  private:
@@ -70,8 +73,8 @@ class Walker {
   const std::vector<Point2>& points_;
   const Triangulation& mesh_;
   const Point2& p_;
-  int steps_ = 0;
-  const int limit_ = 4 * mesh_.num_triangles() + 64;
+  int64_t steps_ = 0;
+  const int64_t limit_ = WalkStepLimit(mesh_);
 };
 
 // Turns around vertex w (local k of t) to the triangle whose corner at w holds
@@ -187,12 +190,21 @@ Location Walker::Run(int32_t t, int k) {
 
 }  // namespace
 
+int64_t WalkStepLimit(const Triangulation& mesh) {
+  return 4 * static_cast<int64_t>(mesh.num_triangles()) + 64;
+}
+
 Location LocatePoint(const std::vector<Point2>& points, const Triangulation& mesh, const Point2& p,
                      int32_t start_triangle, int* steps) {
   Walker walker(points, mesh, p);
   const Location location = walker.Run(start_triangle, 0);
-  if (steps != nullptr) *steps = walker.steps();
-  if (walker.exhausted()) return LocatePointBruteForce(points, mesh, p);
+  if (steps != nullptr) *steps = static_cast<int>(std::min<int64_t>(walker.steps(), INT32_MAX));
+  if (walker.exhausted()) {
+    throw std::logic_error(
+        "the point location walk did not end within " +
+        std::to_string(WalkStepLimit(mesh)) + " steps on a mesh of " +
+        std::to_string(mesh.num_triangles()) + " triangles (the triangulation is invalid)");
+  }
   return location;
 }
 

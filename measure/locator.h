@@ -44,9 +44,21 @@ inline double InterpolateAt(const Triangulation& mesh, const std::vector<double>
          location.barycentric[2] * values[v[2]];
 }
 
+// The most triangles a walk may visit before LocatePoint gives up: 4 per
+// triangle + 64. On a valid mesh no walk comes near it: the segment from the
+// start vertex to p crosses each triangle at most once (T steps), and the
+// turns around the vertices on that segment visit each vertex's fan at most
+// once in each sense; no triangle has 3 vertices on one segment, so the fans
+// add at most 2T, plus one step per vertex on the segment (fewer than T + 3).
+// Only corrupted adjacency (e.g. neighbors that form a cycle) can reach it.
+int64_t WalkStepLimit(const Triangulation& mesh);
+
 // Locates p in `mesh` (vertex positions `points`), walking from
 // `start_triangle` (any triangle; nearer is faster). `steps`, if given,
-// receives the number of triangles visited.
+// receives the number of triangles visited. A walk that exceeds
+// WalkStepLimit(mesh) (an invalid mesh: a broken internal invariant, never
+// bad user input) throws std::logic_error "internal error: ..." instead of
+// looping; the CLI reports it with exit code 1.
 Location LocatePoint(const std::vector<Point2>& points, const Triangulation& mesh, const Point2& p,
                      int32_t start_triangle, int* steps = nullptr);
 

@@ -221,9 +221,11 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
 
   const double smaller_hull = std::min(pa.hull_area, pb.hull_area);
   if (!(volume.area > options.min_overlap_fraction * smaller_hull) || volume.cells == 0) {
-    char numbers[96];
-    std::snprintf(numbers, sizeof numbers, " (overlap area %.3g, %.3g%% of the smaller hull)",
-                  volume.area, smaller_hull > 0.0 ? 100.0 * volume.area / smaller_hull : 0.0);
+    char numbers[160];
+    std::snprintf(numbers, sizeof numbers,
+                  " (overlap area %.3g, %.3g%% of the smaller hull; the minimum is %.3g%%)",
+                  volume.area, smaller_hull > 0.0 ? 100.0 * volume.area / smaller_hull : 0.0,
+                  100.0 * options.min_overlap_fraction);
     throw InputError((a.source.empty() ? std::string("surface A") : a.source) + " and " +
                      (b.source.empty() ? std::string("surface B") : b.source) +
                      (volume.area > 0.0 ? " overlap only in a sliver" : " do not overlap") +

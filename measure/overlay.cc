@@ -18,6 +18,55 @@ struct SideCache {
   int8_t side[3] = {0, 0, 0};
 };
 
+struct HullEdge {
+  int32_t triangle;
+  Point2 p, q;
+};
+
+std::vector<HullEdge> HullEdges(const std::vector<Point2>& points, const Triangulation& mesh) {
+  std::vector<HullEdge> edges;
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    for (int i = 0; i < 3; ++i) {
+      if (mesh.neighbors[3 * t + i] >= 0) continue;
+      edges.push_back({t, points[mesh.triangles[3 * t + (i + 1) % 3]],
+                       points[mesh.triangles[3 * t + (i + 2) % 3]]});
+    }
+  }
+  return edges;
+}
+
+// Whether the closed segments pq and rs meet (exact).
+bool SegmentsMeet(const Point2& p, const Point2& q, const Point2& r, const Point2& s) {
+  const int o1 = Sign(Orient2D(p, q, r)), o2 = Sign(Orient2D(p, q, s));
+  const int o3 = Sign(Orient2D(r, s, p)), o4 = Sign(Orient2D(r, s, q));
+  if (o1 * o2 > 0 || o3 * o4 > 0) return false;
+  if (o1 != 0 || o2 != 0) return true;
+  // Collinear: do their extents overlap?
+  return std::max(std::min(p.x, q.x), std::min(r.x, s.x)) <=
+             std::min(std::max(p.x, q.x), std::max(r.x, s.x)) &&
+         std::max(std::min(p.y, q.y), std::min(r.y, s.y)) <=
+             std::min(std::max(p.y, q.y), std::max(r.y, s.y));
+}
+
+// Two hulls can overlap with no vertex of either inside the other (a
+// hexagram: each triangle's corners outside the other; found by
+// fuzz_measure). Then a hull edge of A crosses one of B: their triangles
+// meet, a seed for the search. (-1, -1) if no hull edges meet. O(hull A x
+// hull B), only when no vertex was located at all.
+std::pair<int32_t, int32_t> HullCrossing(const std::vector<Point2>& points_a,
+                                         const Triangulation& mesh_a,
+                                         const std::vector<Point2>& points_b,
+                                         const Triangulation& mesh_b) {
+  const std::vector<HullEdge> edges_a = HullEdges(points_a, mesh_a);
+  const std::vector<HullEdge> edges_b = HullEdges(points_b, mesh_b);
+  for (const HullEdge& ea : edges_a) {
+    for (const HullEdge& eb : edges_b) {
+      if (SegmentsMeet(ea.p, ea.q, eb.p, eb.q)) return {ea.triangle, eb.triangle};
+    }
+  }
+  return {-1, -1};
+}
+
 // One search over the A triangles in [begin, end). Seeds for triangles
 // outside the range go to `handoff` instead; `done` is shared between
 // builders, each writing only its own range while they run concurrently.
@@ -42,8 +91,16 @@ class OverlayBuilder {
     if (!done_[ta]) pending_.push_back(ta);
   }
 
-  // Seeds from the vertex locations, for the triangles in range.
+  // Seeds from the vertex locations, for the triangles in range; if no
+  // vertex of either mesh lies in the other, from crossing hull edges.
   void SeedFromLocations(const std::vector<Location>& a_in_b, const std::vector<Location>& b_in_a) {
+    const auto found = [](const Location& l) { return l.found(); };
+    if (std::none_of(a_in_b.begin(), a_in_b.end(), found) &&
+        std::none_of(b_in_a.begin(), b_in_a.end(), found)) {
+      const auto [ta, tb] = HullCrossing(pa_, ma_, pb_, mb_);
+      Seed(ta, tb);  // another builder's triangle goes to the handoff
+      return;
+    }
     for (std::size_t v = 0; v < a_in_b.size(); ++v) {
       const int32_t ta = ma_.vertex_triangle[v];
       if (a_in_b[v].found() && ta >= 0 && InRange(ta)) Seed(ta, a_in_b[v].triangle);

@@ -1,5 +1,6 @@
 #include "measure/spanning_tree.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -11,8 +12,16 @@ struct Edge {
   int32_t u, v;
 };
 
-// Stable LSD radix sort on the 64-bit key, 16 bits a pass.
+// Stable LSD radix sort on the 64-bit key, 16 bits a pass. Its 4 x 65536
+// bucket sweeps cost more than sorting a small cloud's edges outright (found
+// by fuzz_measure: 0.4 ms of a 0.45 ms measure of two 25-point clouds), so
+// small inputs take a stable comparison sort: the same order exactly.
 void RadixSortEdges(std::vector<Edge>& edges) {
+  if (edges.size() < 4096) {
+    std::stable_sort(edges.begin(), edges.end(),
+                     [](const Edge& a, const Edge& b) { return a.key < b.key; });
+    return;
+  }
   std::vector<Edge> buffer(edges.size());
   std::vector<std::size_t> count(65537);
   for (int shift = 0; shift < 64; shift += 16) {

@@ -45,6 +45,7 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   const std::vector<double>& bz = state.moved_z();
   const std::vector<Eigen::Vector3d>& bq = state.moved_q();
   const bool masked = !settings.mask.empty();
+  const bool normal = settings.normal_distance;
   const std::vector<double>& mu = a.weight;
   const bool weighted = !mu.empty();
   // μ per node, and dμ_j/dθ per B node (for the normalization's derivative).
@@ -63,13 +64,19 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     const auto& l = loc.barycentric;
     const double root = weighted ? std::sqrt(mu[i]) : 1.0;  // μ_i is fixed: a constant factor
     if (weighted) node_weight[i] = mu[i];
-    out->r[i] = root * (l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i]);
+    const double gap = l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i];
+    Eigen::Vector3d n(0.0, 0.0, 1.0);
+    if (jacobians || normal) n = UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], bz[v[0]], bz[v[1]], bz[v[2]]);
+    const double cosine = normal ? 1.0 / n.norm() : 1.0;
+    out->r[i] = root * cosine * gap;
     out->active[i] = 1;
     if (!jacobians) continue;
-    const Eigen::Vector3d n =
-        UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], bz[v[0]], bz[v[1]], bz[v[2]]);
     const Eigen::Vector3d q = l[0] * bq[v[0]] + l[1] * bq[v[1]] + l[2] * bq[v[2]];
-    Store(-(mt * n.cross(q)) * root, n * root, &out->jacobian[i]);
+    Eigen::Vector3d d_rotation = -(mt * n.cross(q)) * cosine;
+    // The moved triangle's unit normal u = n/|n| turns with the rotation
+    // (du = Mδω × u) and the cosine is u_z: d(cos)/dω = Mᵀ(u × e_z).
+    if (normal) d_rotation += gap * cosine * (mt * n.cross(Eigen::Vector3d::UnitZ()));
+    Store(d_rotation * root, n * (cosine * root), &out->jacobian[i]);
   }
   for (std::size_t j = 0; j < nb; ++j) {
     const Location& loc = state.b_in_a()[j];
@@ -84,15 +91,19 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
       if (!(w > 0.0)) continue;
     }
     const std::size_t k = na + j;
-    const double r = l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j];
+    Eigen::Vector3d n(0.0, 0.0, 1.0);
+    if (jacobians || normal) {
+      n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
+    }
+    // A's slope is constant within its triangle: the cosine is a constant factor.
+    const double cosine = normal ? 1.0 / n.norm() : 1.0;
+    const double r = cosine * (l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j]);
     const double root = std::sqrt(w);
     out->r[k] = root * r;
     out->active[k] = 1;
     if (weighted) node_weight[k] = w;
     if (!jacobians) continue;
-    const Eigen::Vector3d n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]],
-                                       a.z[v[2]]);
-    Eigen::Vector3d d_rotation = mt * n.cross(bq[j]), d_translation = -n;
+    Eigen::Vector3d d_rotation = cosine * (mt * n.cross(bq[j])), d_translation = -cosine * n;
     if (weighted) {
       // μ(x'_j) is linear on the A triangle: its gradient g moves with x'_j.
       const Eigen::Vector3d up =

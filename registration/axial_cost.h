@@ -51,6 +51,15 @@ struct AxialSettings {
   // overlap). With weights, active_weight depends on θ through B's μ_j and
   // the Jacobian includes the derivative of the scale.
   double normalize_count = 0;
+  // Multiply each residual by w_k = 1/|n_k|, n_k = (−∂F/∂x, −∂F/∂y, 1) of
+  // the interpolated surface at node k (the cos of its slope): the vertical
+  // gap becomes about the gap along the normal (point-to-plane). Steep walls,
+  // where two samplings of one surface differ by large vertical gaps for a
+  // tiny sideways offset, then neither dominate nor bias the fit. Applied
+  // before trimming, μ and the normalization. The Jacobian is exact: for B's
+  // nodes w is constant within A's triangle; for A's nodes w = cos of the
+  // moved B triangle's tilt, dw/dt = 0, dw/dω = w Mᵀ(n × e_z).
+  bool normal_distance = false;
 };
 
 // Residuals (and Jacobians if `jacobians`) at the state's current θ.

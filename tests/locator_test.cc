@@ -3,9 +3,12 @@
 // with queries inside, on edges, on vertices, on the hull and outside.
 #include "measure/locator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -174,6 +177,67 @@ TEST(LocatorTest, StartingOnTheQueryVertex) {
     EXPECT_EQ(l.index, 0);
     EXPECT_EQ(l.barycentric[0], 1.0);
   }
+}
+
+// A strip of triangles whose two end edges (hull edges, -1) are made to point
+// at each other: a walk towards a point far to the right runs off the right
+// end into the left end forever. The bound turns that into an internal error.
+TEST(LocatorTest, CorruptedAdjacencyThrowsLogicErrorInsteadOfLooping) {
+  std::vector<Point2> points;
+  for (int i = 0; i <= 5; ++i) {
+    points.push_back({double(i), 0.0});
+    points.push_back({double(i), 1.0});
+  }
+  Triangulation mesh = Triangulate(points);
+  // The hull edge at x = 0 and the one at x = 5, each as (triangle, local edge).
+  int left = -1, right = -1;
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    for (int i = 0; i < 3; ++i) {
+      if (mesh.neighbors[3 * t + i] >= 0) continue;
+      const Point2& a = points[mesh.triangles[3 * t + (i + 1) % 3]];
+      const Point2& b = points[mesh.triangles[3 * t + (i + 2) % 3]];
+      if (a.x == 0 && b.x == 0) left = 3 * t + i;
+      if (a.x == 5 && b.x == 5) right = 3 * t + i;
+    }
+  }
+  ASSERT_GE(left, 0);
+  ASSERT_GE(right, 0);
+  mesh.neighbors[left] = right / 3;
+  mesh.neighbors[right] = left / 3;
+  const Point2 far = {1000.0, 0.6};
+  // The valid parts still work: points inside are found as before.
+  EXPECT_TRUE(LocatePoint(points, mesh, {2.5, 0.3}, 0).found());
+  try {
+    LocatePoint(points, mesh, far, 0);
+    FAIL() << "no error";
+  } catch (const std::logic_error& e) {
+    EXPECT_NE(std::string(e.what()).find("did not end within " +
+                                         std::to_string(WalkStepLimit(mesh)) + " steps"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(LocatorTest, WalkStepLimitIsFourStepsPerTrianglePlusSlack) {
+  Triangulation mesh;
+  EXPECT_EQ(WalkStepLimit(mesh), 64);
+  mesh.triangles.assign(3 * 1000, 0);
+  EXPECT_EQ(WalkStepLimit(mesh), 4064);
+}
+
+// On valid meshes no walk comes near the bound, from any start triangle.
+TEST(LocatorTest, WalksStayFarBelowTheBound) {
+  const std::vector<Point2> points = testing::GridPoints(20, 20);
+  const Triangulation mesh = Triangulate(points);
+  int most = 0;
+  for (int32_t t = 0; t < mesh.num_triangles(); t += 7) {
+    for (const Point2& q : {Point2{19.0, 19.0}, Point2{-5.0, 7.0}, Point2{9.5, 9.25}}) {
+      int steps = 0;
+      LocatePoint(points, mesh, q, t, &steps);
+      most = std::max(most, steps);
+    }
+  }
+  EXPECT_LT(most, WalkStepLimit(mesh) / 4);
 }
 
 }  // namespace

@@ -145,6 +145,24 @@ TEST(OverlayTest, PartialOverlapAndNoVertexInside) {
   ExpectCellsMatchBruteForce(MakePair(a, b));
 }
 
+// Regression (found by fuzz_measure): a hexagram, each triangle's corners
+// outside the other, so no vertex location seeds the search; the overlap
+// (a hexagon) was reported as empty. Exact truth: A = (0,0) (6,0) (3,6),
+// B = (0,4) (6,4) (3,-2) meet in a hexagon of area 12, and d = 1 on it.
+TEST(OverlayTest, HexagramWithNoVertexInsideTheOther) {
+  const Surface a = MakeSurface({{0, 0, 0}, {6, 0, 0}, {3, 6, 0}});
+  const Surface b = MakeSurface({{0, 4, 1}, {6, 4, 1}, {3, -2, 1}});
+  for (const bool parallel : {false, true}) {
+    MeasureOptions options;
+    options.parallel = parallel;
+    for (const bool swap : {false, true}) {
+      const MeasureSummary s = swap ? Measure(b, a, options) : Measure(a, b, options);
+      EXPECT_NEAR(s.overlap_area, 12.0, 1e-12) << parallel << swap;
+      EXPECT_NEAR(s.rho_d, 12.0, 1e-12) << parallel << swap;
+    }
+  }
+}
+
 // Midpoint rule of |F̂_B − F̂_A| on an m x m grid over [x0,x1]x[y0,y1], with
 // samples outside either hull contributing nothing.
 double Quadrature(const std::vector<Point2>& pa, const Triangulation& ma, const std::vector<double>& za,

@@ -1,7 +1,7 @@
 // Registration internals against independent truth: axial Jacobians vs
 // numeric differentiation (ceres::GradientChecker) and vs planes computed
 // here, the volume cost's gradient vs central differences, its value vs
-// Measure(), re-location vs brute force, folds, and locked parameters; each
+// Measure(), (re-location, folds and locked parameters: pair_state_test.cc); each
 // cost also with per-point weights μ on the reference.
 #include <array>
 #include <cmath>
@@ -25,81 +25,11 @@
 #include "registration/pair_state.h"
 #include "registration/rigid_motion.h"
 #include "registration/volume_cost.h"
+#include "testing/registration_sides.h"
 #include "testing/surface_pairs.h"
 
 namespace surfreg {
 namespace {
-
-using Theta = std::array<double, 6>;
-using Vector6 = Eigen::Matrix<double, 6, 1>;
-
-// Both sides of a pair; heap-held because PairState keeps references.
-struct Sides {
-  Surface a, b;
-  ReferenceSide reference;
-  MovingSide moving;
-  double radius = 1;  // B's RMS radius: rotations × radius are lengths
-};
-
-// μ(x, y) given as a function, sampled at the reference's points.
-using WeightFunction = std::function<double(double, double)>;
-
-// A smooth weight in [0.2, 0.8] (no zeros: sqrt(μ) is smooth), and a 0/1
-// one (0 on a disc: what a raster mask gives).
-double SmoothWeight(double x, double y) { return 0.5 + 0.3 * std::sin(x / 13.0) * std::cos(y / 17.0); }
-double DiscZero(double x, double y) { return std::hypot(x - 60, y - 45) < 20 ? 0.0 : 1.0; }
-
-std::unique_ptr<Sides> MakeSides(const std::vector<std::array<double, 3>>& pa,
-                                 const std::vector<std::array<double, 3>>& pb,
-                                 const WeightFunction& weight = nullptr) {
-  auto s = std::make_unique<Sides>();
-  std::vector<double> mu;
-  for (const auto& p : pa) {
-    if (weight) mu.push_back(weight(p[0], p[1]));
-  }
-  s->a = MakeSurface(pa, mu, "a");
-  s->b = MakeSurface(pb, {}, "b");
-  s->reference = PrepareReference(s->a);
-  s->moving = PrepareMoving(s->b, {s->b.origin[0] - s->a.origin[0], s->b.origin[1] - s->a.origin[1],
-                                   s->b.origin[2] - s->a.origin[2]});
-  double sum = 0;
-  for (const auto& p : s->moving.points) sum += (p - s->moving.centroid).squaredNorm();
-  s->radius = std::sqrt(sum / s->moving.points.size());
-  return s;
-}
-
-// Two different random samplings of SmoothTerrain; B on [b0, b1]².
-std::unique_ptr<Sides> TerrainSides(int na, int nb, double b0, double b1,
-                                    const WeightFunction& weight = nullptr) {
-  return MakeSides(testing::SampleUniform(testing::SmoothTerrain, na, 0, 100, 0, 100, 11),
-                   testing::SampleUniform(testing::SmoothTerrain, nb, b0, b1, b0, b1, 23), weight);
-}
-
-// The moved point computed with Eigen's AngleAxis (not surfreg's rotation code).
-Eigen::Vector3d Moved(const MovingSide& m, const Theta& t, const Eigen::Vector3d& p) {
-  const Eigen::Vector3d w(t[0], t[1], t[2]);
-  const Eigen::Matrix3d r =
-      w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).matrix() : Eigen::Matrix3d::Identity();
-  return r * (p - m.centroid) + m.centroid + Eigen::Vector3d(t[3], t[4], t[5]);
-}
-
-// Height at (x, y) of the triangle of `corners` that contains it (own
-// brute-force search, plain double barycentrics); false if none does.
-bool HeightAt(const std::vector<Eigen::Vector3d>& corners, const Triangulation& mesh, double x,
-              double y, double* z) {
-  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
-    const Eigen::Vector3d& p0 = corners[mesh.triangles[3 * t]];
-    const Eigen::Vector3d& p1 = corners[mesh.triangles[3 * t + 1]];
-    const Eigen::Vector3d& p2 = corners[mesh.triangles[3 * t + 2]];
-    const double det = (p1.x() - p0.x()) * (p2.y() - p0.y()) - (p1.y() - p0.y()) * (p2.x() - p0.x());
-    const double l1 = ((x - p0.x()) * (p2.y() - p0.y()) - (y - p0.y()) * (p2.x() - p0.x())) / det;
-    const double l2 = ((p1.x() - p0.x()) * (y - p0.y()) - (p1.y() - p0.y()) * (x - p0.x())) / det;
-    if (l1 < -1e-12 || l2 < -1e-12 || l1 + l2 > 1 + 1e-12) continue;
-    *z = (1 - l1 - l2) * p0.z() + l1 * p1.z() + l2 * p2.z();
-    return true;
-  }
-  return false;
-}
 
 // ---------------------------------------------------------------- 1. axial
 
@@ -188,6 +118,95 @@ TEST(AxialCostTest, WeightedJacobiansMatchNumericDifferentiation) {
   normalized.normalize_count = 2000;
   CheckAxialJacobians(*smooth, normalized, "smooth mu, normalized");
   CheckAxialJacobians(*TerrainSides(1500, 1200, 0, 100, DiscZero), normalized, "0/1 mu, normalized");
+}
+
+// normal_distance: the cosine at A's nodes turns with the moved B triangle
+// (its derivative is in the Jacobian; the thetas above tilt B), at B's it is
+// constant per A triangle; also combined with μ and the normalization.
+TEST(AxialCostTest, NormalDistanceJacobiansMatchNumericDifferentiation) {
+  AxialSettings normal;
+  normal.normal_distance = true;
+  CheckAxialJacobians(*TerrainSides(1500, 1200, 0, 100), normal, "normal distance");
+  normal.normalize_count = 2000;
+  CheckAxialJacobians(*TerrainSides(1500, 1200, 0, 100, SmoothWeight), normal,
+                      "normal distance, smooth mu, normalized");
+}
+
+// Two parallel planes z = 0.3x − 0.4y (+ d for B; |∇F| = 0.5) with B moved by
+// a translation: every vertical gap is g = d + tz − 0.3tx + 0.4ty, and with
+// normal_distance every residual is ±g·cos(slope) = ±g / sqrt(1.25) (the
+// distance between the planes along their normal). Then B is tilted, which
+// changes the cosine at A's nodes: its derivative is checked by central
+// differences (exact for planes: no node changes piece).
+TEST(AxialCostTest, NormalDistanceOnTiltedPlanes) {
+  const double d = 0.7;
+  std::vector<std::array<double, 3>> pa, pb;
+  for (int i = 0; i <= 20; ++i) {
+    for (int j = 0; j <= 20; ++j) {
+      const double x = 5.0 * i + 0.3 * std::sin(j), y = 5.0 * j + 0.3 * std::cos(i);
+      pa.push_back({x, y, 0.3 * x - 0.4 * y});
+      const double u = 5.0 * i + 2.1, v = 5.0 * j + 1.3;
+      pb.push_back({u, v, 0.3 * u - 0.4 * v + d});
+    }
+  }
+  const auto sides = MakeSides(pa, pb);
+  const Theta theta = {0, 0, 0, 1.5, -0.8, 0.3};
+  PairState state(sides->reference, sides->moving);
+  ASSERT_TRUE(state.Update(theta));
+  AxialSettings normal;
+  normal.normal_distance = true;
+  AxialResiduals plain, weighted;
+  ComputeAxialResiduals(state, AxialSettings(), true, &plain);
+  ComputeAxialResiduals(state, normal, true, &weighted);
+  const double gap = d + theta[5] - 0.3 * theta[3] + 0.4 * theta[4];
+  const double cosine = 1.0 / std::sqrt(1.25);
+  const std::size_t na = sides->reference.xy.size();
+  int checked = 0;
+  for (std::size_t k = 0; k < weighted.r.size(); ++k) {
+    ASSERT_EQ(plain.active[k], weighted.active[k]) << k;
+    if (!weighted.active[k]) continue;
+    const double sign = k < na ? 1.0 : -1.0;
+    EXPECT_NEAR(plain.r[k], sign * gap, 1e-12) << k;
+    EXPECT_NEAR(weighted.r[k], sign * gap * cosine, 1e-12) << k;
+    // Translation columns: ±n·cos = ±(−0.3, 0.4, 1)/sqrt(1.25) (B moves up: gap grows).
+    EXPECT_NEAR(weighted.jacobian[k][3], -sign * 0.3 * cosine, 1e-12) << k;
+    EXPECT_NEAR(weighted.jacobian[k][4], sign * 0.4 * cosine, 1e-12) << k;
+    EXPECT_NEAR(weighted.jacobian[k][5], sign * cosine, 1e-12) << k;
+    ++checked;
+  }
+  EXPECT_GT(checked, 600);
+  // Trimming sees the weighted residuals: a 0.2 trim drops the same count either way.
+  normal.trim_fraction = 0.2;
+  AxialResiduals trimmed;
+  ComputeAxialResiduals(state, normal, false, &trimmed);
+  EXPECT_LE(trimmed.active_count, weighted.active_count);
+  EXPECT_LE(trimmed.trim_threshold, std::fabs(gap) * cosine + 1e-12);
+  // Tilt B about the x axis by α: at A's nodes the cosine is that of B''s
+  // slope, which changes with α. Central differences of Σ r (A's nodes)
+  // against the analytic Jacobian's column, exact for planes.
+  const Theta tilt = {0.05, 0.02, 0.1, 1.5, -0.8, 0.3};
+  ASSERT_TRUE(state.Update(tilt));
+  normal.trim_fraction = 0;
+  ComputeAxialResiduals(state, normal, true, &weighted);
+  for (int c = 0; c < 3; ++c) {
+    const double h = 1e-6;
+    AxialResiduals up, down;
+    Theta t = tilt;
+    t[c] += h;
+    ASSERT_TRUE(state.Update(t));
+    ComputeAxialResiduals(state, normal, false, &up);
+    t[c] -= 2 * h;
+    ASSERT_TRUE(state.Update(t));
+    ComputeAxialResiduals(state, normal, false, &down);
+    int compared = 0;
+    for (std::size_t k = 0; k < na; ++k) {
+      if (!weighted.active[k] || !up.active[k] || !down.active[k]) continue;
+      const double numeric = (up.r[k] - down.r[k]) / (2 * h);
+      EXPECT_NEAR(weighted.jacobian[k][c], numeric, 1e-6 * (1 + std::fabs(numeric))) << "node " << k << " col " << c;
+      ++compared;
+    }
+    EXPECT_GT(compared, 200);
+  }
 }
 
 // r at a node, from planes through corners moved here (Eigen AngleAxis);
@@ -392,166 +411,6 @@ TEST(VolumeCostTest, ValueEqualsMeasureForXyRigidMotion) {
   CheckVolumeValue(nullptr, 1e-9);
   CheckVolumeValue(SmoothWeight, 1e-12);
   CheckVolumeValue(DiscZero, 1e-12);
-}
-
-// ---------------------------------------------------------------- 4. re-location
-
-// Every location of the state vs brute force; returns the number of nodes
-// whose triangle differs (allowed only on an edge or vertex, same value).
-int CheckLocations(const PairState& state) {
-  const ReferenceSide& a = state.reference();
-  const auto& bxy = state.moved_xy();
-  const Triangulation& mesh_b = state.moving_mesh();
-  int differing = 0;
-  auto compare = [&](const Location& got, const Location& truth, const Triangulation& mesh,
-                     const std::vector<double>& values, std::size_t node) {
-    ASSERT_EQ(got.found(), truth.found()) << "node " << node;
-    if (!truth.found() || got.triangle == truth.triangle) return;
-    ++differing;
-    EXPECT_TRUE(truth.where != Where::kInside && got.where != Where::kInside) << "node " << node;
-    EXPECT_NEAR(InterpolateAt(mesh, values, got), InterpolateAt(mesh, values, truth), 1e-9) << node;
-  };
-  for (std::size_t i = 0; i < a.xy.size(); ++i) {
-    compare(state.a_in_b()[i], LocatePointBruteForce(bxy, mesh_b, a.xy[i]), mesh_b, state.moved_z(), i);
-  }
-  for (std::size_t j = 0; j < bxy.size(); ++j) {
-    compare(state.b_in_a()[j], LocatePointBruteForce(a.xy, a.mesh, bxy[j]), a.mesh, a.z, j);
-  }
-  return differing;
-}
-
-TEST(PairStateTest, WalkedLocationsEqualBruteForce) {
-  const auto sides = TerrainSides(1200, 1000, 10, 90);
-  PairState state(sides->reference, sides->moving);
-  const Theta steps[] = {{0.002, -0.001, 0.01, 1.0, 0.5, 0.1},     // θ1: from scratch
-                         {0.002, -0.001, 0.0101, 1.001, 0.499, 0.1},  // small step
-                         {-0.004, 0.003, 0.4, 9.0, -6.0, 1.0},        // large step
-                         {0.0, 0.0, -0.2, -12.0, 3.0, 0.0}};
-  for (const Theta& theta : steps) {
-    UpdateStats stats;
-    ASSERT_TRUE(state.Update(theta, &stats));
-    ASSERT_FALSE(stats.remeshed);  // else this tests LocateAll, not the walks
-    const int differing = CheckLocations(state);
-    std::printf("re-location: %lld walk steps, %d nodes in another triangle (on an edge)\n",
-                static_cast<long long>(stats.walk_steps), differing);
-  }
-}
-
-// Subsampled and merged reference nodes keep their own weights: each kept
-// node's μ is the weight function at its xy; two samples at one xy (merged)
-// get the mean of their weights.
-TEST(PairStateTest, ReferenceKeepsWeightsWhenSubsampled) {
-  auto points = testing::SampleUniform(testing::SmoothTerrain, 3000, 0, 100, 0, 100, 7);
-  std::vector<double> mu;
-  for (const auto& p : points) mu.push_back(SmoothWeight(p[0], p[1]));
-  points.push_back(points[10]);  // a duplicate of sample 10 with weight 0
-  mu.push_back(0.0);
-  const Surface a = MakeSurface(points, mu, "a");
-  for (double keep : {1.0, 0.3}) {
-    const ReferenceSide side = PrepareReference(a, keep);
-    ASSERT_EQ(side.weight.size(), side.xy.size());
-    int duplicates = 0;
-    for (std::size_t i = 0; i < side.xy.size(); ++i) {
-      const double x = side.xy[i].x + a.origin[0], y = side.xy[i].y + a.origin[1];
-      if (side.xy[i].x != a.xy[10].x || side.xy[i].y != a.xy[10].y) {
-        EXPECT_DOUBLE_EQ(side.weight[i], SmoothWeight(x, y)) << i;
-        continue;
-      }
-      ++duplicates;  // at 0.3 either copy may have been dropped
-      if (keep == 1.0) {
-        EXPECT_DOUBLE_EQ(side.weight[i], 0.5 * SmoothWeight(x, y));
-      }
-    }
-    std::printf("subsample %.1f: %zu reference nodes carry weights\n", keep, side.xy.size());
-    EXPECT_LT(side.xy.size(), keep * 3300);
-    EXPECT_LE(duplicates, 1);
-    if (keep == 1.0) {
-      EXPECT_EQ(duplicates, 1);
-    }
-    EXPECT_TRUE(PrepareReference(MakeSurface(points, {}, "a"), keep).weight.empty());
-  }
-}
-
-// ---------------------------------------------------------------- 5. folds
-
-std::vector<std::array<double, 3>> TiltedPlaneGrid() {
-  std::vector<std::array<double, 3>> points;
-  for (int i = 0; i < 8; ++i) {
-    for (int j = 0; j < 8; ++j) points.push_back({10.0 * i, 10.0 * j, 0.1 * i + 0.05 * j});
-  }
-  return points;
-}
-
-TEST(PairStateTest, TiltPastVerticalFails) {
-  const auto sides = MakeSides(TiltedPlaneGrid(), TiltedPlaneGrid());
-  PairState state(sides->reference, sides->moving);
-  UpdateStats stats;
-  ASSERT_TRUE(state.Update({60 * M_PI / 180, 0, 0, 0, 0, 0}, &stats));  // steep, not folded
-  EXPECT_EQ(stats.folded, 0);
-  const std::vector<Location> before = state.a_in_b();
-  stats = UpdateStats();
-  EXPECT_FALSE(state.Update({100 * M_PI / 180, 0, 0, 0, 0, 0}, &stats));
-  std::printf("100° tilt: %d folded, area fraction %.3f\n", stats.folded, stats.folded_area_fraction);
-  EXPECT_EQ(stats.folded, sides->moving.mesh.num_triangles());
-  EXPECT_GT(stats.folded_area_fraction, 0.01);
-  EXPECT_FALSE(stats.remeshed);
-  ASSERT_EQ(state.a_in_b().size(), before.size());  // "locations left untouched"
-  for (std::size_t i = 0; i < before.size(); ++i) EXPECT_EQ(state.a_in_b()[i].triangle, before[i].triangle);
-  // A failed step leaves the state usable: walks resume from the old locations.
-  ASSERT_TRUE(state.Update({30 * M_PI / 180, 0, 0.1, 2, 1, 0}));
-  CheckLocations(state);
-}
-
-TEST(PairStateTest, SliverFoldsAreRemeshed) {
-  const auto sides = TerrainSides(1500, 1500, 0, 100);
-  PairState state(sides->reference, sides->moving);
-  ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
-  UpdateStats stats;
-  const Theta tilted = {5 * M_PI / 180, 0, 0, 0.5, -0.5, 0};
-  ASSERT_TRUE(state.Update(tilted, &stats));
-  std::printf("5° tilt: %d slivers folded (area fraction %.2e), remeshed %d\n", stats.folded,
-              stats.folded_area_fraction, stats.remeshed);
-  EXPECT_GT(stats.folded, 0);
-  EXPECT_LE(stats.folded_area_fraction, 0.01);
-  EXPECT_TRUE(stats.remeshed);
-  EXPECT_EQ(state.remeshes(), 1);
-  const Triangulation& mesh = state.moving_mesh();  // the new mesh is unfolded
-  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
-    const auto& p = state.moved_xy();
-    const Point2 &p0 = p[mesh.triangles[3 * t]], &p1 = p[mesh.triangles[3 * t + 1]], &p2 = p[mesh.triangles[3 * t + 2]];
-    ASSERT_GT((p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x), 0.0) << t;
-  }
-  CheckLocations(state);
-  // And walking on the new mesh from there.
-  stats = UpdateStats();
-  ASSERT_TRUE(state.Update({5.01 * M_PI / 180, 0.001, 0.002, 0.6, -0.4, 0.1}, &stats));
-  EXPECT_FALSE(stats.remeshed);
-  CheckLocations(state);
-}
-
-// ---------------------------------------------------------------- 6. locked parameters
-
-TEST(AlignLockedTest, TranslationOnlyKeepsRotationExactly) {
-  const auto points = testing::SampleUniform(testing::SmoothTerrain, 2000, 0, 100, 0, 100, 3);
-  const Eigen::Vector3d shift(3.2, -2.1, 0.7);
-  std::vector<std::array<double, 3>> moving = points;
-  for (auto& p : moving) p = {p[0] - shift.x(), p[1] - shift.y(), p[2] - shift.z()};
-  const Surface a = MakeSurface(points, {}, "a"), b = MakeSurface(moving, {}, "b");
-  for (CostKind cost : {CostKind::kAxial, CostKind::kVolume}) {
-    AlignOptions options;
-    options.cost = cost;
-    options.free = {false, false, false, true, true, true};
-    const AlignResult result = Align(a, b, options);
-    EXPECT_EQ(result.rotation_vector, (std::array<double, 3>{0, 0, 0}));
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(result.translation[k], shift[k], 1e-6) << k;
-    EXPECT_EQ(result.stddev[0], 0.0);  // locked
-    // A locked non-zero rotation stays bit-identical too.
-    options.initial_rotation = {0.002, -0.001, 0.003};
-    const AlignResult rotated = Align(a, b, options);
-    EXPECT_EQ(rotated.rotation_vector, options.initial_rotation);
-    std::printf("locked rotation (%s): t error %.1e, verdict %s\n", cost == CostKind::kAxial ? "axial" : "volume",
-                (Eigen::Vector3d(result.translation.data()) - shift).norm(), VerdictName(result.verdict));
-  }
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
 #include "tools/config_value.h"
+#include "tools/yaml_value.h"
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader.h"
 #include "tools/io/surface_reader_internal.h"
@@ -227,26 +228,6 @@ const char* KindName(const YAML::Node& node) {
   return "nothing (an empty file)";
 }
 
-Value ValueOf(const YAML::Node& node) {
-  Value value;
-  if (node.IsNull()) {
-    value.kind = Value::kNull;
-  } else if (node.IsScalar()) {
-    value.text = node.Scalar();
-  } else if (node.IsMap()) {
-    value.kind = Value::kMapping;
-  } else {
-    value.kind = Value::kList;
-    for (const YAML::Node& item : node) {
-      if (item.IsScalar()) {
-        value.items.push_back(item.Scalar());
-      } else {
-        value.nested = true;
-      }
-    }
-  }
-  return value;
-}
 
 // The key named first (as a whole word) in `message`, or "": to say where a
 // setting that AlignOptions::IsValid rejects came from.
@@ -268,10 +249,6 @@ std::string FirstKeyIn(const std::string& message) {
   return found;
 }
 
-// "t.yaml:3: ", or "t.yaml: " when yaml-cpp has no position.
-std::string At(const std::string& file, const YAML::Mark& mark) {
-  return file + (mark.is_null() ? "" : ":" + std::to_string(mark.line + 1)) + ": ";
-}
 
 // Same file: the same name, or (both existing) the same inode.
 bool SameFile(const std::string& a, const std::string& b) {
@@ -285,7 +262,7 @@ void ApplyMapping(const YAML::Node& root, const std::string& file, AlignConfig* 
   std::map<std::string, int> seen;  // key -> line
   for (const auto& pair : root) {
     const int line = pair.first.Mark().line + 1;
-    const std::string at = At(file, pair.first.Mark());
+    const std::string at = config_value::YamlAt(file, pair.first.Mark());
     if (!pair.first.IsScalar()) {
       throw InputError(at + "expected a key name, found a list or mapping");
     }
@@ -297,7 +274,7 @@ void ApplyMapping(const YAML::Node& root, const std::string& file, AlignConfig* 
       throw InputError(at + "key '" + name + "' given twice (also at line " +
                        std::to_string(previous->second) + ")");
     }
-    Apply(*entry, ValueOf(pair.second), at + "key '" + name + "'", config);
+    Apply(*entry, config_value::FromYaml(pair.second), at + "key '" + name + "'", config);
   }
 }
 
@@ -350,7 +327,7 @@ void ApplyAlignYaml(const std::string& yaml_text, const std::string& file, Align
   try {
     root = YAML::Load(yaml_text);
   } catch (const YAML::Exception& e) {
-    throw InputError(At(file, e.mark) + "not valid YAML: " + e.msg);
+    throw InputError(config_value::YamlAt(file, e.mark) + "not valid YAML: " + e.msg);
   }
   if (!root.IsMap()) {
     throw InputError(file + ": expected a YAML mapping of 'key: value' lines, found " +
@@ -359,7 +336,7 @@ void ApplyAlignYaml(const std::string& yaml_text, const std::string& file, Align
   try {
     ApplyMapping(root, file, config);
   } catch (const YAML::Exception& e) {  // not expected once parsed; kept one line all the same
-    throw InputError(At(file, e.mark) + e.msg);
+    throw InputError(config_value::YamlAt(file, e.mark) + e.msg);
   }
 }
 

@@ -51,4 +51,22 @@ int RunSweep(const std::vector<std::string>& args);
 // header, rows keyed by run_id), sorted by run_id, written atomically.
 int RunMerge(const std::vector<std::string>& args);
 
+// normalize MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D]
+// [--output=FACE.xyz] [--json]: brings a face mesh or cloud into the standard
+// face frame (measure/face_frame.h) and writes its visible height field.
+// tools/run_normalize.cc.
+int RunNormalize(const std::vector<std::string>& args);
+
+// asymmetry FACE [--json] [--map=MAP.png] [...]: facial asymmetry, the
+// measure between the face and its mirror image, first about x = 0 of the
+// normalized frame, then about the symmetry plane optimized with Ceres
+// (registration/symmetry.h). tools/run_asymmetry.cc.
+int RunAsymmetry(const std::vector<std::string>& args);
+
+// jaw --config JAW.yaml [--key=value ...]: jaw motion over a 3D sequence,
+// the lower part's transform relative to the upper part in every frame
+// (registration/jaw.h, tools/jaw_config.h); CSV, JSON and a plot.
+// tools/run_jaw.cc.
+int RunJaw(const std::vector<std::string>& args);
+
 }  // namespace surfreg

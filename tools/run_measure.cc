@@ -192,6 +192,16 @@ int RunMeasure(const std::vector<std::string>& args) {
   const Clock::time_point done = Clock::now();
   report.read_s = Seconds(read - start);
   report.total_s = Seconds(done - start);
+  // A height field has one z per xy: repeated xy samples are merged with
+  // their heights averaged, which users should know about.
+  const std::pair<const std::string*, int64_t> merged[] = {
+      {&report.file_a, report.summary.n_duplicates_a}, {&report.file_b, report.summary.n_duplicates_b}};
+  for (const auto& [file, count] : merged) {
+    if (count > 0) {
+      LOG(WARNING) << *file << ": " << count << (count == 1 ? " sample repeats" : " samples repeat")
+                   << " the xy of another; their heights are averaged";
+    }
+  }
   LOG(INFO) << "measured " << report.file_b << " against " << report.file_a << " in "
             << report.total_s << " s";
   if (FLAGS_json) {

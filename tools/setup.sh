@@ -17,10 +17,12 @@ build_dir="${SURFREG_BUILD_DIR:-build}"
 jobs="$(nproc 2>/dev/null || echo 2)"
 
 # Build tools and libraries; libcgal-dev is only the benchmark's reference
-# (the build works without it), python3 checks the CLI's JSON in the tests.
+# (the build works without it), python3 checks the CLI's JSON in the tests,
+# clang and libclang-rt-14-dev (the libFuzzer and sanitizer runtimes, only
+# recommended by clang, so named here) build tests/fuzz/run_fuzz.sh's fuzzers.
 packages=(cmake make g++ pkg-config libceres-dev libeigen3-dev libgoogle-glog-dev libgflags-dev
           libgeographiclib-dev libyaml-cpp-dev libgdal-dev libcairo2-dev libgtest-dev libbenchmark-dev)
-if [ "$mode" = test ]; then packages+=(libcgal-dev python3 parallel); fi
+if [ "$mode" = test ]; then packages+=(libcgal-dev python3 parallel clang libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

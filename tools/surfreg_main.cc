@@ -34,6 +34,13 @@ const Command kCommands[] = {
      "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary"},
     {"sweep", RunSweep, "--config SWEEP.yaml [--output=RUNS.csv] [--jobs=N] [--shard=K/N] [--resume]",
      "run a grid of pairs x solver settings x initial offsets; CSV, ranking, plots"},
+    {"normalize", RunNormalize,
+     "MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] [--output=FACE.xyz] [--json]",
+     "bring a face mesh or cloud into the standard face frame; write its visible height field"},
+    {"asymmetry", RunAsymmetry, "FACE [--map=MAP.png] [--json] [--output=ASYMMETRY.json]",
+     "facial asymmetry: the face against its mirror image, about x = 0 and the optimized plane"},
+    {"jaw", RunJaw, "--config JAW.yaml [--KEY=VALUE ...]",
+     "jaw motion over a 3D sequence: the lower part relative to the upper part, per frame"},
     {"merge", RunMerge, "OUT.csv IN.csv [IN.csv ...]",
      "join the CSVs of sweep or align --manifest shards, sorted by run_id"},
 };

@@ -1,14 +1,15 @@
 #include "tools/io/polygon_reader.h"
 
-#include <string_view>
-
 #include "tools/io/surface_reader_internal.h"
 
 namespace surfreg {
 
 std::vector<std::array<double, 2>> ReadPolygon(const std::string& path) {
+  return ParsePolygon(io_internal::ReadFile(path), path);
+}
+
+std::vector<std::array<double, 2>> ParsePolygon(std::string_view data, const std::string& path) {
   using io_internal::Fail;
-  const std::string data = io_internal::ReadFile(path);
   std::vector<std::array<double, 2>> polygon;
   io_internal::LineCursor cursor(data);
   std::string_view line;

@@ -3,6 +3,7 @@
 // --weights=mask:FILE` and the `mask` key of `surfreg align`.
 #include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace surfreg {
@@ -13,5 +14,8 @@ namespace surfreg {
 // Throws InputError "<path>:<line>: ..." for a bad line, "<path>: ..." for an
 // unreadable file or fewer than 3 vertices.
 std::vector<std::array<double, 2>> ReadPolygon(const std::string& path);
+
+// The same on the file's contents `data`; `name` is used in messages.
+std::vector<std::array<double, 2>> ParsePolygon(std::string_view data, const std::string& name);
 
 }  // namespace surfreg

@@ -1,11 +1,16 @@
 // Format dispatch, file reading and the helpers shared by all readers.
 #include "tools/io/surface_reader.h"
 
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cctype>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <istream>
@@ -112,6 +117,7 @@ std::string_view StripComment(std::string_view line) {
 
 Surface Finish(PointList&& list, const std::string& name, const ReadOptions& options) {
   if (list.points.empty()) Fail(name, 0, "no points (empty file, or only comments and headers)");
+  CheckPointCount(list.points.size(), name, options);
   Surface surface = MakeSurface(list.points, std::move(list.weight), name, options.origin_step);
   ValidateSurface(surface);
   return surface;
@@ -137,7 +143,11 @@ std::string ReadFile(const std::string& path) {
   if (!file) Fail(path, 0, std::string("cannot open: ") + std::strerror(errno));
   std::string data;
   std::size_t used = 0;
-  data.resize(1 << 20);
+  // One byte more than the file, so that the first read reaches its end
+  // (no doubling, no twice the file in memory); a pipe grows as it goes.
+  struct stat status;
+  const bool regular = fstat(fileno(file.get()), &status) == 0 && S_ISREG(status.st_mode);
+  data.resize(regular ? static_cast<std::size_t>(status.st_size) + 1 : std::size_t{1} << 20);
   for (;;) {
     used += std::fread(&data[used], 1, data.size() - used, file.get());
     if (used < data.size()) break;
@@ -165,9 +175,82 @@ namespace {
 
 using io_internal::Fail;
 
+// "1.5 GiB"; "12.0 MiB" or "1500 bytes" for small sizes (tests use small limits).
+std::string Size(double bytes) {
+  char text[32];
+  if (bytes >= 1024.0 * 1024 * 1024) {
+    std::snprintf(text, sizeof(text), "%.1f GiB", bytes / (1024.0 * 1024 * 1024));
+  } else if (bytes >= 1024.0 * 1024) {
+    std::snprintf(text, sizeof(text), "%.1f MiB", bytes / (1024.0 * 1024));
+  } else {
+    std::snprintf(text, sizeof(text), "%.0f bytes", bytes);
+  }
+  return text;
+}
 
+// The number after `key` in a "/proc/meminfo"-style file, times `unit`; 0 if absent.
+uint64_t ReadNumber(const char* path, const char* key, uint64_t unit) {
+  std::FILE* file = std::fopen(path, "r");
+  if (file == nullptr) return 0;
+  char line[256];
+  uint64_t value = 0;
+  const std::size_t key_length = std::strlen(key);
+  while (std::fgets(line, sizeof(line), file) != nullptr) {
+    if (std::strncmp(line, key, key_length) != 0) continue;
+    char* end = nullptr;
+    const unsigned long long number = std::strtoull(line + key_length, &end, 10);
+    if (end != line + key_length) value = number * unit;
+    break;
+  }
+  std::fclose(file);
+  return value;
+}
+
+// What the cgroup (v2, else v1) still allows: limit - usage; 0 if unlimited or unknown.
+uint64_t CgroupAvailable() {
+  uint64_t limit = ReadNumber("/sys/fs/cgroup/memory.max", "", 1);  // "max" reads as 0
+  uint64_t usage = ReadNumber("/sys/fs/cgroup/memory.current", "", 1);
+  if (limit == 0) {
+    limit = ReadNumber("/sys/fs/cgroup/memory/memory.limit_in_bytes", "", 1);
+    usage = ReadNumber("/sys/fs/cgroup/memory/memory.usage_in_bytes", "", 1);
+    if (limit >= (uint64_t{1} << 60)) limit = 0;  // v1 writes a huge number for "no limit"
+  }
+  if (limit == 0) return 0;
+  return limit > usage ? limit - usage : 1;
+}
+
+uint64_t MemoryLimit(const ReadOptions& options) {
+  return options.memory_limit_bytes > 0 ? options.memory_limit_bytes : AvailableMemoryBytes();
+}
 
 }  // namespace
+
+uint64_t AvailableMemoryBytes() {
+  uint64_t available = ReadNumber("/proc/meminfo", "MemAvailable:", 1024);
+  if (available == 0) {
+    const long pages = sysconf(_SC_PHYS_PAGES);
+    const long page_size = sysconf(_SC_PAGE_SIZE);
+    if (pages > 0 && page_size > 0) available = uint64_t(pages) * uint64_t(page_size);
+  }
+  const uint64_t cgroup = CgroupAvailable();
+  if (cgroup > 0 && (available == 0 || cgroup < available)) available = cgroup;
+  struct rlimit limit;
+  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+      (available == 0 || limit.rlim_cur < available)) {
+    available = limit.rlim_cur;
+  }
+  // Nothing readable (not Linux?): do not refuse anything.
+  return available > 0 ? available : UINT64_MAX;
+}
+
+void CheckPointCount(uint64_t points, const std::string& name, const ReadOptions& options) {
+  const double need = static_cast<double>(points) * static_cast<double>(kBytesPerPoint);
+  const uint64_t limit = MemoryLimit(options);
+  if (need <= static_cast<double>(limit)) return;
+  Fail(name, 0,
+       std::to_string(points) + " points need about " + Size(need) + ", more than the " +
+           Size(static_cast<double>(limit)) + " available");
+}
 
 Surface ReadSurface(const std::string& path, const ReadOptions& options) {
   if (IsRasterPath(path)) {
@@ -186,6 +269,16 @@ Surface ReadSurface(const std::string& path, const ReadOptions& options) {
     Fail(path, 0,
          what + " (expected .xyz .txt .csv .ply .off .obj, or a GDAL raster: .tif .tiff .vrt .asc "
                 ".img .bil .hgt .dem .nc .gpkg .flt)");
+  }
+  // The file is held in memory while it is parsed: refuse it before reading
+  // if that alone is too much (the point count is checked as it is known).
+  struct stat status;
+  const uint64_t limit = MemoryLimit(options);
+  if (stat(path.c_str(), &status) == 0 && S_ISREG(status.st_mode) &&
+      static_cast<uint64_t>(status.st_size) > limit) {
+    Fail(path, 0,
+         "the file is " + Size(static_cast<double>(status.st_size)) + ", more than the " +
+             Size(static_cast<double>(limit)) + " available");
   }
   const std::string data = io_internal::ReadFile(path);
   return parse(data, path, options);

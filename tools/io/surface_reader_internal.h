@@ -4,6 +4,7 @@
 // a million lines costs no per-line allocation.
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -83,5 +84,91 @@ Surface ParseObj(std::string_view data, const std::string& name, const ReadOptio
 
 // The lower-case extension of the file name in `path`, with its dot; empty if none.
 std::string Extension(const std::string& path);
+
+// --- PLY, shared by the surface reader and the mesh reader (mesh_reader.cc) --
+
+enum class PlyType { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+
+std::size_t PlyTypeSize(PlyType type);
+
+struct PlyProperty {
+  std::string name;
+  PlyType type = PlyType::kFloat32;  // of the value, or of a list's items
+  bool is_list = false;
+  PlyType count_type = PlyType::kUint8;  // of a list's length
+  std::size_t line = 0;                  // header line, for messages
+};
+
+struct PlyElement {
+  std::string name;
+  unsigned long long count = 0;
+  std::vector<PlyProperty> properties;
+  std::size_t line = 0;
+};
+
+struct PlyHeader {
+  bool has_format = false;
+  bool binary = false;
+  std::vector<PlyElement> elements;
+  std::size_t body_offset = 0;  // first byte after the end_header line
+  std::size_t body_line = 0;    // number of the first body line
+};
+
+// Parses the header of the PLY file `data` (ascii or binary_little_endian 1.0).
+PlyHeader ParsePlyHeader(std::string_view data, const std::string& name);
+
+// What each vertex property is for: an index into {x, y, z, weight}, or -1;
+// throws if x, y or z is missing or a list.
+std::vector<int> PlyVertexRoles(const PlyElement& vertex, const std::string& name);
+
+// Checks one vertex's values (value[3] is the weight if `has_weight`).
+void CheckPlyVertex(const double* value, bool has_weight, unsigned long long index,
+                    const std::string& name, std::size_t line);
+
+// Little-endian values from a binary PLY body, decoded byte by byte so the
+// host's byte order does not matter. Keeps a view of the bytes it was given.
+class PlyByteReader {
+ public:
+  explicit PlyByteReader(std::string_view data)
+      : p_(reinterpret_cast<const unsigned char*>(data.data())), end_(p_ + data.size()) {}
+
+  std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
+
+  bool Skip(unsigned long long n) {
+    if (n > remaining()) return false;
+    p_ += n;
+    return true;
+  }
+
+  // False (nothing consumed) if the data ends before the value.
+  bool Read(PlyType type, double* value) {
+    const std::size_t size = PlyTypeSize(type);
+    if (size > remaining()) return false;
+    uint64_t bits = 0;
+    for (std::size_t i = 0; i < size; ++i) bits |= static_cast<uint64_t>(p_[i]) << (8 * i);
+    p_ += size;
+    *value = Decode(type, bits);
+    return true;
+  }
+
+ private:
+  static double Decode(PlyType type, uint64_t bits);
+
+  const unsigned char* p_;
+  const unsigned char* end_;
+};
+
+// Skips (or reads, into value[roles[k]], when `roles` is given) one binary
+// element instance. False if the data ends inside it.
+bool ReadPlyBinaryInstance(const PlyElement& element, const std::vector<int>* roles,
+                           PlyByteReader* reader, double* value, const std::string& name);
+
+// The next non-blank line of an ascii body.
+bool NextPlyDataLine(LineCursor* cursor, std::string_view* line);
+
+// Parses one ascii vertex line into value[roles[k]] (list properties skipped).
+void ParsePlyAsciiVertex(std::string_view line, const PlyElement& element,
+                         const std::vector<int>& roles, unsigned long long index, double* value,
+                         const std::string& name, std::size_t number);
 
 }  // namespace surfreg::io_internal

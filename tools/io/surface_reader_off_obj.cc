@@ -77,6 +77,7 @@ Surface ParseOff(std::string_view data, const std::string& name, const ReadOptio
     Fail(name, 0, "file ends before the counts line 'vertices faces edges'");
   }
   const unsigned long long count = ParseOffCounts(line, name, cursor.line());
+  CheckPointCount(count, name, options);  // before a header's count allocates anything
   PointList list;
   list.points.reserve(std::min<unsigned long long>(count, data.size() / 6));
   for (unsigned long long i = 0; i < count; ++i) {

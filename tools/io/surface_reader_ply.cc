@@ -12,8 +12,6 @@
 namespace surfreg::io_internal {
 namespace {
 
-enum class PlyType { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
-
 bool ParsePlyType(std::string_view word, PlyType* type) {
   struct Entry {
     const char* name;
@@ -35,7 +33,9 @@ bool ParsePlyType(std::string_view word, PlyType* type) {
   return false;
 }
 
-std::size_t TypeSize(PlyType type) {
+}  // namespace
+
+std::size_t PlyTypeSize(PlyType type) {
   switch (type) {
     case PlyType::kInt8:
     case PlyType::kUint8:
@@ -53,30 +53,9 @@ std::size_t TypeSize(PlyType type) {
   return 0;
 }
 
+namespace {
+
 bool IsFloatType(PlyType type) { return type == PlyType::kFloat32 || type == PlyType::kFloat64; }
-
-struct PlyProperty {
-  std::string name;
-  PlyType type = PlyType::kFloat32;  // of the value, or of a list's items
-  bool is_list = false;
-  PlyType count_type = PlyType::kUint8;  // of a list's length
-  std::size_t line = 0;                  // header line, for messages
-};
-
-struct PlyElement {
-  std::string name;
-  unsigned long long count = 0;
-  std::vector<PlyProperty> properties;
-  std::size_t line = 0;
-};
-
-struct PlyHeader {
-  bool has_format = false;
-  bool binary = false;
-  std::vector<PlyElement> elements;
-  std::size_t body_offset = 0;  // first byte after the end_header line
-  std::size_t body_line = 0;    // number of the first body line
-};
 
 std::string_view TrimCr(std::string_view line) {
   while (!line.empty() && IsBlank(line.back())) line.remove_suffix(1);
@@ -156,7 +135,9 @@ void ParseHeaderLine(std::string_view line, const std::string& name, std::size_t
   }
 }
 
-PlyHeader ParseHeader(std::string_view data, const std::string& name) {
+}  // namespace
+
+PlyHeader ParsePlyHeader(std::string_view data, const std::string& name) {
   LineCursor cursor(data);
   std::string_view line;
   if (!cursor.Next(&line) || TrimCr(line) != "ply") {
@@ -176,7 +157,7 @@ PlyHeader ParseHeader(std::string_view data, const std::string& name) {
 }
 
 // What each vertex property is for: an index into {x, y, z, weight}, or -1.
-std::vector<int> VertexRoles(const PlyElement& vertex, const std::string& name) {
+std::vector<int> PlyVertexRoles(const PlyElement& vertex, const std::string& name) {
   static const char* const kRoleName[] = {"x", "y", "z", "weight"};
   std::vector<int> roles(vertex.properties.size(), -1);
   bool found[4] = {false, false, false, false};
@@ -201,8 +182,8 @@ std::vector<int> VertexRoles(const PlyElement& vertex, const std::string& name) 
 }
 
 // Checks one vertex's values (value[3] is the weight if `has_weight`).
-void CheckVertex(const double* value, bool has_weight, unsigned long long index,
-                 const std::string& name, std::size_t line) {
+void CheckPlyVertex(const double* value, bool has_weight, unsigned long long index,
+                    const std::string& name, std::size_t line) {
   static const char* const kRoleName[] = {"x", "y", "z", "weight"};
   const std::string prefix = "vertex " + std::to_string(index) + ": ";
   for (int role = 0; role < (has_weight ? 4 : 3); ++role) {
@@ -210,6 +191,8 @@ void CheckVertex(const double* value, bool has_weight, unsigned long long index,
   }
   if (has_weight && value[3] < 0.0) Fail(name, line, prefix + "weight is negative");
 }
+
+namespace {
 
 std::string TruncatedMessage(unsigned long long done, unsigned long long count) {
   return "file ends after " + std::to_string(done) + " of " + std::to_string(count) + " vertices";
@@ -220,76 +203,59 @@ std::string TruncatedBeforeVertex(const PlyElement& element, unsigned long long 
          std::to_string(element.count) + ", before the vertices";
 }
 
+}  // namespace
+
+std::string TruncatedAfterVertex(const PlyElement& element, unsigned long long done) {
+  return "file ends in element '" + element.name + "' after " + std::to_string(done) + " of " +
+         std::to_string(element.count);
+}
+
+std::string TrailingDataMessage(const std::string& what, unsigned long long vertices) {
+  return what + " data after the " + std::to_string(vertices) +
+         " vertices and the other elements the header declares (are its counts wrong?)";
+}
+
 // --- binary_little_endian ---------------------------------------------------
 
-class ByteReader {
- public:
-  explicit ByteReader(std::string_view data)
-      : p_(reinterpret_cast<const unsigned char*>(data.data())), end_(p_ + data.size()) {}
-
-  std::size_t remaining() const { return static_cast<std::size_t>(end_ - p_); }
-
-  bool Skip(unsigned long long n) {
-    if (n > remaining()) return false;
-    p_ += n;
-    return true;
-  }
-
-  // Decodes byte by byte so the host's byte order does not matter.
-  bool Read(PlyType type, double* value) {
-    const std::size_t size = TypeSize(type);
-    if (size > remaining()) return false;
-    uint64_t bits = 0;
-    for (std::size_t i = 0; i < size; ++i) bits |= static_cast<uint64_t>(p_[i]) << (8 * i);
-    p_ += size;
-    *value = Decode(type, bits);
-    return true;
-  }
-
- private:
-  static double Decode(PlyType type, uint64_t bits) {
-    switch (type) {
-      case PlyType::kInt8:
-        return static_cast<int8_t>(static_cast<uint8_t>(bits));
-      case PlyType::kUint8:
-        return static_cast<uint8_t>(bits);
-      case PlyType::kInt16:
-        return static_cast<int16_t>(static_cast<uint16_t>(bits));
-      case PlyType::kUint16:
-        return static_cast<uint16_t>(bits);
-      case PlyType::kInt32:
-        return static_cast<int32_t>(static_cast<uint32_t>(bits));
-      case PlyType::kUint32:
-        return static_cast<uint32_t>(bits);
-      case PlyType::kFloat32: {
-        const auto word = static_cast<uint32_t>(bits);
-        float f;
-        std::memcpy(&f, &word, sizeof(f));
-        return f;
-      }
-      case PlyType::kFloat64: {
-        double d;
-        std::memcpy(&d, &bits, sizeof(d));
-        return d;
-      }
+double PlyByteReader::Decode(PlyType type, uint64_t bits) {
+  switch (type) {
+    case PlyType::kInt8:
+      return static_cast<int8_t>(static_cast<uint8_t>(bits));
+    case PlyType::kUint8:
+      return static_cast<uint8_t>(bits);
+    case PlyType::kInt16:
+      return static_cast<int16_t>(static_cast<uint16_t>(bits));
+    case PlyType::kUint16:
+      return static_cast<uint16_t>(bits);
+    case PlyType::kInt32:
+      return static_cast<int32_t>(static_cast<uint32_t>(bits));
+    case PlyType::kUint32:
+      return static_cast<uint32_t>(bits);
+    case PlyType::kFloat32: {
+      const auto word = static_cast<uint32_t>(bits);
+      float f;
+      std::memcpy(&f, &word, sizeof(f));
+      return f;
     }
-    return 0.0;
+    case PlyType::kFloat64: {
+      double d;
+      std::memcpy(&d, &bits, sizeof(d));
+      return d;
+    }
   }
-
-  const unsigned char* p_;
-  const unsigned char* end_;
-};
+  return 0.0;
+}
 
 // Skips (or reads, into value[roles[k]]) one element instance. False if the
 // data ends inside it.
-bool ReadBinaryInstance(const PlyElement& element, const std::vector<int>* roles,
-                        ByteReader* reader, double* value, const std::string& name) {
+bool ReadPlyBinaryInstance(const PlyElement& element, const std::vector<int>* roles,
+                           PlyByteReader* reader, double* value, const std::string& name) {
   for (std::size_t k = 0; k < element.properties.size(); ++k) {
     const PlyProperty& property = element.properties[k];
     double scalar = 0.0;
     if (!property.is_list) {
       if (roles == nullptr || (*roles)[k] < 0) {
-        if (!reader->Skip(TypeSize(property.type))) return false;
+        if (!reader->Skip(PlyTypeSize(property.type))) return false;
       } else if (!reader->Read(property.type, &value[(*roles)[k]])) {
         return false;
       }
@@ -300,21 +266,26 @@ bool ReadBinaryInstance(const PlyElement& element, const std::vector<int>* roles
       Fail(name, 0,
            "element '" + element.name + "': negative length of list '" + property.name + "'");
     }
-    if (!reader->Skip(static_cast<unsigned long long>(scalar) * TypeSize(property.type))) {
+    if (!reader->Skip(static_cast<unsigned long long>(scalar) * PlyTypeSize(property.type))) {
       return false;
     }
   }
   return true;
 }
 
+namespace {
+
 PointList ReadBinaryBody(std::string_view body, const PlyHeader& header, std::size_t vertex,
                          const std::vector<int>& roles, const std::string& name) {
-  ByteReader reader(body);
+  PlyByteReader reader(body);
   double value[4] = {0.0, 0.0, 0.0, 0.0};
   for (std::size_t e = 0; e < vertex; ++e) {
     const PlyElement& element = header.elements[e];
+    // An element without properties takes no bytes: skipping its (maybe
+    // 1e18) instances one by one would never end (found by fuzz_ply).
+    if (element.properties.empty()) continue;
     for (unsigned long long i = 0; i < element.count; ++i) {
-      if (!ReadBinaryInstance(element, nullptr, &reader, value, name)) {
+      if (!ReadPlyBinaryInstance(element, nullptr, &reader, value, name)) {
         Fail(name, 0, TruncatedBeforeVertex(element, i));
       }
     }
@@ -324,19 +295,37 @@ PointList ReadBinaryBody(std::string_view body, const PlyHeader& header, std::si
   PointList list;
   list.points.reserve(std::min<unsigned long long>(element.count, reader.remaining() / 3));
   for (unsigned long long i = 0; i < element.count; ++i) {
-    if (!ReadBinaryInstance(element, &roles, &reader, value, name)) {
+    if (!ReadPlyBinaryInstance(element, &roles, &reader, value, name)) {
       Fail(name, 0, TruncatedMessage(i, element.count));
     }
-    CheckVertex(value, has_weight, i, name, 0);
+    CheckPlyVertex(value, has_weight, i, name, 0);
     list.points.push_back({value[0], value[1], value[2]});
     if (has_weight) list.weight.push_back(value[3]);
+  }
+  // The elements after the vertices (faces, ...) must be complete, and
+  // nothing but whitespace may follow them: a header whose counts are too
+  // small would otherwise silently drop points.
+  for (std::size_t e = vertex + 1; e < header.elements.size(); ++e) {
+    const PlyElement& after = header.elements[e];
+    if (after.properties.empty()) continue;  // no bytes (see above)
+    for (unsigned long long i = 0; i < after.count; ++i) {
+      if (!ReadPlyBinaryInstance(after, nullptr, &reader, value, name)) {
+        Fail(name, 0, TruncatedAfterVertex(after, i));
+      }
+    }
+  }
+  const std::string_view rest = body.substr(body.size() - reader.remaining());
+  if (rest.find_first_not_of(" \t\r\n") != std::string_view::npos) {
+    Fail(name, 0, TrailingDataMessage(std::to_string(rest.size()) + " bytes of", element.count));
   }
   return list;
 }
 
 // --- ascii ------------------------------------------------------------------
 
-bool NextDataLine(LineCursor* cursor, std::string_view* line) {
+}  // namespace
+
+bool NextPlyDataLine(LineCursor* cursor, std::string_view* line) {
   while (cursor->Next(line)) {
     if (!TrimCr(*line).empty()) return true;
   }
@@ -344,9 +333,9 @@ bool NextDataLine(LineCursor* cursor, std::string_view* line) {
 }
 
 // Parses one vertex line into value[roles[k]].
-void ParseAsciiVertex(std::string_view line, const PlyElement& element,
-                      const std::vector<int>& roles, unsigned long long index, double* value,
-                      const std::string& name, std::size_t number) {
+void ParsePlyAsciiVertex(std::string_view line, const PlyElement& element,
+                         const std::vector<int>& roles, unsigned long long index, double* value,
+                         const std::string& name, std::size_t number) {
   static const char* const kRoleName[] = {"x", "y", "z", "weight"};
   const std::string prefix = "vertex " + std::to_string(index) + ": ";
   std::string_view token;
@@ -382,6 +371,8 @@ void ParseAsciiVertex(std::string_view line, const PlyElement& element,
   }
 }
 
+namespace {
+
 PointList ReadAsciiBody(std::string_view body, const PlyHeader& header, std::size_t vertex,
                         const std::vector<int>& roles, const std::string& name) {
   LineCursor cursor(body, header.body_line);
@@ -389,7 +380,7 @@ PointList ReadAsciiBody(std::string_view body, const PlyHeader& header, std::siz
   for (std::size_t e = 0; e < vertex; ++e) {
     const PlyElement& element = header.elements[e];
     for (unsigned long long i = 0; i < element.count; ++i) {
-      if (!NextDataLine(&cursor, &line)) Fail(name, 0, TruncatedBeforeVertex(element, i));
+      if (!NextPlyDataLine(&cursor, &line)) Fail(name, 0, TruncatedBeforeVertex(element, i));
     }
   }
   const PlyElement& element = header.elements[vertex];
@@ -398,13 +389,22 @@ PointList ReadAsciiBody(std::string_view body, const PlyHeader& header, std::siz
   list.points.reserve(std::min<unsigned long long>(element.count, body.size() / 6));
   double value[4] = {0.0, 0.0, 0.0, 0.0};
   for (unsigned long long i = 0; i < element.count; ++i) {
-    if (!NextDataLine(&cursor, &line)) Fail(name, 0, TruncatedMessage(i, element.count));
-    ParseAsciiVertex(line, element, roles, i, value, name, cursor.line());
+    if (!NextPlyDataLine(&cursor, &line)) Fail(name, 0, TruncatedMessage(i, element.count));
+    ParsePlyAsciiVertex(line, element, roles, i, value, name, cursor.line());
     if (has_weight && value[3] < 0.0) {
       Fail(name, cursor.line(), "vertex " + std::to_string(i) + ": weight is negative");
     }
     list.points.push_back({value[0], value[1], value[2]});
     if (has_weight) list.weight.push_back(value[3]);
+  }
+  for (std::size_t e = vertex + 1; e < header.elements.size(); ++e) {
+    const PlyElement& after = header.elements[e];
+    for (unsigned long long i = 0; i < after.count; ++i) {
+      if (!NextPlyDataLine(&cursor, &line)) Fail(name, 0, TruncatedAfterVertex(after, i));
+    }
+  }
+  if (NextPlyDataLine(&cursor, &line)) {
+    Fail(name, cursor.line(), TrailingDataMessage("a line of", element.count));
   }
   return list;
 }
@@ -412,11 +412,13 @@ PointList ReadAsciiBody(std::string_view body, const PlyHeader& header, std::siz
 }  // namespace
 
 Surface ParsePly(std::string_view data, const std::string& name, const ReadOptions& options) {
-  const PlyHeader header = ParseHeader(data, name);
+  const PlyHeader header = ParsePlyHeader(data, name);
   std::size_t vertex = 0;
   while (vertex < header.elements.size() && header.elements[vertex].name != "vertex") ++vertex;
   if (vertex == header.elements.size()) Fail(name, 0, "no 'vertex' element in the PLY header");
-  const std::vector<int> roles = VertexRoles(header.elements[vertex], name);
+  const std::vector<int> roles = PlyVertexRoles(header.elements[vertex], name);
+  // Before a count the header declares allocates anything.
+  CheckPointCount(header.elements[vertex].count, name, options);
   const std::string_view body = data.substr(header.body_offset);
   PointList list = header.binary ? ReadBinaryBody(body, header, vertex, roles, name)
                                  : ReadAsciiBody(body, header, vertex, roles, name);

@@ -1,0 +1,150 @@
+#!/usr/bin/env bash
+# End-to-end tests of `surfreg asymmetry`: on the shipped face cloud the JSON
+# has the DESIGN.md keys (initial, refined: rho_d, mean_abs_dz, overlap_area,
+# plane.normal, plane.offset), the refined estimate is no worse than the
+# initial one, --output holds the same JSON as stdout, and the map is a PNG;
+# an exactly symmetric face gives zero asymmetry and the plane x = 0; the
+# head mesh (auto orientation) runs; bad input exits 2 with one line and
+# writes nothing.
+# Usage: cli_asymmetry_test.sh SURFREG_BINARY   (needs python3, standard library)
+set -u
+if [[ $# -ne 1 ]]; then
+  echo "usage: $0 SURFREG_BINARY" >&2
+  exit 2
+fi
+bin=$(realpath -- "$1") || exit 2
+cd "$(dirname -- "$(realpath -- "$0")")/.." || exit 2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+out=$tmp/out  # stays empty: only the failing runs point here
+mkdir "$out"
+failures=0
+
+fail() {
+  echo "FAIL: $*"
+  echo "  exit code: $rc"
+  sed 's/^/  stdout: /' "$tmp/stdout" | head -20
+  sed 's/^/  stderr: /' "$tmp/stderr" | head -20
+  failures=$((failures + 1))
+}
+
+run() {
+  timeout 120 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
+  rc=$?
+}
+
+# expect_error TEXT LINES ARGS...: exit 2, LINES lines on stderr mentioning TEXT, no output file.
+expect_error() {
+  local text=$1 lines=$2
+  shift 2
+  run "$@"
+  if [[ $rc -ne 2 ]]; then
+    fail "surfreg $*: expected exit 2"
+  elif [[ $(wc -l <"$tmp/stderr") -ne $lines ]]; then
+    fail "surfreg $*: expected $lines line(s) on stderr"
+  elif ! grep -qF -- "$text" "$tmp/stderr"; then
+    fail "surfreg $*: stderr does not mention '$text'"
+  elif [[ -n $(ls -A "$out") ]]; then
+    fail "surfreg $*: wrote $(ls -A "$out")"
+  fi
+}
+
+# --- the shipped face cloud: keys, no worse, --output = stdout, the map ---
+good=$tmp/good
+mkdir "$good"
+run asymmetry configs/data/face_a.xyz --json --map="$good/map.png" --output="$good/asym.json"
+if [[ $rc -ne 0 ]]; then
+  fail "asymmetry face_a.xyz --json"
+else
+  python3 - "$tmp/stdout" "$good/asym.json" "$good/map.png" <<'PY' || fail "asymmetry face_a.xyz: JSON"
+import json, math, sys
+stdout = json.load(open(sys.argv[1]))
+written = json.load(open(sys.argv[2]))
+errors = []
+if stdout != written:
+    errors.append("--output differs from stdout")
+for name in ("initial", "refined"):
+    e = stdout[name]
+    for key in ("rho_d", "mean_abs_dz", "overlap_area", "plane"):
+        if key not in e:
+            errors.append("%s: no %s" % (name, key))
+    n, d = e["plane"]["normal"], e["plane"]["offset"]
+    if len(n) != 3 or abs(math.sqrt(sum(v * v for v in n)) - 1) > 1e-12 or n[0] <= 0:
+        errors.append("%s: normal %s not unit with n_x > 0" % (name, n))
+    if not math.isfinite(d):
+        errors.append("%s: offset %s" % (name, d))
+    # rho_d per unit area is the mean |dz| over the overlap.
+    if abs(e["rho_d"] / e["overlap_area"] - e["mean_abs_dz"]) > 1e-9 * e["mean_abs_dz"]:
+        errors.append("%s: rho_d / overlap_area != mean_abs_dz" % name)
+i, r = stdout["initial"], stdout["refined"]
+if i["plane"]["normal"] != [1, 0, 0] or i["plane"]["offset"] != 0:
+    errors.append("initial plane is not x = 0: %s" % i["plane"])
+if r["mean_abs_dz"] > i["mean_abs_dz"]:
+    errors.append("refined worse than initial")
+cos = sum(a * b for a, b in zip(i["plane"]["normal"], r["plane"]["normal"]))
+angle = math.degrees(math.acos(min(1.0, abs(cos))))
+if abs(angle - stdout["angle_deg"]) > 1e-6:
+    errors.append("angle_deg %s, normals give %s" % (stdout["angle_deg"], angle))
+if open(sys.argv[3], "rb").read(8) != b"\x89PNG\r\n\x1a\n":
+    errors.append("map is not a PNG")
+if errors:
+    print("\n".join(errors))
+    sys.exit(1)
+PY
+fi
+
+# --- an exactly symmetric face: zero asymmetry, the plane x = 0 ---
+python3 - configs/data/face_a.xyz "$tmp/symmetric.xyz" <<'PY'
+import sys
+points = [tuple(map(float, l.split()[:3])) for l in open(sys.argv[1]) if l.strip() and l[0] != "#"]
+mean = sum(p[0] for p in points) / len(points)
+with open(sys.argv[2], "w") as f:
+    for x, y, z in points:
+        if x - mean > 1e-6:
+            f.write("%r %r %r\n%r %r %r\n" % (x - mean, y, z, mean - x, y, z))
+PY
+run asymmetry "$tmp/symmetric.xyz" --json
+if [[ $rc -ne 0 ]]; then
+  fail "asymmetry symmetric.xyz"
+else
+  python3 - "$tmp/stdout" <<'PY' || fail "asymmetry symmetric.xyz: not zero"
+import json, sys
+j = json.load(open(sys.argv[1]))
+for name in ("initial", "refined"):
+    e = j[name]
+    assert e["rho_d"] < 1e-9, (name, e["rho_d"])
+    assert abs(e["plane"]["normal"][0] - 1) < 1e-12 and abs(e["plane"]["offset"]) < 1e-9, e["plane"]
+PY
+fi
+
+# --- the head mesh, auto orientation, text output ---
+if [[ -f configs/data/mannequin_head.off ]]; then
+  run asymmetry configs/data/mannequin_head.off --depth_limit=12
+  if [[ $rc -ne 0 ]]; then
+    fail "asymmetry mannequin_head.off"
+  else
+    for text in "orientation auto" "rho_d (units^3)" "angle between the planes"; do
+      grep -qF -- "$text" "$tmp/stdout" || fail "asymmetry mannequin_head.off: no '$text'"
+    done
+  fi
+fi
+
+# --- bad input: exit 2, one line, nothing written ---
+expect_error "no_such_face.xyz" 1 asymmetry "$tmp/no_such_face.xyz" --output="$out/a.json"
+expect_error "--orientation" 1 asymmetry configs/data/face_a.xyz --orientation=sideways \
+  --output="$out/a.json" --map="$out/m.png"
+expect_error "--depth_limit" 1 asymmetry configs/data/face_a.xyz --depth_limit=-1 --output="$out/a.json"
+expect_error "--map" 1 asymmetry configs/data/face_a.xyz --map="$out/m.jpg" --output="$out/a.json"
+expect_error "--output" 1 asymmetry configs/data/face_a.xyz --output="$out/missing/a.json" \
+  --map="$out/m.png"
+printf '1 2 3\n4 5 6\n' >"$tmp/two_points.xyz"
+expect_error "two_points.xyz" 1 asymmetry "$tmp/two_points.xyz" --output="$out/a.json"
+# Usage errors also exit 2 (the error line, then the command's usage line).
+expect_error "unknown flag" 2 asymmetry configs/data/face_a.xyz --bogus=1 --output="$out/a.json"
+expect_error "missing FACE" 2 asymmetry --output="$out/a.json"
+
+if [[ $failures -ne 0 ]]; then
+  echo "$failures failure(s)"
+  exit 1
+fi
+echo "cli_asymmetry_test: all passed"

@@ -1,0 +1,112 @@
+#!/usr/bin/env bash
+# End-to-end test of `surfreg jaw`: the shipped example configs/jaw_chewing.yaml
+# on configs/data/chewing/ against its truth file (every frame within 0.1° and
+# 0.05 mm), the three outputs, --key=value overrides, and bad configs (exit 2,
+# one line on stderr, no output file written).
+# Usage: cli_jaw_test.sh SURFREG_BINARY (needs python3, standard library).
+set -u
+if [[ $# -ne 1 ]]; then
+  echo "usage: $0 SURFREG_BINARY" >&2
+  exit 2
+fi
+bin=$(realpath -- "$1") || exit 2
+cd "$(dirname -- "$(realpath -- "$0")")/.." || exit 2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+checks=0
+
+fail() {
+  echo "FAIL: $*"
+  echo "  exit code: $rc"
+  sed 's/^/  stdout: /' "$tmp/stdout" | head -20
+  sed 's/^/  stderr: /' "$tmp/stderr" | head -20
+  failures=$((failures + 1))
+}
+
+run() {
+  checks=$((checks + 1))
+  timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
+  rc=$?
+}
+
+outputs=(--output_csv="$tmp/jaw.csv" --output_json="$tmp/jaw.json" --plot="$tmp/jaw.png")
+
+# --- the example: recovers the truth on every frame ---
+run jaw --config configs/jaw_chewing.yaml "${outputs[@]}"
+if [[ $rc -ne 0 ]]; then
+  fail "jaw example: exit code"
+else
+  for f in jaw.csv jaw.json jaw.png; do
+    [[ -s "$tmp/$f" ]] || fail "jaw example: $f not written"
+  done
+  grep -q "^jaw: frame 9:" "$tmp/stderr" || fail "jaw example: no progress line for frame 9"
+  grep -q "^failed: *0 frames" "$tmp/stdout" || fail "jaw example: summary"
+  if ! python3 - "$tmp/jaw.csv" "$tmp/jaw.json" configs/data/chewing/truth.csv configs/data/chewing/truth.json \
+      >"$tmp/check" 2>&1 <<'EOF'; then
+import csv, json, math, sys
+got = list(csv.DictReader(open(sys.argv[1])))
+assert list(got[0].keys())[:7] == ["frame", "rx_deg", "ry_deg", "rz_deg", "tx", "ty", "tz"], got[0].keys()
+truth = list(csv.DictReader(open(sys.argv[3])))
+matrices = json.load(open(sys.argv[2]))["matrices"]
+truth_m = json.load(open(sys.argv[4]))
+assert len(got) == len(truth) == len(matrices) == len(truth_m) == 10
+worst_angle = worst_shift = 0.0
+for g, t, m, tm in zip(got, truth, matrices, truth_m):
+    assert int(g["frame"]) == int(t["frame"])
+    # rotation angle of R_got · R_truthᵀ and the translation difference
+    r = [[sum(m[i][k] * tm[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, (r[0][0] + r[1][1] + r[2][2] - 1) / 2))))
+    shift = math.dist([m[i][3] for i in range(3)], [tm[i][3] for i in range(3)])
+    # the CSV says the same as the JSON
+    assert all(abs(float(g[k]) - m[i][3]) < 1e-6 for i, k in enumerate(["tx", "ty", "tz"]))
+    assert all(abs(float(g[k]) - float(t[k])) < 0.1 for k in ["rx_deg", "ry_deg", "rz_deg"])
+    worst_angle, worst_shift = max(worst_angle, angle), max(worst_shift, shift)
+print(f"max error {worst_angle:.4f} deg {worst_shift:.4f} mm")
+assert worst_angle <= 0.1 and worst_shift <= 0.05, (worst_angle, worst_shift)
+EOF
+    rc=1
+    fail "jaw example: accuracy ($(tail -1 "$tmp/check"))"
+  else
+    echo "jaw example: $(cat "$tmp/check")"
+  fi
+fi
+
+# --- overrides: a flag wins over the config ---
+run jaw --config configs/jaw_chewing.yaml --output_csv="$tmp/volume.csv" --output_json= --plot= \
+  --cost=volume --volume_iterations=3 --progress=false
+[[ $rc -eq 0 && -s "$tmp/volume.csv" ]] || fail "jaw --cost=volume override"
+[[ -s "$tmp/stderr" ]] && fail "jaw --progress=false still prints progress"
+
+# --- bad configs: exit 2, one line, no output ---
+bad() {  # bad NAME EXPECTED_TEXT YAML_LINES...
+  local name=$1 expected=$2
+  shift 2
+  printf '%s\n' "$@" >"$tmp/$name.yaml"
+  rm -rf "$tmp/bad_out" && mkdir "$tmp/bad_out"
+  run jaw --config "$tmp/$name.yaml" --output_csv="$tmp/bad_out/a.csv" --output_json="$tmp/bad_out/a.json" \
+    --plot="$tmp/bad_out/a.png"
+  if [[ $rc -ne 2 ]]; then
+    fail "bad config $name: exit code"
+  elif [[ $(wc -l <"$tmp/stderr") -ne 1 ]]; then
+    fail "bad config $name: not one line"
+  elif ! grep -q -- "$expected" "$tmp/stderr"; then
+    fail "bad config $name: message lacks '$expected'"
+  elif [[ -n $(ls -A "$tmp/bad_out") ]]; then
+    fail "bad config $name: output written"
+  fi
+}
+frames="frames: configs/data/chewing/frames"
+bad unknown_key "did you mean 'boundary_y'" "$frames" "boundry_y: -35"
+bad wrong_type "key 'max_iterations'" "$frames" "boundary_y: -35" "max_iterations: many"
+bad missing_frame "no_such_frame.xyz" "frames: [configs/data/chewing/frames/frame_000.xyz, no_such_frame.xyz]" \
+  "boundary_y: -35"
+mkdir -p "$tmp/empty"
+bad empty_folder "has no surface files" "frames: $tmp/empty" "boundary_y: -35"
+bad no_boundary "boundary_y" "$frames"
+bad boundary_too_high "upper part" "$frames" "boundary_y: 500"
+run jaw configs/jaw_chewing.yaml
+[[ $rc -eq 2 ]] || fail "jaw without --config: exit code"
+
+echo "$checks checks, $failures failures"
+[[ $failures -eq 0 ]]

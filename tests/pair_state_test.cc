@@ -1,0 +1,193 @@
+// PairState against independent truth: warm-started re-location equals a
+// brute-force search, folds are detected (and slivers re-meshed), and
+// locked parameters stay exactly where they start.
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <ceres/cost_function.h>
+#include <ceres/gradient_checker.h>
+#include <ceres/manifold.h>
+#include <ceres/numeric_diff_options.h>
+#include <gtest/gtest.h>
+
+#include "measure/locator.h"
+#include "measure/measures.h"
+#include "registration/align.h"
+#include "registration/axial_cost.h"
+#include "registration/pair_state.h"
+#include "registration/rigid_motion.h"
+#include "registration/volume_cost.h"
+#include "testing/registration_sides.h"
+#include "testing/surface_pairs.h"
+
+namespace surfreg {
+namespace {
+
+// ---------------------------------------------------------------- 4. re-location
+
+// Every location of the state vs brute force; returns the number of nodes
+// whose triangle differs (allowed only on an edge or vertex, same value).
+int CheckLocations(const PairState& state) {
+  const ReferenceSide& a = state.reference();
+  const auto& bxy = state.moved_xy();
+  const Triangulation& mesh_b = state.moving_mesh();
+  int differing = 0;
+  auto compare = [&](const Location& got, const Location& truth, const Triangulation& mesh,
+                     const std::vector<double>& values, std::size_t node) {
+    ASSERT_EQ(got.found(), truth.found()) << "node " << node;
+    if (!truth.found() || got.triangle == truth.triangle) return;
+    ++differing;
+    EXPECT_TRUE(truth.where != Where::kInside && got.where != Where::kInside) << "node " << node;
+    EXPECT_NEAR(InterpolateAt(mesh, values, got), InterpolateAt(mesh, values, truth), 1e-9) << node;
+  };
+  for (std::size_t i = 0; i < a.xy.size(); ++i) {
+    compare(state.a_in_b()[i], LocatePointBruteForce(bxy, mesh_b, a.xy[i]), mesh_b, state.moved_z(), i);
+  }
+  for (std::size_t j = 0; j < bxy.size(); ++j) {
+    compare(state.b_in_a()[j], LocatePointBruteForce(a.xy, a.mesh, bxy[j]), a.mesh, a.z, j);
+  }
+  return differing;
+}
+
+TEST(PairStateTest, WalkedLocationsEqualBruteForce) {
+  const auto sides = TerrainSides(1200, 1000, 10, 90);
+  PairState state(sides->reference, sides->moving);
+  const Theta steps[] = {{0.002, -0.001, 0.01, 1.0, 0.5, 0.1},     // θ1: from scratch
+                         {0.002, -0.001, 0.0101, 1.001, 0.499, 0.1},  // small step
+                         {-0.004, 0.003, 0.4, 9.0, -6.0, 1.0},        // large step
+                         {0.0, 0.0, -0.2, -12.0, 3.0, 0.0}};
+  for (const Theta& theta : steps) {
+    UpdateStats stats;
+    ASSERT_TRUE(state.Update(theta, &stats));
+    ASSERT_FALSE(stats.remeshed);  // else this tests LocateAll, not the walks
+    const int differing = CheckLocations(state);
+    std::printf("re-location: %lld walk steps, %d nodes in another triangle (on an edge)\n",
+                static_cast<long long>(stats.walk_steps), differing);
+  }
+}
+
+// Subsampled and merged reference nodes keep their own weights: each kept
+// node's μ is the weight function at its xy; two samples at one xy (merged)
+// get the mean of their weights.
+TEST(PairStateTest, ReferenceKeepsWeightsWhenSubsampled) {
+  auto points = testing::SampleUniform(testing::SmoothTerrain, 3000, 0, 100, 0, 100, 7);
+  std::vector<double> mu;
+  for (const auto& p : points) mu.push_back(SmoothWeight(p[0], p[1]));
+  points.push_back(points[10]);  // a duplicate of sample 10 with weight 0
+  mu.push_back(0.0);
+  const Surface a = MakeSurface(points, mu, "a");
+  for (double keep : {1.0, 0.3}) {
+    const ReferenceSide side = PrepareReference(a, keep);
+    ASSERT_EQ(side.weight.size(), side.xy.size());
+    int duplicates = 0;
+    for (std::size_t i = 0; i < side.xy.size(); ++i) {
+      const double x = side.xy[i].x + a.origin[0], y = side.xy[i].y + a.origin[1];
+      if (side.xy[i].x != a.xy[10].x || side.xy[i].y != a.xy[10].y) {
+        EXPECT_DOUBLE_EQ(side.weight[i], SmoothWeight(x, y)) << i;
+        continue;
+      }
+      ++duplicates;  // at 0.3 either copy may have been dropped
+      if (keep == 1.0) {
+        EXPECT_DOUBLE_EQ(side.weight[i], 0.5 * SmoothWeight(x, y));
+      }
+    }
+    std::printf("subsample %.1f: %zu reference nodes carry weights\n", keep, side.xy.size());
+    EXPECT_LT(side.xy.size(), keep * 3300);
+    EXPECT_LE(duplicates, 1);
+    if (keep == 1.0) {
+      EXPECT_EQ(duplicates, 1);
+    }
+    EXPECT_TRUE(PrepareReference(MakeSurface(points, {}, "a"), keep).weight.empty());
+  }
+}
+
+// ---------------------------------------------------------------- 5. folds
+
+std::vector<std::array<double, 3>> TiltedPlaneGrid() {
+  std::vector<std::array<double, 3>> points;
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) points.push_back({10.0 * i, 10.0 * j, 0.1 * i + 0.05 * j});
+  }
+  return points;
+}
+
+TEST(PairStateTest, TiltPastVerticalFails) {
+  const auto sides = MakeSides(TiltedPlaneGrid(), TiltedPlaneGrid());
+  PairState state(sides->reference, sides->moving);
+  UpdateStats stats;
+  ASSERT_TRUE(state.Update({60 * M_PI / 180, 0, 0, 0, 0, 0}, &stats));  // steep, not folded
+  EXPECT_EQ(stats.folded, 0);
+  const std::vector<Location> before = state.a_in_b();
+  stats = UpdateStats();
+  EXPECT_FALSE(state.Update({100 * M_PI / 180, 0, 0, 0, 0, 0}, &stats));
+  std::printf("100° tilt: %d folded, area fraction %.3f\n", stats.folded, stats.folded_area_fraction);
+  EXPECT_EQ(stats.folded, sides->moving.mesh.num_triangles());
+  EXPECT_GT(stats.folded_area_fraction, 0.01);
+  EXPECT_FALSE(stats.remeshed);
+  ASSERT_EQ(state.a_in_b().size(), before.size());  // "locations left untouched"
+  for (std::size_t i = 0; i < before.size(); ++i) EXPECT_EQ(state.a_in_b()[i].triangle, before[i].triangle);
+  // A failed step leaves the state usable: walks resume from the old locations.
+  ASSERT_TRUE(state.Update({30 * M_PI / 180, 0, 0.1, 2, 1, 0}));
+  CheckLocations(state);
+}
+
+TEST(PairStateTest, SliverFoldsAreRemeshed) {
+  const auto sides = TerrainSides(1500, 1500, 0, 100);
+  PairState state(sides->reference, sides->moving);
+  ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
+  UpdateStats stats;
+  const Theta tilted = {5 * M_PI / 180, 0, 0, 0.5, -0.5, 0};
+  ASSERT_TRUE(state.Update(tilted, &stats));
+  std::printf("5° tilt: %d slivers folded (area fraction %.2e), remeshed %d\n", stats.folded,
+              stats.folded_area_fraction, stats.remeshed);
+  EXPECT_GT(stats.folded, 0);
+  EXPECT_LE(stats.folded_area_fraction, 0.01);
+  EXPECT_TRUE(stats.remeshed);
+  EXPECT_EQ(state.remeshes(), 1);
+  const Triangulation& mesh = state.moving_mesh();  // the new mesh is unfolded
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const auto& p = state.moved_xy();
+    const Point2 &p0 = p[mesh.triangles[3 * t]], &p1 = p[mesh.triangles[3 * t + 1]], &p2 = p[mesh.triangles[3 * t + 2]];
+    ASSERT_GT((p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x), 0.0) << t;
+  }
+  CheckLocations(state);
+  // And walking on the new mesh from there.
+  stats = UpdateStats();
+  ASSERT_TRUE(state.Update({5.01 * M_PI / 180, 0.001, 0.002, 0.6, -0.4, 0.1}, &stats));
+  EXPECT_FALSE(stats.remeshed);
+  CheckLocations(state);
+}
+
+// ---------------------------------------------------------------- 6. locked parameters
+
+TEST(AlignLockedTest, TranslationOnlyKeepsRotationExactly) {
+  const auto points = testing::SampleUniform(testing::SmoothTerrain, 2000, 0, 100, 0, 100, 3);
+  const Eigen::Vector3d shift(3.2, -2.1, 0.7);
+  std::vector<std::array<double, 3>> moving = points;
+  for (auto& p : moving) p = {p[0] - shift.x(), p[1] - shift.y(), p[2] - shift.z()};
+  const Surface a = MakeSurface(points, {}, "a"), b = MakeSurface(moving, {}, "b");
+  for (CostKind cost : {CostKind::kAxial, CostKind::kVolume}) {
+    AlignOptions options;
+    options.cost = cost;
+    options.free = {false, false, false, true, true, true};
+    const AlignResult result = Align(a, b, options);
+    EXPECT_EQ(result.rotation_vector, (std::array<double, 3>{0, 0, 0}));
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(result.translation[k], shift[k], 1e-6) << k;
+    EXPECT_EQ(result.stddev[0], 0.0);  // locked
+    // A locked non-zero rotation stays bit-identical too.
+    options.initial_rotation = {0.002, -0.001, 0.003};
+    const AlignResult rotated = Align(a, b, options);
+    EXPECT_EQ(rotated.rotation_vector, options.initial_rotation);
+    std::printf("locked rotation (%s): t error %.1e, verdict %s\n", cost == CostKind::kAxial ? "axial" : "volume",
+                (Eigen::Vector3d(result.translation.data()) - shift).norm(), VerdictName(result.verdict));
+  }
+}
+
+}  // namespace
+}  // namespace surfreg

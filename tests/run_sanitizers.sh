@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer
+# (GCC), in its own build directory (issue 7; part of .ci/run).
+#
+#   bash tests/run_sanitizers.sh            configure, build, run ctest
+#   SURFREG_SANITIZER_BUILD_DIR=dir ...     build somewhere else (default build-sanitizers)
+#
+# -O1 keeps the run fast enough for CI while the sanitizers still see every
+# access; NDEBUG is not defined, so assert()s are on too. Any report (leak,
+# out-of-bounds access, undefined behaviour) aborts the test that made it,
+# and the script fails if any test fails. Leak reports that come from the
+# libraries we use, not from surfreg, are suppressed narrowly in
+# tests/lsan.supp (each entry says why).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root="$(pwd)"
+build_dir="${SURFREG_SANITIZER_BUILD_DIR:-build-sanitizers}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+sanitize="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+echo "== configuring the sanitizer build (GCC, ASan + UBSan, -O1 -g) in $build_dir"
+# Tests are discovered when ctest runs (PRE_TEST), not at link time, so that
+# the build itself never runs an instrumented program.
+cmake -S . -B "$build_dir" \
+  -DCMAKE_BUILD_TYPE=Sanitize \
+  -DCMAKE_CXX_COMPILER=g++ \
+  -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g $sanitize" \
+  -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="$sanitize" \
+  -DCMAKE_SHARED_LINKER_FLAGS_SANITIZE="$sanitize" \
+  -DCMAKE_GTEST_DISCOVER_TESTS_DISCOVERY_MODE=PRE_TEST \
+  -DSURFREG_BUILD_BENCHMARKS=OFF -DSURFREG_FUZZ=OFF >/dev/null
+echo "== building"
+cmake --build "$build_dir" -j "$jobs"
+
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:detect_stack_use_after_return=1:check_initialization_order=1:strict_init_order=1:detect_invalid_pointer_pairs=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0"
+echo "== running the test suite under ASan + UBSan"
+ctest --test-dir "$build_dir" --output-on-failure -j "$jobs" --timeout 600

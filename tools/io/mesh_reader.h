@@ -1,0 +1,46 @@
+#pragma once
+// Reading triangle meshes (for faces: measure/face_frame.h), and the text
+// form of the face orientation shared by the face commands.
+//
+// Formats (by file extension, case-insensitive):
+//   .off  OFF, COFF, NOFF, NCOFF (ascii): the vertex lines' first 3 numbers,
+//         then one face per line "n i1 ... in [colour...]"; '#' comments.
+//   .ply  ascii or binary_little_endian 1.0: vertex properties x, y, z, and
+//         the "face" element's list property vertex_indices (or
+//         vertex_index); other elements and properties are skipped.
+//   .obj  "v x y z" and "f a b c ..." lines; face corners may be v, v/vt,
+//         v//vn or v/vt/vn, indices 1-based or negative (relative to the
+//         vertices read so far); other lines are ignored.
+//   any other format ReadSurface knows (.xyz .txt .csv, GDAL rasters): a
+//         point cloud (a Mesh without triangles).
+// Polygons with more than 3 corners are split into a fan of triangles from
+// their first corner. Coordinates are kept as in the file (no local origin).
+//
+// Errors: InputError "<file>:<line>: <what>" where a line is to blame (a face
+// index out of range, a face with fewer than 3 corners, a number that does
+// not parse) and "<file>: <what>" otherwise (e.g. the file ends after 10 of
+// 200 faces; a face of a binary PLY names its face number).
+#include <string>
+
+#include "measure/face_frame.h"
+
+namespace surfreg {
+
+// Reads the mesh at `path` (see above); Mesh::source = path.
+Mesh ReadMesh(const std::string& path);
+
+// Parses the text form of a face orientation into options->orientation (and
+// options->rotation_deg): "auto" (principal axes and the nose heuristics),
+// "as_is" (already in the frame's orientation) or a rotation vector
+// "RX,RY,RZ" in degrees (also "[RX, RY, RZ]"), axis × angle, taking input
+// coordinates to the frame. Other fields of *options are left as they are.
+// Throws InputError "<where>: ..." (`where` e.g. "--orientation" or
+// "face.yaml:4: key 'orientation'") for anything else.
+void FaceOrientationFromString(const std::string& text, const std::string& where,
+                               FaceFrameOptions* options);
+
+// The text form of options.orientation: "auto", "as_is" or "RX,RY,RZ"
+// (17 significant digits), which FaceOrientationFromString reads back.
+std::string FaceOrientationToString(const FaceFrameOptions& options);
+
+}  // namespace surfreg

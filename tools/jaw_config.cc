@@ -1,0 +1,348 @@
+#include "tools/jaw_config.h"
+
+#include <sys/stat.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "measure/input_error.h"
+#include "tools/atomic_file.h"
+#include "tools/config_value.h"
+#include "tools/yaml_value.h"
+#include "tools/io/mesh_reader.h"
+#include "tools/io/polygon_reader.h"
+
+namespace surfreg {
+namespace {
+
+using config_value::Value;
+namespace cv = config_value;
+
+struct Entry {
+  JawConfigKey key;
+  void (*set)(const Value&, JawConfig*);
+  std::string (*get)(const JawConfig&);
+};
+
+std::string Join(const std::vector<std::string>& items) {
+  if (items.size() == 1) return items[0];
+  std::string out = "[";
+  for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + items[i];
+  return out + "]";
+}
+
+const cv::Names<JawCost> kCosts = {{"axial", JawCost::kAxial}, {"volume", JawCost::kVolume}};
+
+const std::vector<Entry>& Table() {
+  using C = JawConfig;
+  static const std::vector<Entry> table = {
+      {{"frames", "a folder or a list of surface files", "the sequence"},
+       [](const Value& v, C* c) {
+         c->frames = cv::Items(v);
+         if (c->frames.empty() || std::any_of(c->frames.begin(), c->frames.end(),
+                                              [](const std::string& s) { return s.empty(); })) {
+           cv::Reject(v);
+         }
+       },
+       [](const C& c) { return c.frames.empty() ? std::string() : Join(c.frames); }},
+      {{"reference", "a frame index >= 0 or one of the frame files", "the reference frame (jaw closed)"},
+       [](const Value& v, C* c) { c->reference = cv::Path(v, true); },
+       [](const C& c) { return c.reference; }},
+      {{"orientation", "as_is, auto or [rx, ry, rz] in degrees", "face frame of the reference, applied to all"},
+       [](const Value& v, C* c) {
+         const std::string text = v.kind == Value::kList ? "[" + Join(cv::Items(v)) + "]" : cv::Scalar(v);
+         FaceOrientationFromString(text, v.where, &c->orientation);
+       },
+       [](const C& c) { return FaceOrientationToString(c.orientation); }},
+      {{"boundary_y", "a number", "y level: upper at and above, lower below"},
+       [](const Value& v, C* c) {
+         c->options.boundary.y_level = cv::NumberOf(v, cv::Scalar(v));
+         c->has_boundary_y = true;
+       },
+       [](const C& c) { return c.has_boundary_y ? cv::Text(c.options.boundary.y_level) : std::string(); }},
+      {{"boundary_polygon", "a polygon file (x y per line)", "inside = lower"},
+       [](const Value& v, C* c) { c->boundary_polygon = cv::Path(v, false); },
+       [](const C& c) { return c.boundary_polygon; }},
+      {{"boundary_margin", "a number >= 0", "drop points this close to the boundary"},
+       [](const Value& v, C* c) { c->options.boundary.margin = cv::Number(v, 0, 1e300); },
+       [](const C& c) { return cv::Text(c.options.boundary.margin); }},
+      {{"cost", "one of axial, volume", "axial: trimmed least squares; volume: then L-BFGS on rho_d"},
+       [](const Value& v, C* c) { c->options.cost = cv::Choice(v, kCosts); },
+       [](const C& c) { return cv::NameOf(c.options.cost, kCosts); }},
+      {{"trim_fraction", "a number in [0, 0.5)", "largest residuals dropped per step"},
+       [](const Value& v, C* c) { c->options.trim_fraction = cv::Number(v, 0, 0.5, "[)"); },
+       [](const C& c) { return cv::Text(c.options.trim_fraction); }},
+      {{"max_iterations", "an integer >= 1", "solver iterations per part and frame"},
+       [](const Value& v, C* c) { c->options.max_iterations = cv::Integer(v, 1); },
+       [](const C& c) { return std::to_string(c.options.max_iterations); }},
+      {{"step_tolerance", "a number > 0", "converged after a step shorter than this (data units)"},
+       [](const Value& v, C* c) { c->options.step_tolerance = cv::Number(v, 0, 1e300, "(]"); },
+       [](const C& c) { return cv::Text(c.options.step_tolerance); }},
+      {{"volume_iterations", "an integer >= 0", "cost volume: L-BFGS iterations after the axial solve"},
+       [](const Value& v, C* c) { c->options.volume_iterations = cv::Integer(v, 0); },
+       [](const C& c) { return std::to_string(c.options.volume_iterations); }},
+      {{"normal_distance", "true or false", "weight gaps by cos(slope): distance along the normal"},
+       [](const Value& v, C* c) { c->options.normal_distance = cv::Boolean(v); },
+       [](const C& c) { return cv::Text(c.options.normal_distance); }},
+      {{"predict", "true or false", "warm start by constant-velocity extrapolation"},
+       [](const Value& v, C* c) { c->options.predict = cv::Boolean(v); },
+       [](const C& c) { return cv::Text(c.options.predict); }},
+      {{"max_fold_fraction", "a number in [0, 1]", "area share of a part's triangles that may fold"},
+       [](const Value& v, C* c) { c->options.max_fold_fraction = cv::Number(v, 0, 1); },
+       [](const C& c) { return cv::Text(c.options.max_fold_fraction); }},
+      {{"threads", "an integer >= 1", "threads"},
+       [](const Value& v, C* c) { c->options.num_threads = cv::Integer(v, 1, 256); },
+       [](const C& c) { return std::to_string(c.options.num_threads); }},
+      {{"min_part_points", "an integer >= 3", "fewest points a part may have"},
+       [](const Value& v, C* c) { c->options.min_part_points = cv::Integer(v, 3); },
+       [](const C& c) { return std::to_string(c.options.min_part_points); }},
+      {{"output_csv", "a file name", "per-frame CSV"},
+       [](const Value& v, C* c) { c->output_csv = cv::Path(v, false); },
+       [](const C& c) { return c.output_csv; }},
+      {{"output_json", "a file name", "per-frame 4x4 matrices and details"},
+       [](const Value& v, C* c) { c->output_json = cv::Path(v, false); },
+       [](const C& c) { return c.output_json; }},
+      {{"plot", "a .png file name", "the six motion parameters over the frames"},
+       [](const Value& v, C* c) { c->plot = cv::Path(v, false); },
+       [](const C& c) { return c.plot; }},
+      {{"progress", "true or false", "one line per frame on stderr"},
+       [](const Value& v, C* c) { c->progress = cv::Boolean(v); },
+       [](const C& c) { return cv::Text(c.progress); }},
+  };
+  return table;
+}
+
+const Entry* Find(const std::string& name) {
+  for (const Entry& entry : Table()) {
+    if (name == entry.key.name) return &entry;
+  }
+  return nullptr;
+}
+
+[[noreturn]] void Unknown(const std::string& at, const std::string& name) {
+  const std::string nearest = NearestJawKey(name);
+  if (!nearest.empty()) {
+    throw InputError(at + "unknown key '" + name + "' (did you mean '" + nearest + "'?)");
+  }
+  std::string known;
+  for (const Entry& entry : Table()) known += std::string(known.empty() ? "" : ", ") + entry.key.name;
+  throw InputError(at + "unknown key '" + name + "' (known keys: " + known + ")");
+}
+
+void Apply(const Entry& entry, Value value, const std::string& where, JawConfig* config) {
+  value.where = where;
+  value.expected = entry.key.type;
+  entry.set(value, config);
+  config->origin[entry.key.name] = where;
+}
+
+
+
+bool IsSurfaceFile(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* known : {".xyz", ".txt", ".csv", ".ply", ".off", ".obj"}) {
+    if (ext == known) return true;
+  }
+  return false;
+}
+
+bool SameFile(const std::string& a, const std::string& b) {
+  struct stat sa, sb;
+  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
+                    sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
+}
+
+void ListFrames(JawConfig* config) {
+  const std::string where = config->Where("frames");
+  if (config->frames.empty()) throw InputError(where + ": required (a folder or a list of surface files)");
+  namespace fs = std::filesystem;
+  std::error_code error;
+  config->frame_files.clear();
+  if (config->frames.size() == 1 && fs::is_directory(config->frames[0], error)) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(config->frames[0], error)) {
+      if (entry.is_regular_file(error) && IsSurfaceFile(entry.path())) {
+        config->frame_files.push_back(entry.path().string());
+      }
+    }
+    if (error) throw InputError(where + ": cannot list folder '" + config->frames[0] + "': " + error.message());
+    std::sort(config->frame_files.begin(), config->frame_files.end());
+    if (config->frame_files.empty()) {
+      throw InputError(where + ": folder '" + config->frames[0] +
+                       "' has no surface files (.xyz .txt .csv .ply .off .obj)");
+    }
+  } else {
+    for (const std::string& file : config->frames) {
+      if (!fs::is_regular_file(file, error)) throw InputError(where + ": no such file '" + file + "'");
+      config->frame_files.push_back(file);
+    }
+  }
+  if (config->frame_files.size() < 2) {
+    throw InputError(where + ": a sequence needs at least 2 frames, got " +
+                     std::to_string(config->frame_files.size()));
+  }
+}
+
+void ResolveReference(JawConfig* config) {
+  const std::string& text = config->reference;
+  const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c));
+  });
+  const int count = static_cast<int>(config->frame_files.size());
+  if (digits) {
+    const long index = text.size() > 9 ? count : std::stol(text);
+    if (index >= count) {
+      throw InputError(config->Where("reference") + ": frame " + text + " is beyond the " +
+                       std::to_string(count) + " frames (0-based)");
+    }
+    config->reference_index = static_cast<int>(index);
+    return;
+  }
+  for (int k = 0; k < count; ++k) {
+    if (SameFile(text, config->frame_files[k])) {
+      config->reference_index = k;
+      return;
+    }
+  }
+  throw InputError(config->Where("reference") + ": '" + text + "' is neither a frame index nor one of the " +
+                   std::to_string(count) + " frame files");
+}
+
+void CheckOutputs(JawConfig* config) {
+  std::vector<std::pair<std::string, std::string>> outputs;  // key, path
+  for (const char* key : {"output_csv", "output_json", "plot"}) {
+    const std::string path = JawConfigValue(*config, key);
+    if (path.empty()) continue;
+    const std::string where = config->Where(key);
+    CheckOutputPath(path, where);
+    if (std::string(key) == "plot") {
+      std::string ext = std::filesystem::path(path).extension().string();
+      for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (ext != ".png") throw InputError(where + ": expects a .png file name, got '" + path + "'");
+    }
+    for (const std::string& frame : config->frame_files) {
+      if (SameFile(path, frame)) throw InputError(where + ": '" + path + "' is one of the frames");
+    }
+    for (const auto& [other_key, other] : outputs) {
+      if (SameFile(path, other)) throw InputError(where + ": '" + path + "' is also " + other_key);
+    }
+    outputs.emplace_back(key, path);
+  }
+}
+
+}  // namespace
+
+FaceFrameOptions JawConfig::AsIsOrientation() {
+  FaceFrameOptions options;
+  options.orientation = FaceOrientation::kAsIs;
+  return options;
+}
+
+std::string JawConfig::Where(const std::string& key) const {
+  const auto found = origin.find(key);
+  return found != origin.end() ? found->second : "key '" + key + "'";
+}
+
+const std::vector<JawConfigKey>& JawConfigKeys() {
+  static const std::vector<JawConfigKey> keys = [] {
+    std::vector<JawConfigKey> out;
+    for (const Entry& entry : Table()) out.push_back(entry.key);
+    return out;
+  }();
+  return keys;
+}
+
+std::string JawConfigValue(const JawConfig& config, const std::string& key) {
+  const Entry* entry = Find(key);
+  if (entry == nullptr) Unknown("", key);
+  return entry->get(config);
+}
+
+std::string NearestJawKey(const std::string& name) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, name.size() / 3) + 1;
+  for (const Entry& entry : Table()) {
+    const std::string key = entry.key.name;
+    std::size_t d = cv::EditDistance(name, key);
+    if (name.size() >= 4 && (key.find(name) != std::string::npos || name.find(key) != std::string::npos)) d = 1;
+    if (d < best_distance) {
+      best_distance = d;
+      best = key;
+    }
+  }
+  return best;
+}
+
+void ApplyJawYaml(const std::string& yaml_text, const std::string& file, JawConfig* config) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml_text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(cv::YamlAt(file, e.mark) + "not valid YAML: " + e.msg);
+  }
+  if (!root.IsMap()) throw InputError(file + ": expected a YAML mapping of 'key: value' lines");
+  try {
+    std::map<std::string, int> seen;
+    for (const auto& pair : root) {
+      const std::string at = cv::YamlAt(file, pair.first.Mark());
+      if (!pair.first.IsScalar()) throw InputError(at + "expected a key name, found a list or mapping");
+      const std::string name = pair.first.Scalar();
+      const Entry* entry = Find(name);
+      if (entry == nullptr) Unknown(at, name);
+      const auto [previous, inserted] = seen.emplace(name, pair.first.Mark().line + 1);
+      if (!inserted) {
+        throw InputError(at + "key '" + name + "' given twice (also at line " +
+                         std::to_string(previous->second) + ")");
+      }
+      Apply(*entry, cv::FromYaml(pair.second), at + "key '" + name + "'", config);
+    }
+  } catch (const YAML::Exception& e) {
+    throw InputError(cv::YamlAt(file, e.mark) + e.msg);
+  }
+}
+
+void ApplyJawConfigFile(const std::string& path, JawConfig* config) {
+  std::ifstream in(path);
+  if (!in) throw InputError("flag '--config': cannot read '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  config->config_file = path;
+  ApplyJawYaml(text.str(), path, config);
+}
+
+void ApplyJawFlag(const std::string& key, const std::string& value, JawConfig* config) {
+  const Entry* entry = Find(key);
+  if (entry == nullptr) Unknown("flag '--" + key + "': ", key);
+  Value v;
+  v.text = value;
+  Apply(*entry, v, "flag '--" + key + "'", config);
+}
+
+void FinishJawConfig(JawConfig* config) {
+  ListFrames(config);
+  ResolveReference(config);
+  config->options.reference = config->reference_index;
+  const bool polygon = !config->boundary_polygon.empty();
+  if (polygon == config->has_boundary_y) {
+    throw InputError(std::string(polygon ? config->Where("boundary_polygon") + ": give either boundary_y or "
+                                           "boundary_polygon, not both"
+                                         : "key 'boundary_y': required (or boundary_polygon)"));
+  }
+  config->options.boundary.polygon.clear();
+  if (polygon) {
+    try {
+      config->options.boundary.polygon = ReadPolygon(config->boundary_polygon);
+    } catch (const InputError& e) {
+      throw InputError(config->Where("boundary_polygon") + ": " + e.what());
+    }
+  }
+  CheckOutputs(config);
+  std::string error;
+  if (!config->options.IsValid(&error)) throw InputError("jaw settings: " + error);
+}
+
+}  // namespace surfreg
