@@ -344,15 +344,26 @@ TEST_F(JawConfigTest, ErrorsNameTheKeyOrFile) {
 }
 
 TEST(JawConfigShipped, ParsesAndMatchesTheShippedTruth) {
-  // The config's paths are relative to the project root.
+  // The config's paths are relative to the project root, and its outputs go
+  // to out/: run in a scratch directory holding a link to configs/ and an
+  // empty out/, so that the test neither needs nor touches the tree's out/.
   const std::string face = DenseFacePath();
-  std::filesystem::current_path(face.substr(0, face.size() - std::string("/configs/data/mannequin_face_dense.xyz").size()));
+  const std::filesystem::path root =
+      face.substr(0, face.size() - std::string("/configs/data/mannequin_face_dense.xyz").size());
+  const std::filesystem::path scratch =
+      std::filesystem::path(::testing::TempDir()) / "surfreg_jaw_config_shipped";
+  std::filesystem::remove_all(scratch);
+  std::filesystem::create_directories(scratch / "out");
+  std::filesystem::create_directory_symlink(root / "configs", scratch / "configs");
+  std::filesystem::current_path(scratch);
   JawConfig config;
   ApplyJawConfigFile("configs/jaw_chewing.yaml", &config);
   FinishJawConfig(&config);
   EXPECT_EQ(config.frame_files.size(), 10u);
   EXPECT_EQ(config.reference_index, 0);
   EXPECT_TRUE(config.has_boundary_y);
+  std::filesystem::current_path(root);
+  std::filesystem::remove_all(scratch);
 }
 
 // Not a test: SURFREG_WRITE_CHEWING=DIR writes the shipped example sequence
