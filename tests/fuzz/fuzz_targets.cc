@@ -12,7 +12,11 @@
 #include "measure/input_error.h"
 #include "measure/measures.h"
 #include "measure/surface.h"
+#include "measure/face_frame.h"
 #include "tools/align_config.h"
+#include "tools/io/mesh_reader.h"
+#include "tools/jaw_config.h"
+#include "tools/sweep_config.h"
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader.h"
 
@@ -216,6 +220,48 @@ void FuzzAlignConfig(std::string_view data) {
   }
 }
 
+void FuzzMesh(std::string_view data) {
+  if (data.empty()) return;
+  static const char* const kNames[] = {"fuzz.off", "fuzz.ply", "fuzz.obj"};
+  const char* name = kNames[static_cast<uint8_t>(data[0]) % 3];
+  Mesh mesh;
+  try {
+    mesh = ParseMesh(data.substr(1), name);
+  } catch (const InputError&) {
+    return;
+  }
+  for (const auto& triangle : mesh.triangles) {
+    for (const int32_t v : triangle) {
+      if (v < 0 || static_cast<std::size_t>(v) >= mesh.vertices.size()) {
+        Finding("a triangle index out of range was accepted");
+      }
+    }
+  }
+  if (mesh.vertices.size() > 4096 || mesh.triangles.size() > 8192) return;  // keep runs short
+  try {
+    const FaceFrame frame = NormalizeFace(mesh);
+    double z_max = -INFINITY;
+    for (const auto& p : frame.points) z_max = std::max(z_max, p[2]);
+    if (!frame.points.empty() && z_max != 0.0) Finding("normalized face with max z != 0");
+  } catch (const InputError&) {
+  }
+}
+
+void FuzzJawConfig(std::string_view data) {
+  JawConfig config;
+  try {
+    ApplyJawYaml(std::string(data), "fuzz.yaml", &config);
+  } catch (const InputError&) {
+  }
+}
+
+void FuzzSweepConfig(std::string_view data) {
+  try {
+    ParseSweepConfig(std::string(data), "fuzz.yaml");
+  } catch (const InputError&) {
+  }
+}
+
 void FuzzMeasure(std::string_view data) {
   Decoder decoder(data);
   const uint8_t flags = decoder.Byte();
@@ -292,7 +338,8 @@ const std::vector<FuzzTarget>& FuzzTargets() {
       {"xyz", FuzzXyz},         {"ply", FuzzPly},
       {"off", FuzzOff},         {"obj", FuzzObj},
       {"polygon", FuzzPolygon}, {"align_config", FuzzAlignConfig},
-      {"measure", FuzzMeasure},
+      {"measure", FuzzMeasure}, {"mesh", FuzzMesh},
+      {"jaw_config", FuzzJawConfig}, {"sweep_config", FuzzSweepConfig},
   };
   return kTargets;
 }

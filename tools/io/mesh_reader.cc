@@ -317,20 +317,27 @@ Mesh ParsePlyMesh(std::string_view data, const std::string& name) {
 
 }  // namespace
 
-Mesh ReadMesh(const std::string& path) {
+bool IsMeshPath(const std::string& path) {
   const std::string ext = io_internal::Extension(path);
-  Mesh mesh;
-  if (ext == ".off" || ext == ".ply" || ext == ".obj") {
-    const std::string data = io_internal::ReadFile(path);
-    mesh = ext == ".off"   ? ParseOffMesh(data, path)
-           : ext == ".ply" ? ParsePlyMesh(data, path)
-                           : ParseObjMesh(data, path);
-    if (mesh.vertices.empty()) Fail(path, 0, "no vertices");
-    if (mesh.vertices.size() > static_cast<std::size_t>(INT32_MAX)) {
-      Fail(path, 0, "too many vertices for 32-bit triangle indices");
-    }
-    return mesh;
+  return ext == ".off" || ext == ".ply" || ext == ".obj";
+}
+
+Mesh ParseMesh(std::string_view data, const std::string& name) {
+  const std::string ext = io_internal::Extension(name);
+  if (!IsMeshPath(name)) Fail(name, 0, "not a mesh format (expected .off, .ply or .obj)");
+  Mesh mesh = ext == ".off"   ? ParseOffMesh(data, name)
+              : ext == ".ply" ? ParsePlyMesh(data, name)
+                              : ParseObjMesh(data, name);
+  if (mesh.vertices.empty()) Fail(name, 0, "no vertices");
+  if (mesh.vertices.size() > static_cast<std::size_t>(INT32_MAX)) {
+    Fail(name, 0, "too many vertices for 32-bit triangle indices");
   }
+  return mesh;
+}
+
+Mesh ReadMesh(const std::string& path) {
+  if (IsMeshPath(path)) return ParseMesh(io_internal::ReadFile(path), path);
+  Mesh mesh;
   // Clouds: ReadSurface keeps points relative to a local origin; the mesh
   // keeps input coordinates.
   const Surface surface = ReadSurface(path);

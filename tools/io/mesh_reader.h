@@ -21,6 +21,7 @@
 // not parse) and "<file>: <what>" otherwise (e.g. the file ends after 10 of
 // 200 faces; a face of a binary PLY names its face number).
 #include <string>
+#include <string_view>
 
 #include "measure/face_frame.h"
 
@@ -28,6 +29,13 @@ namespace surfreg {
 
 // Reads the mesh at `path` (see above); Mesh::source = path.
 Mesh ReadMesh(const std::string& path);
+
+// True for the extensions ReadMesh reads with triangles (.off .ply .obj).
+bool IsMeshPath(const std::string& path);
+
+// A whole .off, .ply or .obj file already in memory, the format chosen by
+// `name`'s extension (also used in messages); the errors of ReadMesh.
+Mesh ParseMesh(std::string_view data, const std::string& name);
 
 // Parses the text form of a face orientation into options->orientation (and
 // options->rotation_deg): "auto" (principal axes and the nose heuristics),
