@@ -10,30 +10,26 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
 
 #include "measure/input_error.h"
+#include "tools/io/surface_reader.h"
 
 namespace surfreg {
 namespace {
 
 using Points = std::vector<std::array<double, 3>>;
 
-Points ReadXyz(const std::string& path) {
-  std::ifstream in(path);
-  EXPECT_TRUE(in.good()) << path;
+// A face file's points in input coordinates (read by the project's reader).
+Points FacePoints(const std::string& path) {
+  const Surface surface = ReadSurface(path);
   Points points;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    std::array<double, 3> p;
-    if (fields >> p[0] >> p[1] >> p[2]) points.push_back(p);
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    points.push_back({surface.xy[i].x + surface.origin[0], surface.xy[i].y + surface.origin[1],
+                      surface.z[i] + surface.origin[2]});
   }
   return points;
 }
@@ -41,7 +37,7 @@ Points ReadXyz(const std::string& path) {
 // The face with x centred, its x > 0 half kept and mirrored: exactly
 // symmetric about x = 0 (negation is exact in floating point).
 Points SymmetricFace(const std::string& path) {
-  const Points face = ReadXyz(path);
+  const Points face = FacePoints(path);
   double mean = 0;
   for (const auto& p : face) mean += p[0];
   mean /= static_cast<double>(face.size());
@@ -293,7 +289,7 @@ TEST(SymmetryTest, PlaneAngleAndOptions) {
 // The real (not symmetric) face: the refinement is never worse, and its time
 // on a 20k-point face is reported.
 TEST(SymmetryTest, RealFaceTwentyThousandPoints) {
-  const Points dense = ReadXyz("configs/data/mannequin_face_dense.xyz");
+  const Points dense = FacePoints("configs/data/mannequin_face_dense.xyz");
   ASSERT_GT(dense.size(), 40000u);
   Points points;
   const std::size_t step = dense.size() / 20000;

@@ -244,7 +244,9 @@ FaceFrameOptions JawConfig::AsIsOrientation() {
 
 std::string JawConfig::Where(const std::string& key) const {
   const auto found = origin.find(key);
-  return found != origin.end() ? found->second : "key '" + key + "'";
+  if (found != origin.end()) return found->second;
+  // A key never given: name the config file it is missing from, if any.
+  return (config_file.empty() ? "" : config_file + ": ") + "key '" + key + "'";
 }
 
 const std::vector<JawConfigKey>& JawConfigKeys() {
@@ -330,7 +332,7 @@ void FinishJawConfig(JawConfig* config) {
   if (polygon == config->has_boundary_y) {
     throw InputError(std::string(polygon ? config->Where("boundary_polygon") + ": give either boundary_y or "
                                            "boundary_polygon, not both"
-                                         : "key 'boundary_y': required (or boundary_polygon)"));
+                                         : config->Where("boundary_y") + ": required (or boundary_polygon)"));
   }
   config->options.boundary.polygon.clear();
   if (polygon) {

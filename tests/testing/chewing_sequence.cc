@@ -5,13 +5,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <random>
-#include <sstream>
 
 #include <Eigen/Geometry>
 
 #include "measure/delaunay.h"
+#include "tools/io/surface_reader.h"
 
 namespace surfreg {
 namespace {
@@ -113,18 +112,12 @@ std::string DenseFacePath() {
 }
 
 std::vector<std::array<double, 3>> ReadFacePoints(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    std::fprintf(stderr, "chewing_sequence: cannot read %s\n", path.c_str());
-    std::abort();
-  }
+  const Surface surface = ReadSurface(path);  // the project's reader
   std::vector<std::array<double, 3>> points;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    std::array<double, 3> p;
-    if (fields >> p[0] >> p[1] >> p[2]) points.push_back(p);
+  points.reserve(surface.size());
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    points.push_back({surface.xy[i].x + surface.origin[0], surface.xy[i].y + surface.origin[1],
+                      surface.z[i] + surface.origin[2]});
   }
   return points;
 }
