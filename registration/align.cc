@@ -188,6 +188,7 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
     context.axial.mask.push_back({p[0] - reference.origin[0], p[1] - reference.origin[1]});
   }
   context.axial.trim_fraction = options.trim_fraction;
+  context.axial.normal_distance = options.normal_distance;
   if (!context.axial.mask.empty()) context.mask_triangles = TriangulatePolygon(context.axial.mask);
 
   AlignResult result;

@@ -64,6 +64,11 @@ struct AlignOptions {
   // evaluation: for partial overlap and regions that really changed. Axial
   // cost only.
   double trim_fraction = 0.0;
+  // Axial cost and prealignment: weight each vertical gap by the cosine of
+  // the surface's slope there, i.e. ≈ the distance along the normal. Steep
+  // flanks (face sides, cliffs) otherwise dominate least squares with
+  // vertical gaps that interpolation error inflates.
+  bool normal_distance = true;
   // Which of rx, ry, rz, tx, ty, tz the solver may change; the others keep
   // their initial value.
   std::array<bool, 6> free = {true, true, true, true, true, true};

@@ -26,7 +26,7 @@
 
 // The jaw's own keys as flags (strings, so tools/jaw_config.cc parses flags
 // and files alike; "" = not given). The keys jaw shares with other commands
-// (reference, orientation, cost, trim_fraction, max_iterations,
+// (reference, orientation, cost, trim_fraction, normal_distance, max_iterations,
 // max_fold_fraction, threads, progress) use those commands' flags of the same
 // names, looked up by name, so every key is a flag without defining any twice.
 DEFINE_string(frames, "", "jaw: a folder of frames or a list a.xyz,b.xyz,...");
@@ -35,7 +35,6 @@ DEFINE_string(boundary_polygon, "", "jaw: polygon file (x y per line): inside = 
 DEFINE_string(boundary_margin, "", "jaw: drop points this close to the boundary");
 DEFINE_string(step_tolerance, "", "jaw: converged after a step shorter than this (data units)");
 DEFINE_string(volume_iterations, "", "jaw: cost volume: L-BFGS iterations after the axial solve");
-DEFINE_string(normal_distance, "", "jaw: weight gaps by cos(slope) (true | false)");
 DEFINE_string(predict, "", "jaw: constant-velocity warm start (true | false)");
 DEFINE_string(min_part_points, "", "jaw: fewest points a part may have");
 DEFINE_string(output_csv, "", "jaw: write the per-frame CSV here");
