@@ -229,7 +229,8 @@ class VolumeFunction : public ceres::FirstOrderFunction {
       : state_(state), map_(map), parallel_(parallel), mask_(mask) {}
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
     if (!state_.Update(map_.Full(x))) return false;
-    const VolumeCostValue value = EvaluateVolumeCost(state_, gradient != nullptr, parallel_, mask_);
+    // Incremental: the overlay's combinatorics are kept between evaluations.
+    const VolumeCostValue value = cache_.Evaluate(state_, gradient != nullptr, parallel_, mask_);
     if (!(value.area > 0)) return false;
     *cost = value.PerArea();
     if (gradient != nullptr) {
@@ -245,6 +246,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   const ParameterMap& map_;
   bool parallel_;
   const std::vector<std::array<Point2, 3>>* mask_;
+  mutable VolumeCostCache cache_;  // bound to state_ (one state per solve)
 };
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -9,295 +11,18 @@
 #include "measure/overlay.h"
 #include "measure/volume.h"
 #include "measure/weights.h"
+#include "registration/overlay_topology.h"
+#include "registration/volume_accumulator.h"
 
 namespace surfreg {
-namespace {
 
-using Vector6 = Eigen::Matrix<double, 6, 1>;
-
-double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
-  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
-
-// Area and centroid of a convex polygon.
-void AreaCentroid(const Point2* p, int n, double* area, Point2* centroid) {
-  double twice = 0, cx = 0, cy = 0;
-  for (int k = 1; k + 1 < n; ++k) {
-    const double t = TwiceArea(p[0], p[k], p[k + 1]);
-    twice += t;
-    cx += t * (p[0].x + p[k].x + p[k + 1].x);
-    cy += t * (p[0].y + p[k].y + p[k + 1].y);
-  }
-  *area = 0.5 * twice;
-  *centroid = twice > 0 ? Point2{cx / (3 * twice), cy / (3 * twice)} : p[0];
-}
-
-// ∫ (x − c)(x − c)ᵀ over a convex polygon, c its centroid: per fan triangle
-// with corners v_k relative to c, S/12 (Σ v_k v_kᵀ + (Σ v_k)(Σ v_k)ᵀ), exact.
-Eigen::Matrix2d SecondMoment(const Point2* p, int n, const Point2& c) {
-  Eigen::Matrix2d total = Eigen::Matrix2d::Zero();
-  const Eigen::Vector2d v0(p[0].x - c.x, p[0].y - c.y);
-  for (int k = 1; k + 1 < n; ++k) {
-    const Eigen::Vector2d v1(p[k].x - c.x, p[k].y - c.y), v2(p[k + 1].x - c.x, p[k + 1].y - c.y);
-    const double area = 0.5 * (v1.x() - v0.x()) * (v2.y() - v0.y()) -
-                        0.5 * (v1.y() - v0.y()) * (v2.x() - v0.x());
-    const Eigen::Vector2d sum = v0 + v1 + v2;
-    total += area / 12.0 * (v0 * v0.transpose() + v1 * v1.transpose() + v2 * v2.transpose() +
-                            sum * sum.transpose());
-  }
-  return total;
-}
-
-// The moved B triangle as a linear map: height, and the material point q
-// (relative to c + t) above any xy.
-struct MovedTriangle {
-  Point2 p0;
-  double inv[4];  // inverse of [p1 − p0, p2 − p0]
-  Eigen::Vector3d q0, dq1, dq2;
-  Plane height;
-  Eigen::Vector3d normal;  // (−∇F, 1)
-
-  Eigen::Vector3d QAt(const Point2& x) const { return q0 + QStep(x.x - p0.x, x.y - p0.y); }
-  // The change of q over an xy step (dx, dy): q is affine in xy.
-  Eigen::Vector3d QStep(double dx, double dy) const {
-    const double l1 = inv[0] * dx + inv[1] * dy, l2 = inv[2] * dx + inv[3] * dy;
-    return l1 * dq1 + l2 * dq2;
-  }
-};
-
-class Accumulator {
- public:
-  Accumulator(const PairState& state, bool gradient,
-              const std::vector<std::array<Point2, 3>>* mask)
-      : state_(state), gradient_(gradient), mask_(mask),
-        weight_(state.reference().weight.empty() ? nullptr : &state.reference().weight) {
-    mt_ = state.derivative().m.transpose();
-  }
-
-  void operator()(const OverlayCell& cell) {
-    const ReferenceSide& a = state_.reference();
-    if (cell.triangle_a != last_a_) {
-      last_a_ = cell.triangle_a;
-      const int32_t* v = &a.mesh.triangles[3 * cell.triangle_a];
-      fa_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
-      for (int k = 0; k < 3; ++k) ta_[k] = a.xy[v[k]];
-      if (weight_ != nullptr) {  // μ is linear on A's triangle and fixed with it
-        const std::vector<double>& w = *weight_;
-        mu_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
-      }
-    }
-    if (cell.triangle_b != last_b_) {
-      last_b_ = cell.triangle_b;
-      SetMovedTriangle(cell.triangle_b);
-    }
-    ++value.cells;
-    if (mask_ == nullptr) {
-      AddPolygon(cell.vertices.data(), cell.num_vertices, cell.area);
-      if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, nullptr);
-      return;
-    }
-    const Point2* p = cell.vertices.data();
-    double lo_x = p[0].x, hi_x = lo_x, lo_y = p[0].y, hi_y = lo_y;
-    for (int k = 1; k < cell.num_vertices; ++k) {
-      lo_x = std::min(lo_x, p[k].x), hi_x = std::max(hi_x, p[k].x);
-      lo_y = std::min(lo_y, p[k].y), hi_y = std::max(hi_y, p[k].y);
-    }
-    Point2 piece[12];
-    for (const auto& t : *mask_) {
-      if (std::max({t[0].x, t[1].x, t[2].x}) < lo_x || std::min({t[0].x, t[1].x, t[2].x}) > hi_x ||
-          std::max({t[0].y, t[1].y, t[2].y}) < lo_y || std::min({t[0].y, t[1].y, t[2].y}) > hi_y) {
-        continue;
-      }
-      const int m = ClipByTriangle(p, cell.num_vertices, t, piece);
-      if (m < 3) continue;
-      double area;
-      Point2 centroid;
-      AreaCentroid(piece, m, &area, &centroid);
-      if (!(area > 0)) continue;
-      AddPolygon(piece, m, area);
-      if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, &t);
-    }
-  }
-
-  VolumeCostValue value;
-
- private:
-  void SetMovedTriangle(int32_t t) {
-    const Triangulation& mesh_b = state_.moving_mesh();
-    const int32_t* v = &mesh_b.triangles[3 * t];
-    const auto& xy = state_.moved_xy();
-    const auto& z = state_.moved_z();
-    const auto& q = state_.moved_q();
-    tb_.p0 = xy[v[0]];
-    const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
-    const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
-    const double det = ax * by - ay * bx;
-    tb_.inv[0] = by / det, tb_.inv[1] = -bx / det, tb_.inv[2] = -ay / det, tb_.inv[3] = ax / det;
-    tb_.q0 = q[v[0]];
-    tb_.dq1 = q[v[1]] - q[v[0]];
-    tb_.dq2 = q[v[2]] - q[v[0]];
-    tb_.height = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
-    tb_.normal = Eigen::Vector3d(-tb_.height.gx, -tb_.height.gy, 1.0);
-    has_hull_edge_ = false;
-    for (int k = 0; k < 3; ++k) has_hull_edge_ |= mesh_b.neighbors[3 * t + k] < 0;
-  }
-
-  // A convex piece of a cell (of area `area`): split by the sign of d
-  // (linear on it). With weights, ∫μ|d| and ∫μ come from the closed forms
-  // of volume.h on the piece's fan (as Measure computes them) and the parts
-  // carry only the gradient.
-  void AddPolygon(const Point2* p, int n, double area) {
-    double dv[12];
-    for (int k = 0; k < n; ++k) dv[k] = tb_.height.At(p[k]) - fa_.At(p[k]);
-    if (weight_ == nullptr) {
-      value.area += area;
-    } else {
-      for (int k = 1; k + 1 < n; ++k) {
-        const double fan = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
-        if (!(fan > 0)) continue;
-        const double d[3] = {dv[0], dv[k], dv[k + 1]};
-        const double m[3] = {mu_.At(p[0]), mu_.At(p[k]), mu_.At(p[k + 1])};
-        const GapIntegrals gap = IntegrateGapWeighted(fan, d, m);
-        value.abs += gap.abs;
-        value.area += gap.weight;
-      }
-      if (!gradient_) return;
-    }
-    Point2 pos[14], neg[14];
-    int np = 0, nn = 0;
-    for (int k = 0; k < n; ++k) {
-      const int l = k + 1 == n ? 0 : k + 1;
-      if (dv[k] >= 0) pos[np++] = p[k];
-      if (dv[k] <= 0) neg[nn++] = p[k];
-      if ((dv[k] > 0 && dv[l] < 0) || (dv[k] < 0 && dv[l] > 0)) {
-        const double s = dv[k] / (dv[k] - dv[l]);
-        const Point2 cut{p[k].x + s * (p[l].x - p[k].x), p[k].y + s * (p[l].y - p[k].y)};
-        pos[np++] = cut;
-        neg[nn++] = cut;
-      }
-    }
-    AddPart(pos, np, +1.0);
-    AddPart(neg, nn, -1.0);
-  }
-
-  // ∫ over one sign part: |d| (exact: d is linear), and sign · ∂_θF̂_B'.
-  // With weights, ∫ μ sign ∂_θF̂_B' only: with G(x) = ∂_θF̂_B' (affine) and
-  // Σ the part's second moment about its centroid c,
-  //   ∫ μ G = |part| μ(c) G(c) + DG Σ ∇μ,
-  // exact for the product of two affine functions (∫ (x − c) = 0); DG is
-  // non-zero only in the rotation rows, through q.
-  void AddPart(const Point2* p, int n, double sign) {
-    if (n < 3) return;
-    double area;
-    Point2 c;
-    AreaCentroid(p, n, &area, &c);
-    if (!(area > 0)) return;
-    if (weight_ == nullptr) {
-      const double d = tb_.height.At(c) - fa_.At(c);
-      value.abs += area * std::max(0.0, sign * d);
-    }
-    if (!gradient_) return;
-    const Eigen::Vector3d q = tb_.QAt(c);
-    if (weight_ != nullptr) {
-      // ∫ μ q = |part| μ(c) q(c) + Q Σ ∇μ (Q = ∂q/∂xy), and ∫ μ = |part| μ(c).
-      const Eigen::Vector2d m = SecondMoment(p, n, c) * Eigen::Vector2d(mu_.gx, mu_.gy);
-      const double mu_area = mu_.At(c) * area;
-      const Eigen::Vector3d mu_q = mu_area * q + tb_.QStep(m.x(), m.y());
-      value.d_abs.head<3>() += sign * -(mt_ * tb_.normal.cross(mu_q));
-      value.d_abs.tail<3>() += sign * mu_area * tb_.normal;
-      return;
-    }
-    const double w = sign * area;
-    value.d_abs.head<3>() += w * -(mt_ * tb_.normal.cross(q));
-    value.d_abs.tail<3>() += w * tb_.normal;
-  }
-
-  // B's hull edges of this cell's B triangle, within its A triangle (and
-  // the mask triangle, if any): the moving part of ∂Ω.
-  void AddBoundary(int32_t t, const std::array<Point2, 3>* mask_triangle) {
-    const Triangulation& mesh_b = state_.moving_mesh();
-    const int32_t* v = &mesh_b.triangles[3 * t];
-    const auto& xy = state_.moved_xy();
-    const auto& q = state_.moved_q();
-    for (int i = 0; i < 3; ++i) {
-      if (mesh_b.neighbors[3 * t + i] >= 0) continue;
-      const int32_t va = v[(i + 1) % 3], vb = v[(i + 2) % 3];  // interior on the left
-      const Point2 e0 = xy[va], e1 = xy[vb];
-      double s0 = 0.0, s1 = 1.0;
-      const int clip_edges = mask_triangle != nullptr ? 6 : 3;
-      for (int k = 0; k < clip_edges && s0 < s1; ++k) {  // clip to T_A (and the mask), counter-clockwise
-        const Point2& c0 = k < 3 ? ta_[k] : (*mask_triangle)[k - 3];
-        const Point2& c1 = k < 3 ? ta_[(k + 1) % 3] : (*mask_triangle)[(k - 2) % 3];
-        const double f0 = TwiceArea(c0, c1, e0), f1 = TwiceArea(c0, c1, e1);
-        if (f0 >= 0 && f1 >= 0) continue;
-        if (f0 < 0 && f1 < 0) {
-          s1 = s0;
-          break;
-        }
-        const double s = f0 / (f0 - f1);
-        if (f0 < 0) s0 = std::max(s0, s); else s1 = std::min(s1, s);
-      }
-      if (!(s1 > s0)) continue;
-      const double ex = e1.x - e0.x, ey = e1.y - e0.y;
-      const double length = std::hypot(ex, ey);
-      const Eigen::Vector3d m(ey / length, -ex / length, 0.0);  // outward normal
-      auto point = [&](double s) { return Point2{e0.x + s * ex, e0.y + s * ey}; };
-      auto g = [&](double s) {
-        const Eigen::Vector3d qs = (1 - s) * q[va] + s * q[vb];
-        Vector6 out;
-        out.head<3>() = -(mt_ * m.cross(qs));
-        out.tail<3>() = m;
-        return out;
-      };
-      auto d = [&](double s) { const Point2 p = point(s); return tb_.height.At(p) - fa_.At(p); };
-      // μ along the edge (1 without weights): μ g is quadratic, μ|d| g cubic
-      // on each sign piece; Simpson is exact for both.
-      auto mu = [&](double s) { return weight_ == nullptr ? 1.0 : mu_.At(point(s)); };
-      if (weight_ == nullptr) {
-        value.d_area += (s1 - s0) * length * g(0.5 * (s0 + s1));
-      } else {
-        const double sm = 0.5 * (s0 + s1);
-        value.d_area += (s1 - s0) * length / 6.0 *
-                        (mu(s0) * g(s0) + 4.0 * mu(sm) * g(sm) + mu(s1) * g(s1));
-      }
-      // ∫|d| g ds, split where d changes sign; Simpson is exact for the quadratic.
-      const double d0 = d(s0), d1 = d(s1);
-      double cuts[3] = {s0, s1, s1};
-      int pieces = 1;
-      if ((d0 > 0 && d1 < 0) || (d0 < 0 && d1 > 0)) {
-        cuts[1] = s0 + (s1 - s0) * d0 / (d0 - d1);
-        cuts[2] = s1;
-        pieces = 2;
-      }
-      for (int k = 0; k < pieces; ++k) {
-        const double a0 = cuts[k], a1 = cuts[k + 1], am = 0.5 * (a0 + a1);
-        value.d_abs += (a1 - a0) * length / 6.0 *
-                       (mu(a0) * std::fabs(d(a0)) * g(a0) +
-                        4.0 * mu(am) * std::fabs(d(am)) * g(am) +
-                        mu(a1) * std::fabs(d(a1)) * g(a1));
-      }
-    }
-  }
-
-  const PairState& state_;
-  const bool gradient_;
-  const std::vector<std::array<Point2, 3>>* mask_;
-  const std::vector<double>* weight_;  // A's per-node μ, or null (μ = 1); owned by the state
-  Plane mu_;                           // μ on the current A triangle
-  Eigen::Matrix3d mt_;
-  int32_t last_a_ = -1, last_b_ = -1;
-  Plane fa_;
-  Point2 ta_[3];
-  MovedTriangle tb_;
-  bool has_hull_edge_ = false;
-};
-
-}  // namespace
+using volume_internal::TwiceArea;
+using volume_internal::VolumeAccumulator;
 
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
                                    const std::vector<std::array<Point2, 3>>* mask) {
   const ReferenceSide& a = state.reference();
-  Accumulator first(state, gradient, mask), second(state, gradient, mask);
+  VolumeAccumulator first(state, gradient, mask), second(state, gradient, mask);
   if (parallel) {
     ForEachOverlayCellInTwo(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
                             std::ref(first), std::ref(second));
@@ -311,6 +36,398 @@ VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool p
   total.d_abs += second.value.d_abs;
   total.d_area += second.value.d_area;
   total.cells += second.value.cells;
+  return total;
+}
+
+// ------------------------------------------------------------ incremental
+
+namespace {
+
+// A location as far as the overlay's combinatorics see it.
+struct PackedLocation {
+  int32_t triangle = -1;
+  Where where = Where::kOutside;
+  int8_t index = -1;
+  bool operator!=(const PackedLocation& o) const {
+    return triangle != o.triangle || where != o.where || index != o.index;
+  }
+};
+
+inline PackedLocation Pack(const Location& l) { return {l.triangle, l.where, l.index}; }
+
+struct Gradient2 {
+  double gx = 0, gy = 0;
+};
+
+// ∇ of the plane through three points (as PlaneThrough).
+inline Gradient2 GradientOf(const Point2& p0, const Point2& p1, const Point2& p2, double z0,
+                            double z1, double z2) {
+  const Plane plane = PlaneThrough(p0, p1, p2, z0, z1, z2);
+  return {plane.gx, plane.gy};
+}
+
+}  // namespace
+
+struct VolumeCostCache::Impl {
+  double max_dirty_fraction;
+  VolumeCostCacheStats stats;
+  // What the topology was built for.
+  const PairState* state = nullptr;
+  const ReferenceSide* reference = nullptr;
+  const MovingSide* moving = nullptr;
+  int remeshes = -1;
+  bool built = false;
+  OverlayTopology topology;
+  std::vector<PackedLocation> last_a, last_b;  // at the previous evaluation
+  // A, fixed: the triangles around each vertex, each triangle's ∇F_A.
+  std::vector<int32_t> star_begin, star;
+  std::vector<Gradient2> grad_a;
+  // Per evaluation.
+  std::vector<Gradient2> grad_b;
+  std::vector<uint8_t> mark;
+  std::vector<int32_t> dirty;
+  std::vector<std::pair<int32_t, int32_t>> seeds;
+  // Per thread and B triangle: Σ s|P| and Σ s|P|(c − p0) over the sign parts
+  // P of its cells (s = sign of d on P, c its centroid, p0 T_B's corner 0):
+  // all the gradient needs of the interior, as ∂_θF̂_B' is affine on T_B.
+  std::vector<std::array<double, 3>> moments[2];
+
+  void Bind(const PairState& s);
+  void MarkDirty(const PairState& s);
+  void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
+                 VolumeCostValue* out);
+  void Generic(const PairState& s, bool gradient, const std::vector<std::array<Point2, 3>>* mask,
+               int32_t lo, int32_t hi, VolumeCostValue* out);
+};
+
+void VolumeCostCache::Impl::Bind(const PairState& s) {
+  state = &s;
+  reference = &s.reference();
+  moving = &s.moving();
+  const Triangulation& mesh = reference->mesh;
+  const int32_t nt = mesh.num_triangles();
+  star_begin.assign(reference->xy.size() + 1, 0);
+  for (int32_t v : mesh.triangles) ++star_begin[v + 1];
+  for (std::size_t v = 0; v + 1 < star_begin.size(); ++v) star_begin[v + 1] += star_begin[v];
+  star.resize(mesh.triangles.size());
+  std::vector<int32_t> fill(star_begin.begin(), star_begin.end() - 1);
+  for (int32_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) star[fill[mesh.triangles[3 * t + k]]++] = t;
+  }
+  grad_a.resize(nt);
+  for (int32_t t = 0; t < nt; ++t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    const auto& xy = reference->xy;
+    const auto& z = reference->z;
+    grad_a[t] = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+  }
+  built = false;
+}
+
+// The A triangles whose cells may have changed since the last evaluation:
+// around every vertex whose location in the other mesh changed (a vertex
+// crossing an edge of the other mesh is the only event that changes which
+// pairs meet and which edges cross). A B vertex moves straight in A's fixed
+// frame: the triangles it left and entered (with the edge or vertex it was
+// on), and, if those are not neighbours, everything around both.
+void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
+  const Triangulation& mesh_a = reference->mesh;
+  mark.assign(mesh_a.num_triangles(), 0);
+  seeds.clear();
+  auto mark_star = [&](int32_t v) {
+    for (int32_t k = star_begin[v]; k < star_begin[v + 1]; ++k) mark[star[k]] = 1;
+  };
+  const auto& a_in_b = s.a_in_b();
+  for (std::size_t v = 0; v < a_in_b.size(); ++v) {
+    const PackedLocation now = Pack(a_in_b[v]);
+    if (now != last_a[v] && (now.where != Where::kOutside || last_a[v].where != Where::kOutside)) {
+      mark_star(static_cast<int32_t>(v));
+    }
+  }
+  const auto& b_in_a = s.b_in_a();
+  auto mark_location = [&](const PackedLocation& l) {
+    if (l.triangle < 0) return;
+    mark[l.triangle] = 1;
+    if (l.where == Where::kOnEdge) {
+      const int32_t next = mesh_a.neighbors[3 * l.triangle + l.index];
+      if (next >= 0) mark[next] = 1;
+    } else if (l.where == Where::kOnVertex) {
+      mark_star(mesh_a.triangles[3 * l.triangle + l.index]);
+    }
+  };
+  for (std::size_t u = 0; u < b_in_a.size(); ++u) {
+    const PackedLocation now = Pack(b_in_a[u]);
+    const PackedLocation before = last_b[u];
+    // Outside A's hull before and after: where the walk left the mesh
+    // changes, the overlay does not.
+    if (!(now != before) || (now.where == Where::kOutside && before.where == Where::kOutside)) continue;
+    mark_location(before);
+    mark_location(now);
+    if (now.triangle >= 0 && before.triangle >= 0 && now.triangle != before.triangle) {
+      bool adjacent = false;
+      for (int i = 0; i < 3; ++i) adjacent |= mesh_a.neighbors[3 * before.triangle + i] == now.triangle;
+      if (!adjacent) {
+        for (int k = 0; k < 3; ++k) {
+          mark_star(mesh_a.triangles[3 * before.triangle + k]);
+          mark_star(mesh_a.triangles[3 * now.triangle + k]);
+        }
+      }
+    }
+    const int32_t tb = s.moving_mesh().vertex_triangle[u];
+    if (b_in_a[u].found() && tb >= 0) seeds.push_back({now.triangle, tb});
+  }
+  dirty.clear();
+  for (int32_t t = 0; t < mesh_a.num_triangles(); ++t) {
+    if (mark[t]) dirty.push_back(t);
+  }
+  std::sort(seeds.begin(), seeds.end());
+}
+
+// The unweighted, unmasked cost over the cells of A's triangles [lo, hi):
+// as VolumeAccumulator, but the interior gradient is left in `moments`.
+void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi,
+                                      int part, VolumeCostValue* out) {
+  const Triangulation& mesh_a = reference->mesh;
+  const Triangulation& mesh_b = s.moving_mesh();
+  const auto& xa = reference->xy;
+  const auto& za = reference->z;
+  const auto& xb = s.moved_xy();
+  const auto& zb = s.moved_z();
+  std::array<double, 3>* moment = moments[part].data();
+  VolumeAccumulator boundary(s, gradient, nullptr);
+  OverlayCell cell;
+  Point2* p = cell.vertices.data();
+  double abs = 0, area_sum = 0;
+  int64_t cells = 0;
+  for (int32_t ta = lo; ta < hi; ++ta) {
+    const int32_t count = topology.count_of(ta);
+    if (count == 0) continue;
+    const TopologyCell* list = topology.cells_of(ta);
+    const int32_t* ia = &mesh_a.triangles[3 * ta];
+    const Point2 a[3] = {xa[ia[0]], xa[ia[1]], xa[ia[2]]};
+    const Gradient2 ga = grad_a[ta];
+    const double za0 = za[ia[0]];
+    for (int32_t c = 0; c < count; ++c) {
+      const TopologyCell& tc = list[c];
+      const int32_t tb = tc.triangle_b;
+      const int32_t* ib = &mesh_b.triangles[3 * tb];
+      const Point2 b[3] = {xb[ib[0]], xb[ib[1]], xb[ib[2]]};
+      CellCorners(tc, a, ia, b, ib, p);
+      const int n = tc.num_corners;
+      const Gradient2 gb = grad_b[tb];
+      const double zb0 = zb[ib[0]];
+      double d[8], twice = 0;
+      for (int k = 0; k < n; ++k) {
+        d[k] = (zb0 + gb.gx * (p[k].x - b[0].x) + gb.gy * (p[k].y - b[0].y)) -
+               (za0 + ga.gx * (p[k].x - a[0].x) + ga.gy * (p[k].y - a[0].y));
+      }
+      for (int k = 1; k + 1 < n; ++k) twice += TwiceArea(p[0], p[k], p[k + 1]);
+      ++cells;
+      area_sum += 0.5 * twice;
+      // The parts where d ≥ 0 and d ≤ 0 (d is linear on the cell); plain
+      // arrays, relative to T_B's corner 0 (Point2 would zero them per cell).
+      double pos_x[10], pos_y[10], pos_d[10], neg_x[10], neg_y[10], neg_d[10];
+      int np = 0, nn = 0;
+      for (int k = 0; k < n; ++k) {
+        const int l = k + 1 == n ? 0 : k + 1;
+        const double x = p[k].x - b[0].x, y = p[k].y - b[0].y;
+        if (d[k] >= 0) pos_x[np] = x, pos_y[np] = y, pos_d[np++] = d[k];
+        if (d[k] <= 0) neg_x[nn] = x, neg_y[nn] = y, neg_d[nn++] = d[k];
+        if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
+          const double t = d[k] / (d[k] - d[l]);
+          const double cx = x + t * (p[l].x - p[k].x), cy = y + t * (p[l].y - p[k].y);
+          pos_x[np] = cx, pos_y[np] = cy, pos_d[np++] = 0.0;
+          neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn++] = 0.0;
+        }
+      }
+      auto add_part = [&](const double* qx, const double* qy, const double* dq, int m, double sign) {
+        if (m < 3) return;
+        double t_sum = 0, d_sum = 0, cx = 0, cy = 0;
+        for (int k = 1; k + 1 < m; ++k) {
+          const double t = (qx[k] - qx[0]) * (qy[k + 1] - qy[0]) - (qy[k] - qy[0]) * (qx[k + 1] - qx[0]);
+          t_sum += t;
+          d_sum += t * (dq[0] + dq[k] + dq[k + 1]);
+          cx += t * (qx[0] + qx[k] + qx[k + 1]);
+          cy += t * (qy[0] + qy[k] + qy[k + 1]);
+        }
+        if (!(t_sum > 0)) return;
+        abs += std::max(0.0, sign * d_sum) * (1.0 / 6.0);  // ∫_P |d|
+        if (!gradient) return;
+        std::array<double, 3>& m3 = moment[tb];
+        m3[0] += sign * 0.5 * t_sum;
+        m3[1] += sign * cx * (1.0 / 6.0);
+        m3[2] += sign * cy * (1.0 / 6.0);
+      };
+      add_part(pos_x, pos_y, pos_d, np, 1.0);
+      add_part(neg_x, neg_y, neg_d, nn, -1.0);
+      if (gradient && (mesh_b.neighbors[3 * tb] < 0 || mesh_b.neighbors[3 * tb + 1] < 0 ||
+                       mesh_b.neighbors[3 * tb + 2] < 0)) {
+        cell.triangle_a = ta;
+        cell.triangle_b = tb;
+        cell.num_vertices = n;
+        cell.area = 0.5 * twice;
+        boundary.AddBoundaryOf(cell);
+      }
+    }
+  }
+  out->abs = abs;
+  out->area = area_sum;
+  out->cells = cells;
+  out->d_abs = boundary.value.d_abs;
+  out->d_area = boundary.value.d_area;
+}
+
+// Weights or a mask: every cell through the full path's accumulator.
+void VolumeCostCache::Impl::Generic(const PairState& s, bool gradient,
+                                    const std::vector<std::array<Point2, 3>>* mask, int32_t lo,
+                                    int32_t hi, VolumeCostValue* out) {
+  const Triangulation& mesh_a = reference->mesh;
+  const Triangulation& mesh_b = s.moving_mesh();
+  const auto& xa = reference->xy;
+  const auto& xb = s.moved_xy();
+  VolumeAccumulator accumulate(s, gradient, mask);
+  OverlayCell cell;
+  Point2* p = cell.vertices.data();
+  for (int32_t ta = lo; ta < hi; ++ta) {
+    const int32_t* ia = &mesh_a.triangles[3 * ta];
+    const Point2 a[3] = {xa[ia[0]], xa[ia[1]], xa[ia[2]]};
+    for (int32_t c = 0; c < topology.count_of(ta); ++c) {
+      const TopologyCell& tc = topology.cells_of(ta)[c];
+      const int32_t* ib = &mesh_b.triangles[3 * tc.triangle_b];
+      const Point2 b[3] = {xb[ib[0]], xb[ib[1]], xb[ib[2]]};
+      CellCorners(tc, a, ia, b, ib, p);
+      double twice = 0;
+      for (int k = 1; k + 1 < tc.num_corners; ++k) twice += TwiceArea(p[0], p[k], p[k + 1]);
+      if (!(twice > 0)) continue;
+      cell.triangle_a = ta;
+      cell.triangle_b = tc.triangle_b;
+      cell.num_vertices = tc.num_corners;
+      cell.area = 0.5 * twice;
+      accumulate(cell);
+    }
+  }
+  *out = accumulate.value;
+}
+
+VolumeCostCache::VolumeCostCache(double max_dirty_fraction) : impl_(std::make_unique<Impl>()) {
+  impl_->max_dirty_fraction = max_dirty_fraction;
+}
+VolumeCostCache::~VolumeCostCache() = default;
+void VolumeCostCache::Reset() { impl_->built = false; }
+const VolumeCostCacheStats& VolumeCostCache::stats() const { return impl_->stats; }
+
+namespace {
+
+// Runs f(lo, hi, part) over [0, n) on one or two threads (fixed split).
+template <class F>
+void Split(int32_t n, bool parallel, F&& f) {
+  if (!parallel) {
+    f(0, n, 0);
+    return;
+  }
+  std::thread worker([&] { f(n / 2, n, 1); });
+  f(0, n / 2, 0);
+  worker.join();
+}
+
+void AddInto(const VolumeCostValue& v, VolumeCostValue* total) {
+  total->abs += v.abs;
+  total->area += v.area;
+  total->d_abs += v.d_abs;
+  total->d_area += v.d_area;
+  total->cells += v.cells;
+}
+
+}  // namespace
+
+VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, bool parallel,
+                                          const std::vector<std::array<Point2, 3>>* mask) {
+  Impl& m = *impl_;
+  if (m.state != &s || m.reference != &s.reference() || m.moving != &s.moving()) m.Bind(s);
+  const Triangulation& mesh_a = m.reference->mesh;
+  const Triangulation& mesh_b = s.moving_mesh();
+  const int32_t na = mesh_a.num_triangles(), nb = mesh_b.num_triangles();
+  bool build = !m.built || m.remeshes != s.remeshes();
+  if (!build) {
+    m.MarkDirty(s);
+    build = m.dirty.size() > m.max_dirty_fraction * na;
+  }
+  if (build) {
+    m.topology.Build(m.reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), parallel);
+    m.built = true;
+    m.remeshes = s.remeshes();
+    ++m.stats.full_builds;
+  } else if (!m.dirty.empty()) {
+    const TopologyStats t = m.topology.Repair(m.reference->xy, mesh_a, s.a_in_b(), s.moved_xy(),
+                                              mesh_b, m.dirty, m.seeds, parallel);
+    m.stats.triangles_searched += t.triangles_searched;
+  }
+  m.last_a.resize(s.a_in_b().size());
+  m.last_b.resize(s.b_in_a().size());
+  for (std::size_t v = 0; v < m.last_a.size(); ++v) m.last_a[v] = Pack(s.a_in_b()[v]);
+  for (std::size_t u = 0; u < m.last_b.size(); ++u) m.last_b[u] = Pack(s.b_in_a()[u]);
+  ++m.stats.evaluations;
+  m.stats.triangles += na;
+
+  VolumeCostValue parts[2];
+  if (mask != nullptr || !m.reference->weight.empty()) {
+    Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
+      m.Generic(s, gradient, mask, lo, hi, &parts[part]);
+    });
+    AddInto(parts[1], &parts[0]);
+    m.stats.cells += parts[0].cells;
+    return parts[0];
+  }
+  // ∇F̂_B' on each moved B triangle, then the cells.
+  m.grad_b.resize(nb);
+  const auto& xy = s.moved_xy();
+  const auto& z = s.moved_z();
+  Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
+    for (int32_t t = lo; t < hi; ++t) {
+      const int32_t* v = &mesh_b.triangles[3 * t];
+      m.grad_b[t] = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+    }
+  });
+  if (gradient) {
+    for (auto& moment : m.moments) moment.resize(nb, {0.0, 0.0, 0.0});  // zeroed after each use
+  }
+  Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
+    m.Integrate(s, gradient, lo, hi, part, &parts[part]);
+  });
+  AddInto(parts[1], &parts[0]);
+  VolumeCostValue total = parts[0];
+  m.stats.cells += total.cells;
+  if (!gradient) return total;
+  // The interior gradient from each B triangle's moments: with q affine on
+  // T_B, Σ s|P| q(c) = W q0 + Q C; rows as VolumeAccumulator::AddPart.
+  const auto& q = s.moved_q();
+  Eigen::Vector3d rotation[2], translation[2];
+  Split(nb, parallel, [&](int32_t lo, int32_t hi, int part) {
+    Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
+    for (int32_t t = lo; t < hi; ++t) {
+      std::array<double, 3>& m0 = m.moments[0][t];
+      std::array<double, 3>& m1 = m.moments[1][t];
+      const double w = m0[0] + m1[0], cx = m0[1] + m1[1], cy = m0[2] + m1[2];
+      m0 = {0.0, 0.0, 0.0};
+      m1 = {0.0, 0.0, 0.0};
+      if (w == 0 && cx == 0 && cy == 0) continue;
+      const int32_t* v = &mesh_b.triangles[3 * t];
+      const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
+      const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
+      const double det = ax * by - ay * bx;
+      const double l1 = (by * cx - bx * cy) / det, l2 = (ax * cy - ay * cx) / det;
+      const Eigen::Vector3d sum = w * q[v[0]] + l1 * (q[v[1]] - q[v[0]]) + l2 * (q[v[2]] - q[v[0]]);
+      const Eigen::Vector3d normal(-m.grad_b[t].gx, -m.grad_b[t].gy, 1.0);
+      r += normal.cross(sum);
+      tr += w * normal;
+    }
+    rotation[part] = r;
+    translation[part] = tr;
+  });
+  if (!parallel) rotation[1] = translation[1] = Eigen::Vector3d::Zero();
+  const Eigen::Matrix3d mt = s.derivative().m.transpose();
+  total.d_abs.head<3>() -= mt * (rotation[0] + rotation[1]);
+  total.d_abs.tail<3>() += translation[0] + translation[1];
   return total;
 }
 

@@ -21,6 +21,7 @@
 // second moment), the boundary ones are cubic along an edge (Simpson).
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -52,5 +53,46 @@ struct VolumeCostValue {
 // side has weights, μ is them (times the mask, if both are given).
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
                                    const std::vector<std::array<Point2, 3>>* mask = nullptr);
+
+// What a VolumeCostCache did, summed over its evaluations.
+struct VolumeCostCacheStats {
+  int64_t evaluations = 0;
+  int64_t full_builds = 0;         // evaluations that built the whole overlay
+  int64_t triangles_searched = 0;  // A triangles searched again by repairs (builds not counted)
+  int64_t triangles = 0;           // A triangles, summed over the evaluations
+  int64_t cells = 0;               // cells integrated, summed over the evaluations
+};
+
+// EvaluateVolumeCost for a sequence of nearby θ of one PairState (a
+// solver's evaluations), keeping the overlay's combinatorics between calls
+// (registration/overlay_topology.h): each call re-searches only the A
+// triangles near vertices whose location in the other mesh changed since the
+// previous call, and integrates every cell from corners recomputed at the
+// current points. The overlay is built whole on the first call, after B is
+// re-triangulated (a fold), for another state, and when more than
+// `max_dirty_fraction` of A's triangles would be searched again. Same value
+// and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); with
+// two threads, deterministic (fixed split and summation order).
+//
+// Keeps no reference to the state between calls, but remembers its address:
+// call Reset() before using it with a new state at the same address whose B
+// mesh differs from the last one seen (e.g. another level of the same pair).
+class VolumeCostCache {
+ public:
+  explicit VolumeCostCache(double max_dirty_fraction = 0.25);
+  ~VolumeCostCache();
+  VolumeCostCache(const VolumeCostCache&) = delete;
+  VolumeCostCache& operator=(const VolumeCostCache&) = delete;
+
+  // As EvaluateVolumeCost (state.Update must have succeeded).
+  VolumeCostValue Evaluate(const PairState& state, bool gradient, bool parallel,
+                           const std::vector<std::array<Point2, 3>>* mask = nullptr);
+  void Reset();  // the next Evaluate builds the whole overlay
+  const VolumeCostCacheStats& stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace surfreg

@@ -23,7 +23,10 @@
 //   BM_Align/<cost>/<N>: Align from the identity, axial cost or the
 //     defaults (volume cost after an axial prealign).
 // <work>: update (Update only), axial (+ ComputeAxialResiduals with
-// Jacobians), volume_1t / volume_2t (+ EvaluateVolumeCost with gradient).
+// Jacobians), volume_1t / volume_2t (+ EvaluateVolumeCost with gradient),
+// volinc_1t / volinc_2t (+ VolumeCostCache::Evaluate with gradient: the
+// incremental re-measure Align's volume solver uses; counters
+// searched_fraction = A triangles searched again / all, full_builds_per_eval).
 // <step>: small (δ = 1e-4 rad, 0.01 spacing), large (1e-3 rad, 0.1 spacing).
 //
 // Checks (untimed; a failure prints ERROR and makes the exit status 2): every
@@ -88,13 +91,15 @@ struct Step {
 constexpr Step kSteps[] = {{"small", 1e-4, 0.01}, {"large", 1e-3, 0.1}};
 constexpr int kMeasureStep = 1;  // BM_Measure's pose: θ_true + δ_large
 
-enum class Work { kUpdate, kAxial, kVolume1, kVolume2 };
+enum class Work { kUpdate, kAxial, kVolume1, kVolume2, kIncremental1, kIncremental2 };
 const char* WorkName(Work w) {
   switch (w) {
     case Work::kUpdate: return "update";
     case Work::kAxial: return "axial";
     case Work::kVolume1: return "volume_1t";
     case Work::kVolume2: return "volume_2t";
+    case Work::kIncremental1: return "volinc_1t";
+    case Work::kIncremental2: return "volinc_2t";
   }
   return "?";
 }
@@ -204,7 +209,7 @@ Pair* Setup(benchmark::State& state, int64_t n) {
 }
 
 // The work after an Update; returns something to keep.
-double DoWork(Work work, const PairState& s, AxialResiduals* residuals) {
+double DoWork(Work work, const PairState& s, AxialResiduals* residuals, VolumeCostCache* cache) {
   switch (work) {
     case Work::kUpdate: return 0.0;
     case Work::kAxial:
@@ -212,6 +217,8 @@ double DoWork(Work work, const PairState& s, AxialResiduals* residuals) {
       return residuals->r.empty() ? 0.0 : residuals->r[0];
     case Work::kVolume1: return EvaluateVolumeCost(s, true, /*parallel=*/false).abs;
     case Work::kVolume2: return EvaluateVolumeCost(s, true, /*parallel=*/true).abs;
+    case Work::kIncremental1: return cache->Evaluate(s, true, /*parallel=*/false).abs;
+    case Work::kIncremental2: return cache->Evaluate(s, true, /*parallel=*/true).abs;
   }
   return 0.0;
 }
@@ -236,12 +243,14 @@ void BM_Remeasure(benchmark::State& state, int64_t n, int step, Work work) {
   }
   const Theta poses[2] = {p->theta_true, p->theta_step[step]};
   AxialResiduals residuals;
+  VolumeCostCache cache;  // volinc_*: built in the warm-up, repaired in the timed loop
   // Untimed: one step there and back, so the result buffers exist before
   // timing, as in a solver's later evaluations.
   bool warm = s.Update(poses[1]);
   if (warm) {
-    Keep(DoWork(work, s, &residuals));
+    Keep(DoWork(work, s, &residuals, &cache));
     warm = s.Update(poses[0]);
+    if (warm) Keep(DoWork(work, s, &residuals, &cache));
   }
   if (!warm) {
     state.SkipWithError("Update failed (fold)");
@@ -261,10 +270,20 @@ void BM_Remeasure(benchmark::State& state, int64_t n, int step, Work work) {
     }
     walk += stats.walk_steps;
     ++updates;
-    Keep(DoWork(work, s, &residuals));
+    Keep(DoWork(work, s, &residuals, &cache));
     benchmark::ClobberMemory();
   }
   SetCommonCounters(state, *p, walk, updates, s.remeshes() - remeshes0);
+  if (work == Work::kIncremental1 || work == Work::kIncremental2) {
+    // Over the warm-up and the timed loop: the share of A's triangles
+    // searched again, of evaluations that rebuilt everything.
+    const VolumeCostCacheStats& c = cache.stats();
+    state.counters["searched_fraction"] =
+        c.triangles > 0 ? static_cast<double>(c.triangles_searched) / c.triangles : 0.0;
+    state.counters["full_builds_per_eval"] =
+        c.evaluations > 0 ? static_cast<double>(c.full_builds - 1) / c.evaluations : 0.0;
+    state.counters["cells"] = c.evaluations > 0 ? static_cast<double>(c.cells) / c.evaluations : 0.0;
+  }
 }
 
 // own_mesh: B's own mesh, as every new state in Align starts (its first
@@ -276,12 +295,15 @@ void Scratch(benchmark::State& state, int64_t n, int step, Work work, bool own_m
   std::optional<PairState> s;
   AxialResiduals residuals;
   s.emplace(p->ref, moving);  // untimed: sizes the residual buffers
-  if (s->Update(p->theta_step[step])) Keep(DoWork(work, *s, &residuals));
+  std::optional<VolumeCostCache> cache;
+  cache.emplace();
+  if (s->Update(p->theta_step[step])) Keep(DoWork(work, *s, &residuals, &*cache));
   UpdateStats stats;
   int64_t walk = 0, updates = 0, remeshes = 0;
   for (auto _ : state) {
     state.PauseTiming();
     s.emplace(p->ref, moving);  // destroys the previous one, untimed
+    cache.emplace();            // volinc_*: a fresh one builds the whole overlay
     stats = UpdateStats();      // Update sets `remeshed` only when it remeshes
     state.ResumeTiming();
     if (!s->Update(p->theta_step[step], &stats)) {
@@ -292,7 +314,7 @@ void Scratch(benchmark::State& state, int64_t n, int step, Work work, bool own_m
     walk += stats.walk_steps;
     remeshes += stats.remeshed ? 1 : 0;
     ++updates;
-    Keep(DoWork(work, *s, &residuals));
+    Keep(DoWork(work, *s, &residuals, &*cache));
     benchmark::ClobberMemory();
   }
   SetCommonCounters(state, *p, walk, updates, remeshes);
@@ -433,7 +455,8 @@ void Configure(benchmark::internal::Benchmark* b, int64_t n) {
 void RegisterAll(bool with_1e6) {
   std::vector<int64_t> sizes = {10000, 100000};
   if (with_1e6) sizes.push_back(1000000);
-  const Work works[] = {Work::kUpdate, Work::kAxial, Work::kVolume1, Work::kVolume2};
+  const Work works[] = {Work::kUpdate,  Work::kAxial,        Work::kVolume1,
+                        Work::kVolume2, Work::kIncremental1, Work::kIncremental2};
   // Input by input (GetPair keeps only the current one).
   for (int64_t n : sizes) {
     const std::string ns = "/" + std::to_string(n);

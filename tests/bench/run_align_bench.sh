@@ -64,8 +64,10 @@ sizes = sorted({k[3] for k in rows})
 steps = [s for s in ("small", "large") if any(k[2] == s for k in rows)]
 works = [("update", "Update only"), ("axial", "axial (Update + residuals, J)"),
          ("volume_1t", "volume 1 thread (Update + cost, ∇)"),
-         ("volume_2t", "volume 2 threads (Update + cost, ∇)")]
-single_thread = {"update", "axial", "volume_1t"}
+         ("volume_2t", "volume 2 threads (Update + cost, ∇)"),
+         ("volinc_1t", "volume incremental 1 thread (Update + cached overlay, ∇)"),
+         ("volinc_2t", "volume incremental 2 threads (Update + cached overlay, ∇)")]
+single_thread = {"update", "axial", "volume_1t", "volinc_1t"}
 
 def fmt_n(n):
     return "1e%d" % (len(str(n)) - 1) if str(n).strip("0") == "1" else str(n)
@@ -99,7 +101,7 @@ for n in sizes:
                 continue
             wall = m2["real"] / w["real"] if m2 else None
             cpu = m1["cpu"] / w["cpu"] if m1 and work in single_thread else None
-            if work in ("axial", "volume_1t", "volume_2t") and wall is not None:
+            if work in ("axial", "volume_1t", "volume_2t", "volinc_1t", "volinc_2t") and wall is not None:
                 targets.append((n, step, work, wall, cpu))
             print("| %s | %s | %s | %s | %s | %s | %.2f | %.2g | %s | %s | %s |" % (
                 fmt_n(n), step, label, ms(w["real"]),

@@ -1,0 +1,339 @@
+#include "registration/overlay_topology.h"
+
+#include <algorithm>
+#include <limits>
+#include <thread>
+
+#include "measure/overlay.h"
+#include "measure/predicates.h"
+
+namespace surfreg {
+namespace {
+
+inline int Sign(double v) { return (v > 0.0) - (v < 0.0); }
+
+// T_B clipped by T_A's three half-planes (Sutherland-Hodgman), with the same
+// arithmetic and decisions as the full overlay's clip (measure/overlay.cc),
+// so it keeps exactly the cells that one keeps; in addition each corner gets
+// its label. s[k][i]: T_B's corner k against T_A's edge line i (exact).
+// Every polygon edge lies on an edge of T_B (support 0..2) or of T_A (3..5):
+// a cut of a T_B edge by T_A's edge i is their crossing, a cut of T_A's edge
+// i' by its edge i is their shared vertex. Returns the number of corners,
+// 0 for an empty or zero-area result.
+int ClipLabeled(const Point2 a[3], const Point2 b[3], const int8_t s[3][3], uint8_t* code) {
+  double x[8], y[8], next_x[8], next_y[8];
+  int origin[8], next_origin[8];  // B corner index 0..2, or -1 for a computed point
+  uint8_t label[8], next_label[8];
+  int support[8], next_support[8];  // of the edge from corner k to corner k + 1
+  int n = 3;
+  for (int k = 0; k < 3; ++k) {
+    x[k] = b[k].x;
+    y[k] = b[k].y;
+    origin[k] = k;
+    label[k] = CornerB(k);
+    support[k] = (k + 2) % 3;  // the edge from corner k to k + 1 is opposite corner k + 2
+  }
+  for (int i = 0; i < 3 && n > 0; ++i) {
+    const Point2& e0 = a[(i + 1) % 3];
+    const Point2& e1 = a[(i + 2) % 3];
+    const double ex = e1.x - e0.x, ey = e1.y - e0.y;
+    double value[8];
+    int side[8];
+    bool all_inside = true;
+    for (int k = 0; k < n; ++k) {
+      value[k] = ex * (y[k] - e0.y) - ey * (x[k] - e0.x);
+      side[k] = origin[k] >= 0 ? s[origin[k]][i] : Sign(value[k]);
+      all_inside = all_inside && side[k] >= 0;
+    }
+    if (all_inside) continue;
+    int m = 0;
+    for (int k = 0; k < n && m < 8; ++k) {
+      const int l = k + 1 == n ? 0 : k + 1;
+      if (side[k] >= 0) {
+        next_x[m] = x[k];
+        next_y[m] = y[k];
+        next_origin[m] = origin[k];
+        next_label[m] = label[k];
+        // On edge i's line and the next corner outside: the edge runs along edge i.
+        next_support[m++] = side[k] == 0 && side[l] < 0 ? 3 + i : support[k];
+      }
+      if (m < 8 && ((side[k] > 0 && side[l] < 0) || (side[k] < 0 && side[l] > 0))) {
+        const double denominator = value[k] - value[l];
+        double t = denominator != 0.0 ? value[k] / denominator : 0.5;
+        t = std::min(1.0, std::max(0.0, t));
+        next_x[m] = x[k] + t * (x[l] - x[k]);
+        next_y[m] = y[k] + t * (y[l] - y[k]);
+        next_origin[m] = -1;
+        next_label[m] = support[k] < 3 ? CornerCross(i, support[k]) : CornerA(3 - i - (support[k] - 3));
+        next_support[m++] = side[k] > 0 ? 3 + i : support[k];  // leaving: along edge i
+      }
+    }
+    n = m;
+    std::copy(next_x, next_x + m, x);
+    std::copy(next_y, next_y + m, y);
+    std::copy(next_origin, next_origin + m, origin);
+    std::copy(next_label, next_label + m, label);
+    std::copy(next_support, next_support + m, support);
+  }
+  if (n < 3) return 0;
+  double twice_area = 0.0;
+  for (int k = 1; k + 1 < n; ++k) {
+    twice_area += (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
+  }
+  if (!(twice_area > 0.0)) return 0;
+  std::copy(label, label + n, code);
+  return n;
+}
+
+}  // namespace
+
+// The exact search of one A triangle: a breadth-first search over the B
+// triangles whose closures meet it, from seeds (as measure/overlay.cc).
+struct OverlayTopology::Searcher {
+  std::vector<int32_t> b_stamp;     // per B triangle: the search that queued it
+  std::vector<int32_t> side_stamp;  // per B vertex: the search its `sides` are for
+  std::vector<std::array<int8_t, 3>> sides;
+  std::vector<int32_t> queue;
+  std::vector<TopologyCell> fresh;                 // cells found by Repair
+  std::vector<std::array<int64_t, 3>> fresh_runs;  // (T_A, first, count) in `fresh`
+  int32_t stamp = 0;
+  TopologyStats stats;
+  // Current A triangle.
+  const std::vector<Point2>* pb = nullptr;
+  const Triangulation* mb = nullptr;
+  Point2 a[3];
+
+  void Size(int32_t num_b_triangles, int64_t num_b_points) {
+    if (static_cast<int32_t>(b_stamp.size()) != num_b_triangles) b_stamp.assign(num_b_triangles, -1);
+    if (static_cast<int64_t>(side_stamp.size()) != num_b_points) {
+      side_stamp.assign(num_b_points, -1);
+      sides.resize(num_b_points);
+    }
+    stats = TopologyStats();
+  }
+
+  void Begin(const Point2* corners) {
+    if (stamp == std::numeric_limits<int32_t>::max()) {
+      std::fill(b_stamp.begin(), b_stamp.end(), -1);
+      std::fill(side_stamp.begin(), side_stamp.end(), -1);
+      stamp = 0;
+    }
+    ++stamp;
+    for (int k = 0; k < 3; ++k) a[k] = corners[k];
+    queue.clear();
+    ++stats.triangles_searched;
+  }
+
+  void Push(int32_t tb) {
+    if (tb < 0 || b_stamp[tb] == stamp) return;
+    b_stamp[tb] = stamp;
+    queue.push_back(tb);
+  }
+
+  const int8_t* Sides(int32_t u) {
+    if (side_stamp[u] != stamp) {
+      side_stamp[u] = stamp;
+      for (int i = 0; i < 3; ++i) {
+        sides[u][i] = static_cast<int8_t>(Sign(Orient2D(a[(i + 1) % 3], a[(i + 2) % 3], (*pb)[u])));
+      }
+    }
+    return sides[u].data();
+  }
+
+  // Whether the closures of T_A and tb meet: no edge line of either has the
+  // other triangle strictly outside.
+  bool Meets(int32_t tb, const int8_t* s[3]) const {
+    for (int k = 0; k < 3; ++k) {
+      if (s[k][0] >= 0 && s[k][1] >= 0 && s[k][2] >= 0) return true;
+    }
+    for (int i = 0; i < 3; ++i) {
+      if (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0) return false;
+    }
+    const int32_t* v = &mb->triangles[3 * tb];
+    for (int j = 0; j < 3; ++j) {
+      const Point2& p = (*pb)[v[(j + 1) % 3]];
+      const Point2& q = (*pb)[v[(j + 2) % 3]];
+      if (Orient2D(p, q, a[0]) < 0 && Orient2D(p, q, a[1]) < 0 && Orient2D(p, q, a[2]) < 0) return false;
+    }
+    return true;
+  }
+
+  // Runs the queued search; appends the cells to `out`. Returns whether any
+  // B triangle met T_A.
+  bool Run(std::vector<TopologyCell>* out) {
+    bool met = false;
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int32_t tb = queue[head];
+      ++stats.pairs_tested;
+      const int32_t* v = &mb->triangles[3 * tb];
+      const int8_t* s[3] = {Sides(v[0]), Sides(v[1]), Sides(v[2])};
+      if (!Meets(tb, s)) continue;
+      met = true;
+      int8_t signs[3][3];
+      for (int k = 0; k < 3; ++k) std::copy(s[k], s[k] + 3, signs[k]);
+      const Point2 b[3] = {(*pb)[v[0]], (*pb)[v[1]], (*pb)[v[2]]};
+      TopologyCell cell;
+      cell.triangle_b = tb;
+      cell.num_corners = static_cast<uint8_t>(ClipLabeled(a, b, signs, cell.corner.data()));
+      if (cell.num_corners >= 3) out->push_back(cell);
+      for (int j = 0; j < 3; ++j) Push(mb->neighbors[3 * tb + j]);
+    }
+    return met;
+  }
+};
+
+OverlayTopology::OverlayTopology() = default;
+OverlayTopology::~OverlayTopology() = default;
+
+void OverlayTopology::SizeSearchers(const Triangulation& mesh_a, const Triangulation& mesh_b,
+                                    int64_t num_b) {
+  (void)mesh_a;
+  for (auto& s : searcher_) {
+    if (!s) s = std::make_unique<Searcher>();
+    s->Size(mesh_b.num_triangles(), num_b);
+  }
+}
+
+TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
+                                     const std::vector<Location>& a_in_b,
+                                     const std::vector<Point2>& points_b, const Triangulation& mesh_b,
+                                     const std::vector<Location>& b_in_a, bool parallel) {
+  SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
+  const int32_t na = mesh_a.num_triangles();
+  // The pairs that make cells, from the full overlay, by T_A.
+  std::vector<std::pair<int32_t, int32_t>> pairs[2];
+  auto keep = [](std::vector<std::pair<int32_t, int32_t>>* list) {
+    return [list](const OverlayCell& cell) { list->push_back({cell.triangle_a, cell.triangle_b}); };
+  };
+  OverlayStats overlay;
+  if (parallel) {
+    overlay = ForEachOverlayCellInTwo(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a,
+                                      keep(&pairs[0]), keep(&pairs[1]));
+  } else {
+    overlay = ForEachOverlayCell(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, keep(&pairs[0]));
+  }
+  begin_.assign(na + 1, 0);
+  count_.assign(na, 0);
+  for (const auto& list : pairs) {
+    for (const auto& p : list) ++begin_[p.first + 1];
+  }
+  for (int32_t t = 0; t < na; ++t) begin_[t + 1] += begin_[t];
+  cells_.assign(begin_[na], TopologyCell());
+  for (const auto& list : pairs) {
+    for (const auto& p : list) cells_[begin_[p.first] + count_[p.first]++].triangle_b = p.second;
+  }
+  begin_.pop_back();
+  // Label each pair's cell (the same clip: the same cells).
+  auto label = [&](Searcher& s, int32_t lo, int32_t hi) {
+    s.pb = &points_b;
+    s.mb = &mesh_b;
+    for (int32_t ta = lo; ta < hi; ++ta) {
+      const int32_t* va = &mesh_a.triangles[3 * ta];
+      const Point2 a[3] = {points_a[va[0]], points_a[va[1]], points_a[va[2]]};
+      s.Begin(a);
+      TopologyCell* cells = cells_.data() + begin_[ta];
+      int32_t kept = 0;
+      for (int32_t k = 0; k < count_[ta]; ++k) {
+        const int32_t tb = cells[k].triangle_b;
+        const int32_t* vb = &mesh_b.triangles[3 * tb];
+        int8_t signs[3][3];
+        for (int c = 0; c < 3; ++c) std::copy(s.Sides(vb[c]), s.Sides(vb[c]) + 3, signs[c]);
+        const Point2 b[3] = {points_b[vb[0]], points_b[vb[1]], points_b[vb[2]]};
+        TopologyCell cell;
+        cell.triangle_b = tb;
+        cell.num_corners = static_cast<uint8_t>(ClipLabeled(a, b, signs, cell.corner.data()));
+        if (cell.num_corners >= 3) cells[kept++] = cell;
+      }
+      count_[ta] = kept;
+    }
+  };
+  const int32_t middle = parallel ? na / 2 : na;
+  std::thread worker;
+  if (parallel) worker = std::thread([&] { label(*searcher_[1], middle, na); });
+  label(*searcher_[0], 0, middle);
+  if (parallel) worker.join();
+  live_ = 0;
+  for (int32_t t = 0; t < na; ++t) live_ += count_[t];
+  TopologyStats stats;
+  stats.triangles_searched = na;
+  stats.pairs_tested = overlay.pairs_tested;
+  stats.cells = live_;
+  return stats;
+}
+
+TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
+                                      const Triangulation& mesh_a,
+                                      const std::vector<Location>& a_in_b,
+                                      const std::vector<Point2>& points_b,
+                                      const Triangulation& mesh_b, const std::vector<int32_t>& dirty,
+                                      const std::vector<std::pair<int32_t, int32_t>>& seeds,
+                                      bool parallel) {
+  SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
+  const int32_t na = mesh_a.num_triangles();
+  const int32_t middle = parallel ? na / 2 : na;
+  // Reads only the old topology; writes only its own searcher.
+  auto repair = [&](Searcher& s, int32_t lo, int32_t hi) {
+    s.pb = &points_b;
+    s.mb = &mesh_b;
+    s.fresh.clear();
+    s.fresh_runs.clear();
+    auto d = std::lower_bound(dirty.begin(), dirty.end(), lo);
+    auto e = std::lower_bound(seeds.begin(), seeds.end(), std::make_pair(lo, -1));
+    for (; d != dirty.end() && *d < hi; ++d) {
+      const int32_t ta = *d;
+      const int32_t* va = &mesh_a.triangles[3 * ta];
+      const Point2 a[3] = {points_a[va[0]], points_a[va[1]], points_a[va[2]]};
+      s.Begin(a);
+      for (int32_t k = 0; k < count_[ta]; ++k) s.Push(cells_of(ta)[k].triangle_b);
+      for (int k = 0; k < 3; ++k) {
+        if (a_in_b[va[k]].found()) s.Push(a_in_b[va[k]].triangle);
+      }
+      while (e != seeds.end() && e->first < ta) ++e;
+      for (; e != seeds.end() && e->first == ta; ++e) s.Push(e->second);
+      const int64_t first = static_cast<int64_t>(s.fresh.size());
+      if (!s.Run(&s.fresh)) {
+        // Nothing met from there: perhaps T_A only now reaches into B
+        // across its hull; start from its neighbours' cells.
+        for (int i = 0; i < 3; ++i) {
+          const int32_t next = mesh_a.neighbors[3 * ta + i];
+          if (next < 0) continue;
+          for (int32_t k = 0; k < count_[next]; ++k) s.Push(cells_of(next)[k].triangle_b);
+        }
+        s.Run(&s.fresh);
+      }
+      s.fresh_runs.push_back({ta, first, static_cast<int64_t>(s.fresh.size()) - first});
+    }
+  };
+  std::thread worker;
+  if (parallel) worker = std::thread([&] { repair(*searcher_[1], middle, na); });
+  repair(*searcher_[0], 0, middle);
+  if (parallel) worker.join();
+  TopologyStats stats;
+  for (auto& s : searcher_) {
+    const int64_t base = static_cast<int64_t>(cells_.size());
+    cells_.insert(cells_.end(), s->fresh.begin(), s->fresh.end());
+    for (const auto& run : s->fresh_runs) {
+      live_ += run[2] - count_[run[0]];
+      begin_[run[0]] = base + run[1];
+      count_[run[0]] = static_cast<int32_t>(run[2]);
+    }
+    stats.triangles_searched += s->stats.triangles_searched;
+    stats.pairs_tested += s->stats.pairs_tested;
+  }
+  if (static_cast<int64_t>(cells_.size()) > 2 * live_ + 4096) Compact();
+  stats.cells = live_;
+  return stats;
+}
+
+void OverlayTopology::Compact() {
+  std::vector<TopologyCell> packed;
+  packed.reserve(static_cast<std::size_t>(live_ + live_ / 2));
+  for (std::size_t t = 0; t < begin_.size(); ++t) {
+    const int64_t first = static_cast<int64_t>(packed.size());
+    packed.insert(packed.end(), cells_.begin() + begin_[t], cells_.begin() + begin_[t] + count_[t]);
+    begin_[t] = first;
+  }
+  cells_.swap(packed);
+}
+
+}  // namespace surfreg

@@ -1,0 +1,319 @@
+#pragma once
+// Internal to the volume cost (volume_cost.h): the integrals over one
+// overlay cell (value, gradient, weights, mask, B's moving boundary), shared
+// by the full evaluation and the incremental one. Not a public interface.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "measure/gap_volume.h"
+#include "measure/overlay.h"
+#include "measure/volume.h"
+#include "measure/weights.h"
+#include "registration/pair_state.h"
+#include "registration/volume_cost.h"
+
+namespace surfreg {
+namespace volume_internal {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+inline double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
+// Area and centroid of a convex polygon.
+inline void AreaCentroid(const Point2* p, int n, double* area, Point2* centroid) {
+  double twice = 0, cx = 0, cy = 0;
+  for (int k = 1; k + 1 < n; ++k) {
+    const double t = TwiceArea(p[0], p[k], p[k + 1]);
+    twice += t;
+    cx += t * (p[0].x + p[k].x + p[k + 1].x);
+    cy += t * (p[0].y + p[k].y + p[k + 1].y);
+  }
+  *area = 0.5 * twice;
+  *centroid = twice > 0 ? Point2{cx / (3 * twice), cy / (3 * twice)} : p[0];
+}
+
+// ∫ (x − c)(x − c)ᵀ over a convex polygon, c its centroid: per fan triangle
+// with corners v_k relative to c, S/12 (Σ v_k v_kᵀ + (Σ v_k)(Σ v_k)ᵀ), exact.
+inline Eigen::Matrix2d SecondMoment(const Point2* p, int n, const Point2& c) {
+  Eigen::Matrix2d total = Eigen::Matrix2d::Zero();
+  const Eigen::Vector2d v0(p[0].x - c.x, p[0].y - c.y);
+  for (int k = 1; k + 1 < n; ++k) {
+    const Eigen::Vector2d v1(p[k].x - c.x, p[k].y - c.y), v2(p[k + 1].x - c.x, p[k + 1].y - c.y);
+    const double area = 0.5 * (v1.x() - v0.x()) * (v2.y() - v0.y()) -
+                        0.5 * (v1.y() - v0.y()) * (v2.x() - v0.x());
+    const Eigen::Vector2d sum = v0 + v1 + v2;
+    total += area / 12.0 * (v0 * v0.transpose() + v1 * v1.transpose() + v2 * v2.transpose() +
+                            sum * sum.transpose());
+  }
+  return total;
+}
+
+// The moved B triangle as a linear map: height, and the material point q
+// (relative to c + t) above any xy.
+struct MovedTriangle {
+  Point2 p0;
+  double inv[4];  // inverse of [p1 − p0, p2 − p0]
+  Eigen::Vector3d q0, dq1, dq2;
+  Plane height;
+  Eigen::Vector3d normal;  // (−∇F, 1)
+
+  Eigen::Vector3d QAt(const Point2& x) const { return q0 + QStep(x.x - p0.x, x.y - p0.y); }
+  // The change of q over an xy step (dx, dy): q is affine in xy.
+  Eigen::Vector3d QStep(double dx, double dy) const {
+    const double l1 = inv[0] * dx + inv[1] * dy, l2 = inv[2] * dx + inv[3] * dy;
+    return l1 * dq1 + l2 * dq2;
+  }
+};
+
+class VolumeAccumulator {
+ public:
+  VolumeAccumulator(const PairState& state, bool gradient,
+              const std::vector<std::array<Point2, 3>>* mask)
+      : state_(state), gradient_(gradient), mask_(mask),
+        weight_(state.reference().weight.empty() ? nullptr : &state.reference().weight) {
+    mt_ = state.derivative().m.transpose();
+  }
+
+  // Only the boundary term of a cell (no mask): for callers that integrate
+  // the interior themselves.
+  void AddBoundaryOf(const OverlayCell& cell) {
+    SetContext(cell);
+    if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, nullptr);
+  }
+
+  void operator()(const OverlayCell& cell) {
+    SetContext(cell);
+    ++value.cells;
+    if (mask_ == nullptr) {
+      AddPolygon(cell.vertices.data(), cell.num_vertices, cell.area);
+      if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, nullptr);
+      return;
+    }
+    AddMasked(cell);
+  }
+
+  VolumeCostValue value;
+
+ private:
+  void SetContext(const OverlayCell& cell) {
+    const ReferenceSide& a = state_.reference();
+    if (cell.triangle_a != last_a_) {
+      last_a_ = cell.triangle_a;
+      const int32_t* v = &a.mesh.triangles[3 * cell.triangle_a];
+      fa_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
+      for (int k = 0; k < 3; ++k) ta_[k] = a.xy[v[k]];
+      if (weight_ != nullptr) {  // μ is linear on A's triangle and fixed with it
+        const std::vector<double>& w = *weight_;
+        mu_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
+      }
+    }
+    if (cell.triangle_b != last_b_) {
+      last_b_ = cell.triangle_b;
+      SetMovedTriangle(cell.triangle_b);
+    }
+  }
+
+  void AddMasked(const OverlayCell& cell) {
+    const Point2* p = cell.vertices.data();
+    double lo_x = p[0].x, hi_x = lo_x, lo_y = p[0].y, hi_y = lo_y;
+    for (int k = 1; k < cell.num_vertices; ++k) {
+      lo_x = std::min(lo_x, p[k].x), hi_x = std::max(hi_x, p[k].x);
+      lo_y = std::min(lo_y, p[k].y), hi_y = std::max(hi_y, p[k].y);
+    }
+    Point2 piece[12];
+    for (const auto& t : *mask_) {
+      if (std::max({t[0].x, t[1].x, t[2].x}) < lo_x || std::min({t[0].x, t[1].x, t[2].x}) > hi_x ||
+          std::max({t[0].y, t[1].y, t[2].y}) < lo_y || std::min({t[0].y, t[1].y, t[2].y}) > hi_y) {
+        continue;
+      }
+      const int m = ClipByTriangle(p, cell.num_vertices, t, piece);
+      if (m < 3) continue;
+      double area;
+      Point2 centroid;
+      AreaCentroid(piece, m, &area, &centroid);
+      if (!(area > 0)) continue;
+      AddPolygon(piece, m, area);
+      if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, &t);
+    }
+  }
+
+  void SetMovedTriangle(int32_t t) {
+    const Triangulation& mesh_b = state_.moving_mesh();
+    const int32_t* v = &mesh_b.triangles[3 * t];
+    const auto& xy = state_.moved_xy();
+    const auto& z = state_.moved_z();
+    const auto& q = state_.moved_q();
+    tb_.p0 = xy[v[0]];
+    const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
+    const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
+    const double det = ax * by - ay * bx;
+    tb_.inv[0] = by / det, tb_.inv[1] = -bx / det, tb_.inv[2] = -ay / det, tb_.inv[3] = ax / det;
+    tb_.q0 = q[v[0]];
+    tb_.dq1 = q[v[1]] - q[v[0]];
+    tb_.dq2 = q[v[2]] - q[v[0]];
+    tb_.height = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+    tb_.normal = Eigen::Vector3d(-tb_.height.gx, -tb_.height.gy, 1.0);
+    has_hull_edge_ = false;
+    for (int k = 0; k < 3; ++k) has_hull_edge_ |= mesh_b.neighbors[3 * t + k] < 0;
+  }
+
+  // A convex piece of a cell (of area `area`): split by the sign of d
+  // (linear on it). With weights, ∫μ|d| and ∫μ come from the closed forms
+  // of volume.h on the piece's fan (as Measure computes them) and the parts
+  // carry only the gradient.
+  void AddPolygon(const Point2* p, int n, double area) {
+    double dv[12];
+    for (int k = 0; k < n; ++k) dv[k] = tb_.height.At(p[k]) - fa_.At(p[k]);
+    if (weight_ == nullptr) {
+      value.area += area;
+    } else {
+      for (int k = 1; k + 1 < n; ++k) {
+        const double fan = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
+        if (!(fan > 0)) continue;
+        const double d[3] = {dv[0], dv[k], dv[k + 1]};
+        const double m[3] = {mu_.At(p[0]), mu_.At(p[k]), mu_.At(p[k + 1])};
+        const GapIntegrals gap = IntegrateGapWeighted(fan, d, m);
+        value.abs += gap.abs;
+        value.area += gap.weight;
+      }
+      if (!gradient_) return;
+    }
+    Point2 pos[14], neg[14];
+    int np = 0, nn = 0;
+    for (int k = 0; k < n; ++k) {
+      const int l = k + 1 == n ? 0 : k + 1;
+      if (dv[k] >= 0) pos[np++] = p[k];
+      if (dv[k] <= 0) neg[nn++] = p[k];
+      if ((dv[k] > 0 && dv[l] < 0) || (dv[k] < 0 && dv[l] > 0)) {
+        const double s = dv[k] / (dv[k] - dv[l]);
+        const Point2 cut{p[k].x + s * (p[l].x - p[k].x), p[k].y + s * (p[l].y - p[k].y)};
+        pos[np++] = cut;
+        neg[nn++] = cut;
+      }
+    }
+    AddPart(pos, np, +1.0);
+    AddPart(neg, nn, -1.0);
+  }
+
+  // ∫ over one sign part: |d| (exact: d is linear), and sign · ∂_θF̂_B'.
+  // With weights, ∫ μ sign ∂_θF̂_B' only: with G(x) = ∂_θF̂_B' (affine) and
+  // Σ the part's second moment about its centroid c,
+  //   ∫ μ G = |part| μ(c) G(c) + DG Σ ∇μ,
+  // exact for the product of two affine functions (∫ (x − c) = 0); DG is
+  // non-zero only in the rotation rows, through q.
+  void AddPart(const Point2* p, int n, double sign) {
+    if (n < 3) return;
+    double area;
+    Point2 c;
+    AreaCentroid(p, n, &area, &c);
+    if (!(area > 0)) return;
+    if (weight_ == nullptr) {
+      const double d = tb_.height.At(c) - fa_.At(c);
+      value.abs += area * std::max(0.0, sign * d);
+    }
+    if (!gradient_) return;
+    const Eigen::Vector3d q = tb_.QAt(c);
+    if (weight_ != nullptr) {
+      // ∫ μ q = |part| μ(c) q(c) + Q Σ ∇μ (Q = ∂q/∂xy), and ∫ μ = |part| μ(c).
+      const Eigen::Vector2d m = SecondMoment(p, n, c) * Eigen::Vector2d(mu_.gx, mu_.gy);
+      const double mu_area = mu_.At(c) * area;
+      const Eigen::Vector3d mu_q = mu_area * q + tb_.QStep(m.x(), m.y());
+      value.d_abs.head<3>() += sign * -(mt_ * tb_.normal.cross(mu_q));
+      value.d_abs.tail<3>() += sign * mu_area * tb_.normal;
+      return;
+    }
+    const double w = sign * area;
+    value.d_abs.head<3>() += w * -(mt_ * tb_.normal.cross(q));
+    value.d_abs.tail<3>() += w * tb_.normal;
+  }
+
+  // B's hull edges of this cell's B triangle, within its A triangle (and
+  // the mask triangle, if any): the moving part of ∂Ω.
+  void AddBoundary(int32_t t, const std::array<Point2, 3>* mask_triangle) {
+    const Triangulation& mesh_b = state_.moving_mesh();
+    const int32_t* v = &mesh_b.triangles[3 * t];
+    const auto& xy = state_.moved_xy();
+    const auto& q = state_.moved_q();
+    for (int i = 0; i < 3; ++i) {
+      if (mesh_b.neighbors[3 * t + i] >= 0) continue;
+      const int32_t va = v[(i + 1) % 3], vb = v[(i + 2) % 3];  // interior on the left
+      const Point2 e0 = xy[va], e1 = xy[vb];
+      double s0 = 0.0, s1 = 1.0;
+      const int clip_edges = mask_triangle != nullptr ? 6 : 3;
+      for (int k = 0; k < clip_edges && s0 < s1; ++k) {  // clip to T_A (and the mask), counter-clockwise
+        const Point2& c0 = k < 3 ? ta_[k] : (*mask_triangle)[k - 3];
+        const Point2& c1 = k < 3 ? ta_[(k + 1) % 3] : (*mask_triangle)[(k - 2) % 3];
+        const double f0 = TwiceArea(c0, c1, e0), f1 = TwiceArea(c0, c1, e1);
+        if (f0 >= 0 && f1 >= 0) continue;
+        if (f0 < 0 && f1 < 0) {
+          s1 = s0;
+          break;
+        }
+        const double s = f0 / (f0 - f1);
+        if (f0 < 0) s0 = std::max(s0, s); else s1 = std::min(s1, s);
+      }
+      if (!(s1 > s0)) continue;
+      const double ex = e1.x - e0.x, ey = e1.y - e0.y;
+      const double length = std::hypot(ex, ey);
+      const Eigen::Vector3d m(ey / length, -ex / length, 0.0);  // outward normal
+      auto point = [&](double s) { return Point2{e0.x + s * ex, e0.y + s * ey}; };
+      auto g = [&](double s) {
+        const Eigen::Vector3d qs = (1 - s) * q[va] + s * q[vb];
+        Vector6 out;
+        out.head<3>() = -(mt_ * m.cross(qs));
+        out.tail<3>() = m;
+        return out;
+      };
+      auto d = [&](double s) { const Point2 p = point(s); return tb_.height.At(p) - fa_.At(p); };
+      // μ along the edge (1 without weights): μ g is quadratic, μ|d| g cubic
+      // on each sign piece; Simpson is exact for both.
+      auto mu = [&](double s) { return weight_ == nullptr ? 1.0 : mu_.At(point(s)); };
+      if (weight_ == nullptr) {
+        value.d_area += (s1 - s0) * length * g(0.5 * (s0 + s1));
+      } else {
+        const double sm = 0.5 * (s0 + s1);
+        value.d_area += (s1 - s0) * length / 6.0 *
+                        (mu(s0) * g(s0) + 4.0 * mu(sm) * g(sm) + mu(s1) * g(s1));
+      }
+      // ∫|d| g ds, split where d changes sign; Simpson is exact for the quadratic.
+      const double d0 = d(s0), d1 = d(s1);
+      double cuts[3] = {s0, s1, s1};
+      int pieces = 1;
+      if ((d0 > 0 && d1 < 0) || (d0 < 0 && d1 > 0)) {
+        cuts[1] = s0 + (s1 - s0) * d0 / (d0 - d1);
+        cuts[2] = s1;
+        pieces = 2;
+      }
+      for (int k = 0; k < pieces; ++k) {
+        const double a0 = cuts[k], a1 = cuts[k + 1], am = 0.5 * (a0 + a1);
+        value.d_abs += (a1 - a0) * length / 6.0 *
+                       (mu(a0) * std::fabs(d(a0)) * g(a0) +
+                        4.0 * mu(am) * std::fabs(d(am)) * g(am) +
+                        mu(a1) * std::fabs(d(a1)) * g(a1));
+      }
+    }
+  }
+
+  const PairState& state_;
+  const bool gradient_;
+  const std::vector<std::array<Point2, 3>>* mask_;
+  const std::vector<double>* weight_;  // A's per-node μ, or null (μ = 1); owned by the state
+  Plane mu_;                           // μ on the current A triangle
+  Eigen::Matrix3d mt_;
+  int32_t last_a_ = -1, last_b_ = -1;
+  Plane fa_;
+  Point2 ta_[3];
+  MovedTriangle tb_;
+  bool has_hull_edge_ = false;
+};
+
+}  // namespace volume_internal
+}  // namespace surfreg

@@ -1,0 +1,264 @@
+// The overlay kept as combinatorics (registration/overlay_topology.h) and
+// the incremental volume cost built on it (VolumeCostCache), against
+// independent truth: hand-computed crossings of a hexagram, the full
+// overlay's own cells (measure/overlay.h), and the full evaluation
+// (EvaluateVolumeCost) after moves that change locations, re-mesh B after a
+// fold, overlap B only partly, with weights and with a mask.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "measure/delaunay.h"
+#include "measure/locator.h"
+#include "measure/overlay.h"
+#include "measure/weights.h"
+#include "registration/overlay_topology.h"
+#include "registration/pair_state.h"
+#include "registration/volume_cost.h"
+#include "testing/registration_sides.h"
+
+namespace surfreg {
+namespace {
+
+std::vector<Location> LocateBrute(const std::vector<Point2>& points, const Triangulation& mesh,
+                                  const std::vector<Point2>& queries) {
+  std::vector<Location> out;
+  for (const Point2& q : queries) out.push_back(LocatePointBruteForce(points, mesh, q));
+  return out;
+}
+
+// The corners of T_A ∩ T_B for one cell of `topology`.
+std::vector<Point2> Corners(const OverlayTopology& topology, int32_t ta, int c,
+                            const std::vector<Point2>& pa, const Triangulation& ma,
+                            const std::vector<Point2>& pb, const Triangulation& mb) {
+  const TopologyCell& cell = topology.cells_of(ta)[c];
+  const int32_t* ia = &ma.triangles[3 * ta];
+  const int32_t* ib = &mb.triangles[3 * cell.triangle_b];
+  const Point2 a[3] = {pa[ia[0]], pa[ia[1]], pa[ia[2]]};
+  const Point2 b[3] = {pb[ib[0]], pb[ib[1]], pb[ib[2]]};
+  std::vector<Point2> out(cell.num_corners);
+  CellCorners(cell, a, ia, b, ib, out.data());
+  return out;
+}
+
+// Whether two corner lists are the same cycle (any start), within `tol`.
+bool SameCycle(const std::vector<Point2>& x, const std::vector<Point2>& y, double tol) {
+  if (x.size() != y.size()) return false;
+  for (std::size_t shift = 0; shift < y.size(); ++shift) {
+    bool same = true;
+    for (std::size_t k = 0; k < x.size() && same; ++k) {
+      const Point2& q = y[(k + shift) % y.size()];
+      same = std::fabs(x[k].x - q.x) <= tol && std::fabs(x[k].y - q.y) <= tol;
+    }
+    if (same) return true;
+  }
+  return false;
+}
+
+// A hexagram: no corner of either triangle inside the other; the cell is a
+// hexagon of six edge crossings, computed by hand from the edge lines
+// (A: y = 0, y = 2x, y = 12 − 2x; B shifted by (dx, dy): y = 4, y = 4 − 2x,
+// y = 2x − 8).
+TEST(OverlayTopologyTest, HexagramCornersAreTheEdgeCrossings) {
+  const std::vector<Point2> pa = {{0, 0}, {6, 0}, {3, 6}};
+  const Triangulation ma = Triangulate(pa);
+  for (const double shift : {0.0, 0.1}) {
+    const double dx = shift, dy = 0.5 * shift;
+    const std::vector<Point2> pb = {{0 + dx, 4 + dy}, {3 + dx, -2 + dy}, {6 + dx, 4 + dy}};
+    const Triangulation mb = Triangulate(pb);
+    OverlayTopology topology;
+    topology.Build(pa, ma, LocateBrute(pb, mb, pa), pb, mb, LocateBrute(pa, ma, pb), false);
+    ASSERT_EQ(topology.num_cells(), 1);
+    ASSERT_EQ(topology.count_of(0), 1);
+    const TopologyCell& cell = topology.cells_of(0)[0];
+    ASSERT_EQ(cell.num_corners, 6);
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(cell.corner[k] & 3, kCornerCross) << k;
+    // B's lines moved by (dx, dy): y − dy = 4, y − dy = 4 − 2(x − dx), y − dy = 2(x − dx) − 8.
+    const double top = 4 + dy, c_left = 4 + dy + 2 * dx, c_right = -8 + dy - 2 * dx;
+    const std::vector<Point2> truth = {
+        {(0 - c_right) / 2, 0},                                  // bottom ∩ B right
+        {(12 - c_right) / 4, (12 - c_right) / 4 * 2 + c_right},  // A right ∩ B right
+        {(12 - top) / 2, top},                                   // A right ∩ top
+        {top / 2, top},                                          // A left ∩ top
+        {c_left / 4, c_left / 2},                                // A left ∩ B left
+        {c_left / 2, 0}};                                        // bottom ∩ B left
+    const std::vector<Point2> got = Corners(topology, 0, 0, pa, ma, pb, mb);
+    EXPECT_TRUE(SameCycle(got, truth, 1e-13)) << "shift " << shift;
+  }
+}
+
+// After Build, every cell of the full overlay is a cell of the topology with
+// the same corners; on random clouds (crossings everywhere) and on grids
+// (vertices on edges and on vertices: collinear, degenerate).
+void CheckAgainstFullOverlay(const std::vector<Point2>& pa, const std::vector<Point2>& pb,
+                             bool parallel) {
+  const Triangulation ma = Triangulate(pa), mb = Triangulate(pb);
+  const auto a_in_b = LocateBrute(pb, mb, pa), b_in_a = LocateBrute(pa, ma, pb);
+  OverlayTopology topology;
+  topology.Build(pa, ma, a_in_b, pb, mb, b_in_a, parallel);
+  int64_t full = 0;
+  ForEachOverlayCell(pa, ma, a_in_b, pb, mb, b_in_a, [&](const OverlayCell& cell) {
+    ++full;
+    const std::vector<Point2> want(cell.vertices.begin(), cell.vertices.begin() + cell.num_vertices);
+    int found = 0;
+    for (int c = 0; c < topology.count_of(cell.triangle_a); ++c) {
+      if (topology.cells_of(cell.triangle_a)[c].triangle_b != cell.triangle_b) continue;
+      ++found;
+      EXPECT_TRUE(SameCycle(Corners(topology, cell.triangle_a, c, pa, ma, pb, mb), want, 1e-11))
+          << "cell " << cell.triangle_a << " x " << cell.triangle_b;
+    }
+    EXPECT_EQ(found, 1) << "cell " << cell.triangle_a << " x " << cell.triangle_b;
+  });
+  EXPECT_EQ(topology.num_cells(), full);
+}
+
+TEST(OverlayTopologyTest, BuildHasTheFullOverlaysCells) {
+  std::vector<Point2> pa, pb, ga, gb;
+  for (const auto& p : testing::SampleUniform(testing::SmoothTerrain, 700, 0, 100, 0, 100, 5)) pa.push_back({p[0], p[1]});
+  for (const auto& p : testing::SampleUniform(testing::SmoothTerrain, 600, 20, 120, 10, 110, 6)) pb.push_back({p[0], p[1]});
+  for (int i = 0; i < 9; ++i) {
+    for (int j = 0; j < 9; ++j) {
+      ga.push_back({10.0 * i, 10.0 * j});
+      gb.push_back({5.0 + 10.0 * i, 10.0 * j});  // B's vertices on A's edges
+    }
+  }
+  for (bool parallel : {false, true}) {
+    CheckAgainstFullOverlay(pa, pb, parallel);
+    CheckAgainstFullOverlay(ga, gb, parallel);
+    CheckAgainstFullOverlay(ga, ga, parallel);  // every vertex on a vertex
+  }
+}
+
+// ---------------------------------------------------------- VolumeCostCache
+
+struct Compared {
+  double worst = 0;  // worst relative difference over value, area and gradients
+};
+
+void ExpectSame(const VolumeCostValue& got, const VolumeCostValue& want, double tol,
+                const char* what, Compared* c) {
+  auto rel = [](double x, double y, double scale) { return std::fabs(x - y) / std::max(scale, 1e-300); };
+  double worst = std::max(rel(got.abs, want.abs, std::fabs(want.abs)),
+                          rel(got.area, want.area, std::fabs(want.area)));
+  worst = std::max(worst, (got.d_abs - want.d_abs).norm() / std::max(want.d_abs.norm(), 1e-300));
+  if (want.d_area.norm() > 0) {
+    worst = std::max(worst, (got.d_area - want.d_area).norm() / want.d_area.norm());
+  }
+  c->worst = std::max(c->worst, worst);
+  EXPECT_LE(worst, tol) << what << ": abs " << got.abs << " vs " << want.abs << ", area " << got.area
+                        << " vs " << want.area << ", |Δ∇abs| " << (got.d_abs - want.d_abs).norm();
+}
+
+Theta Step(const Theta& t, double radians, double shift, int k) {
+  // Directions that vary with k: all six parameters move.
+  const double s[6] = {std::sin(1.0 + k), std::cos(2.0 + 3 * k), std::sin(0.5 * k - 1),
+                       std::cos(0.7 * k), std::sin(1.3 * k + 2), std::cos(k - 0.4)};
+  Theta out = t;
+  for (int i = 0; i < 3; ++i) out[i] += radians * s[i];
+  for (int i = 3; i < 6; ++i) out[i] += shift * s[i];
+  return out;
+}
+
+// A walk of θ: small, large and very large steps, each evaluated by the
+// cache and by the full path. Returns the cache's stats.
+VolumeCostCacheStats Walk(const Sides& sides, bool parallel,
+                          const std::vector<std::array<Point2, 3>>* mask, const char* label,
+                          double spacing, int* remeshes = nullptr) {
+  PairState state(sides.reference, sides.moving);
+  VolumeCostCache cache;
+  Compared compared;
+  Theta theta = {0.01, -0.02, 0.03, 0.2, -0.1, 0.05};
+  const double steps[][2] = {{1e-4, 0.01}, {1e-3, 0.1}, {1e-2, 1.0}, {1e-4, 0.01}, {1e-3, 0.1}};
+  int k = 0;
+  for (const auto& step : steps) {
+    for (int rep = 0; rep < 4; ++rep, ++k) {
+      const Theta next = Step(theta, step[0], step[1] * spacing, k);
+      if (!state.Update(next)) continue;
+      theta = next;
+      for (bool gradient : {true, false}) {
+        const VolumeCostValue want = EvaluateVolumeCost(state, gradient, parallel, mask);
+        const VolumeCostValue got = cache.Evaluate(state, gradient, parallel, mask);
+        EXPECT_GT(want.area, 0);
+        ExpectSame(got, want, 1e-11, label, &compared);
+      }
+    }
+  }
+  if (remeshes != nullptr) *remeshes = state.remeshes();
+  const VolumeCostCacheStats& st = cache.stats();
+  std::printf("%s%s: %lld evaluations, %lld full builds, searched %.2f%% of A's triangles, "
+              "worst relative difference %.2e\n",
+              label, parallel ? " (2 threads)" : "", static_cast<long long>(st.evaluations),
+              static_cast<long long>(st.full_builds),
+              100.0 * st.triangles_searched / std::max<int64_t>(1, st.triangles), compared.worst);
+  return st;
+}
+
+TEST(VolumeCostCacheTest, MatchesFullEvaluationAlongAWalk) {
+  const auto sides = TerrainSides(3000, 2500, 0, 100);
+  const double spacing = 100.0 / std::sqrt(3000.0);
+  for (bool parallel : {false, true}) {
+    const VolumeCostCacheStats st = Walk(*sides, parallel, nullptr, "plain", spacing);
+    EXPECT_LT(st.full_builds, st.evaluations / 2);     // mostly repaired, not rebuilt
+    EXPECT_LT(st.triangles_searched, st.triangles / 4);  // and locally
+  }
+}
+
+TEST(VolumeCostCacheTest, MatchesWithPartialOverlap) {
+  const auto sides = TerrainSides(2500, 2000, 40, 140);  // B overlaps A on [40, 100]²
+  Walk(*sides, true, nullptr, "partial overlap", 100.0 / std::sqrt(2500.0));
+  Walk(*sides, false, nullptr, "partial overlap", 100.0 / std::sqrt(2500.0));
+}
+
+TEST(VolumeCostCacheTest, MatchesWithWeightsAndMask) {
+  const auto weighted = TerrainSides(2000, 1800, 0, 100, SmoothWeight);
+  Walk(*weighted, true, nullptr, "weights", 100.0 / std::sqrt(2000.0));
+  const auto plain = TerrainSides(2000, 1800, 0, 100);
+  const auto mask = TriangulatePolygon({{20, 15}, {80, 25}, {70, 60}, {45, 40}, {25, 75}});
+  const std::vector<std::array<Point2, 3>> shifted = [&] {
+    // In A's local frame.
+    std::vector<std::array<Point2, 3>> out = mask;
+    for (auto& t : out) {
+      for (auto& p : t) p = {p.x - plain->a.origin[0], p.y - plain->a.origin[1]};
+    }
+    return out;
+  }();
+  Walk(*plain, false, &shifted, "mask", 100.0 / std::sqrt(2000.0));
+  Walk(*weighted, true, &shifted, "weights and mask", 100.0 / std::sqrt(2000.0));
+}
+
+// A 5° tilt folds slivers: B is re-triangulated and the cache rebuilds.
+TEST(VolumeCostCacheTest, RebuildsAfterARemesh) {
+  const auto sides = TerrainSides(1500, 1500, 0, 100);
+  PairState state(sides->reference, sides->moving);
+  VolumeCostCache cache;
+  Compared compared;
+  const Theta thetas[] = {{0, 0, 0, 0, 0, 0},
+                          {1e-4, 0, 0, 0.01, 0, 0},
+                          {5 * M_PI / 180, 0, 0, 0.5, -0.5, 0},
+                          {5.0001 * M_PI / 180, 1e-4, 0, 0.51, -0.5, 0},
+                          {5.001 * M_PI / 180, 2e-4, 1e-4, 0.55, -0.45, 0.01}};
+  for (const Theta& theta : thetas) {
+    ASSERT_TRUE(state.Update(theta));
+    ExpectSame(cache.Evaluate(state, true, true), EvaluateVolumeCost(state, true, true), 1e-11,
+               "remesh", &compared);
+  }
+  EXPECT_EQ(state.remeshes(), 1);
+  EXPECT_EQ(cache.stats().full_builds, 2);  // the first evaluation and after the re-mesh
+  // Another state (new locations, B's own mesh again): rebuilt, still equal.
+  PairState other(sides->reference, sides->moving);
+  ASSERT_TRUE(other.Update(thetas[1]));
+  ExpectSame(cache.Evaluate(other, true, false), EvaluateVolumeCost(other, true, false), 1e-11,
+             "new state", &compared);
+  EXPECT_EQ(cache.stats().full_builds, 3);
+  cache.Reset();
+  ExpectSame(cache.Evaluate(other, false, false), EvaluateVolumeCost(other, false, false), 1e-11,
+             "after Reset", &compared);
+  EXPECT_EQ(cache.stats().full_builds, 4);
+}
+
+}  // namespace
+}  // namespace surfreg
