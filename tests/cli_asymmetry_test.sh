@@ -143,6 +143,12 @@ expect_error "two_points.xyz" 1 asymmetry "$tmp/two_points.xyz" --output="$out/a
 expect_error "unknown flag" 2 asymmetry configs/data/face_a.xyz --bogus=1 --output="$out/a.json"
 expect_error "missing FACE" 2 asymmetry --output="$out/a.json"
 
+# The help synopsis names every flag asymmetry takes.
+run help
+for flag in --orientation --depth_limit --map --json --output; do
+  grep -q "asymmetry.*$flag" "$tmp/stdout" "$tmp/stderr" || fail "help: asymmetry synopsis lacks $flag"
+done
+
 if [[ $failures -ne 0 ]]; then
   echo "$failures failure(s)"
   exit 1

@@ -37,7 +37,9 @@ const Command kCommands[] = {
     {"normalize", RunNormalize,
      "MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] [--output=FACE.xyz] [--json]",
      "bring a face mesh or cloud into the standard face frame; write its visible height field"},
-    {"asymmetry", RunAsymmetry, "FACE [--map=MAP.png] [--json] [--output=ASYMMETRY.json]",
+    {"asymmetry", RunAsymmetry,
+     "FACE [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] [--map=MAP.png] [--json] "
+     "[--output=ASYMMETRY.json]",
      "facial asymmetry: the face against its mirror image, about x = 0 and the optimized plane"},
     {"jaw", RunJaw, "--config JAW.yaml [--KEY=VALUE ...]",
      "jaw motion over a 3D sequence: the lower part relative to the upper part, per frame"},
