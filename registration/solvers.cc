@@ -14,6 +14,11 @@
 namespace surfreg {
 namespace {
 
+// A trust-region step may not leave less than this share of the starting
+// overlap's node weight (a cost that is a mean over the overlap can be
+// lowered by sliding almost all of it away).
+constexpr double kMinKeptOverlap = 0.25;
+
 // The free parameters as a vector of lengths: rotations × scale, translations.
 struct ParameterMap {
   std::vector<int> free;  // indices into (rx, ry, rz, tx, ty, tz)
@@ -65,9 +70,14 @@ class LogCallback : public ceres::IterationCallback {
 // Evaluates all node residuals once per new θ; the cost functions read them.
 class AxialEvaluation : public ceres::EvaluationCallback {
  public:
+  // `min_active_weight`: a θ whose overlap holds less node weight than this
+  // is infeasible. Only the nodes in the overlap have residuals, so without
+  // it a step that slides B off A zeroes the cost and looks like the best
+  // possible solution.
   AxialEvaluation(PairState& state, const AxialSettings& settings, const ParameterMap& map,
-                  const double* x)
-      : state_(state), settings_(settings), map_(map), x_(x) {}
+                  const double* x, double min_active_weight)
+      : state_(state), settings_(settings), map_(map), x_(x),
+        min_active_weight_(min_active_weight) {}
 
   void PrepareForEvaluation(bool evaluate_jacobians, bool new_evaluation_point) override {
     if (new_evaluation_point) {
@@ -76,6 +86,7 @@ class AxialEvaluation : public ceres::EvaluationCallback {
       if (ok_) {
         ComputeAxialResiduals(state_, settings_, evaluate_jacobians, &residuals);
         have_jacobians_ = evaluate_jacobians;
+        ok_ = residuals.active_weight >= min_active_weight_;
       }
     } else if (ok_ && evaluate_jacobians && !have_jacobians_) {
       ComputeAxialResiduals(state_, settings_, true, &residuals);
@@ -90,6 +101,7 @@ class AxialEvaluation : public ceres::EvaluationCallback {
   const AxialSettings& settings_;
   const ParameterMap& map_;
   const double* x_;
+  double min_active_weight_;
   bool ok_ = false, have_jacobians_ = false;
 };
 
@@ -177,7 +189,9 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
       settings.normalize_count = start.active_weight;
     }
   }
-  AxialEvaluation evaluation(state, settings, map, x.data());
+  // Steps that lose most of the overlap are refused (see AxialEvaluation).
+  AxialEvaluation evaluation(state, settings, map, x.data(),
+                             kMinKeptOverlap * settings.normalize_count);
   ceres::Problem::Options problem_options;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.evaluation_callback = &evaluation;
@@ -335,7 +349,7 @@ Information AnalyseInformation(PairState& state, const SolveContext& context, bo
   // ceres::Covariance over the same residuals (no loss: the Gauss-Newton
   // information), scaled by the residual variance.
   std::vector<double> x = map.Reduce(theta);
-  AxialEvaluation evaluation(state, context.axial, map, x.data());
+  AxialEvaluation evaluation(state, context.axial, map, x.data(), 0.0);
   ceres::Problem::Options problem_options;
   problem_options.evaluation_callback = &evaluation;
   ceres::Problem problem(problem_options);

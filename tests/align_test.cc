@@ -132,6 +132,26 @@ TEST(AlignTest, AxialCostAloneOnTwoSamplings) {
   }
 }
 
+// Half of B off A's hull and a large vertical offset: the first
+// Levenberg–Marquardt step used to slide B off A entirely, where no node has
+// a residual and the cost is 0, and stop there. Such steps are now refused.
+TEST(AlignTest, LargeOffsetWithHalfOverlapDoesNotSlideApart) {
+  const double spacing = 100.0 / std::sqrt(6000.0);
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 6000, 0, 100, 0, 100, 5);
+  const auto b = testing::SampleUniform(testing::SmoothTerrain, 6000, 50, 150, 0, 100, 6);
+  const Pair pair = MakePair(a, b, kAxes[3], 2.0, {3, -2, 200}, spacing);
+  for (const CostKind cost : {CostKind::kAxial, CostKind::kVolume}) {
+    AlignOptions options;
+    options.cost = cost;
+    AlignResult result;
+    const MotionError error = AlignAndCompare(pair, options, &result);
+    EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
+    EXPECT_GT(result.overlap_fraction_after, 0.4);
+    EXPECT_LT(error.rotation_deg, 0.05);
+    EXPECT_LT(error.translation, 0.1);
+  }
+}
+
 // Two irregular samplings of a real DEM (Maunga Whau, 10 m grid, bilinear).
 TEST(AlignTest, TwoSamplingsOfRealDem) {
   const testing::GridDem dem = testing::ReadGridDem("configs/data/volcano.xyz");
