@@ -4,6 +4,7 @@
 #include <thread>
 #include <utility>
 
+#include "measure/overlay_clip.h"
 #include "measure/predicates.h"
 
 namespace surfreg {
@@ -233,62 +234,14 @@ void OverlayBuilder::ProcessA(int32_t ta, const std::function<void(const Overlay
   }
 }
 
-// tb clipped by T_A's three half-planes (Sutherland-Hodgman). tb's own
-// corners are classified exactly (cached signs); crossings, which are
-// computed points, by their floating-point side. Returns false for an empty
-// or zero-area result.
+// tb clipped by T_A's three half-planes (overlay_clip.h: the one clip the
+// kept overlay shares). Returns false for an empty or zero-area result.
 bool OverlayBuilder::Clip(int32_t tb, const int8_t* s[3], OverlayCell& cell) const {
-  // Plain arrays: Point2's member initializers would zero them on every call.
-  double x[8], y[8], next_x[8], next_y[8];
-  int origin[8], next_origin[8];  // B corner index 0..2, or -1 for a computed point
-  int n = 3;
-  for (int k = 0; k < 3; ++k) {
-    const Point2& p = pb_[mb_.triangles[3 * tb + k]];
-    x[k] = p.x;
-    y[k] = p.y;
-    origin[k] = k;
-  }
-  for (int i = 0; i < 3 && n > 0; ++i) {
-    const Point2& e0 = a_[(i + 1) % 3];
-    const Point2& e1 = a_[(i + 2) % 3];
-    const double ex = e1.x - e0.x, ey = e1.y - e0.y;
-    double value[8];
-    int side[8];
-    bool all_inside = true;
-    for (int k = 0; k < n; ++k) {
-      value[k] = ex * (y[k] - e0.y) - ey * (x[k] - e0.x);
-      side[k] = origin[k] >= 0 ? s[origin[k]][i] : Sign(value[k]);
-      all_inside = all_inside && side[k] >= 0;
-    }
-    if (all_inside) continue;  // the common case: nothing to cut on this edge
-    int m = 0;
-    for (int k = 0; k < n; ++k) {
-      const int l = k + 1 == n ? 0 : k + 1;
-      if (side[k] >= 0) {
-        next_x[m] = x[k];
-        next_y[m] = y[k];
-        next_origin[m++] = origin[k];
-      }
-      if ((side[k] > 0 && side[l] < 0) || (side[k] < 0 && side[l] > 0)) {
-        const double denominator = value[k] - value[l];
-        double t = denominator != 0.0 ? value[k] / denominator : 0.5;
-        t = std::min(1.0, std::max(0.0, t));
-        next_x[m] = x[k] + t * (x[l] - x[k]);
-        next_y[m] = y[k] + t * (y[l] - y[k]);
-        next_origin[m++] = -1;
-      }
-    }
-    n = m;
-    std::copy(next_x, next_x + m, x);
-    std::copy(next_y, next_y + m, y);
-    std::copy(next_origin, next_origin + m, origin);
-  }
+  const int32_t* v = &mb_.triangles[3 * tb];
+  const Point2 b[3] = {pb_[v[0]], pb_[v[1]], pb_[v[2]]};
+  double x[8], y[8], twice_area = 0.0;
+  const int n = overlay_internal::ClipTriangle(a_, b, s, x, y, &twice_area, nullptr);
   if (n < 3) return false;
-  double twice_area = 0.0;
-  for (int k = 1; k + 1 < n; ++k) {
-    twice_area += (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
-  }
-  if (!(twice_area > 0.0)) return false;
   cell.num_vertices = n;
   for (int k = 0; k < n; ++k) cell.vertices[k] = {x[k], y[k]};
   cell.area = 0.5 * twice_area;

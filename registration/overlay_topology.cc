@@ -12,77 +12,13 @@ namespace {
 
 inline int Sign(double v) { return (v > 0.0) - (v < 0.0); }
 
-// T_B clipped by T_A's three half-planes (Sutherland-Hodgman), with the same
-// arithmetic and decisions as the full overlay's clip (measure/overlay.cc),
-// so it keeps exactly the cells that one keeps; in addition each corner gets
-// its label. s[k][i]: T_B's corner k against T_A's edge line i (exact).
-// Every polygon edge lies on an edge of T_B (support 0..2) or of T_A (3..5):
-// a cut of a T_B edge by T_A's edge i is their crossing, a cut of T_A's edge
-// i' by its edge i is their shared vertex. Returns the number of corners,
+// The full overlay's clip (measure/overlay_clip.h), with labels: so the
+// cells kept are exactly the ones it keeps. Returns the number of corners,
 // 0 for an empty or zero-area result.
 int ClipLabeled(const Point2 a[3], const Point2 b[3], const int8_t s[3][3], uint8_t* code) {
-  double x[8], y[8], next_x[8], next_y[8];
-  int origin[8], next_origin[8];  // B corner index 0..2, or -1 for a computed point
-  uint8_t label[8], next_label[8];
-  int support[8], next_support[8];  // of the edge from corner k to corner k + 1
-  int n = 3;
-  for (int k = 0; k < 3; ++k) {
-    x[k] = b[k].x;
-    y[k] = b[k].y;
-    origin[k] = k;
-    label[k] = CornerB(k);
-    support[k] = (k + 2) % 3;  // the edge from corner k to k + 1 is opposite corner k + 2
-  }
-  for (int i = 0; i < 3 && n > 0; ++i) {
-    const Point2& e0 = a[(i + 1) % 3];
-    const Point2& e1 = a[(i + 2) % 3];
-    const double ex = e1.x - e0.x, ey = e1.y - e0.y;
-    double value[8];
-    int side[8];
-    bool all_inside = true;
-    for (int k = 0; k < n; ++k) {
-      value[k] = ex * (y[k] - e0.y) - ey * (x[k] - e0.x);
-      side[k] = origin[k] >= 0 ? s[origin[k]][i] : Sign(value[k]);
-      all_inside = all_inside && side[k] >= 0;
-    }
-    if (all_inside) continue;
-    int m = 0;
-    for (int k = 0; k < n && m < 8; ++k) {
-      const int l = k + 1 == n ? 0 : k + 1;
-      if (side[k] >= 0) {
-        next_x[m] = x[k];
-        next_y[m] = y[k];
-        next_origin[m] = origin[k];
-        next_label[m] = label[k];
-        // On edge i's line and the next corner outside: the edge runs along edge i.
-        next_support[m++] = side[k] == 0 && side[l] < 0 ? 3 + i : support[k];
-      }
-      if (m < 8 && ((side[k] > 0 && side[l] < 0) || (side[k] < 0 && side[l] > 0))) {
-        const double denominator = value[k] - value[l];
-        double t = denominator != 0.0 ? value[k] / denominator : 0.5;
-        t = std::min(1.0, std::max(0.0, t));
-        next_x[m] = x[k] + t * (x[l] - x[k]);
-        next_y[m] = y[k] + t * (y[l] - y[k]);
-        next_origin[m] = -1;
-        next_label[m] = support[k] < 3 ? CornerCross(i, support[k]) : CornerA(3 - i - (support[k] - 3));
-        next_support[m++] = side[k] > 0 ? 3 + i : support[k];  // leaving: along edge i
-      }
-    }
-    n = m;
-    std::copy(next_x, next_x + m, x);
-    std::copy(next_y, next_y + m, y);
-    std::copy(next_origin, next_origin + m, origin);
-    std::copy(next_label, next_label + m, label);
-    std::copy(next_support, next_support + m, support);
-  }
-  if (n < 3) return 0;
-  double twice_area = 0.0;
-  for (int k = 1; k + 1 < n; ++k) {
-    twice_area += (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
-  }
-  if (!(twice_area > 0.0)) return 0;
-  std::copy(label, label + n, code);
-  return n;
+  const int8_t* const sides[3] = {s[0], s[1], s[2]};
+  double x[8], y[8], twice_area;
+  return overlay_internal::ClipTriangle(a, b, sides, x, y, &twice_area, code);
 }
 
 }  // namespace

@@ -24,16 +24,20 @@
 
 #include "measure/delaunay.h"
 #include "measure/locator.h"
+#include "measure/overlay_clip.h"
 #include "measure/surface.h"
 
 namespace surfreg {
 
-// Corner codes: kind in bits 0-1, then the local indices.
-enum : uint8_t { kCornerA = 0, kCornerB = 1, kCornerCross = 2 };
-inline uint8_t CornerA(int i) { return static_cast<uint8_t>(kCornerA | (i << 2)); }
-inline uint8_t CornerB(int j) { return static_cast<uint8_t>(kCornerB | (j << 2)); }
-// T_A's edge i (opposite its vertex i) with T_B's edge j (opposite vertex j).
-inline uint8_t CornerCross(int i, int j) { return static_cast<uint8_t>(kCornerCross | (i << 2) | (j << 4)); }
+// Corner codes (measure/overlay_clip.h): kind in bits 0-1, then the local
+// indices; CornerCross(i, j) is T_A's edge i (opposite its vertex i) with
+// T_B's edge j (opposite vertex j).
+using overlay_internal::CornerA;
+using overlay_internal::CornerB;
+using overlay_internal::CornerCross;
+using overlay_internal::kCornerA;
+using overlay_internal::kCornerB;
+using overlay_internal::kCornerCross;
 
 struct TopologyCell {
   int32_t triangle_b = -1;

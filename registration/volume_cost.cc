@@ -59,6 +59,13 @@ struct Gradient2 {
   double gx = 0, gy = 0;
 };
 
+// A moved B triangle as the cells need it: ∇F̂_B', and whether it has a
+// hull edge (B's moving boundary).
+struct FacetB {
+  double gx = 0, gy = 0;
+  bool hull = false;
+};
+
 // ∇ of the plane through three points (as PlaneThrough).
 inline Gradient2 GradientOf(const Point2& p0, const Point2& p1, const Point2& p2, double z0,
                             double z1, double z2) {
@@ -77,13 +84,15 @@ struct VolumeCostCache::Impl {
   const MovingSide* moving = nullptr;
   int remeshes = -1;
   bool built = false;
+  bool fell_back = false;  // the previous evaluation took the plain full path
+  std::array<double, 6> fallback_theta{};  // at this pose
   OverlayTopology topology;
   std::vector<PackedLocation> last_a, last_b;  // at the previous evaluation
   // A, fixed: the triangles around each vertex, each triangle's ∇F_A.
   std::vector<int32_t> star_begin, star;
   std::vector<Gradient2> grad_a;
   // Per evaluation.
-  std::vector<Gradient2> grad_b;
+  std::vector<FacetB> facet_b;
   std::vector<uint8_t> mark;
   std::vector<int32_t> dirty;
   std::vector<std::pair<int32_t, int32_t>> seeds;
@@ -185,6 +194,9 @@ void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
 
 // The unweighted, unmasked cost over the cells of A's triangles [lo, hi):
 // as VolumeAccumulator, but the interior gradient is left in `moments`.
+// d = F̂_B' − F_A is linear on a cell; most cells lie on one side of d = 0,
+// so that case takes one pass over the corners (area, ∫d, first moment);
+// only the cells d = 0 crosses are split into their two sign parts.
 void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi,
                                       int part, VolumeCostValue* out) {
   const Triangulation& mesh_a = reference->mesh;
@@ -193,79 +205,140 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   const auto& za = reference->z;
   const auto& xb = s.moved_xy();
   const auto& zb = s.moved_z();
+  const int32_t* triangles_b = mesh_b.triangles.data();
+  const FacetB* facets = facet_b.data();
   std::array<double, 3>* moment = moments[part].data();
   VolumeAccumulator boundary(s, gradient, nullptr);
   OverlayCell cell;
-  Point2* p = cell.vertices.data();
   double abs = 0, area_sum = 0;
   int64_t cells = 0;
+  // The endpoints of edge i (opposite corner i) in global index order, as
+  // CellCorners orders them (so a crossing is the same point in every cell).
+  static constexpr int kFirst[3] = {1, 2, 0}, kSecond[3] = {2, 0, 1};
   for (int32_t ta = lo; ta < hi; ++ta) {
     const int32_t count = topology.count_of(ta);
     if (count == 0) continue;
     const TopologyCell* list = topology.cells_of(ta);
     const int32_t* ia = &mesh_a.triangles[3 * ta];
-    const Point2 a[3] = {xa[ia[0]], xa[ia[1]], xa[ia[2]]};
+    // Corners 0-2: T_A's, 3-5: T_B's (per cell).
+    double cx6[6], cy6[6];
+    for (int k = 0; k < 3; ++k) cx6[k] = xa[ia[k]].x, cy6[k] = xa[ia[k]].y;
+    double e0x[3], e0y[3], ex[3], ey[3];
+    for (int i = 0; i < 3; ++i) {
+      int p0 = kFirst[i], p1 = kSecond[i];
+      if (ia[p0] > ia[p1]) std::swap(p0, p1);
+      e0x[i] = cx6[p0], e0y[i] = cy6[p0];
+      ex[i] = cx6[p1] - cx6[p0], ey[i] = cy6[p1] - cy6[p0];
+    }
     const Gradient2 ga = grad_a[ta];
     const double za0 = za[ia[0]];
+    cells += count;
     for (int32_t c = 0; c < count; ++c) {
       const TopologyCell& tc = list[c];
       const int32_t tb = tc.triangle_b;
-      const int32_t* ib = &mesh_b.triangles[3 * tb];
-      const Point2 b[3] = {xb[ib[0]], xb[ib[1]], xb[ib[2]]};
-      CellCorners(tc, a, ia, b, ib, p);
+      const int32_t* ib = triangles_b + 3 * tb;
+      for (int k = 0; k < 3; ++k) cx6[3 + k] = xb[ib[k]].x, cy6[3 + k] = xb[ib[k]].y;
+      int q0[3], q1[3];
+      for (int j = 0; j < 3; ++j) {
+        const bool swap = ib[kFirst[j]] > ib[kSecond[j]];
+        q0[j] = 3 + (swap ? kSecond[j] : kFirst[j]);
+        q1[j] = 3 + (swap ? kFirst[j] : kSecond[j]);
+      }
       const int n = tc.num_corners;
-      const Gradient2 gb = grad_b[tb];
-      const double zb0 = zb[ib[0]];
-      double d[8], twice = 0;
+      const FacetB& fb = facets[tb];
+      // Relative to T_B's corner 0: d = d0 + ∇d · (x, y).
+      const double bx = cx6[3], by = cy6[3];
+      const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
+      const double dgx = fb.gx - ga.gx, dgy = fb.gy - ga.gy;
+      double x[8], y[8], d[8];
+      double d_lo = 0, d_hi = 0;
       for (int k = 0; k < n; ++k) {
-        d[k] = (zb0 + gb.gx * (p[k].x - b[0].x) + gb.gy * (p[k].y - b[0].y)) -
-               (za0 + ga.gx * (p[k].x - a[0].x) + ga.gy * (p[k].y - a[0].y));
+        // Every corner as if a crossing (cheap, no branch), then the vertex
+        // corners picked instead: as CellCorners, without its switch.
+        const uint8_t code = tc.corner[k];
+        const int i = (code >> 2) & 3, j = (code >> 4) & 3, kind = code & 3;
+        const int r = q0[j], w = q1[j];
+        const double vr = ex[i] * (cy6[r] - e0y[i]) - ey[i] * (cx6[r] - e0x[i]);
+        const double vs = ex[i] * (cy6[w] - e0y[i]) - ey[i] * (cx6[w] - e0x[i]);
+        const double denominator = vr - vs;
+        double t = denominator != 0.0 ? vr / denominator : 0.5;
+        t = std::min(1.0, std::max(0.0, t));
+        const int vertex = kind == kCornerB ? 3 + i : i;
+        const bool cross = kind == kCornerCross;
+        const double px = cross ? cx6[r] + t * (cx6[w] - cx6[r]) : cx6[vertex];
+        const double py = cross ? cy6[r] + t * (cy6[w] - cy6[r]) : cy6[vertex];
+        x[k] = px - bx;
+        y[k] = py - by;
+        d[k] = d0 + dgx * x[k] + dgy * y[k];
+        d_lo = k == 0 ? d[k] : std::min(d_lo, d[k]);
+        d_hi = k == 0 ? d[k] : std::max(d_hi, d[k]);
       }
-      for (int k = 1; k + 1 < n; ++k) twice += TwiceArea(p[0], p[k], p[k + 1]);
-      ++cells;
-      area_sum += 0.5 * twice;
-      // The parts where d ≥ 0 and d ≤ 0 (d is linear on the cell); plain
-      // arrays, relative to T_B's corner 0 (Point2 would zero them per cell).
-      double pos_x[10], pos_y[10], pos_d[10], neg_x[10], neg_y[10], neg_d[10];
-      int np = 0, nn = 0;
-      for (int k = 0; k < n; ++k) {
-        const int l = k + 1 == n ? 0 : k + 1;
-        const double x = p[k].x - b[0].x, y = p[k].y - b[0].y;
-        if (d[k] >= 0) pos_x[np] = x, pos_y[np] = y, pos_d[np++] = d[k];
-        if (d[k] <= 0) neg_x[nn] = x, neg_y[nn] = y, neg_d[nn++] = d[k];
-        if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
-          const double t = d[k] / (d[k] - d[l]);
-          const double cx = x + t * (p[l].x - p[k].x), cy = y + t * (p[l].y - p[k].y);
-          pos_x[np] = cx, pos_y[np] = cy, pos_d[np++] = 0.0;
-          neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn++] = 0.0;
-        }
-      }
-      auto add_part = [&](const double* qx, const double* qy, const double* dq, int m, double sign) {
-        if (m < 3) return;
+      if (d_lo >= 0 || d_hi <= 0) {  // one sign part: the whole cell
         double t_sum = 0, d_sum = 0, cx = 0, cy = 0;
-        for (int k = 1; k + 1 < m; ++k) {
-          const double t = (qx[k] - qx[0]) * (qy[k + 1] - qy[0]) - (qy[k] - qy[0]) * (qx[k + 1] - qx[0]);
+        for (int k = 1; k + 1 < n; ++k) {
+          const double t = (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
           t_sum += t;
-          d_sum += t * (dq[0] + dq[k] + dq[k + 1]);
-          cx += t * (qx[0] + qx[k] + qx[k + 1]);
-          cy += t * (qy[0] + qy[k] + qy[k + 1]);
+          d_sum += t * (d[0] + d[k] + d[k + 1]);
+          cx += t * (x[0] + x[k] + x[k + 1]);
+          cy += t * (y[0] + y[k] + y[k + 1]);
         }
-        if (!(t_sum > 0)) return;
-        abs += std::max(0.0, sign * d_sum) * (1.0 / 6.0);  // ∫_P |d|
-        if (!gradient) return;
-        std::array<double, 3>& m3 = moment[tb];
-        m3[0] += sign * 0.5 * t_sum;
-        m3[1] += sign * cx * (1.0 / 6.0);
-        m3[2] += sign * cy * (1.0 / 6.0);
-      };
-      add_part(pos_x, pos_y, pos_d, np, 1.0);
-      add_part(neg_x, neg_y, neg_d, nn, -1.0);
-      if (gradient && (mesh_b.neighbors[3 * tb] < 0 || mesh_b.neighbors[3 * tb + 1] < 0 ||
-                       mesh_b.neighbors[3 * tb + 2] < 0)) {
+        area_sum += 0.5 * t_sum;
+        if (!(t_sum > 0) || (d_hi == 0 && d_lo == 0)) continue;
+        const double sign = d_hi > 0 ? 1.0 : -1.0;
+        abs += std::max(0.0, sign * d_sum) * (1.0 / 6.0);
+        if (gradient) {
+          std::array<double, 3>& m3 = moment[tb];
+          m3[0] += sign * 0.5 * t_sum;
+          m3[1] += sign * cx * (1.0 / 6.0);
+          m3[2] += sign * cy * (1.0 / 6.0);
+        }
+      } else {
+        double twice = 0;
+        for (int k = 1; k + 1 < n; ++k) {
+          twice += (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
+        }
+        area_sum += 0.5 * twice;
+        // The parts where d ≥ 0 and d ≤ 0.
+        double pos_x[10], pos_y[10], pos_d[10], neg_x[10], neg_y[10], neg_d[10];
+        int np = 0, nn = 0;
+        for (int k = 0; k < n; ++k) {
+          const int l = k + 1 == n ? 0 : k + 1;
+          if (d[k] >= 0) pos_x[np] = x[k], pos_y[np] = y[k], pos_d[np++] = d[k];
+          if (d[k] <= 0) neg_x[nn] = x[k], neg_y[nn] = y[k], neg_d[nn++] = d[k];
+          if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
+            const double t = d[k] / (d[k] - d[l]);
+            const double cx = x[k] + t * (x[l] - x[k]), cy = y[k] + t * (y[l] - y[k]);
+            pos_x[np] = cx, pos_y[np] = cy, pos_d[np++] = 0.0;
+            neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn++] = 0.0;
+          }
+        }
+        auto add_part = [&](const double* qx, const double* qy, const double* dq, int m,
+                            double sign) {
+          if (m < 3) return;
+          double t_sum = 0, d_sum = 0, cx = 0, cy = 0;
+          for (int k = 1; k + 1 < m; ++k) {
+            const double t =
+                (qx[k] - qx[0]) * (qy[k + 1] - qy[0]) - (qy[k] - qy[0]) * (qx[k + 1] - qx[0]);
+            t_sum += t;
+            d_sum += t * (dq[0] + dq[k] + dq[k + 1]);
+            cx += t * (qx[0] + qx[k] + qx[k + 1]);
+            cy += t * (qy[0] + qy[k] + qy[k + 1]);
+          }
+          if (!(t_sum > 0)) return;
+          abs += std::max(0.0, sign * d_sum) * (1.0 / 6.0);  // ∫_P |d|
+          if (!gradient) return;
+          std::array<double, 3>& m3 = moment[tb];
+          m3[0] += sign * 0.5 * t_sum;
+          m3[1] += sign * cx * (1.0 / 6.0);
+          m3[2] += sign * cy * (1.0 / 6.0);
+        };
+        add_part(pos_x, pos_y, pos_d, np, 1.0);
+        add_part(neg_x, neg_y, neg_d, nn, -1.0);
+      }
+      if (gradient && fb.hull) {
         cell.triangle_a = ta;
         cell.triangle_b = tb;
         cell.num_vertices = n;
-        cell.area = 0.5 * twice;
         boundary.AddBoundaryOf(cell);
       }
     }
@@ -351,7 +424,23 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   if (!build) {
     m.MarkDirty(s);
     build = m.dirty.size() > m.max_dirty_fraction * na;
+    if (build && (!m.fell_back || s.theta() == m.fallback_theta)) {
+      // Far from the topology's pose: Build + labelling would cost more
+      // than the plain full path, and a solver often comes back (a
+      // rejected trial step), so keep the topology and its pose and
+      // evaluate plainly. Too far at another pose right after: the solver
+      // has moved on; build.
+      m.fell_back = true;
+      m.fallback_theta = s.theta();
+      const VolumeCostValue plain = EvaluateVolumeCost(s, gradient, parallel, mask);
+      ++m.stats.evaluations;
+      ++m.stats.fallbacks;
+      m.stats.triangles += na;
+      m.stats.cells += plain.cells;
+      return plain;
+    }
   }
+  m.fell_back = false;
   if (build) {
     m.topology.Build(m.reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), parallel);
     m.built = true;
@@ -379,13 +468,15 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
     return parts[0];
   }
   // ∇F̂_B' on each moved B triangle, then the cells.
-  m.grad_b.resize(nb);
+  m.facet_b.resize(nb);
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
   Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
     for (int32_t t = lo; t < hi; ++t) {
       const int32_t* v = &mesh_b.triangles[3 * t];
-      m.grad_b[t] = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+      const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+      const int32_t* next = &mesh_b.neighbors[3 * t];
+      m.facet_b[t] = {g.gx, g.gy, next[0] < 0 || next[1] < 0 || next[2] < 0};
     }
   });
   if (gradient) {
@@ -417,7 +508,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
       const double det = ax * by - ay * bx;
       const double l1 = (by * cx - bx * cy) / det, l2 = (ax * cy - ay * cx) / det;
       const Eigen::Vector3d sum = w * q[v[0]] + l1 * (q[v[1]] - q[v[0]]) + l2 * (q[v[2]] - q[v[0]]);
-      const Eigen::Vector3d normal(-m.grad_b[t].gx, -m.grad_b[t].gy, 1.0);
+      const Eigen::Vector3d normal(-m.facet_b[t].gx, -m.facet_b[t].gy, 1.0);
       r += normal.cross(sum);
       tr += w * normal;
     }

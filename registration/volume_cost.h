@@ -58,6 +58,7 @@ VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool p
 struct VolumeCostCacheStats {
   int64_t evaluations = 0;
   int64_t full_builds = 0;         // evaluations that built the whole overlay
+  int64_t fallbacks = 0;           // evaluations by the plain full path (too far to repair)
   int64_t triangles_searched = 0;  // A triangles searched again by repairs (builds not counted)
   int64_t triangles = 0;           // A triangles, summed over the evaluations
   int64_t cells = 0;               // cells integrated, summed over the evaluations
@@ -69,8 +70,11 @@ struct VolumeCostCacheStats {
 // triangles near vertices whose location in the other mesh changed since the
 // previous call, and integrates every cell from corners recomputed at the
 // current points. The overlay is built whole on the first call, after B is
-// re-triangulated (a fold), for another state, and when more than
-// `max_dirty_fraction` of A's triangles would be searched again. Same value
+// re-triangulated (a fold), and for another state. When more than
+// `max_dirty_fraction` of A's triangles would be searched again, the call is
+// EvaluateVolumeCost's (never slower than it) and the overlay is kept for
+// the pose it was made at (a solver often returns near it); when the next
+// call is at another pose and again too far, it is built whole. Same value
 // and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); with
 // two threads, deterministic (fixed split and summation order).
 //

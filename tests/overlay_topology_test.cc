@@ -230,6 +230,33 @@ TEST(VolumeCostCacheTest, MatchesWithWeightsAndMask) {
   Walk(*weighted, true, &shifted, "weights and mask", 100.0 / std::sqrt(2000.0));
 }
 
+// A step too large to repair takes the plain full path and keeps the
+// overlay for its pose; coming back repairs it; another pose too far right
+// after builds it again. Equal to the full evaluation throughout.
+TEST(VolumeCostCacheTest, FallsBackToTheFullPathForLargeSteps) {
+  const auto sides = TerrainSides(1500, 1500, 0, 100);
+  const double spacing = 100.0 / std::sqrt(1500.0);
+  PairState state(sides->reference, sides->moving);
+  VolumeCostCache cache;
+  Compared compared;
+  const Theta near = {1e-3, -1e-3, 2e-3, 0.1, 0.0, 0.0};
+  const Theta far = Step(near, 1e-2, 2 * spacing, 3);
+  const Theta farther = Step(far, 1e-2, 2 * spacing, 5);
+  const int64_t want_builds[] = {1, 1, 1, 1, 2};
+  const int64_t want_fallbacks[] = {0, 2, 2, 4, 4};
+  int k = 0;
+  for (const Theta& theta : {near, far, near, far, farther}) {
+    ASSERT_TRUE(state.Update(theta));
+    for (bool gradient : {true, false}) {  // the same pose twice: one decision
+      ExpectSame(cache.Evaluate(state, gradient, false), EvaluateVolumeCost(state, gradient, false),
+                 1e-11, "fallback", &compared);
+    }
+    EXPECT_EQ(cache.stats().full_builds, want_builds[k]) << k;
+    EXPECT_EQ(cache.stats().fallbacks, want_fallbacks[k]) << k;
+    ++k;
+  }
+}
+
 // A 5° tilt folds slivers: B is re-triangulated and the cache rebuilds.
 TEST(VolumeCostCacheTest, RebuildsAfterARemesh) {
   const auto sides = TerrainSides(1500, 1500, 0, 100);

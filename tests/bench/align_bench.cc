@@ -282,6 +282,8 @@ void BM_Remeasure(benchmark::State& state, int64_t n, int step, Work work) {
         c.triangles > 0 ? static_cast<double>(c.triangles_searched) / c.triangles : 0.0;
     state.counters["full_builds_per_eval"] =
         c.evaluations > 0 ? static_cast<double>(c.full_builds - 1) / c.evaluations : 0.0;
+    state.counters["fallbacks_per_eval"] =
+        c.evaluations > 0 ? static_cast<double>(c.fallbacks) / c.evaluations : 0.0;
     state.counters["cells"] = c.evaluations > 0 ? static_cast<double>(c.cells) / c.evaluations : 0.0;
   }
 }
