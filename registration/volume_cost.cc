@@ -283,10 +283,11 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
           cy += t * (y[0] + y[k] + y[k + 1]);
         }
         area_sum += 0.5 * t_sum;
-        if (!(t_sum > 0) || (d_hi == 0 && d_lo == 0)) continue;
         const double sign = d_hi > 0 ? 1.0 : -1.0;
-        abs += std::max(0.0, sign * d_sum) * (1.0 / 6.0);
-        if (gradient) {
+        // d ≡ 0 adds nothing inside, but a hull cell still moves the boundary (below).
+        const bool inside = t_sum > 0 && !(d_hi == 0 && d_lo == 0);
+        if (inside) abs += std::max(0.0, sign * d_sum) * (1.0 / 6.0);
+        if (gradient && inside) {
           std::array<double, 3>& m3 = moment[tb];
           m3[0] += sign * 0.5 * t_sum;
           m3[1] += sign * cx * (1.0 / 6.0);

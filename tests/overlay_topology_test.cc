@@ -257,6 +257,31 @@ TEST(VolumeCostCacheTest, FallsBackToTheFullPathForLargeSteps) {
   }
 }
 
+// Where B coincides with A exactly (d ≡ 0 on whole cells, hull cells
+// included), those cells add nothing inside but still move the boundary:
+// ∇|Ω| must match the full path's.
+TEST(VolumeCostCacheTest, CellsWithZeroGapStillMoveTheBoundary) {
+  std::vector<std::array<double, 3>> pa, pb;
+  for (int i = 0; i <= 20; ++i) {
+    for (int j = 0; j <= 20; ++j) {
+      const double x = i + 0.3 * std::sin(7.0 * j), y = j + 0.3 * std::cos(5.0 * i);
+      pa.push_back({x, y, 0.0});
+      pb.push_back({x, y, x > 10 ? 0.05 * (x - 10) * (x - 10) : 0.0});  // equal to A on x ≤ 10
+    }
+  }
+  const auto sides = MakeSides(pa, pb);
+  PairState state(sides->reference, sides->moving);
+  ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
+  VolumeCostCache cache;
+  const VolumeCostValue want = EvaluateVolumeCost(state, true, false);
+  const VolumeCostValue got = cache.Evaluate(state, true, false);
+  ASSERT_GT(want.abs, 0);
+  ASSERT_GT(want.d_area.norm(), 0);
+  EXPECT_LE((got.d_area - want.d_area).norm(), 1e-12 * want.d_area.norm());
+  EXPECT_LE((got.d_abs - want.d_abs).norm(), 1e-12 * want.d_abs.norm());
+  EXPECT_NEAR(got.abs, want.abs, 1e-12 * want.abs);
+}
+
 // A 5° tilt folds slivers: B is re-triangulated and the cache rebuilds.
 TEST(VolumeCostCacheTest, RebuildsAfterARemesh) {
   const auto sides = TerrainSides(1500, 1500, 0, 100);
