@@ -168,7 +168,7 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
     stats->folded = folded;
     stats->folded_area_fraction = fraction;
   }
-  if (folded > 0 && fraction > max_fold_fraction_) return false;
+  if (folded > 0 && (fraction > max_fold_fraction_ || !remesh_on_fold_)) return false;
   bool relocate_all = !located_;
   if (folded > 0) {
     // Only slivers turned over: the height field seen from above at this
@@ -204,6 +204,16 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
   }
   if (stats != nullptr) stats->walk_steps = steps_total;
   return true;
+}
+
+void PairState::Retriangulate() {
+  mesh_ = Triangulate(moved_xy_);
+  area3d_ = SurfaceArea(moving_.points, mesh_);
+  ++remeshes_;
+  folded_ = 0;
+  a_in_b_ = LocateAll(moved_xy_, mesh_, reference_.xy, reference_.mesh, reference_.tree);
+  b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_, moving_.tree);
+  located_ = true;
 }
 
 }  // namespace surfreg

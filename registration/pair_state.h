@@ -88,6 +88,16 @@ class PairState {
   const std::vector<Eigen::Vector3d>& moved_q() const { return moved_q_; }
   const std::vector<Location>& a_in_b() const { return a_in_b_; }
   const std::vector<Location>& b_in_a() const { return b_in_a_; }
+  // Whether a fold within max_fold_fraction re-triangulates B (the default)
+  // or makes Update return false. A solver whose line search compares
+  // values turns it off: a new mesh is a different surface B, so values
+  // before and after it are not of one function.
+  void set_remesh_on_fold(bool remesh) { remesh_on_fold_ = remesh; }
+  // Re-triangulates B at the current pose (Delaunay of its moved xy) and
+  // locates everything again; for a solver stopped at a fold, so that it can
+  // go on with a surface that does not fold there. Update must have succeeded.
+  void Retriangulate();
+
   // B's current mesh: its own, or its re-triangulation after a fold.
   const Triangulation& moving_mesh() const { return mesh_; }
   int32_t folded() const { return folded_; }
@@ -107,6 +117,7 @@ class PairState {
   std::vector<Eigen::Vector3d> moved_q_;
   std::vector<Location> a_in_b_, b_in_a_;
   bool located_ = false;
+  bool remesh_on_fold_ = true;
   int32_t folded_ = 0;
 };
 

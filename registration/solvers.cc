@@ -48,12 +48,19 @@ struct ParameterMap {
 class LogCallback : public ceres::IterationCallback {
  public:
   explicit LogCallback(const SolveContext& context) : context_(context) {}
+  // A solve in rounds: number on from `offset`; `skip_first`: a later
+  // round's iteration 0 repeats the previous round's last.
+  void set_iteration_offset(int offset, bool skip_first) {
+    offset_ = offset;
+    skip_first_ = skip_first;
+  }
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (skip_first_ && summary.iteration == 0) return ceres::SOLVER_CONTINUE;
     AlignOptions::Iteration entry;
     entry.level = context_.level;
     entry.start = context_.start;
     entry.cost_name = context_.cost;
-    entry.iteration = summary.iteration;
+    entry.iteration = offset_ + summary.iteration;
     entry.cost = summary.cost;
     entry.step_norm = summary.step_norm;
     entry.gradient_norm = summary.gradient_max_norm;
@@ -65,6 +72,8 @@ class LogCallback : public ceres::IterationCallback {
 
  private:
   const SolveContext& context_;
+  int offset_ = 0;
+  bool skip_first_ = false;
 };
 
 // Evaluates all node residuals once per new θ; the cost functions read them.
@@ -242,7 +251,10 @@ class VolumeFunction : public ceres::FirstOrderFunction {
                  const std::vector<std::array<Point2, 3>>* mask)
       : state_(state), map_(map), parallel_(parallel), mask_(mask) {}
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
-    if (!state_.Update(map_.Full(x))) return false;
+    if (!state_.Update(map_.Full(x))) {
+      ++infeasible_;
+      return false;
+    }
     // Incremental: the overlay's combinatorics are kept between evaluations.
     const VolumeCostValue value = cache_.Evaluate(state_, gradient != nullptr, parallel_, mask_);
     if (!(value.area > 0)) return false;
@@ -254,6 +266,8 @@ class VolumeFunction : public ceres::FirstOrderFunction {
     return std::isfinite(*cost);
   }
   int NumParameters() const override { return map_.size(); }
+  // Evaluations refused because B folded there (or folded too much).
+  int infeasible() const { return infeasible_; }
 
  private:
   PairState& state_;
@@ -261,6 +275,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   bool parallel_;
   const std::vector<std::array<Point2, 3>>* mask_;
   mutable VolumeCostCache cache_;  // bound to state_ (one state per solve)
+  mutable int infeasible_ = 0;
 };
 
 }  // namespace
@@ -270,9 +285,6 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   const AlignOptions& options = *context.options;
   ParameterMap map(options, context.rotation_scale, theta0);
   std::vector<double> x = map.Reduce(theta0);
-  ceres::GradientProblem problem(new VolumeFunction(
-      state, map, options.num_threads > 1,
-      context.mask_triangles.empty() ? nullptr : &context.mask_triangles));
   ceres::GradientProblemSolver::Options solver;
   switch (options.line_search) {
     case LineSearchKind::kLbfgs: solver.line_search_direction_type = ceres::LBFGS; break;
@@ -286,15 +298,47 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   solver.gradient_tolerance = 1e-16;
   solver.parameter_tolerance = 1e-14;
   solver.logging_type = ceres::SILENT;
+  // x holds the last accepted iterate even when a round ends in a failed line
+  // search (against a fold): the next round goes on from there.
+  solver.update_state_every_iteration = true;
   LogCallback log(context);
   solver.callbacks.push_back(&log);
+  // B is not re-triangulated inside a solve: the line search compares values,
+  // and another mesh is another surface (on a face with noise a mid-search
+  // re-mesh changed the cost by 2% and stopped the solve at its start). A
+  // trial step that folds B is refused, so the search stays where B's mesh
+  // holds; a solve stopped against a fold re-triangulates B there and goes on.
+  constexpr int kMaxRounds = 6;
+  // At the start B may still re-mesh: each level and start begins on B's own
+  // mesh, which may fold there. (If it cannot, the first evaluation fails.)
+  state.Update(theta0);
+  state.set_remesh_on_fold(false);
   ceres::GradientProblemSolver::Summary summary;
-  ceres::Solve(solver, problem, x.data(), &summary);
+  double initial_cost = 0;
+  int iterations = 0;
+  bool moved = false;  // some round accepted a step
+  for (int round = 0; round < kMaxRounds; ++round) {
+    auto* function = new VolumeFunction(
+        state, map, options.num_threads > 1,
+        context.mask_triangles.empty() ? nullptr : &context.mask_triangles);
+    ceres::GradientProblem problem(function);  // owns `function`
+    log.set_iteration_offset(iterations, round > 0);
+    ceres::Solve(solver, problem, x.data(), &summary);
+    if (round == 0) initial_cost = summary.initial_cost;
+    iterations += static_cast<int>(summary.iterations.size()) - 1;
+    moved |= summary.iterations.size() > 1;
+    if (function->infeasible() == 0 || !std::isfinite(summary.final_cost)) break;
+    if (round + 1 == kMaxRounds || !state.Update(map.Full(x.data()))) break;
+    state.Retriangulate();
+  }
+  state.set_remesh_on_fold(true);
+  // A failed line search after accepted steps leaves a usable (if not
+  // converged) solution; a failure before any step does not.
+  const bool usable = std::isfinite(summary.final_cost) &&
+                      (summary.termination_type != ceres::FAILURE || moved);
   SolveResult result;
-  FillResult(map, x, summary.initial_cost, summary.final_cost,
-             static_cast<int>(summary.iterations.size()) - 1, summary.termination_type,
-             summary.IsSolutionUsable() && std::isfinite(summary.final_cost), summary.message,
-             &result);
+  FillResult(map, x, initial_cost, summary.final_cost, iterations, summary.termination_type, usable,
+             summary.message, &result);
   return result;
 }
 

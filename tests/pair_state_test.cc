@@ -164,6 +164,37 @@ TEST(PairStateTest, SliverFoldsAreRemeshed) {
   CheckLocations(state);
 }
 
+// With remeshing off (inside a solve) the same slivers make the step fail
+// and keep B's mesh; Retriangulate then re-meshes at the current pose, and
+// the result is unfolded and located as brute force locates it.
+TEST(PairStateTest, FoldsRefusedWhenRemeshingIsOff) {
+  const auto sides = TerrainSides(1500, 1500, 0, 100);
+  PairState state(sides->reference, sides->moving);
+  state.set_remesh_on_fold(false);
+  ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
+  UpdateStats stats;
+  EXPECT_FALSE(state.Update({5 * M_PI / 180, 0, 0, 0.5, -0.5, 0}, &stats));
+  EXPECT_GT(stats.folded, 0);
+  EXPECT_FALSE(stats.remeshed);
+  EXPECT_EQ(state.remeshes(), 0);
+  EXPECT_EQ(state.moving_mesh().triangles, sides->moving.mesh.triangles);
+  // Short of the fold: fine on B's own mesh.
+  ASSERT_TRUE(state.Update({1 * M_PI / 180, 0, 0, 0.1, -0.1, 0}));
+  CheckLocations(state);
+  state.Retriangulate();
+  EXPECT_EQ(state.remeshes(), 1);
+  const Triangulation& mesh = state.moving_mesh();
+  const auto& p = state.moved_xy();
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const Point2 &p0 = p[mesh.triangles[3 * t]], &p1 = p[mesh.triangles[3 * t + 1]], &p2 = p[mesh.triangles[3 * t + 2]];
+    ASSERT_GT((p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x), 0.0) << t;
+  }
+  CheckLocations(state);
+  // Walking on from the new mesh.
+  ASSERT_TRUE(state.Update({1.01 * M_PI / 180, 0.001, 0, 0.12, -0.1, 0.01}));
+  CheckLocations(state);
+}
+
 // ---------------------------------------------------------------- 6. locked parameters
 
 TEST(AlignLockedTest, TranslationOnlyKeepsRotationExactly) {
