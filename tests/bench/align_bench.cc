@@ -27,7 +27,8 @@
 // volinc_1t / volinc_2t (+ VolumeCostCache::Evaluate with gradient: the
 // incremental re-measure Align's volume solver uses; counters
 // searched_fraction = A triangles searched again / all, full_builds_per_eval).
-// <step>: small (δ = 1e-4 rad, 0.01 spacing), large (1e-3 rad, 0.1 spacing).
+// <step>: small (δ = 1e-4 rad, 0.01 spacing), large (1e-3 rad, 0.1 spacing),
+// solver (1e-6 rad, 1e-3 spacing; BM_Remeasure only).
 //
 // Checks (untimed; a failure prints ERROR and makes the exit status 2): every
 // Update succeeds; the volume cost per area and the mean |r| of the axial
@@ -88,7 +89,10 @@ struct Step {
   double radians;   // |δω|
   double spacings;  // |δt| in mean spacings
 };
-constexpr Step kSteps[] = {{"small", 1e-4, 0.01}, {"large", 1e-3, 0.1}};
+// "solver": about 3× the median accepted step of the volume solver on the
+// peer pairs (3–4e-4 spacing; README), BM_Remeasure rows only.
+constexpr Step kSteps[] = {{"small", 1e-4, 0.01}, {"large", 1e-3, 0.1}, {"solver", 1e-6, 1e-3}};
+constexpr int kNumSteps = 3;
 constexpr int kMeasureStep = 1;  // BM_Measure's pose: θ_true + δ_large
 
 enum class Work { kUpdate, kAxial, kVolume1, kVolume2, kIncremental1, kIncremental2 };
@@ -127,7 +131,7 @@ struct Pair {
   // states from it locate without re-triangulating.
   MovingSide mov_at_pose;
   Theta theta_true{};
-  Theta theta_step[2]{};             // θ_true + δ for each step
+  Theta theta_step[kNumSteps]{};     // θ_true + δ for each step
   Surface moved;                     // B moved by θ_true + δ_large (BM_Measure)
   int64_t nodes = 0;                 // A's and B's nodes
   std::string error;
@@ -185,7 +189,7 @@ Pair& GetPair(int64_t n) {
     const Eigen::Vector3d t =
         (p.truth * c_input.homogeneous()).head<3>() - c_input;
     p.theta_true = {omega[0], omega[1], omega[2], t[0], t[1], t[2]};
-    for (int s = 0; s < 2; ++s) p.theta_step[s] = Plus(p.theta_true, kSteps[s], p.spacing);
+    for (int s = 0; s < kNumSteps; ++s) p.theta_step[s] = Plus(p.theta_true, kSteps[s], p.spacing);
     p.moved = TransformSurface(p.moving, MatrixOf(p, p.theta_step[kMeasureStep]));
     PairState at_pose(p.ref, p.mov);
     if (!at_pose.Update(p.theta_true)) throw std::runtime_error("Update to θ_true folds B");
@@ -468,16 +472,18 @@ void RegisterAll(bool with_1e6) {
                     BM_Measure, n, parallel),
                 n);
     }
-    for (int step = 0; step < 2; ++step) {
+    for (int step = 0; step < kNumSteps; ++step) {
       for (Work w : works) {
         const std::string name = std::string(WorkName(w)) + "/" + kSteps[step].name + ns;
         Configure(benchmark::RegisterBenchmark(("BM_Remeasure/" + name).c_str(), BM_Remeasure,
                                                n, step, w),
                   n);
+        if (step == 2) continue;  // from scratch, the step's size does not matter
         Configure(benchmark::RegisterBenchmark(("BM_Scratch/" + name).c_str(), BM_Scratch, n,
                                                step, w),
                   n);
       }
+      if (step == 2) continue;
       const std::string name = std::string("update/") + kSteps[step].name + ns;
       Configure(benchmark::RegisterBenchmark(("BM_ScratchOwnMesh/" + name).c_str(),
                                              BM_ScratchOwnMesh, n, step, Work::kUpdate),
