@@ -169,26 +169,18 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
     stats->folded_area_fraction = fraction;
   }
   if (folded > 0 && (fraction > max_fold_fraction_ || !remesh_on_fold_)) return false;
-  bool relocate_all = !located_;
   if (folded > 0) {
     // Only slivers turned over: the height field seen from above at this
     // pose is B's Delaunay triangulation there.
-    mesh_ = Triangulate(moved_xy_);
-    area3d_ = SurfaceArea(moving_.points, mesh_);
-    ++remeshes_;
     if (stats != nullptr) stats->remeshed = true;
-    relocate_all = true;
-  }
-  const Triangulation& mesh_b = mesh_;
-
-  LocateAllStats all_a, all_b;
-  if (relocate_all) {
-    a_in_b_ = LocateAll(moved_xy_, mesh_b, reference_.xy, reference_.mesh, reference_.tree, &all_a);
-    b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_b, moving_.tree, &all_b);
-    located_ = true;
-    if (stats != nullptr) stats->walk_steps = all_a.steps + all_b.steps;
+    RemeshAndLocate(stats);
     return true;
   }
+  if (!located_) {
+    LocateEverything(stats);
+    return true;
+  }
+  const Triangulation& mesh_b = mesh_;
   // Steps of a solver are small: most walks end within a triangle or two.
   int64_t steps_total = 0;
   for (std::size_t i = 0; i < reference_.xy.size(); ++i) {
@@ -207,13 +199,23 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
 }
 
 void PairState::Retriangulate() {
+  folded_ = 0;
+  RemeshAndLocate(nullptr);
+}
+
+void PairState::RemeshAndLocate(UpdateStats* stats) {
   mesh_ = Triangulate(moved_xy_);
   area3d_ = SurfaceArea(moving_.points, mesh_);
   ++remeshes_;
-  folded_ = 0;
-  a_in_b_ = LocateAll(moved_xy_, mesh_, reference_.xy, reference_.mesh, reference_.tree);
-  b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_, moving_.tree);
+  LocateEverything(stats);
+}
+
+void PairState::LocateEverything(UpdateStats* stats) {
+  LocateAllStats all_a, all_b;
+  a_in_b_ = LocateAll(moved_xy_, mesh_, reference_.xy, reference_.mesh, reference_.tree, &all_a);
+  b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_, moving_.tree, &all_b);
   located_ = true;
+  if (stats != nullptr) stats->walk_steps = all_a.steps + all_b.steps;
 }
 
 }  // namespace surfreg

@@ -104,6 +104,11 @@ class PairState {
   int remeshes() const { return remeshes_; }
 
  private:
+  // B's Delaunay triangulation at the current pose, then LocateEverything.
+  void RemeshAndLocate(UpdateStats* stats);
+  // Both ways from scratch, in spanning-tree order.
+  void LocateEverything(UpdateStats* stats);
+
   const ReferenceSide& reference_;
   const MovingSide& moving_;
   const double max_fold_fraction_;

@@ -93,6 +93,7 @@ struct Step {
 // peer pairs (3–4e-4 spacing; README), BM_Remeasure rows only.
 constexpr Step kSteps[] = {{"small", 1e-4, 0.01}, {"large", 1e-3, 0.1}, {"solver", 1e-6, 1e-3}};
 constexpr int kNumSteps = 3;
+constexpr int kSolverStep = 2;
 constexpr int kMeasureStep = 1;  // BM_Measure's pose: θ_true + δ_large
 
 enum class Work { kUpdate, kAxial, kVolume1, kVolume2, kIncremental1, kIncremental2 };
@@ -478,12 +479,12 @@ void RegisterAll(bool with_1e6) {
         Configure(benchmark::RegisterBenchmark(("BM_Remeasure/" + name).c_str(), BM_Remeasure,
                                                n, step, w),
                   n);
-        if (step == 2) continue;  // from scratch, the step's size does not matter
+        if (step == kSolverStep) continue;  // from scratch, the step's size does not matter
         Configure(benchmark::RegisterBenchmark(("BM_Scratch/" + name).c_str(), BM_Scratch, n,
                                                step, w),
                   n);
       }
-      if (step == 2) continue;
+      if (step == kSolverStep) continue;
       const std::string name = std::string("update/") + kSteps[step].name + ns;
       Configure(benchmark::RegisterBenchmark(("BM_ScratchOwnMesh/" + name).c_str(),
                                              BM_ScratchOwnMesh, n, step, Work::kUpdate),
