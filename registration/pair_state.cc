@@ -168,7 +168,11 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
     stats->folded = folded;
     stats->folded_area_fraction = fraction;
   }
-  if (folded > 0 && (fraction > max_fold_fraction_ || !remesh_on_fold_)) return false;
+  if (folded > 0 && fraction > max_fold_fraction_) return false;
+  if (folded > 0 && !remesh_on_fold_) {
+    if (stats != nullptr) stats->remesh_refused = true;
+    return false;
+  }
   if (folded > 0) {
     // Only slivers turned over: the height field seen from above at this
     // pose is B's Delaunay triangulation there.

@@ -64,6 +64,9 @@ struct UpdateStats {
   int32_t folded = 0;      // B triangles whose moved projection is not counter-clockwise
   double folded_area_fraction = 0;  // their share of B's 3D surface area
   bool remeshed = false;   // B was re-triangulated at this pose
+  // Refused only because re-meshing is off: slivers folded, few enough that
+  // a re-mesh would have gone on (set_remesh_on_fold).
+  bool remesh_refused = false;
 };
 
 class PairState {

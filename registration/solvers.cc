@@ -233,6 +233,13 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
   solver.logging_type = ceres::SILENT;
   LogCallback log(context);
   solver.callbacks.push_back(&log);
+  // Unlike SolveVolume, B may re-mesh at a trial point here. The axial solve
+  // travels far (it starts the registration), and B's mesh carried rigidly
+  // folds a sliver somewhere for almost any tilt: on a fixed mesh the trust
+  // region could not get past them (tried: a self-copy 5° away stalled in
+  // every one of six re-meshed rounds). A re-mesh changes only the few
+  // residuals of nodes in the re-meshed triangles, which a trust region,
+  // judging whole steps by their decrease, tolerates.
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
   SolveResult result;
@@ -240,6 +247,7 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
              static_cast<int>(summary.iterations.size()) - 1, summary.termination_type,
              summary.IsSolutionUsable() && std::isfinite(summary.final_cost), summary.message,
              &result);
+  result.rounds = 1;
   return result;
 }
 
@@ -251,8 +259,9 @@ class VolumeFunction : public ceres::FirstOrderFunction {
                  const std::vector<std::array<Point2, 3>>* mask)
       : state_(state), map_(map), parallel_(parallel), mask_(mask) {}
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
-    if (!state_.Update(map_.Full(x))) {
-      ++infeasible_;
+    UpdateStats stats;
+    if (!state_.Update(map_.Full(x), &stats)) {
+      infeasible_ += stats.remesh_refused ? 1 : 0;
       return false;
     }
     // Incremental: the overlay's combinatorics are kept between evaluations.
@@ -266,7 +275,9 @@ class VolumeFunction : public ceres::FirstOrderFunction {
     return std::isfinite(*cost);
   }
   int NumParameters() const override { return map_.size(); }
-  // Evaluations refused because B folded there (or folded too much).
+  // Evaluations refused for slivers of B that fold there, which a re-mesh
+  // would have let through (a tilt past what B can take is not counted: it
+  // is just an infeasible step, and re-meshing would not change it).
   int infeasible() const { return infeasible_; }
 
  private:
@@ -315,9 +326,10 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   state.set_remesh_on_fold(false);
   ceres::GradientProblemSolver::Summary summary;
   double initial_cost = 0;
-  int iterations = 0;
+  int iterations = 0, rounds = 0;
   bool moved = false;  // some round accepted a step
   for (int round = 0; round < kMaxRounds; ++round) {
+    ++rounds;
     auto* function = new VolumeFunction(
         state, map, options.num_threads > 1,
         context.mask_triangles.empty() ? nullptr : &context.mask_triangles);
@@ -339,6 +351,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   SolveResult result;
   FillResult(map, x, initial_cost, summary.final_cost, iterations, summary.termination_type, usable,
              summary.message, &result);
+  result.rounds = rounds;
   return result;
 }
 

@@ -37,6 +37,7 @@ struct SolveResult {
   int iterations = 0;
   bool converged = false;  // the solver met a convergence tolerance
   bool usable = false;     // the solution is finite and evaluable
+  int rounds = 0;  // volume: solves, B re-triangulated between them (stopped against a fold); axial: 1
   std::string message;
 };
 
