@@ -8,6 +8,7 @@
 # Needs python3 (standard library). Paths are relative to the project root
 # (this script's parent folder), whatever the current directory.
 set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -23,21 +24,7 @@ mkdir "$out"
 failures=0
 checks=0
 
-fail() {
-  echo "FAIL: $*"
-  echo "  exit code: $rc"
-  sed 's/^/  stdout: /' "$tmp/stdout" | head -20
-  sed 's/^/  stderr: /' "$tmp/stderr" | head -20
-  failures=$((failures + 1))
-}
-
 # Runs surfreg with the given arguments; sets rc, leaves $tmp/stdout and $tmp/stderr.
-run() {
-  checks=$((checks + 1))
-  timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
-  rc=$?
-}
-
 # config NAME TEXT: writes $tmp/NAME.yaml (outputs pointing into $out).
 config() {
   printf '%s\n' "$2" >"$tmp/$1.yaml"

@@ -8,6 +8,7 @@
 # writes nothing.
 # Usage: cli_asymmetry_test.sh SURFREG_BINARY   (needs python3, standard library)
 set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -19,19 +20,7 @@ trap 'rm -rf "$tmp"' EXIT
 out=$tmp/out  # stays empty: only the failing runs point here
 mkdir "$out"
 failures=0
-
-fail() {
-  echo "FAIL: $*"
-  echo "  exit code: $rc"
-  sed 's/^/  stdout: /' "$tmp/stdout" | head -20
-  sed 's/^/  stderr: /' "$tmp/stderr" | head -20
-  failures=$((failures + 1))
-}
-
-run() {
-  timeout 120 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
-  rc=$?
-}
+checks=0
 
 # expect_error TEXT LINES ARGS...: exit 2, LINES lines on stderr mentioning TEXT, no output file.
 expect_error() {

@@ -5,6 +5,7 @@
 # accepts (duplicate xy samples, coordinates near 1e7) give the right numbers.
 # Usage: cli_bad_input_test.sh SURFREG_BINARY   (needs python3, standard library)
 set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -16,19 +17,7 @@ cd "$tmp" || exit 2
 out=$tmp/out
 mkdir "$out"
 failures=0
-
-fail() {
-  echo "FAIL: $*"
-  echo "  exit code: $rc"
-  sed 's/^/  stdout: /' stdout | head -20
-  sed 's/^/  stderr: /' stderr | head -20
-  failures=$((failures + 1))
-}
-
-run() {
-  timeout 120 "$bin" "$@" >stdout 2>stderr
-  rc=$?
-}
+checks=0
 
 # expect_error TEXT ARGS...: exit 2, one line on stderr containing TEXT, nothing in out/.
 expect_error() {

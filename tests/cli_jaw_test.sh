@@ -5,6 +5,7 @@
 # one line on stderr, no output file written).
 # Usage: cli_jaw_test.sh SURFREG_BINARY (needs python3, standard library).
 set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -15,20 +16,6 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 checks=0
-
-fail() {
-  echo "FAIL: $*"
-  echo "  exit code: $rc"
-  sed 's/^/  stdout: /' "$tmp/stdout" | head -20
-  sed 's/^/  stderr: /' "$tmp/stderr" | head -20
-  failures=$((failures + 1))
-}
-
-run() {
-  checks=$((checks + 1))
-  timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
-  rc=$?
-}
 
 outputs=(--output_csv="$tmp/jaw.csv" --output_json="$tmp/jaw.json" --plot="$tmp/jaw.png")
 

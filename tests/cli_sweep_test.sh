@@ -8,6 +8,7 @@
 # Usage: cli_sweep_test.sh SURFREG_BINARY
 # Needs python3 (standard library). Paths are relative to the project root.
 set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -18,18 +19,6 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 checks=0
-
-fail() {
-  echo "FAIL: $*"
-  sed 's/^/  stderr: /' "$tmp/stderr" 2>/dev/null | head -10
-  failures=$((failures + 1))
-}
-
-run() {
-  checks=$((checks + 1))
-  timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
-  rc=$?
-}
 
 # expect_error TEXT ARGS...: exit 2 and a "surfreg: error:" line containing TEXT.
 expect_error() {

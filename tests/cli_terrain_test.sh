@@ -7,6 +7,7 @@
 # exactly its zero, nodata and outside cells from the stable statistics.
 # Usage: cli_terrain_test.sh SURFREG_BINARY   (needs python3, standard library)
 set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -18,19 +19,7 @@ trap 'rm -rf "$tmp"' EXIT
 out=$tmp/out
 mkdir "$out"
 failures=0
-
-fail() {
-  echo "FAIL: $*"
-  echo "  exit code: $rc"
-  sed 's/^/  stdout: /' "$tmp/stdout" | head -20
-  sed 's/^/  stderr: /' "$tmp/stderr" | head -20
-  failures=$((failures + 1))
-}
-
-run() {
-  timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
-  rc=$?
-}
+checks=0
 
 expect_error() {
   local text=$1

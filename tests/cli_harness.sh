@@ -1,0 +1,18 @@
+# Sourced by tests/cli_*_test.sh: run the surfreg binary and report failures.
+# The sourcing script has set `tmp` (its scratch directory), `bin` (the
+# binary), `failures` and `checks`; run leaves the exit code in `rc` and the
+# outputs in $tmp/stdout and $tmp/stderr, which fail prints.
+
+fail() {
+  echo "FAIL: $*"
+  echo "  exit code: ${rc:-none}"
+  sed 's/^/  stdout: /' "$tmp/stdout" 2>/dev/null | head -20
+  sed 's/^/  stderr: /' "$tmp/stderr" 2>/dev/null | head -20
+  failures=$((failures + 1))
+}
+
+run() {
+  checks=$((checks + 1))
+  timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
+  rc=$?
+}
