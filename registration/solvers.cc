@@ -261,7 +261,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
     UpdateStats stats;
     if (!state_.Update(map_.Full(x), &stats)) {
-      infeasible_ += stats.remesh_refused ? 1 : 0;
+      refused_folds_ += stats.remesh_refused ? 1 : 0;
       return false;
     }
     // Incremental: the overlay's combinatorics are kept between evaluations.
@@ -278,7 +278,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   // Evaluations refused for slivers of B that fold there, which a re-mesh
   // would have let through (a tilt past what B can take is not counted: it
   // is just an infeasible step, and re-meshing would not change it).
-  int infeasible() const { return infeasible_; }
+  int refused_folds() const { return refused_folds_; }
 
  private:
   PairState& state_;
@@ -286,7 +286,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   bool parallel_;
   const std::vector<std::array<Point2, 3>>* mask_;
   mutable VolumeCostCache cache_;  // bound to state_ (one state per solve)
-  mutable int infeasible_ = 0;
+  mutable int refused_folds_ = 0;
 };
 
 }  // namespace
@@ -339,7 +339,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
     if (round == 0) initial_cost = summary.initial_cost;
     iterations += static_cast<int>(summary.iterations.size()) - 1;
     moved |= summary.iterations.size() > 1;
-    if (function->infeasible() == 0 || !std::isfinite(summary.final_cost)) break;
+    if (function->refused_folds() == 0 || !std::isfinite(summary.final_cost)) break;
     if (round + 1 == kMaxRounds || !state.Update(map.Full(x.data()))) break;
     state.Retriangulate();
   }

@@ -8,6 +8,7 @@
 # Needs python3 (standard library). Paths are relative to the project root
 # (this script's parent folder), whatever the current directory.
 set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -21,21 +22,6 @@ trap 'rm -rf "$tmp"' EXIT
 failures=0
 checks=0
 
-fail() {
-  echo "FAIL: $*"
-  echo "  exit code: $rc"
-  sed 's/^/  stdout: /' "$tmp/out" | head -20
-  sed 's/^/  stderr: /' "$tmp/err" | head -20
-  failures=$((failures + 1))
-}
-
-# Runs surfreg with the given arguments; sets rc, leaves $tmp/out and $tmp/err.
-run() {
-  checks=$((checks + 1))
-  timeout 120 "$bin" "$@" >"$tmp/out" 2>"$tmp/err"
-  rc=$?
-}
-
 # measure_json NAME ARGS...: runs `surfreg measure ARGS... --json`, expects
 # exit 0, a clean stderr and one strict JSON object (no NaN or Infinity),
 # saved as $tmp/NAME.json. Returns 1 (after reporting) otherwise.
@@ -46,7 +32,7 @@ measure_json() {
   if [[ $rc -ne 0 ]]; then
     fail "measure $* --json: expected exit 0"
     return 1
-  elif [[ -s "$tmp/err" ]]; then
+  elif [[ -s "$tmp/stderr" ]]; then
     fail "measure $* --json: expected a clean stderr"
     return 1
   elif ! python3 -c '
@@ -54,11 +40,11 @@ import json, sys
 def reject(constant):
     raise ValueError("not JSON: " + constant)
 json.loads(sys.stdin.read(), parse_constant=reject)
-' <"$tmp/out"; then
+' <"$tmp/stdout"; then
     fail "measure $* --json: stdout is not exactly one strict JSON object"
     return 1
   fi
-  cp "$tmp/out" "$tmp/$name.json"
+  cp "$tmp/stdout" "$tmp/$name.json"
 }
 
 # check WHAT PYTHON_CODE: runs the code with r(NAME) = the parsed
@@ -109,16 +95,16 @@ expect_input_error() {
   shift
   run "$@"
   local lines
-  lines=$(wc -l <"$tmp/err")
+  lines=$(wc -l <"$tmp/stderr")
   if [[ $rc -ne 2 ]]; then
     fail "surfreg $*: expected exit 2"
   elif [[ $lines -ne 1 ]]; then
     fail "surfreg $*: expected exactly one line on stderr, got $lines"
-  elif ! head -1 "$tmp/err" | grep -q '^surfreg: error: '; then
+  elif ! head -1 "$tmp/stderr" | grep -q '^surfreg: error: '; then
     fail "surfreg $*: stderr does not start with 'surfreg: error: '"
-  elif ! grep -qF -- "$text" "$tmp/err"; then
+  elif ! grep -qF -- "$text" "$tmp/stderr"; then
     fail "surfreg $*: stderr does not contain '$text'"
-  elif [[ -s "$tmp/out" ]]; then
+  elif [[ -s "$tmp/stdout" ]]; then
     fail "surfreg $*: expected no stdout"
   fi
 }
@@ -128,11 +114,11 @@ expect_usage_error() {
   run "$@"
   if [[ $rc -ne 2 ]]; then
     fail "surfreg $*: expected exit 2"
-  elif ! head -1 "$tmp/err" | grep -q '^surfreg: error: '; then
+  elif ! head -1 "$tmp/stderr" | grep -q '^surfreg: error: '; then
     fail "surfreg $*: stderr does not start with 'surfreg: error: '"
-  elif [[ $(grep -c '^surfreg: error: ' "$tmp/err") -ne 1 ]]; then
+  elif [[ $(grep -c '^surfreg: error: ' "$tmp/stderr") -ne 1 ]]; then
     fail "surfreg $*: expected exactly one error line"
-  elif ! grep -q 'usage: surfreg measure' "$tmp/err"; then
+  elif ! grep -q 'usage: surfreg measure' "$tmp/stderr"; then
     fail "surfreg $*: no measure usage line on stderr"
   fi
 }
@@ -203,10 +189,10 @@ fi
 run measure "$a" "$b"
 if [[ $rc -ne 0 ]]; then
   fail "measure A B (text): expected exit 0"
-elif [[ -s "$tmp/err" ]]; then
+elif [[ -s "$tmp/stderr" ]]; then
   fail "measure A B (text): expected a clean stderr"
-elif ! grep -Eq '^rho_d .*[0-9] units³' "$tmp/out" || ! grep -q '^overlap area:' "$tmp/out" ||
-     ! grep -q '^volume above:' "$tmp/out" || ! grep -q '^time total:' "$tmp/out"; then
+elif ! grep -Eq '^rho_d .*[0-9] units³' "$tmp/stdout" || ! grep -q '^overlap area:' "$tmp/stdout" ||
+     ! grep -q '^volume above:' "$tmp/stdout" || ! grep -q '^time total:' "$tmp/stdout"; then
   fail "measure A B (text): expected rho_d with units³, the overlap area, volumes and timings"
 fi
 
@@ -302,7 +288,7 @@ expect_usage_error measure "$a"
 expect_usage_error measure
 expect_usage_error measure "$a" "$b" "$b"
 run help measure
-if [[ $rc -ne 0 ]] || ! grep -q 'usage: surfreg measure A B' "$tmp/out"; then
+if [[ $rc -ne 0 ]] || ! grep -q 'usage: surfreg measure A B' "$tmp/stdout"; then
   fail "help measure: expected the measure usage line"
 fi
 

@@ -7,6 +7,7 @@
 # Usage: cli_normalize_test.sh SURFREG_BINARY
 # Needs python3 (standard library). Paths are relative to the project root.
 set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -18,20 +19,6 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 checks=0
-
-fail() {
-  echo "FAIL: $*"
-  echo "  exit code: $rc"
-  sed 's/^/  stdout: /' "$tmp/out" | head -20
-  sed 's/^/  stderr: /' "$tmp/err" | head -20
-  failures=$((failures + 1))
-}
-
-run() {
-  checks=$((checks + 1))
-  timeout 120 "$bin" "$@" >"$tmp/out" 2>"$tmp/err"
-  rc=$?
-}
 
 # check_face FILE JSON: the height field in FILE is centred with max z = 0
 # and has as many points as the JSON's "kept".
@@ -56,11 +43,11 @@ PY
 
 # --- the head, automatic orientation ---
 run normalize "$head" --output="$tmp/face.xyz" --json
-if [[ $rc -ne 0 || -s "$tmp/err" ]]; then
+if [[ $rc -ne 0 || -s "$tmp/stderr" ]]; then
   fail "normalize auto"
 else
-  cp "$tmp/out" "$tmp/auto.json"
-  check_face "$tmp/face.xyz" "$tmp/auto.json" >"$tmp/err" || fail "auto face: $(cat "$tmp/err")"
+  cp "$tmp/stdout" "$tmp/auto.json"
+  check_face "$tmp/face.xyz" "$tmp/auto.json" >"$tmp/stderr" || fail "auto face: $(cat "$tmp/stderr")"
 fi
 
 # --- the known orientation, binary PLY output, depth limit ---
@@ -68,8 +55,8 @@ run normalize "$head" --orientation=-90,0,0 --depth_limit=8 --output="$tmp/face.
 if [[ $rc -ne 0 ]]; then
   fail "normalize -90,0,0"
 else
-  cp "$tmp/out" "$tmp/given.json"
-  python3 - "$tmp/given.json" <<'PY' >"$tmp/err" || fail "given: $(cat "$tmp/err")"
+  cp "$tmp/stdout" "$tmp/given.json"
+  python3 - "$tmp/given.json" <<'PY' >"$tmp/stderr" || fail "given: $(cat "$tmp/stderr")"
 import json, sys
 s = json.loads(open(sys.argv[1]).read())
 bad = []
@@ -87,7 +74,7 @@ fi
 
 # --- text summary ---
 run normalize "$head"
-[[ $rc -eq 0 ]] && grep -q "rotation vector" "$tmp/out" && grep -q "hidden" "$tmp/out" ||
+[[ $rc -eq 0 ]] && grep -q "rotation vector" "$tmp/stdout" && grep -q "hidden" "$tmp/stdout" ||
   fail "text summary"
 
 # --- errors: exit 2, one line, no output file ---
@@ -95,7 +82,7 @@ expect_error() {  # expect_error WHAT ARGS...
   local what=$1
   shift
   run "$@"
-  if [[ $rc -ne 2 || $(wc -l <"$tmp/err") -ne 1 || -s "$tmp/out" ]]; then
+  if [[ $rc -ne 2 || $(wc -l <"$tmp/stderr") -ne 1 || -s "$tmp/stdout" ]]; then
     fail "$what: expected exit 2 and one line"
   fi
   if ls "$tmp" | grep -q '^bad'; then
@@ -104,12 +91,12 @@ expect_error() {  # expect_error WHAT ARGS...
 }
 expect_error "missing file" normalize "$tmp/missing.off" --output="$tmp/bad.xyz"
 expect_error "bad orientation" normalize "$head" --orientation=1,2 --output="$tmp/bad.xyz"
-grep -q "flag '--orientation'" "$tmp/err" || fail "the message names the flag"
+grep -q "flag '--orientation'" "$tmp/stderr" || fail "the message names the flag"
 expect_error "negative depth" normalize "$head" --depth_limit=-1 --output="$tmp/bad.xyz"
 expect_error "bad output format" normalize "$head" --output="$tmp/bad.png"
 printf 'OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n' >"$tmp/broken.off"
 expect_error "index out of range" normalize "$tmp/broken.off" --output="$tmp/bad.xyz"
-grep -q "broken.off:6:" "$tmp/err" || fail "the message names file:line"
+grep -q "broken.off:6:" "$tmp/stderr" || fail "the message names file:line"
 
 if [[ $failures -ne 0 ]]; then
   echo "$failures of $checks checks failed"
