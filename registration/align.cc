@@ -107,6 +107,7 @@ bool AlignOptions::IsValid(std::string* error) const {
   }
   if (cost == CostKind::kVolume && trim_fraction > 0) return fail("trim_fraction applies to the axial cost only");
   if (num_threads < 1) return fail("threads must be >= 1");
+  if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");
   MeasureOptions m;
   m.weight = weight;
   m.mask_polygon = mask_polygon;
@@ -172,6 +173,7 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
     auto level = std::make_unique<Level>();
     level->reference = PrepareReference(reference, keep);  // weights kept per point
     if (options.weight != WeightMode::kPerPoint) level->reference.weight.clear();
+    if (options.cost == CostKind::kVolume) ApplySlopeWeight(options.slope_weight, &level->reference);
     level->moving = PrepareMoving(moving, shift, keep);
     levels.push_back(std::move(level));
   }

@@ -89,6 +89,26 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction) {
   return side;
 }
 
+void ApplySlopeWeight(double exponent, ReferenceSide* reference) {
+  if (exponent == 0) return;
+  ReferenceSide& a = *reference;
+  std::vector<Eigen::Vector3d> normal(a.xy.size(), Eigen::Vector3d::Zero());
+  const std::vector<int32_t>& t = a.mesh.triangles;
+  for (std::size_t k = 0; k + 2 < t.size(); k += 3) {
+    const Eigen::Vector3d p0(a.xy[t[k]].x, a.xy[t[k]].y, a.z[t[k]]);
+    const Eigen::Vector3d p1(a.xy[t[k + 1]].x, a.xy[t[k + 1]].y, a.z[t[k + 1]]);
+    const Eigen::Vector3d p2(a.xy[t[k + 2]].x, a.xy[t[k + 2]].y, a.z[t[k + 2]]);
+    const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);  // counter-clockwise in xy: n.z > 0
+    for (int j = 0; j < 3; ++j) normal[t[k + j]] += n;
+  }
+  if (a.weight.empty()) a.weight.assign(a.xy.size(), 1.0);
+  for (std::size_t v = 0; v < a.xy.size(); ++v) {
+    const double length = normal[v].norm();
+    // A node on no triangle (all collinear input cannot get here) keeps μ.
+    if (length > 0) a.weight[v] *= std::pow(normal[v].z() / length, exponent);
+  }
+}
+
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
                          double keep_fraction) {
   ValidateSurface(surface);

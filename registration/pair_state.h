@@ -59,6 +59,15 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction = 1.
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
                          double keep_fraction = 1.0);
 
+// Multiplies the reference's μ (1 where it has none) at every node by
+// cos(slope)^exponent, the slope that of the node's normal: the sum of its
+// triangles' 3D normals, each as long as twice the triangle's area. With
+// exponent > 0 the volume cost weighs a vertical gap roughly as the gap
+// along the normal (exponent 1) or as point-to-plane ICP does (2): steep
+// flanks, where interpolation error inflates vertical gaps, stop dominating
+// the fit. Exponent 0 leaves μ as it is. The mesh must be A's.
+void ApplySlopeWeight(double exponent, ReferenceSide* reference);
+
 struct UpdateStats {
   int64_t walk_steps = 0;  // triangles visited by all re-location walks
   int32_t folded = 0;      // B triangles whose moved projection is not counter-clockwise

@@ -133,6 +133,7 @@ change_csv: change.csv
 known_matrix: [1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7]
 mask_raster: stable.tif
 normal_distance: false
+slope_weight: 1.5
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -150,6 +151,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(o.function_tolerance, 1e-9);
   EXPECT_EQ(o.trim_fraction, 0.1);
   EXPECT_FALSE(o.normal_distance);
+  EXPECT_EQ(o.slope_weight, 1.5);
   EXPECT_EQ(o.free, (std::array<bool, 6>{true, true, false, true, true, true}));
   EXPECT_EQ(o.levels, 3);
   EXPECT_EQ(o.level_factor, 2.5);

@@ -108,6 +108,65 @@ TEST(PairStateTest, ReferenceKeepsWeightsWhenSubsampled) {
   }
 }
 
+// cos(slope)^p on a plane is the same at every node: (1 + a² + b²)^(−p/2);
+// a user's μ is multiplied, and exponent 0 adds no weights.
+TEST(PairStateTest, SlopeWeightOnAPlaneIsTheCosinePower) {
+  auto points = testing::SampleUniform(testing::SmoothTerrain, 2000, 0, 100, 0, 100, 11);
+  std::vector<double> mu;
+  for (auto& p : points) {
+    p[2] = 0.3 * p[0] - 0.7 * p[1] + 2.0;
+    mu.push_back(SmoothWeight(p[0], p[1]));
+  }
+  const double cosine = 1.0 / std::sqrt(1.0 + 0.3 * 0.3 + 0.7 * 0.7);
+  for (double exponent : {1.0, 2.0, 3.5}) {
+    ReferenceSide side = PrepareReference(MakeSurface(points, {}, "plane"));
+    ApplySlopeWeight(exponent, &side);
+    ASSERT_EQ(side.weight.size(), side.xy.size());
+    for (double w : side.weight) EXPECT_NEAR(w, std::pow(cosine, exponent), 1e-12);
+  }
+  const Surface weighted = MakeSurface(points, mu, "plane");
+  ReferenceSide side = PrepareReference(weighted);
+  const std::vector<double> before = side.weight;
+  ApplySlopeWeight(2.0, &side);
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    EXPECT_NEAR(side.weight[i], before[i] * cosine * cosine, 1e-12);
+  }
+  ReferenceSide plain = PrepareReference(MakeSurface(points, {}, "plane"));
+  ApplySlopeWeight(0.0, &plain);
+  EXPECT_TRUE(plain.weight.empty());
+}
+
+// A roof z = |x − 50|: nodes whose triangles all lie on one flank get
+// cos²(45°) = 1/2; the others, on triangles across the ridge (whose slope
+// a sliver can make steeper or flatter), lie in (0, 1].
+TEST(PairStateTest, SlopeWeightOnARoof) {
+  auto points = testing::SampleUniform(testing::SmoothTerrain, 2000, 0, 100, 0, 100, 12);
+  for (auto& p : points) p[2] = std::fabs(p[0] - 50.0);
+  ReferenceSide side = PrepareReference(MakeSurface(points, {}, "roof"));
+  ApplySlopeWeight(2.0, &side);
+  std::vector<int> side_of(side.xy.size(), 0);  // bit 1: a triangle left of the ridge, 2: right
+  const double ridge = 50.0 - MakeSurface(points, {}, "roof").origin[0];
+  const std::vector<int32_t>& t = side.mesh.triangles;
+  for (std::size_t k = 0; k < t.size(); k += 3) {
+    const double cx = (side.xy[t[k]].x + side.xy[t[k + 1]].x + side.xy[t[k + 2]].x) / 3;
+    bool straddles = false;
+    for (int j = 0; j < 3; ++j) straddles |= (side.xy[t[k + j]].x - ridge) * (cx - ridge) < 0;
+    const int bit = straddles ? 3 : (cx < ridge ? 1 : 2);
+    for (int j = 0; j < 3; ++j) side_of[t[k + j]] |= bit;
+  }
+  int flank = 0;
+  for (std::size_t i = 0; i < side.xy.size(); ++i) {
+    if (side_of[i] == 1 || side_of[i] == 2) {
+      EXPECT_NEAR(side.weight[i], 0.5, 1e-12) << i;
+      ++flank;
+    } else {
+      EXPECT_GT(side.weight[i], 0.0) << i;
+      EXPECT_LE(side.weight[i], 1.0) << i;
+    }
+  }
+  EXPECT_GT(flank, 1800);
+}
+
 // ---------------------------------------------------------------- 5. folds
 
 std::vector<std::array<double, 3>> TiltedPlaneGrid() {
