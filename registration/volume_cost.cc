@@ -103,6 +103,7 @@ struct VolumeCostCache::Impl {
 
   void Bind(const PairState& s);
   void MarkDirty(const PairState& s);
+  template <bool kWeighted>
   void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
                  VolumeCostValue* out);
   void Generic(const PairState& s, bool gradient, const std::vector<std::array<Point2, 3>>* mask,
@@ -192,17 +193,59 @@ void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
   std::sort(seeds.begin(), seeds.end());
 }
 
-// The unweighted, unmasked cost over the cells of A's triangles [lo, hi):
-// as VolumeAccumulator, but the interior gradient is left in `moments`.
-// d = F̂_B' − F_A is linear on a cell; most cells lie on one side of d = 0,
-// so that case takes one pass over the corners (area, ∫d, first moment);
-// only the cells d = 0 crosses are split into their two sign parts.
+// ∫ over a convex polygon (fan from corner 0) of μ, μd, μx and μy, with d
+// and μ linear (μ ≡ 1 unless kWeighted): per fan triangle of area S with
+// corner values f_i, g_i, ∫fg = S/12 (Σ f_i g_i + Σf_i Σg_i).
+struct FanSums {
+  double twice = 0;          // twice the area
+  double w = 0, wd = 0;      // ∫μ, ∫μd
+  double wx = 0, wy = 0;     // ∫μx, ∫μy
+};
+
+template <bool kWeighted>
+inline FanSums SumFan(const double* x, const double* y, const double* d, const double* m, int n) {
+  FanSums s;
+  double w = 0, wd = 0, wx = 0, wy = 0;
+  for (int k = 1; k + 1 < n; ++k) {
+    const double t = (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
+    s.twice += t;
+    const double sd = d[0] + d[k] + d[k + 1];
+    const double sx = x[0] + x[k] + x[k + 1], sy = y[0] + y[k] + y[k + 1];
+    if (kWeighted) {
+      const double sm = m[0] + m[k] + m[k + 1];
+      w += t * sm;
+      wd += t * (m[0] * d[0] + m[k] * d[k] + m[k + 1] * d[k + 1] + sm * sd);
+      wx += t * (m[0] * x[0] + m[k] * x[k] + m[k + 1] * x[k + 1] + sm * sx);
+      wy += t * (m[0] * y[0] + m[k] * y[k] + m[k + 1] * y[k + 1] + sm * sy);
+    } else {
+      wd += t * sd;
+      wx += t * sx;
+      wy += t * sy;
+    }
+  }
+  if (kWeighted) {
+    s.w = w * (1.0 / 6.0);
+    s.wd = wd * (1.0 / 24.0), s.wx = wx * (1.0 / 24.0), s.wy = wy * (1.0 / 24.0);
+  } else {
+    s.w = 0.5 * s.twice;
+    s.wd = wd * (1.0 / 6.0), s.wx = wx * (1.0 / 6.0), s.wy = wy * (1.0 / 6.0);
+  }
+  return s;
+}
+
+// The unmasked cost over the cells of A's triangles [lo, hi): as
+// VolumeAccumulator, but the interior gradient is left in `moments`.
+// d = F̂_B' − F_A is linear on a cell, and so is μ (fixed with A's triangle);
+// most cells lie on one side of d = 0, so that case takes one pass over the
+// corners; only the cells d = 0 crosses are split into their two sign parts.
+template <bool kWeighted>
 void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi,
                                       int part, VolumeCostValue* out) {
   const Triangulation& mesh_a = reference->mesh;
   const Triangulation& mesh_b = s.moving_mesh();
   const auto& xa = reference->xy;
   const auto& za = reference->z;
+  const auto& weight = reference->weight;
   const auto& xb = s.moved_xy();
   const auto& zb = s.moved_z();
   const int32_t* triangles_b = mesh_b.triangles.data();
@@ -232,6 +275,10 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
     }
     const Gradient2 ga = grad_a[ta];
     const double za0 = za[ia[0]];
+    Plane mu;
+    if (kWeighted) {
+      mu = PlaneThrough(xa[ia[0]], xa[ia[1]], xa[ia[2]], weight[ia[0]], weight[ia[1]], weight[ia[2]]);
+    }
     cells += count;
     for (int32_t c = 0; c < count; ++c) {
       const TopologyCell& tc = list[c];
@@ -246,11 +293,12 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
       }
       const int n = tc.num_corners;
       const FacetB& fb = facets[tb];
-      // Relative to T_B's corner 0: d = d0 + ∇d · (x, y).
+      // Relative to T_B's corner 0: d = d0 + ∇d · (x, y), μ = μ0 + ∇μ · (x, y).
       const double bx = cx6[3], by = cy6[3];
       const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
       const double dgx = fb.gx - ga.gx, dgy = fb.gy - ga.gy;
-      double x[8], y[8], d[8];
+      const double mu0 = kWeighted ? mu.At({bx, by}) : 1.0;
+      double x[8], y[8], d[8], m[8];
       double d_lo = 0, d_hi = 0;
       for (int k = 0; k < n; ++k) {
         // Every corner as if a crossing (cheap, no branch), then the vertex
@@ -270,71 +318,58 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
         x[k] = px - bx;
         y[k] = py - by;
         d[k] = d0 + dgx * x[k] + dgy * y[k];
+        if (kWeighted) m[k] = mu0 + mu.gx * x[k] + mu.gy * y[k];
         d_lo = k == 0 ? d[k] : std::min(d_lo, d[k]);
         d_hi = k == 0 ? d[k] : std::max(d_hi, d[k]);
       }
+      auto add = [&](const FanSums& f, double sign) {
+        abs += std::max(0.0, sign * f.wd);  // ∫_P μ|d|
+        if (!gradient) return;
+        std::array<double, 3>& m3 = moment[tb];
+        m3[0] += sign * f.w;
+        m3[1] += sign * f.wx;
+        m3[2] += sign * f.wy;
+      };
       if (d_lo >= 0 || d_hi <= 0) {  // one sign part: the whole cell
-        double t_sum = 0, d_sum = 0, cx = 0, cy = 0;
-        for (int k = 1; k + 1 < n; ++k) {
-          const double t = (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
-          t_sum += t;
-          d_sum += t * (d[0] + d[k] + d[k + 1]);
-          cx += t * (x[0] + x[k] + x[k + 1]);
-          cy += t * (y[0] + y[k] + y[k + 1]);
-        }
-        area_sum += 0.5 * t_sum;
-        const double sign = d_hi > 0 ? 1.0 : -1.0;
+        const FanSums f = SumFan<kWeighted>(x, y, d, m, n);
+        area_sum += f.w;
         // d ≡ 0 adds nothing inside, but a hull cell still moves the boundary (below).
-        const bool inside = t_sum > 0 && !(d_hi == 0 && d_lo == 0);
-        if (inside) abs += std::max(0.0, sign * d_sum) * (1.0 / 6.0);
-        if (gradient && inside) {
-          std::array<double, 3>& m3 = moment[tb];
-          m3[0] += sign * 0.5 * t_sum;
-          m3[1] += sign * cx * (1.0 / 6.0);
-          m3[2] += sign * cy * (1.0 / 6.0);
-        }
+        if (f.twice > 0 && !(d_hi == 0 && d_lo == 0)) add(f, d_hi > 0 ? 1.0 : -1.0);
       } else {
-        double twice = 0;
-        for (int k = 1; k + 1 < n; ++k) {
-          twice += (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
-        }
-        area_sum += 0.5 * twice;
         // The parts where d ≥ 0 and d ≤ 0.
-        double pos_x[10], pos_y[10], pos_d[10], neg_x[10], neg_y[10], neg_d[10];
+        double pos_x[10], pos_y[10], pos_d[10], pos_m[10], neg_x[10], neg_y[10], neg_d[10], neg_m[10];
         int np = 0, nn = 0;
         for (int k = 0; k < n; ++k) {
           const int l = k + 1 == n ? 0 : k + 1;
-          if (d[k] >= 0) pos_x[np] = x[k], pos_y[np] = y[k], pos_d[np++] = d[k];
-          if (d[k] <= 0) neg_x[nn] = x[k], neg_y[nn] = y[k], neg_d[nn++] = d[k];
+          if (d[k] >= 0) {
+            pos_x[np] = x[k], pos_y[np] = y[k], pos_d[np] = d[k];
+            if (kWeighted) pos_m[np] = m[k];
+            ++np;
+          }
+          if (d[k] <= 0) {
+            neg_x[nn] = x[k], neg_y[nn] = y[k], neg_d[nn] = d[k];
+            if (kWeighted) neg_m[nn] = m[k];
+            ++nn;
+          }
           if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
             const double t = d[k] / (d[k] - d[l]);
             const double cx = x[k] + t * (x[l] - x[k]), cy = y[k] + t * (y[l] - y[k]);
-            pos_x[np] = cx, pos_y[np] = cy, pos_d[np++] = 0.0;
-            neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn++] = 0.0;
+            pos_x[np] = cx, pos_y[np] = cy, pos_d[np] = 0.0;
+            neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn] = 0.0;
+            if (kWeighted) pos_m[np] = neg_m[nn] = m[k] + t * (m[l] - m[k]);
+            ++np, ++nn;
           }
         }
-        auto add_part = [&](const double* qx, const double* qy, const double* dq, int m,
-                            double sign) {
-          if (m < 3) return;
-          double t_sum = 0, d_sum = 0, cx = 0, cy = 0;
-          for (int k = 1; k + 1 < m; ++k) {
-            const double t =
-                (qx[k] - qx[0]) * (qy[k + 1] - qy[0]) - (qy[k] - qy[0]) * (qx[k + 1] - qx[0]);
-            t_sum += t;
-            d_sum += t * (dq[0] + dq[k] + dq[k + 1]);
-            cx += t * (qx[0] + qx[k] + qx[k + 1]);
-            cy += t * (qy[0] + qy[k] + qy[k + 1]);
-          }
-          if (!(t_sum > 0)) return;
-          abs += std::max(0.0, sign * d_sum) * (1.0 / 6.0);  // ∫_P |d|
-          if (!gradient) return;
-          std::array<double, 3>& m3 = moment[tb];
-          m3[0] += sign * 0.5 * t_sum;
-          m3[1] += sign * cx * (1.0 / 6.0);
-          m3[2] += sign * cy * (1.0 / 6.0);
-        };
-        add_part(pos_x, pos_y, pos_d, np, 1.0);
-        add_part(neg_x, neg_y, neg_d, nn, -1.0);
+        if (np >= 3) {
+          const FanSums f = SumFan<kWeighted>(pos_x, pos_y, pos_d, pos_m, np);
+          area_sum += f.w;
+          if (f.twice > 0) add(f, 1.0);
+        }
+        if (nn >= 3) {
+          const FanSums f = SumFan<kWeighted>(neg_x, neg_y, neg_d, neg_m, nn);
+          area_sum += f.w;
+          if (f.twice > 0) add(f, -1.0);
+        }
       }
       if (gradient && fb.hull) {
         cell.triangle_a = ta;
@@ -351,7 +386,7 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   out->d_area = boundary.value.d_area;
 }
 
-// Weights or a mask: every cell through the full path's accumulator.
+// A mask: every cell through the full path's accumulator (which also takes weights).
 void VolumeCostCache::Impl::Generic(const PairState& s, bool gradient,
                                     const std::vector<std::array<Point2, 3>>* mask, int32_t lo,
                                     int32_t hi, VolumeCostValue* out) {
@@ -460,7 +495,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   m.stats.triangles += na;
 
   VolumeCostValue parts[2];
-  if (mask != nullptr || !m.reference->weight.empty()) {
+  if (mask != nullptr) {
     Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
       m.Generic(s, gradient, mask, lo, hi, &parts[part]);
     });
@@ -469,6 +504,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
     return parts[0];
   }
   // ∇F̂_B' on each moved B triangle, then the cells.
+  const bool weighted = !m.reference->weight.empty();
   m.facet_b.resize(nb);
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
@@ -484,7 +520,11 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
     for (auto& moment : m.moments) moment.resize(nb, {0.0, 0.0, 0.0});  // zeroed after each use
   }
   Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
-    m.Integrate(s, gradient, lo, hi, part, &parts[part]);
+    if (weighted) {
+      m.Integrate<true>(s, gradient, lo, hi, part, &parts[part]);
+    } else {
+      m.Integrate<false>(s, gradient, lo, hi, part, &parts[part]);
+    }
   });
   AddInto(parts[1], &parts[0]);
   VolumeCostValue total = parts[0];

@@ -216,6 +216,7 @@ TEST(VolumeCostCacheTest, MatchesWithPartialOverlap) {
 TEST(VolumeCostCacheTest, MatchesWithWeightsAndMask) {
   const auto weighted = TerrainSides(2000, 1800, 0, 100, SmoothWeight);
   Walk(*weighted, true, nullptr, "weights", 100.0 / std::sqrt(2000.0));
+  Walk(*weighted, false, nullptr, "weights", 100.0 / std::sqrt(2000.0));
   const auto plain = TerrainSides(2000, 1800, 0, 100);
   const auto mask = TriangulatePolygon({{20, 15}, {80, 25}, {70, 60}, {45, 40}, {25, 75}});
   const std::vector<std::array<Point2, 3>> shifted = [&] {
