@@ -146,5 +146,20 @@ if [[ $rc -ne 2 ]] || ! grep -q '^surfreg: error: bad value' "$tmp/err"; then
   fail "bad flag value: expected exit 2 and a clear message"
 fi
 
+# A flag of another command is refused, not silently ignored.
+run measure configs/data/volcano.xyz configs/data/volcano.xyz --slope_weight=3
+if [[ $rc -ne 2 ]] || ! grep -q "^surfreg: error: flag '--slope_weight' is not used by 'measure' (it is a flag of: align)" "$tmp/err"; then
+  fail "another command's flag: expected exit 2 and a clear message"
+fi
+run triangulate configs/data/volcano.xyz --volume=union
+if [[ $rc -ne 2 ]] || ! grep -q "^surfreg: error: flag '--volume' is not used by 'triangulate'" "$tmp/err"; then
+  fail "another command's flag: expected exit 2 and a clear message"
+fi
+# glog's own flags are for every command; --json is triangulate's own.
+run triangulate configs/data/volcano.xyz --minloglevel=1 --json
+if [[ $rc -ne 0 ]]; then
+  fail "triangulate with --minloglevel and --json: expected exit 0"
+fi
+
 echo "$((checks - failures)) of $checks checks passed"
 [[ $failures -eq 0 ]]

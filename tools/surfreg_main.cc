@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "measure/input_error.h"
+#include "tools/align_config.h"
 #include "tools/commands.h"
+#include "tools/jaw_config.h"
 
 namespace surfreg {
 namespace {
@@ -21,30 +23,55 @@ struct Command {
   int (*run)(const std::vector<std::string>& args);
   const char* synopsis;  // the arguments, for usage lines
   const char* help;      // one line
+  // The program's flags this command reads (space-separated), besides its
+  // config keys' flags (`keys`, if any); any other flag of the program is
+  // refused, so that e.g. `align --weights=...` is not silently ignored.
+  const char* flags;
+  bool (*keys)(const std::string& name);
 };
+
+bool IsAlignKey(const std::string& name) {
+  for (const AlignConfigKey& key : AlignConfigKeys()) {
+    if (name == key.name) return true;
+  }
+  return false;
+}
+
+bool IsJawKey(const std::string& name) {
+  for (const JawConfigKey& key : JawConfigKeys()) {
+    if (name == key.name) return true;
+  }
+  return false;
+}
 
 const Command kCommands[] = {
     {"triangulate", RunTriangulate, "FILE [--json]",
-     "read a surface, Delaunay-triangulate it, print counts and timings"},
+     "read a surface, Delaunay-triangulate it, print counts and timings", "json", nullptr},
     {"measure", RunMeasure,
      "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE] [--json]",
-     "compare surface B with A: volume between them (rho_d), mean gap, cut/fill, timings"},
+     "compare surface B with A: volume between them (rho_d), mean gap, cut/fill, timings",
+     "json volume weights", nullptr},
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json]",
-     "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary"},
+     "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary",
+     "config json manifest shard", IsAlignKey},
     {"sweep", RunSweep, "--config SWEEP.yaml [--output=RUNS.csv] [--jobs=N] [--shard=K/N] [--resume]",
-     "run a grid of pairs x solver settings x initial offsets; CSV, ranking, plots"},
+     "run a grid of pairs x solver settings x initial offsets; CSV, ranking, plots",
+     "config output jobs shard resume", nullptr},
     {"normalize", RunNormalize,
      "MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] [--output=FACE.xyz] [--json]",
-     "bring a face mesh or cloud into the standard face frame; write its visible height field"},
+     "bring a face mesh or cloud into the standard face frame; write its visible height field",
+     "orientation depth_limit output json", nullptr},
     {"asymmetry", RunAsymmetry,
      "FACE [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] [--map=MAP.png] [--json] "
      "[--output=ASYMMETRY.json]",
-     "facial asymmetry: the face against its mirror image, about x = 0 and the optimized plane"},
+     "facial asymmetry: the face against its mirror image, about x = 0 and the optimized plane",
+     "orientation depth_limit map output json", nullptr},
     {"jaw", RunJaw, "--config JAW.yaml [--KEY=VALUE ...]",
-     "jaw motion over a 3D sequence: the lower part relative to the upper part, per frame"},
+     "jaw motion over a 3D sequence: the lower part relative to the upper part, per frame",
+     "config", IsJawKey},
     {"merge", RunMerge, "OUT.csv IN.csv [IN.csv ...]",
-     "join the CSVs of sweep or align --manifest shards, sorted by run_id"},
+     "join the CSVs of sweep or align --manifest shards, sorted by run_id", "", nullptr},
 };
 
 const Command* FindCommand(const std::string& name) {
@@ -86,11 +113,13 @@ bool IsHelpFlag(const std::string& arg) {
 
 // gflags would exit(1) itself on an unknown flag or a bad value; checking
 // first keeps such mistakes usage errors (exit 2). SetCommandLineOption both
-// validates and sets, as the parse that follows would.
-void CheckFlags(int argc, char** argv) {
+// validates and sets, as the parse that follows would. Returns the names of
+// the flags given (a negated bool by its own name).
+std::vector<std::string> CheckFlags(int argc, char** argv) {
+  std::vector<std::string> given;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--") return;
+    if (arg == "--") return given;
     if (arg.size() < 2 || arg[0] != '-') continue;
     const std::size_t dashes = arg[1] == '-' ? 2 : 1;
     const std::size_t equals = arg.find('=');
@@ -101,9 +130,13 @@ void CheckFlags(int argc, char** argv) {
       const bool negated_bool = name.rfind("no", 0) == 0 &&
                                 gflags::GetCommandLineFlagInfo(name.c_str() + 2, &info) &&
                                 info.type == "bool" && equals == std::string::npos;
-      if (negated_bool) continue;
+      if (negated_bool) {
+        given.push_back(name.substr(2));
+        continue;
+      }
       throw UsageError("unknown flag '" + arg + "'");
     }
+    given.push_back(name);
     std::string value;
     if (equals != std::string::npos) {
       value = arg.substr(equals + 1);
@@ -117,6 +150,31 @@ void CheckFlags(int argc, char** argv) {
     if (gflags::SetCommandLineOption(name.c_str(), value.c_str()).empty()) {
       throw UsageError("bad value '" + value + "' for flag '--" + name + "'");
     }
+  }
+  return given;
+}
+
+bool ReadsFlag(const Command& command, const std::string& name) {
+  const std::string list = std::string(" ") + command.flags + " ";
+  if (list.find(" " + name + " ") != std::string::npos) return true;
+  return command.keys != nullptr && command.keys(name);
+}
+
+// Flags of the program's own (defined under tools/) that `command` does not
+// read are refused; glog's and gflags' own flags are for every command.
+void CheckCommandFlags(const Command& command, const std::vector<std::string>& given) {
+  for (const std::string& name : given) {
+    gflags::CommandLineFlagInfo info;
+    if (!gflags::GetCommandLineFlagInfo(name.c_str(), &info)) continue;
+    const bool ours = info.filename.rfind("tools/", 0) == 0 ||
+                      info.filename.find("/tools/") != std::string::npos;
+    if (!ours || ReadsFlag(command, name)) continue;
+    std::string users;
+    for (const Command& other : kCommands) {
+      if (ReadsFlag(other, name)) users += std::string(users.empty() ? "" : ", ") + other.name;
+    }
+    throw UsageError("flag '--" + name + "' is not used by '" + command.name + "'" +
+                     (users.empty() ? "" : " (it is a flag of: " + users + ")"));
   }
 }
 
@@ -134,9 +192,9 @@ int PrintHelp(const std::vector<std::string>& positional) {
 int Dispatch(int argc, char** argv) {
   bool help = false;
   for (int i = 1; i < argc && std::string(argv[i]) != "--"; ++i) help |= IsHelpFlag(argv[i]);
-  std::vector<std::string> positional;
+  std::vector<std::string> positional, given;
   if (!help) {
-    CheckFlags(argc, argv);
+    given = CheckFlags(argc, argv);
     gflags::ParseCommandLineNonHelpFlags(&argc, &argv, /*remove_flags=*/true);
     gflags::HandleCommandLineHelpFlags();  // --helpfull, --version, ...
   }
@@ -158,6 +216,7 @@ int Dispatch(int argc, char** argv) {
     return 2;
   }
   try {
+    CheckCommandFlags(*command, given);
     return command->run(positional);
   } catch (const UsageError& e) {
     std::fprintf(stderr, "surfreg: error: %s\n%s\n", OneLine(e.what()).c_str(),
