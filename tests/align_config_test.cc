@@ -134,6 +134,7 @@ known_matrix: [1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7]
 mask_raster: stable.tif
 normal_distance: false
 slope_weight: 1.5
+weights: per_point
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -152,6 +153,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(o.trim_fraction, 0.1);
   EXPECT_FALSE(o.normal_distance);
   EXPECT_EQ(o.slope_weight, 1.5);
+  EXPECT_TRUE(c.per_point_weights);
   EXPECT_EQ(o.free, (std::array<bool, 6>{true, true, false, true, true, true}));
   EXPECT_EQ(o.levels, 3);
   EXPECT_EQ(o.level_factor, 2.5);
@@ -415,6 +417,18 @@ TEST(AlignConfigErrors, FinishChecksRequiredKeysAndOutputs) {
   FinishAlignConfig(&config);
   EXPECT_EQ(config.options.weight, WeightMode::kMask);
   EXPECT_EQ(config.options.mask_polygon.size(), 4u);
+
+  // weights: per_point sets μ from the reference's samples; one μ at a time.
+  AlignConfig weighted = FromYaml(head + "weights: per_point\n");
+  FinishAlignConfig(&weighted);
+  EXPECT_EQ(weighted.options.weight, WeightMode::kPerPoint);
+  EXPECT_EQ(finish_error(head + "weights: per_point\nmask: " + dir.path() + "/m.txt\n"),
+            "t.yaml:3: key 'weights': per_point cannot be combined with 'mask' (t.yaml:4: key "
+            "'mask')");
+  EXPECT_TRUE(Contains(finish_error(head + "weights: per_point\nmask_raster: s.tif\n"),
+                       "per_point cannot be combined with 'mask_raster'"));
+  EXPECT_TRUE(Contains(finish_error(head + "weights: mask\n"),
+                       "t.yaml:3: key 'weights' expects one of uniform, per_point"));
 }
 
 // --- the shipped configs and the README ------------------------------------

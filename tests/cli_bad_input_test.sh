@@ -75,6 +75,7 @@ xyz("sliver.xyz", [(x + 0.99999, y, z) for x, y, z in pts])
 xyz("big_a.xyz", [(5e5 + 10 * x, 1e7 + 10 * y, 100 + z) for x, y, z in pts], "%.5f %.5f %.5f\n")
 xyz("big_b.xyz", [(5e5 + 10 * x + 3e-4, 1e7 + 10 * y, 100 + z + 5e-4) for x, y, z in pts],
     "%.5f %.5f %.5f\n")
+xyz("zero_weights.xyz", [p + (0.0,) for p in pts], "%.9f %.9f %.9f %g\n")
 xyz("small_a.xyz", [(10 * x, 10 * y, z) for x, y, z in pts], "%.5f %.5f %.5f\n")
 xyz("small_b.xyz", [(10 * x + 3e-4, 10 * y, z + 5e-4) for x, y, z in pts], "%.5f %.5f %.5f\n")
 EOF
@@ -122,6 +123,9 @@ printf 'reference: good.xyz\nmoving: nothere.xyz\n' >missing_file.yaml
 expect_error "missing_file.yaml:2: key 'moving': nothere.xyz: cannot open" align --config missing_file.yaml
 expect_error "missing.yaml: cannot open" align --config missing.yaml
 expect_error "flag '--max_iterations'" align good.xyz good.xyz --max_iterations=-3
+expect_error "weight per_point needs per-sample weights on the reference, but good.xyz has none" \
+  align good.xyz good.xyz --weights=per_point
+expect_error "every weight of zero_weights.xyz is 0" align zero_weights.xyz good.xyz --weights=per_point
 
 # A rotation that folds the moving surface over in xy.
 expect_error "the initial motion folds" align good.xyz good.xyz --initial_rotation_deg=0,150,0 \

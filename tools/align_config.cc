@@ -38,6 +38,7 @@ const Names<TrustRegionKind> kTrustRegions = {
 const Names<LineSearchKind> kLineSearches = {{"lbfgs", LineSearchKind::kLbfgs},
                                              {"bfgs", LineSearchKind::kBfgs},
                                              {"nonlinear_cg", LineSearchKind::kNonlinearCg}};
+const Names<bool> kWeightModes = {{"uniform", false}, {"per_point", true}};
 const Names<LinearSolverKind> kLinearSolvers = {
     {"dense_qr", LinearSolverKind::kDenseQr},
     {"dense_normal_cholesky", LinearSolverKind::kDenseNormalCholesky},
@@ -172,6 +173,10 @@ const std::vector<KeyEntry>& Table() {
         "weight 1 inside the polygon ('x y' per line, input coordinates), 0 outside"},
        [](const Value& v, C* c) { c->mask = Path(v, false); },
        [](const C& c) { return c.mask; }},
+      {{"weights", "one of uniform, per_point",
+        "mu: uniform, or the reference's per-sample weights (4th .xyz column, PLY 'weight')"},
+       [](const Value& v, C* c) { c->per_point_weights = Choice(v, kWeightModes); },
+       [](const C& c) { return std::string(c.per_point_weights ? "per_point" : "uniform"); }},
       {{"max_fold_fraction", "a number in [0, 1]",
         "share of the moving surface's area that may fold over (slivers: re-triangulated)"},
        [](const Value& v, C* c) { c->options.max_fold_fraction = Number(v, 0, 1); },
@@ -409,6 +414,16 @@ void FinishAlignConfig(AlignConfig* config) {
       }
     }
     files.emplace_back(key, path);
+  }
+  if (config->per_point_weights) {
+    // One μ at a time: a mask or a stable-terrain raster is a weight of its own.
+    for (const char* other : {"mask", "mask_raster"}) {
+      if (!AlignConfigValue(*config, other).empty()) {
+        throw InputError(config->Where("weights") + ": per_point cannot be combined with '" +
+                         other + "' (" + config->Where(other) + ")");
+      }
+    }
+    config->options.weight = WeightMode::kPerPoint;
   }
   if (!config->mask.empty()) {
     try {

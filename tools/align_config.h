@@ -42,9 +42,10 @@ struct AlignConfig {
   std::string moving;     // surface file moved onto the reference (required)
   // Solver settings. initial_rotation is in radians here (the key
   // initial_rotation_deg is in degrees); weight and mask_polygon are set by
-  // FinishAlignConfig from `mask`.
+  // FinishAlignConfig from `mask` and `per_point_weights`.
   AlignOptions options;
   std::string mask;         // polygon file (input coordinates) for μ; "" = uniform
+  bool per_point_weights = false;  // key weights: per_point (the reference's sample weights)
   std::string output;       // transform JSON; "" = none
   std::string aligned;      // the moved `moving` surface (.ply, .xyz, .txt); "" = none
   std::string log;          // per-iteration CSV; "" = none

@@ -28,7 +28,7 @@ DEFINE_string(volume, "overlay",
               "the common refinement of the two triangulations) or union (the paper's, on the "
               "triangulation of A and B together)");
 DEFINE_string(weights, "uniform",
-              "measure: the weight of the integrals: uniform, per_point (the samples' weights, "
+              "measure, align: the weight of the integrals: uniform, per_point (the samples' weights, "
               "interpolated linearly) or mask:POLYGON_FILE (1 inside the polygon, 0 outside; "
               "one 'x y' vertex per line, input coordinates, '#' comments)");
 
