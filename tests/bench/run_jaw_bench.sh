@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Builds and runs the jaw benchmark (tests/bench/jaw_bench.cc): a 30-frame
-# chewing sequence of 2 × 20k-point halves tracked by surfreg's jaw tracker,
-# against 60 full Measure() calls of one 40k-vs-40k frame pair, in one run;
-# prints a Markdown table with the ratio (target < 1) and the accuracy.
+# Builds and runs the jaw benchmark (tests/bench/jaw_bench.cc, Google
+# Benchmark): a 30-frame chewing sequence of 2 × 20k-point halves tracked by
+# surfreg's jaw tracker, against full Measure() calls of one 40k-vs-40k frame
+# pair, in one run; counter ratio_to_target = the run / 60 measures (target
+# < 1), with the accuracy against the generated truth.
 #
 #   tests/bench/run_jaw_bench.sh [build_dir] [jaw_bench flags, e.g. --variants]
 #
