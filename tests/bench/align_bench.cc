@@ -26,7 +26,9 @@
 // Jacobians), volume_1t / volume_2t (+ EvaluateVolumeCost with gradient),
 // volinc_1t / volinc_2t (+ VolumeCostCache::Evaluate with gradient: the
 // incremental re-measure Align's volume solver uses; counters
-// searched_fraction = A triangles searched again / all, full_builds_per_eval).
+// searched_fraction = A triangles searched again / all, full_builds_per_eval),
+// volval_1t (the same, value only: the re-measure proper, as Measure
+// computes no gradient).
 // <step>: small (δ = 1e-4 rad, 0.01 spacing), large (1e-3 rad, 0.1 spacing),
 // solver (1e-6 rad, 1e-3 spacing; BM_Remeasure only).
 //
@@ -96,7 +98,7 @@ constexpr int kNumSteps = 3;
 constexpr int kSolverStep = 2;
 constexpr int kMeasureStep = 1;  // BM_Measure's pose: θ_true + δ_large
 
-enum class Work { kUpdate, kAxial, kVolume1, kVolume2, kIncremental1, kIncremental2 };
+enum class Work { kUpdate, kAxial, kVolume1, kVolume2, kIncremental1, kIncremental2, kValue1 };
 const char* WorkName(Work w) {
   switch (w) {
     case Work::kUpdate: return "update";
@@ -105,6 +107,7 @@ const char* WorkName(Work w) {
     case Work::kVolume2: return "volume_2t";
     case Work::kIncremental1: return "volinc_1t";
     case Work::kIncremental2: return "volinc_2t";
+    case Work::kValue1: return "volval_1t";
   }
   return "?";
 }
@@ -224,6 +227,7 @@ double DoWork(Work work, const PairState& s, AxialResiduals* residuals, VolumeCo
     case Work::kVolume2: return EvaluateVolumeCost(s, true, /*parallel=*/true).abs;
     case Work::kIncremental1: return cache->Evaluate(s, true, /*parallel=*/false).abs;
     case Work::kIncremental2: return cache->Evaluate(s, true, /*parallel=*/true).abs;
+    case Work::kValue1: return cache->Evaluate(s, false, /*parallel=*/false).abs;
   }
   return 0.0;
 }
@@ -279,7 +283,7 @@ void BM_Remeasure(benchmark::State& state, int64_t n, int step, Work work) {
     benchmark::ClobberMemory();
   }
   SetCommonCounters(state, *p, walk, updates, s.remeshes() - remeshes0);
-  if (work == Work::kIncremental1 || work == Work::kIncremental2) {
+  if (work == Work::kIncremental1 || work == Work::kIncremental2 || work == Work::kValue1) {
     // Over the warm-up and the timed loop: the share of A's triangles
     // searched again, of evaluations that rebuilt everything.
     const VolumeCostCacheStats& c = cache.stats();
@@ -462,8 +466,8 @@ void Configure(benchmark::internal::Benchmark* b, int64_t n) {
 void RegisterAll(bool with_1e6) {
   std::vector<int64_t> sizes = {10000, 100000};
   if (with_1e6) sizes.push_back(1000000);
-  const Work works[] = {Work::kUpdate,  Work::kAxial,        Work::kVolume1,
-                        Work::kVolume2, Work::kIncremental1, Work::kIncremental2};
+  const Work works[] = {Work::kUpdate,       Work::kAxial,        Work::kVolume1, Work::kVolume2,
+                        Work::kIncremental1, Work::kIncremental2, Work::kValue1};
   // Input by input (GetPair keeps only the current one).
   for (int64_t n : sizes) {
     const std::string ns = "/" + std::to_string(n);
