@@ -149,6 +149,35 @@ TEST(JawTrack, ReferenceInTheMiddle) {
   }
 }
 
+// A polygon boundary through a whole tracking run: a rectangle whose only
+// edge near the face is the line y = boundary_y splits every frame as the y
+// level does (inside = lower, the same margin band dropped), so the run must
+// give the same motions, and both recover the truth.
+TEST(JawTrack, PolygonBoundaryTracksAsTheSameLine) {
+  ChewingOptions chewing;
+  chewing.frames = 4;
+  chewing.upper_points = chewing.lower_points = 3000;
+  const std::vector<ChewingFrame> frames = MakeChewingSequence(Face(), chewing);
+  const std::vector<Surface> surfaces = Surfaces(frames);
+  JawOptions line;
+  line.boundary.y_level = chewing.boundary_y;
+  line.boundary.margin = 2.0;
+  JawOptions polygon = line;
+  const double y = chewing.boundary_y;
+  polygon.boundary.polygon = {{-1e4, -1e4}, {1e4, -1e4}, {1e4, y}, {-1e4, y}};
+  const JawSummary by_line = TrackJaw(surfaces, line);
+  const JawSummary by_polygon = TrackJaw(surfaces, polygon);
+  ASSERT_EQ(by_polygon.frames.size(), frames.size());
+  EXPECT_EQ(by_polygon.reference_upper_points, by_line.reference_upper_points);
+  EXPECT_EQ(by_polygon.reference_lower_points, by_line.reference_lower_points);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    EXPECT_LT((by_polygon.frames[k].jaw - by_line.frames[k].jaw).norm(), 1e-9) << "frame " << k;
+    const std::array<double, 2> error = MotionDifference(by_polygon.frames[k].jaw, frames[k].jaw);
+    EXPECT_LE(error[0], 0.1) << "frame " << k;
+    EXPECT_LE(error[1], 0.05) << "frame " << k;
+  }
+}
+
 // The split against a brute-force classification: point in polygon by the
 // winding number (sum of angles) and the distance to the boundary by dense
 // sampling of its edges; points within 1e-6 of the margin are skipped.
