@@ -27,6 +27,46 @@ inline double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
   return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
 }
 
+// ∫ over a convex polygon (fan from corner 0) of μ, μd, μx and μy, with d
+// and μ linear (μ ≡ 1 unless kWeighted): per fan triangle of area S with
+// corner values f_i, g_i, ∫fg = S/12 (Σ f_i g_i + Σf_i Σg_i).
+struct FanSums {
+  double twice = 0;          // twice the area
+  double w = 0, wd = 0;      // ∫μ, ∫μd
+  double wx = 0, wy = 0;     // ∫μx, ∫μy
+};
+
+template <bool kWeighted>
+inline FanSums SumFan(const double* x, const double* y, const double* d, const double* m, int n) {
+  FanSums s;
+  double w = 0, wd = 0, wx = 0, wy = 0;
+  for (int k = 1; k + 1 < n; ++k) {
+    const double t = (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
+    s.twice += t;
+    const double sd = d[0] + d[k] + d[k + 1];
+    const double sx = x[0] + x[k] + x[k + 1], sy = y[0] + y[k] + y[k + 1];
+    if (kWeighted) {
+      const double sm = m[0] + m[k] + m[k + 1];
+      w += t * sm;
+      wd += t * (m[0] * d[0] + m[k] * d[k] + m[k + 1] * d[k + 1] + sm * sd);
+      wx += t * (m[0] * x[0] + m[k] * x[k] + m[k + 1] * x[k + 1] + sm * sx);
+      wy += t * (m[0] * y[0] + m[k] * y[k] + m[k + 1] * y[k + 1] + sm * sy);
+    } else {
+      wd += t * sd;
+      wx += t * sx;
+      wy += t * sy;
+    }
+  }
+  if (kWeighted) {
+    s.w = w * (1.0 / 6.0);
+    s.wd = wd * (1.0 / 24.0), s.wx = wx * (1.0 / 24.0), s.wy = wy * (1.0 / 24.0);
+  } else {
+    s.w = 0.5 * s.twice;
+    s.wd = wd * (1.0 / 6.0), s.wx = wx * (1.0 / 6.0), s.wy = wy * (1.0 / 6.0);
+  }
+  return s;
+}
+
 // Area and centroid of a convex polygon.
 inline void AreaCentroid(const Point2* p, int n, double* area, Point2* centroid) {
   double twice = 0, cx = 0, cy = 0;

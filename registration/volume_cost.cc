@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <thread>
 #include <utility>
 
@@ -13,11 +14,18 @@
 #include "measure/weights.h"
 #include "registration/overlay_topology.h"
 #include "registration/volume_accumulator.h"
+#include "registration/volume_kernel_simd.h"
 
 namespace surfreg {
 
+using volume_internal::FanSums;
+using volume_internal::SumFan;
 using volume_internal::TwiceArea;
 using volume_internal::VolumeAccumulator;
+using volume_internal::FacetB;
+using volume_internal::Gradient2;
+using volume_internal::TriangleExtra;
+using volume_internal::TriangleRecord;
 
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
                                    const std::vector<std::array<Point2, 3>>* mask) {
@@ -55,17 +63,6 @@ struct PackedLocation {
 
 inline PackedLocation Pack(const Location& l) { return {l.triangle, l.where, l.index}; }
 
-struct Gradient2 {
-  double gx = 0, gy = 0;
-};
-
-// A moved B triangle as the cells need it: ∇F̂_B', and whether it has a
-// hull edge (B's moving boundary).
-struct FacetB {
-  double gx = 0, gy = 0;
-  bool hull = false;
-};
-
 // ∇ of the plane through three points (as PlaneThrough).
 inline Gradient2 GradientOf(const Point2& p0, const Point2& p1, const Point2& p2, double z0,
                             double z1, double z2) {
@@ -93,6 +90,9 @@ struct VolumeCostCache::Impl {
   std::vector<Gradient2> grad_a;
   // Per evaluation.
   std::vector<FacetB> facet_b;
+  // The vector kernel's copies (volume_kernel_simd.h): A's fixed, B's per evaluation.
+  std::vector<TriangleRecord> record_a, record_b;
+  std::vector<TriangleExtra> extra_a, extra_b;
   std::vector<uint8_t> mark;
   std::vector<int32_t> dirty;
   std::vector<std::pair<int32_t, int32_t>> seeds;
@@ -106,6 +106,8 @@ struct VolumeCostCache::Impl {
   template <bool kWeighted>
   void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
                  VolumeCostValue* out);
+  void IntegrateSimd(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
+                     VolumeCostValue* out);
   void Generic(const PairState& s, bool gradient, const std::vector<std::array<Point2, 3>>* mask,
                int32_t lo, int32_t hi, VolumeCostValue* out);
 };
@@ -130,6 +132,12 @@ void VolumeCostCache::Impl::Bind(const PairState& s) {
     const auto& xy = reference->xy;
     const auto& z = reference->z;
     grad_a[t] = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+  }
+  record_a.resize(nt);
+  extra_a.resize(nt);
+  for (int32_t t = 0; t < nt; ++t) {
+    volume_internal::MakeRecord(reference->xy.data(), reference->z.data(), &mesh.triangles[3 * t],
+                                grad_a[t].gx, grad_a[t].gy, false, &record_a[t], &extra_a[t]);
   }
   built = false;
 }
@@ -191,46 +199,6 @@ void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
     if (mark[t]) dirty.push_back(t);
   }
   std::sort(seeds.begin(), seeds.end());
-}
-
-// ∫ over a convex polygon (fan from corner 0) of μ, μd, μx and μy, with d
-// and μ linear (μ ≡ 1 unless kWeighted): per fan triangle of area S with
-// corner values f_i, g_i, ∫fg = S/12 (Σ f_i g_i + Σf_i Σg_i).
-struct FanSums {
-  double twice = 0;          // twice the area
-  double w = 0, wd = 0;      // ∫μ, ∫μd
-  double wx = 0, wy = 0;     // ∫μx, ∫μy
-};
-
-template <bool kWeighted>
-inline FanSums SumFan(const double* x, const double* y, const double* d, const double* m, int n) {
-  FanSums s;
-  double w = 0, wd = 0, wx = 0, wy = 0;
-  for (int k = 1; k + 1 < n; ++k) {
-    const double t = (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
-    s.twice += t;
-    const double sd = d[0] + d[k] + d[k + 1];
-    const double sx = x[0] + x[k] + x[k + 1], sy = y[0] + y[k] + y[k + 1];
-    if (kWeighted) {
-      const double sm = m[0] + m[k] + m[k + 1];
-      w += t * sm;
-      wd += t * (m[0] * d[0] + m[k] * d[k] + m[k + 1] * d[k + 1] + sm * sd);
-      wx += t * (m[0] * x[0] + m[k] * x[k] + m[k + 1] * x[k + 1] + sm * sx);
-      wy += t * (m[0] * y[0] + m[k] * y[k] + m[k + 1] * y[k + 1] + sm * sy);
-    } else {
-      wd += t * sd;
-      wx += t * sx;
-      wy += t * sy;
-    }
-  }
-  if (kWeighted) {
-    s.w = w * (1.0 / 6.0);
-    s.wd = wd * (1.0 / 24.0), s.wx = wx * (1.0 / 24.0), s.wy = wy * (1.0 / 24.0);
-  } else {
-    s.w = 0.5 * s.twice;
-    s.wd = wd * (1.0 / 6.0), s.wx = wx * (1.0 / 6.0), s.wy = wy * (1.0 / 6.0);
-  }
-  return s;
 }
 
 // The unmasked cost over the cells of A's triangles [lo, hi): as
@@ -386,6 +354,33 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   out->d_area = boundary.value.d_area;
 }
 
+// As Integrate<false>, vectorized across cells (volume_kernel_simd.h); the
+// hull cells' boundary term stays scalar.
+void VolumeCostCache::Impl::IntegrateSimd(const PairState& s, bool gradient, int32_t lo, int32_t hi,
+                                          int part, VolumeCostValue* out) {
+  VolumeAccumulator boundary(s, gradient, nullptr);
+  volume_internal::CellKernelInput in;
+  in.topology = &topology;
+  in.record_a = record_a.data(), in.extra_a = extra_a.data();
+  in.record_b = record_b.data(), in.extra_b = extra_b.data();
+  in.context = &boundary;
+  in.on_hull = [](void* context, int32_t ta, int32_t tb, int n) {
+    OverlayCell cell;  // rare: a hull B triangle's cells only
+    cell.triangle_a = ta;
+    cell.triangle_b = tb;
+    cell.num_vertices = n;
+    static_cast<VolumeAccumulator*>(context)->AddBoundaryOf(cell);
+  };
+  volume_internal::CellKernelOutput result;
+  volume_internal::IntegrateCellsSimd(in, lo, hi, gradient, gradient ? moments[part].data() : nullptr,
+                                      &result);
+  out->abs = result.abs;
+  out->area = result.area;
+  out->cells = result.cells;
+  out->d_abs = boundary.value.d_abs;
+  out->d_area = boundary.value.d_area;
+}
+
 // A mask: every cell through the full path's accumulator (which also takes weights).
 void VolumeCostCache::Impl::Generic(const PairState& s, bool gradient,
                                     const std::vector<std::array<Point2, 3>>* mask, int32_t lo,
@@ -505,7 +500,16 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   }
   // ∇F̂_B' on each moved B triangle, then the cells.
   const bool weighted = !m.reference->weight.empty();
+  // The vector kernel where the CPU has it (unweighted only);
+  // SURFREG_SCALAR_KERNEL set in the environment forces the scalar one.
+  static const bool vector_kernel =
+      volume_internal::CellKernelAvailable() && std::getenv("SURFREG_SCALAR_KERNEL") == nullptr;
+  const bool vectorized = vector_kernel && !weighted;
   m.facet_b.resize(nb);
+  if (vectorized) {
+    m.record_b.resize(nb);
+    m.extra_b.resize(nb);
+  }
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
   Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
@@ -514,13 +518,19 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
       const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
       const int32_t* next = &mesh_b.neighbors[3 * t];
       m.facet_b[t] = {g.gx, g.gy, next[0] < 0 || next[1] < 0 || next[2] < 0};
+      if (vectorized) {
+        volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, m.facet_b[t].hull, &m.record_b[t],
+                                    &m.extra_b[t]);
+      }
     }
   });
   if (gradient) {
     for (auto& moment : m.moments) moment.resize(nb, {0.0, 0.0, 0.0});  // zeroed after each use
   }
   Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
-    if (weighted) {
+    if (vectorized) {
+      m.IntegrateSimd(s, gradient, lo, hi, part, &parts[part]);
+    } else if (weighted) {
       m.Integrate<true>(s, gradient, lo, hi, part, &parts[part]);
     } else {
       m.Integrate<false>(s, gradient, lo, hi, part, &parts[part]);
@@ -538,10 +548,13 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
     Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
     for (int32_t t = lo; t < hi; ++t) {
       std::array<double, 3>& m0 = m.moments[0][t];
-      std::array<double, 3>& m1 = m.moments[1][t];
-      const double w = m0[0] + m1[0], cx = m0[1] + m1[1], cy = m0[2] + m1[2];
+      double w = m0[0], cx = m0[1], cy = m0[2];
       m0 = {0.0, 0.0, 0.0};
-      m1 = {0.0, 0.0, 0.0};
+      if (parallel) {  // one thread leaves moments[1] zero: not worth a pass over memory
+        std::array<double, 3>& m1 = m.moments[1][t];
+        w += m1[0], cx += m1[1], cy += m1[2];
+        m1 = {0.0, 0.0, 0.0};
+      }
       if (w == 0 && cx == 0 && cy == 0) continue;
       const int32_t* v = &mesh_b.triangles[3 * t];
       const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;

@@ -76,7 +76,10 @@ struct VolumeCostCacheStats {
 // the pose it was made at (a solver often returns near it); when the next
 // call is at another pose and again too far, it is built whole. Same value
 // and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); with
-// two threads, deterministic (fixed split and summation order).
+// two threads, deterministic (fixed split and summation order). Unweighted
+// cells are integrated by a vector kernel on CPUs with AVX-512 (run-time
+// check; the environment variable SURFREG_SCALAR_KERNEL forces the scalar
+// kernel, for comparison and tests).
 //
 // Keeps no reference to the state between calls, but remembers its address:
 // call Reset() before using it with a new state at the same address whose B
