@@ -93,6 +93,7 @@ struct VolumeCostCache::Impl {
   // The vector kernel's copies (volume_kernel_simd.h): A's fixed, B's per evaluation.
   std::vector<TriangleRecord> record_a, record_b;
   std::vector<TriangleExtra> extra_a, extra_b;
+  std::vector<volume_internal::WeightPlane> weight_a;  // μ per A triangle; empty: no weights
   std::vector<uint8_t> mark;
   std::vector<int32_t> dirty;
   std::vector<std::pair<int32_t, int32_t>> seeds;
@@ -138,6 +139,18 @@ void VolumeCostCache::Impl::Bind(const PairState& s) {
   for (int32_t t = 0; t < nt; ++t) {
     volume_internal::MakeRecord(reference->xy.data(), reference->z.data(), &mesh.triangles[3 * t],
                                 grad_a[t].gx, grad_a[t].gy, false, &record_a[t], &extra_a[t]);
+  }
+  // The weights are fixed with the reference: their planes too.
+  weight_a.clear();
+  if (!reference->weight.empty()) {
+    const auto& w = reference->weight;
+    weight_a.resize(nt);
+    for (int32_t t = 0; t < nt; ++t) {
+      const int32_t* v = &mesh.triangles[3 * t];
+      const auto& xy = reference->xy;
+      const Plane mu = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
+      weight_a[t] = {mu.z0, mu.gx, mu.gy};
+    }
   }
   built = false;
 }
@@ -354,14 +367,15 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   out->d_area = boundary.value.d_area;
 }
 
-// As Integrate<false>, vectorized across cells (volume_kernel_simd.h); the
-// hull cells' boundary term stays scalar.
+// As Integrate<kWeighted>, vectorized across cells (volume_kernel_simd.h);
+// the hull cells' boundary term stays scalar.
 void VolumeCostCache::Impl::IntegrateSimd(const PairState& s, bool gradient, int32_t lo, int32_t hi,
                                           int part, VolumeCostValue* out) {
   VolumeAccumulator boundary(s, gradient, nullptr);
   volume_internal::CellKernelInput in;
   in.topology = &topology;
   in.record_a = record_a.data(), in.extra_a = extra_a.data();
+  in.weight_a = weight_a.empty() ? nullptr : weight_a.data();
   in.record_b = record_b.data(), in.extra_b = extra_b.data();
   in.context = &boundary;
   in.on_hull = [](void* context, int32_t ta, int32_t tb, int n) {
@@ -500,11 +514,14 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   }
   // ∇F̂_B' on each moved B triangle, then the cells.
   const bool weighted = !m.reference->weight.empty();
-  // The vector kernel where the CPU has it (unweighted only);
+  // The vector kernel where the CPU has it (weighted or not);
   // SURFREG_SCALAR_KERNEL set in the environment forces the scalar one.
   static const bool vector_kernel =
       volume_internal::CellKernelAvailable() && std::getenv("SURFREG_SCALAR_KERNEL") == nullptr;
-  const bool vectorized = vector_kernel && !weighted;
+  // The μ planes come from Bind (weights are fixed with the reference);
+  // weights added or dropped since then take the scalar kernel.
+  const bool vectorized =
+      vector_kernel && m.weight_a.size() == (weighted ? static_cast<std::size_t>(na) : 0u);
   m.facet_b.resize(nb);
   if (vectorized) {
     m.record_b.resize(nb);

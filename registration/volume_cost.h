@@ -76,7 +76,7 @@ struct VolumeCostCacheStats {
 // the pose it was made at (a solver often returns near it); when the next
 // call is at another pose and again too far, it is built whole. Same value
 // and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); with
-// two threads, deterministic (fixed split and summation order). Unweighted
+// two threads, deterministic (fixed split and summation order). Unmasked
 // cells are integrated by a vector kernel on CPUs with AVX-512 (run-time
 // check; the environment variable SURFREG_SCALAR_KERNEL forces the scalar
 // kernel, for comparison and tests).

@@ -40,6 +40,7 @@ struct Batch {
   alignas(64) uint64_t code[kLanes];
   alignas(64) double za0[kLanes];     // T_A's extras, copied per A triangle
   alignas(32) uint32_t bits_a[kLanes];
+  alignas(64) double mu0[kLanes], mu_gx[kLanes], mu_gy[kLanes];  // T_A's μ plane (weighted)
   uint8_t n[kLanes];
   int size = 0;
   int max_n = 0;
@@ -48,6 +49,7 @@ struct Batch {
 // Per-lane accumulators of one batch of cells.
 struct CellSums {
   __m512d abs, w, mx, my, twice;
+  __m512d mu;  // ∫μ (weighted only)
 };
 
 SURFREG_AVX512 inline __m512d Select3(__mmask8 is1, __mmask8 is2, __m512d v0, __m512d v1,
@@ -55,19 +57,19 @@ SURFREG_AVX512 inline __m512d Select3(__mmask8 is1, __mmask8 is2, __m512d v0, __
   return _mm512_mask_blend_pd(is2, _mm512_mask_blend_pd(is1, v0, v1), v2);
 }
 
-// One fan triangle (p0, p1, p2) with d linear on it, branch-free: the whole
-// triangle's ∫d, area and first moment, minus twice those of the part cut
-// off by d = 0 around the lone-sign corner L (fraction f = a·b of the area),
-// times the sign s of the rest: ∫|d|, and the signed area and moment.
-template <bool kGradient>
-SURFREG_AVX512 inline void Fan(__m512d x0, __m512d y0, __m512d d0, __m512d x1, __m512d y1,
-                               __m512d d1, __m512d x2, __m512d y2, __m512d d2, CellSums* c) {
+// Where d = 0 cuts a fan triangle (d0, d1, d2), branch-free: the corner L
+// whose sign is alone (the positive one if alone, else the negative one;
+// l1/l2 select corner 1/2, (L, J, K) keeps the orientation), a = d_L/(d_L −
+// d_J), b = d_L/(d_L − d_K) (zero where d has one sign), f = a·b the area
+// fraction of the part (L, L + a(J − L), L + b(K − L)) cut off, and s the
+// sign of the rest.
+struct LoneSign {
+  __mmask8 l1, l2;
+  __m512d dl, a, b, f, s;
+};
+
+SURFREG_AVX512 inline LoneSign SplitOf(__m512d d0, __m512d d1, __m512d d2) {
   const __m512d zero = _mm512_setzero_pd();
-  const __m512d t = _mm512_sub_pd(_mm512_mul_pd(_mm512_sub_pd(x1, x0), _mm512_sub_pd(y2, y0)),
-                                  _mm512_mul_pd(_mm512_sub_pd(y1, y0), _mm512_sub_pd(x2, x0)));
-  c->twice = _mm512_add_pd(c->twice, t);
-  const __m512d h = _mm512_mul_pd(t, _mm512_set1_pd(1.0 / 6.0));
-  const __m512d sd = _mm512_add_pd(_mm512_add_pd(d0, d1), d2);
   const __mmask8 p0 = _mm512_cmp_pd_mask(d0, zero, _CMP_GT_OQ);
   const __mmask8 p1 = _mm512_cmp_pd_mask(d1, zero, _CMP_GT_OQ);
   const __mmask8 p2 = _mm512_cmp_pd_mask(d2, zero, _CMP_GT_OQ);
@@ -77,27 +79,49 @@ SURFREG_AVX512 inline void Fan(__m512d x0, __m512d y0, __m512d d0, __m512d x1, _
   const __mmask8 any_pos = p0 | p1 | p2, any_neg = n0 | n1 | n2;
   const __mmask8 split = any_pos & any_neg;
   const __mmask8 one_pos = (p0 ^ p1 ^ p2) & ~(p0 & p1 & p2);
-  // The lone corner: the positive one if it is alone, else the negative one.
-  const __mmask8 l1 = (one_pos & p1) | (~one_pos & n1);
-  const __mmask8 l2 = (one_pos & p2) | (~one_pos & n2);
-  // Rotated so that (L, J, K) keeps the orientation.
-  const __m512d dl = Select3(l1, l2, d0, d1, d2);
-  const __m512d dj = Select3(l1, l2, d1, d2, d0);
-  const __m512d dk = Select3(l1, l2, d2, d0, d1);
+  LoneSign r;
+  r.l1 = (one_pos & p1) | (~one_pos & n1);
+  r.l2 = (one_pos & p2) | (~one_pos & n2);
+  r.dl = Select3(r.l1, r.l2, d0, d1, d2);
+  const __m512d dj = Select3(r.l1, r.l2, d1, d2, d0);
+  const __m512d dk = Select3(r.l1, r.l2, d2, d0, d1);
   // Split lanes only: there d_L − d_J, d_L − d_K ≠ 0 (opposite signs or
-  // zero). a = d_L/(d_L − d_J), b = d_L/(d_L − d_K) with one division.
-  const __m512d lj = _mm512_sub_pd(dl, dj), lk = _mm512_sub_pd(dl, dk);
-  const __m512d r = _mm512_maskz_div_pd(split, dl, _mm512_mul_pd(lj, lk));
-  const __m512d a = _mm512_mul_pd(r, lk), b = _mm512_mul_pd(r, lj);
-  const __m512d f = _mm512_mul_pd(a, b);
+  // zero). One division for both.
+  const __m512d lj = _mm512_sub_pd(r.dl, dj), lk = _mm512_sub_pd(r.dl, dk);
+  const __m512d q = _mm512_maskz_div_pd(split, r.dl, _mm512_mul_pd(lj, lk));
+  r.a = _mm512_mul_pd(q, lk);
+  r.b = _mm512_mul_pd(q, lj);
+  r.f = _mm512_mul_pd(r.a, r.b);
   const __mmask8 s_pos = (any_pos & ~split) | (split & ~one_pos);
   const __mmask8 s_neg = (any_neg & ~split) | (split & one_pos);
-  const __m512d s = _mm512_mask_mov_pd(_mm512_maskz_mov_pd(s_neg, _mm512_set1_pd(-1.0)), s_pos,
-                                       _mm512_set1_pd(1.0));
-  const __m512d sh = _mm512_mul_pd(s, h);
+  r.s = _mm512_mask_mov_pd(_mm512_maskz_mov_pd(s_neg, _mm512_set1_pd(-1.0)), s_pos,
+                           _mm512_set1_pd(1.0));
+  return r;
+}
+
+SURFREG_AVX512 inline __m512d TwiceAreaOf(__m512d x0, __m512d y0, __m512d x1, __m512d y1,
+                                          __m512d x2, __m512d y2) {
+  return _mm512_sub_pd(_mm512_mul_pd(_mm512_sub_pd(x1, x0), _mm512_sub_pd(y2, y0)),
+                       _mm512_mul_pd(_mm512_sub_pd(y1, y0), _mm512_sub_pd(x2, x0)));
+}
+
+// One fan triangle (p0, p1, p2) with d linear on it: the whole triangle's
+// ∫d, area and first moment, minus twice those of the part cut off by d = 0
+// (SplitOf), times s: ∫|d|, and the signed area and moment.
+template <bool kGradient>
+SURFREG_AVX512 inline void Fan(__m512d x0, __m512d y0, __m512d d0, __m512d x1, __m512d y1,
+                               __m512d d1, __m512d x2, __m512d y2, __m512d d2, CellSums* c) {
+  const __m512d t = TwiceAreaOf(x0, y0, x1, y1, x2, y2);
+  c->twice = _mm512_add_pd(c->twice, t);
+  const __m512d h = _mm512_mul_pd(t, _mm512_set1_pd(1.0 / 6.0));
+  const __m512d sd = _mm512_add_pd(_mm512_add_pd(d0, d1), d2);
+  const LoneSign z = SplitOf(d0, d1, d2);
+  const __mmask8 l1 = z.l1, l2 = z.l2;
+  const __m512d a = z.a, b = z.b, f = z.f;
+  const __m512d sh = _mm512_mul_pd(z.s, h);
   const __m512d two_f = _mm512_add_pd(f, f);
   // s h (Σd − 2 f d_L) = s (∫d − 2 ∫_sub d)
-  c->abs = _mm512_fmadd_pd(sh, _mm512_fnmadd_pd(two_f, dl, sd), c->abs);
+  c->abs = _mm512_fmadd_pd(sh, _mm512_fnmadd_pd(two_f, z.dl, sd), c->abs);
   if (!kGradient) return;
   // s h (3 − 6f) = s (A − 2fA)
   c->w = _mm512_fmadd_pd(sh, _mm512_fnmadd_pd(_mm512_set1_pd(3.0), two_f, _mm512_set1_pd(3.0)),
@@ -117,6 +141,70 @@ SURFREG_AVX512 inline void Fan(__m512d x0, __m512d y0, __m512d d0, __m512d x1, _
   const __m512d my = _mm512_fmadd_pd(q2, y2, _mm512_fmadd_pd(q1, y1, _mm512_mul_pd(q0, y0)));
   c->mx = _mm512_fmadd_pd(sh, mx, c->mx);
   c->my = _mm512_fmadd_pd(sh, my, c->my);
+}
+
+// What FanWeighted's moments share (x and y alike).
+struct WeightedFanCommon {
+  LoneSign z;
+  __m512d m0, m1, m2, ml, mp, mq, sm, sm_sub, two_f, st;
+};
+
+// s(∫μg − 2∫_sub μg) for g = x or y (corner values g0..g2): Σ m_i g_i + Σm
+// Σg over (0, 1, 2) and over (L, P, Q).
+SURFREG_AVX512 inline __m512d WeightedMoment(const WeightedFanCommon& w, __m512d g0, __m512d g1,
+                                             __m512d g2) {
+  const __m512d gl = Select3(w.z.l1, w.z.l2, g0, g1, g2);
+  const __m512d gj = Select3(w.z.l1, w.z.l2, g1, g2, g0);
+  const __m512d gk = Select3(w.z.l1, w.z.l2, g2, g0, g1);
+  const __m512d gp = _mm512_fmadd_pd(w.z.a, _mm512_sub_pd(gj, gl), gl);
+  const __m512d gq = _mm512_fmadd_pd(w.z.b, _mm512_sub_pd(gk, gl), gl);
+  const __m512d sg = _mm512_add_pd(_mm512_add_pd(g0, g1), g2);
+  const __m512d whole = _mm512_fmadd_pd(
+      w.sm, sg, _mm512_fmadd_pd(w.m2, g2, _mm512_fmadd_pd(w.m1, g1, _mm512_mul_pd(w.m0, g0))));
+  const __m512d sg_sub = _mm512_add_pd(_mm512_add_pd(gl, gp), gq);
+  const __m512d sub = _mm512_fmadd_pd(
+      w.sm_sub, sg_sub,
+      _mm512_fmadd_pd(w.mq, gq, _mm512_fmadd_pd(w.mp, gp, _mm512_mul_pd(w.ml, gl))));
+  return _mm512_mul_pd(w.st, _mm512_fnmadd_pd(w.two_f, sub, whole));
+}
+
+// Fan with weights: μ linear on the triangle (corner values m0..m2). Per
+// triangle of twice-area t, ∫μ = tΣm/6, ∫μg = t(Σ m_i g_i + Σm Σg)/24 for
+// g linear (d, x, y); the cut-off part has corners (L, P, Q), P = L + a(J −
+// L), Q = L + b(K − L), twice-area f·t, d values (d_L, 0, 0), and μ, x, y
+// linear along its edges. ∫μ|d| = s(∫μd − 2∫_sub μd), ∫μ over the whole
+// triangle (unsigned: the cell's weighted area), moments s(whole − 2 sub).
+template <bool kGradient>
+SURFREG_AVX512 inline void FanWeighted(__m512d x0, __m512d y0, __m512d d0, __m512d m0, __m512d x1,
+                                       __m512d y1, __m512d d1, __m512d m1, __m512d x2,
+                                       __m512d y2, __m512d d2, __m512d m2, CellSums* c) {
+  const __m512d t = TwiceAreaOf(x0, y0, x1, y1, x2, y2);
+  c->twice = _mm512_add_pd(c->twice, t);
+  const LoneSign z = SplitOf(d0, d1, d2);
+  const __m512d sm = _mm512_add_pd(_mm512_add_pd(m0, m1), m2);
+  c->mu = _mm512_fmadd_pd(_mm512_mul_pd(t, _mm512_set1_pd(1.0 / 6.0)), sm, c->mu);
+  // μ at L, J, K and at the cut points P, Q.
+  const __m512d ml = Select3(z.l1, z.l2, m0, m1, m2);
+  const __m512d mj = Select3(z.l1, z.l2, m1, m2, m0);
+  const __m512d mk = Select3(z.l1, z.l2, m2, m0, m1);
+  const __m512d mp = _mm512_fmadd_pd(z.a, _mm512_sub_pd(mj, ml), ml);
+  const __m512d mq = _mm512_fmadd_pd(z.b, _mm512_sub_pd(mk, ml), ml);
+  const __m512d sm_sub = _mm512_add_pd(_mm512_add_pd(ml, mp), mq);
+  const __m512d two_f = _mm512_add_pd(z.f, z.f);
+  const __m512d st = _mm512_mul_pd(z.s, _mm512_mul_pd(t, _mm512_set1_pd(1.0 / 24.0)));
+  // Σ m_i d_i + Σm Σd, whole and sub (d_L (m_L + Σm_sub) there).
+  const __m512d sd = _mm512_add_pd(_mm512_add_pd(d0, d1), d2);
+  const __m512d wd = _mm512_fmadd_pd(
+      sm, sd, _mm512_fmadd_pd(m2, d2, _mm512_fmadd_pd(m1, d1, _mm512_mul_pd(m0, d0))));
+  const __m512d wd_sub = _mm512_mul_pd(z.dl, _mm512_add_pd(ml, sm_sub));
+  c->abs = _mm512_fmadd_pd(st, _mm512_fnmadd_pd(two_f, wd_sub, wd), c->abs);
+  if (!kGradient) return;
+  // s t/6 (Σm − 2 f Σm_sub) = s (∫μ − 2 ∫_sub μ)
+  c->w = _mm512_fmadd_pd(_mm512_mul_pd(st, _mm512_set1_pd(4.0)),
+                         _mm512_fnmadd_pd(two_f, sm_sub, sm), c->w);
+  const WeightedFanCommon w{z, m0, m1, m2, ml, mp, mq, sm, sm_sub, two_f, st};
+  c->mx = _mm512_add_pd(c->mx, WeightedMoment(w, x0, x1, x2));
+  c->my = _mm512_add_pd(c->my, WeightedMoment(w, y0, y1, y2));
 }
 
 SURFREG_AVX512 inline __m512d Gather(__m256i index, const double* base) {
@@ -184,7 +272,7 @@ SURFREG_AVX512 inline void GatherBatch(const CellKernelInput& in, const Batch& b
 // arithmetic, no contraction, so a shared crossing is the same point in
 // every cell), then the fan integrals. kSlots: the corner count of every
 // lane, or 0 for the batch's largest (shorter lanes padded).
-template <bool kGradient, int kSlots>
+template <bool kGradient, bool kWeighted, int kSlots>
 SURFREG_AVX512 inline void RunBatch(const CellKernelInput& in, const Gathered& g, const Batch& batch,
                                     __m512d* total_abs, __m512d* total_area,
                                     std::array<double, 3>* moment) {
@@ -216,11 +304,20 @@ SURFREG_AVX512 inline void RunBatch(const CellKernelInput& in, const Gathered& g
       _mm512_mul_pd(ga_y, _mm512_sub_pd(by[0], ay[0])));
   const __m512d dd0 = _mm512_sub_pd(zb0, plane_a);
   const __m512d dgx = _mm512_sub_pd(fb_x, ga_x), dgy = _mm512_sub_pd(fb_y, ga_y);
+  // μ = μ0 + ∇μ · (x, y) likewise (unused unless kWeighted).
+  __m512d mu0 = _mm512_setzero_pd(), mu_gx = mu0, mu_gy = mu0;
+  if (kWeighted) {
+    mu_gx = _mm512_load_pd(batch.mu_gx);
+    mu_gy = _mm512_load_pd(batch.mu_gy);
+    mu0 = _mm512_add_pd(
+        _mm512_add_pd(_mm512_load_pd(batch.mu0), _mm512_mul_pd(mu_gx, _mm512_sub_pd(bx[0], ax[0]))),
+        _mm512_mul_pd(mu_gy, _mm512_sub_pd(by[0], ay[0])));
+  }
 
   const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0), half = _mm512_set1_pd(0.5);
   __m512i code = _mm512_load_si512(batch.code);
-  CellSums c{zero, zero, zero, zero, zero};
-  __m512d x0 = zero, y0 = zero, d0 = zero, xp = zero, yp = zero, dp = zero;
+  CellSums c{zero, zero, zero, zero, zero, zero};
+  __m512d x0 = zero, y0 = zero, d0 = zero, xp = zero, yp = zero, dp = zero, m0 = zero, mp = zero;
   const int slots = kSlots > 0 ? kSlots : batch.max_n;
   for (int k = 0; k < slots; ++k) {
     // Kind 0..2 and indices 0..2: each value is one bit of the code.
@@ -257,18 +354,27 @@ SURFREG_AVX512 inline void RunBatch(const CellKernelInput& in, const Gathered& g
     const __m512d x = _mm512_sub_pd(_mm512_mask_blend_pd(is_cross, vx, cx), bx[0]);
     const __m512d y = _mm512_sub_pd(_mm512_mask_blend_pd(is_cross, vy, cy), by[0]);
     const __m512d d = _mm512_add_pd(_mm512_add_pd(dd0, _mm512_mul_pd(dgx, x)), _mm512_mul_pd(dgy, y));
-    if (k == 0) {
+    if (kWeighted) {
+      const __m512d m = _mm512_add_pd(_mm512_add_pd(mu0, _mm512_mul_pd(mu_gx, x)), _mm512_mul_pd(mu_gy, y));
+      if (k == 0) {
+        x0 = x, y0 = y, d0 = d, m0 = m;
+      } else if (k >= 2) {
+        FanWeighted<kGradient>(x0, y0, d0, m0, xp, yp, dp, mp, x, y, d, m, &c);
+      }
+      mp = m;
+    } else if (k == 0) {
       x0 = x, y0 = y, d0 = d;
     } else if (k >= 2) {
       Fan<kGradient>(x0, y0, d0, xp, yp, dp, x, y, d, &c);
     }
     xp = x, yp = y, dp = d;
   }
-  // As the scalar kernel: every cell's area; ∫|d| and the moments of the
-  // cells of positive area only.
+  // As the scalar kernel: every cell's area (∫μ); ∫μ|d| and the moments of
+  // the cells of positive area only.
   const __mmask8 valid = _mm512_cmp_pd_mask(c.twice, zero, _CMP_GT_OQ) & active;
   *total_abs = _mm512_mask_add_pd(*total_abs, valid, *total_abs, _mm512_max_pd(c.abs, zero));
-  *total_area = _mm512_mask_add_pd(*total_area, active, *total_area, _mm512_mul_pd(c.twice, half));
+  *total_area = _mm512_mask_add_pd(*total_area, active, *total_area,
+                                   kWeighted ? c.mu : _mm512_mul_pd(c.twice, half));
   if (kGradient) {
     alignas(64) double w[kLanes], mx[kLanes], my[kLanes];
     _mm512_store_pd(w, _mm512_maskz_mov_pd(valid, c.w));
@@ -289,7 +395,7 @@ SURFREG_AVX512 inline void RunBatch(const CellKernelInput& in, const Gathered& g
   }
 }
 
-template <bool kGradient, int kSlots>
+template <bool kGradient, bool kWeighted, int kSlots>
 SURFREG_AVX512 void Flush(const CellKernelInput& in, Batch* batch, __m512d* total_abs,
                           __m512d* total_area, std::array<double, 3>* moment) {
   if (batch->size > 0) {
@@ -300,11 +406,14 @@ SURFREG_AVX512 void Flush(const CellKernelInput& in, Batch* batch, __m512d* tota
       batch->code[l] = batch->code[0];
       batch->za0[l] = batch->za0[0];
       batch->bits_a[l] = batch->bits_a[0];
+      batch->mu0[l] = batch->mu0[0];
+      batch->mu_gx[l] = batch->mu_gx[0];
+      batch->mu_gy[l] = batch->mu_gy[0];
       batch->n[l] = batch->n[0];
     }
     Gathered g;
     GatherBatch(in, *batch, &g);
-    RunBatch<kGradient, kSlots>(in, g, *batch, total_abs, total_area, moment);
+    RunBatch<kGradient, kWeighted, kSlots>(in, g, *batch, total_abs, total_area, moment);
   }
   batch->size = 0;
   batch->max_n = 0;
@@ -312,7 +421,7 @@ SURFREG_AVX512 void Flush(const CellKernelInput& in, Batch* batch, __m512d* tota
 
 // Cells in batches of one corner count (3, 4, 5; 6 to 8 padded): the corner
 // counts vary, and a mixed batch would run every lane to the largest.
-template <bool kGradient>
+template <bool kGradient, bool kWeighted>
 SURFREG_AVX512 void Run(const CellKernelInput& in, int32_t lo, int32_t hi,
                         std::array<double, 3>* moment, CellKernelOutput* out) {
   const OverlayTopology& topology = *in.topology;
@@ -320,10 +429,10 @@ SURFREG_AVX512 void Run(const CellKernelInput& in, int32_t lo, int32_t hi,
   __m512d total_abs = _mm512_setzero_pd(), total_area = _mm512_setzero_pd();
   auto flush = [&](int bucket) {
     switch (bucket) {
-      case 0: Flush<kGradient, 3>(in, &batches[0], &total_abs, &total_area, moment); break;
-      case 1: Flush<kGradient, 4>(in, &batches[1], &total_abs, &total_area, moment); break;
-      case 2: Flush<kGradient, 5>(in, &batches[2], &total_abs, &total_area, moment); break;
-      default: Flush<kGradient, 0>(in, &batches[3], &total_abs, &total_area, moment); break;
+      case 0: Flush<kGradient, kWeighted, 3>(in, &batches[0], &total_abs, &total_area, moment); break;
+      case 1: Flush<kGradient, kWeighted, 4>(in, &batches[1], &total_abs, &total_area, moment); break;
+      case 2: Flush<kGradient, kWeighted, 5>(in, &batches[2], &total_abs, &total_area, moment); break;
+      default: Flush<kGradient, kWeighted, 0>(in, &batches[3], &total_abs, &total_area, moment); break;
     }
   };
   // Lanes filled per bucket, 8 bits each, in a register: through memory,
@@ -335,6 +444,7 @@ SURFREG_AVX512 void Run(const CellKernelInput& in, int32_t lo, int32_t hi,
     const TopologyCell* list = topology.cells_of(ta);
     const double za0 = in.extra_a[ta].z0;
     const uint32_t bits_a = in.extra_a[ta].bits;
+    const WeightPlane mu = kWeighted ? in.weight_a[ta] : WeightPlane{};
     cells += count;
     for (int32_t c = 0; c < count; ++c) {
       const TopologyCell& tc = list[c];
@@ -363,6 +473,11 @@ SURFREG_AVX512 void Run(const CellKernelInput& in, int32_t lo, int32_t hi,
       batch.code[lane] = code;
       batch.za0[lane] = za0;
       batch.bits_a[lane] = bits_a;
+      if (kWeighted) {
+        batch.mu0[lane] = mu.m0;
+        batch.mu_gx[lane] = mu.gx;
+        batch.mu_gy[lane] = mu.gy;
+      }
       batch.n[lane] = static_cast<uint8_t>(n);
       sizes += 1u << shift;
       if (lane + 1 == kLanes) {
@@ -385,10 +500,11 @@ SURFREG_AVX512 void Run(const CellKernelInput& in, int32_t lo, int32_t hi,
 
 void IntegrateCellsSimd(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
                         std::array<double, 3>* moment, CellKernelOutput* out) {
+  const bool weighted = in.weight_a != nullptr;
   if (gradient) {
-    Run<true>(in, lo, hi, moment, out);
+    weighted ? Run<true, true>(in, lo, hi, moment, out) : Run<true, false>(in, lo, hi, moment, out);
   } else {
-    Run<false>(in, lo, hi, moment, out);
+    weighted ? Run<false, true>(in, lo, hi, moment, out) : Run<false, false>(in, lo, hi, moment, out);
   }
 }
 

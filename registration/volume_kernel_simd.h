@@ -1,7 +1,8 @@
 #pragma once
-// Internal to the incremental volume cost (volume_cost.cc): the unweighted
-// cell kernel vectorized across overlay cells (8 per AVX-512 vector). Not a
-// public interface; volume_cost.cc keeps the scalar kernel as the fallback.
+// Internal to the incremental volume cost (volume_cost.cc): the cell kernel
+// (unweighted or weighted) vectorized across overlay cells (8 per AVX-512
+// vector). Not a public interface; volume_cost.cc keeps the scalar kernel
+// as the fallback.
 #include <array>
 #include <cstdint>
 
@@ -50,10 +51,17 @@ inline void MakeRecord(const Point2* xy, const double* z, const int32_t* v, doub
   e->unused = 0;
 }
 
+// The weight μ on an A triangle (linear there, fixed with the reference):
+// μ at its corner 0 and ∇μ.
+struct WeightPlane {
+  double m0 = 0, gx = 0, gy = 0;
+};
+
 struct CellKernelInput {
   const OverlayTopology* topology = nullptr;
   const TriangleRecord* record_a = nullptr;  // per A triangle
   const TriangleExtra* extra_a = nullptr;
+  const WeightPlane* weight_a = nullptr;     // per A triangle; null: μ ≡ 1
   const TriangleRecord* record_b = nullptr;  // per moved B triangle
   const TriangleExtra* extra_b = nullptr;
   // Called for every cell of a hull B triangle (with `gradient` only), for
@@ -70,9 +78,9 @@ struct CellKernelOutput {
 // Whether this CPU runs the vector kernel (AVX-512 F/DQ/VL).
 bool CellKernelAvailable();
 
-// ∫|d| and the area over the cells of A's triangles [lo, hi), and, with
-// `gradient`, Σ s|P| and Σ s|P|(c − p0) per B triangle added to `moment`
-// (as the scalar kernel). Only when CellKernelAvailable().
+// ∫μ|d| and ∫μ over the cells of A's triangles [lo, hi), and, with
+// `gradient`, Σ s∫_P μ and Σ s∫_P μ(x − p0) per B triangle added to
+// `moment` (as the scalar kernel; μ ≡ 1 without in.weight_a). Only when CellKernelAvailable().
 void IntegrateCellsSimd(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
                         std::array<double, 3>* moment, CellKernelOutput* out);
 
