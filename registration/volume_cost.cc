@@ -85,12 +85,12 @@ struct VolumeCostCache::Impl {
   std::array<double, 6> fallback_theta{};  // at this pose
   OverlayTopology topology;
   std::vector<PackedLocation> last_a, last_b;  // at the previous evaluation
-  // A, fixed: the triangles around each vertex, each triangle's ∇F_A.
+  // A, fixed: the triangles around each vertex.
   std::vector<int32_t> star_begin, star;
-  std::vector<Gradient2> grad_a;
   // Per evaluation.
   std::vector<FacetB> facet_b;
-  // The vector kernel's copies (volume_kernel_simd.h): A's fixed, B's per evaluation.
+  // Triangle records (volume_kernel_simd.h): A's fixed (both kernels read
+  // ∇F_A there), B's per evaluation (the vector kernel only).
   std::vector<TriangleRecord> record_a, record_b;
   std::vector<TriangleExtra> extra_a, extra_b;
   std::vector<volume_internal::WeightPlane> weight_a;  // μ per A triangle; empty: no weights
@@ -127,18 +127,15 @@ void VolumeCostCache::Impl::Bind(const PairState& s) {
   for (int32_t t = 0; t < nt; ++t) {
     for (int k = 0; k < 3; ++k) star[fill[mesh.triangles[3 * t + k]]++] = t;
   }
-  grad_a.resize(nt);
+  // Each A triangle's corners and ∇F_A, read by both cell kernels.
+  record_a.resize(nt);
+  extra_a.resize(nt);
   for (int32_t t = 0; t < nt; ++t) {
     const int32_t* v = &mesh.triangles[3 * t];
     const auto& xy = reference->xy;
     const auto& z = reference->z;
-    grad_a[t] = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
-  }
-  record_a.resize(nt);
-  extra_a.resize(nt);
-  for (int32_t t = 0; t < nt; ++t) {
-    volume_internal::MakeRecord(reference->xy.data(), reference->z.data(), &mesh.triangles[3 * t],
-                                grad_a[t].gx, grad_a[t].gy, false, &record_a[t], &extra_a[t]);
+    const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+    volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, false, &record_a[t], &extra_a[t]);
   }
   // The weights are fixed with the reference: their planes too.
   weight_a.clear();
@@ -254,7 +251,7 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
       e0x[i] = cx6[p0], e0y[i] = cy6[p0];
       ex[i] = cx6[p1] - cx6[p0], ey[i] = cy6[p1] - cy6[p0];
     }
-    const Gradient2 ga = grad_a[ta];
+    const Gradient2 ga = {record_a[ta].gx, record_a[ta].gy};
     const double za0 = za[ia[0]];
     Plane mu;
     if (kWeighted) {
