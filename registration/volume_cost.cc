@@ -22,7 +22,6 @@ using volume_internal::FanSums;
 using volume_internal::SumFan;
 using volume_internal::TwiceArea;
 using volume_internal::VolumeAccumulator;
-using volume_internal::FacetB;
 using volume_internal::Gradient2;
 using volume_internal::TriangleExtra;
 using volume_internal::TriangleRecord;
@@ -87,10 +86,8 @@ struct VolumeCostCache::Impl {
   std::vector<PackedLocation> last_a, last_b;  // at the previous evaluation
   // A, fixed: the triangles around each vertex.
   std::vector<int32_t> star_begin, star;
-  // Per evaluation.
-  std::vector<FacetB> facet_b;
-  // Triangle records (volume_kernel_simd.h): A's fixed (both kernels read
-  // ∇F_A there), B's per evaluation (the vector kernel only).
+  // Triangle records (volume_kernel_simd.h): A's fixed, B's per
+  // evaluation; both kernels and the gradient read ∇F and the hull bit there.
   std::vector<TriangleRecord> record_a, record_b;
   std::vector<TriangleExtra> extra_a, extra_b;
   std::vector<volume_internal::WeightPlane> weight_a;  // μ per A triangle; empty: no weights
@@ -227,7 +224,8 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   const auto& xb = s.moved_xy();
   const auto& zb = s.moved_z();
   const int32_t* triangles_b = mesh_b.triangles.data();
-  const FacetB* facets = facet_b.data();
+  const TriangleRecord* records_b = record_b.data();
+  const TriangleExtra* extras_b = extra_b.data();
   std::array<double, 3>* moment = moments[part].data();
   VolumeAccumulator boundary(s, gradient, nullptr);
   OverlayCell cell;
@@ -270,7 +268,7 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
         q1[j] = 3 + (swap ? kFirst[j] : kSecond[j]);
       }
       const int n = tc.num_corners;
-      const FacetB& fb = facets[tb];
+      const TriangleRecord& fb = records_b[tb];
       // Relative to T_B's corner 0: d = d0 + ∇d · (x, y), μ = μ0 + ∇μ · (x, y).
       const double bx = cx6[3], by = cy6[3];
       const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
@@ -349,7 +347,7 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
           if (f.twice > 0) add(f, -1.0);
         }
       }
-      if (gradient && fb.hull) {
+      if (gradient && (extras_b[tb].bits & volume_internal::kHullBit) != 0) {
         cell.triangle_a = ta;
         cell.triangle_b = tb;
         cell.num_vertices = n;
@@ -519,11 +517,8 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   // weights added or dropped since then take the scalar kernel.
   const bool vectorized =
       vector_kernel && m.weight_a.size() == (weighted ? static_cast<std::size_t>(na) : 0u);
-  m.facet_b.resize(nb);
-  if (vectorized) {
-    m.record_b.resize(nb);
-    m.extra_b.resize(nb);
-  }
+  m.record_b.resize(nb);
+  m.extra_b.resize(nb);
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
   Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
@@ -531,11 +526,8 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
       const int32_t* v = &mesh_b.triangles[3 * t];
       const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
       const int32_t* next = &mesh_b.neighbors[3 * t];
-      m.facet_b[t] = {g.gx, g.gy, next[0] < 0 || next[1] < 0 || next[2] < 0};
-      if (vectorized) {
-        volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, m.facet_b[t].hull, &m.record_b[t],
-                                    &m.extra_b[t]);
-      }
+      const bool hull = next[0] < 0 || next[1] < 0 || next[2] < 0;
+      volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, hull, &m.record_b[t], &m.extra_b[t]);
     }
   });
   if (gradient) {
@@ -576,7 +568,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
       const double det = ax * by - ay * bx;
       const double l1 = (by * cx - bx * cy) / det, l2 = (ax * cy - ay * cx) / det;
       const Eigen::Vector3d sum = w * q[v[0]] + l1 * (q[v[1]] - q[v[0]]) + l2 * (q[v[2]] - q[v[0]]);
-      const Eigen::Vector3d normal(-m.facet_b[t].gx, -m.facet_b[t].gy, 1.0);
+      const Eigen::Vector3d normal(-m.record_b[t].gx, -m.record_b[t].gy, 1.0);
       r += normal.cross(sum);
       tr += w * normal;
     }

@@ -16,13 +16,6 @@ struct Gradient2 {
   double gx = 0, gy = 0;
 };
 
-// A moved B triangle as the cells need it: ∇F̂_B', and whether it has a
-// hull edge (B's moving boundary).
-struct FacetB {
-  double gx = 0, gy = 0;
-  bool hull = false;
-};
-
 // A triangle as the vector kernel loads it: one cache line per triangle
 // (8 of them transpose into 8 vectors), instead of ~12 gathers.
 struct alignas(64) TriangleRecord {
