@@ -89,7 +89,19 @@ def run_surfreg(binary, ref_path, mov_path, timeout):
     note = str(out.get("verdict", out.get("termination", "")))
     if out.get("verdict_reason"):
         note += f" ({out['verdict_reason']})"
-    return m, float(secs) if isinstance(secs, (int, float)) else wall, wall, note
+    return m, float(secs) if isinstance(secs, (int, float)) else wall, wall, note, out.get("stddev")
+
+
+def sigma_norms(stddev, spacing):
+    """surfreg's reported standard deviations as the errors are measured: the
+    rotation's (norm of rx, ry, rz) in degrees, the translation's at the
+    centre (norm of tx, ty, tz) in spacings; NaN where not reported."""
+    try:
+        rot = math.degrees(math.sqrt(sum(stddev[k] ** 2 for k in ("rx", "ry", "rz"))))
+        trans = math.sqrt(sum(stddev[k] ** 2 for k in ("tx", "ty", "tz"))) / spacing
+        return rot, trans
+    except (TypeError, KeyError):
+        return math.nan, math.nan
 
 
 # ---------------------------------------------------------------- Open3D
@@ -203,6 +215,45 @@ def head_to_head(rows, methods, pairs):
     return out
 
 
+def calibration(rows, methods, names, groups):
+    """surfreg's reported uncertainty against its actual error, and how far
+    it is from the better peer where it is not ahead, in its own sigmas."""
+    peers = [m for m in methods if m != "surfreg"]
+    if "surfreg" not in methods or not peers:
+        return []
+    out = ["| pairs | median error / sigma (rot., transl.) | both <= better peer | else within 1 sigma "
+           "of it | else beyond |", "|---|---:|---:|---:|---:|"]
+    for label, pairs in [(f"{f} / {v}", [n for n in names if (rows[(n, methods[0])]["family"],
+                                                             rows[(n, methods[0])]["variant"]) == (f, v)])
+                         for f, v in groups] + [(f"all {len(names)}", names)]:
+        ratio_r, ratio_t, ahead, within, beyond = [], [], 0, 0, 0
+        for p in pairs:
+            s = rows.get((p, "surfreg"))
+            qs = [rows.get((p, m)) for m in peers]
+            if not s or s["status"] != "ok" or not all(q and q["status"] == "ok" for q in qs):
+                continue
+            sr, st = s["sigma_rot_deg"], s["sigma_trans_spacings"]
+            if not (sr > 0 and st > 0):
+                continue
+            ratio_r.append(s["rot_err_deg"] / sr)
+            ratio_t.append(s["trans_err_spacings"] / st)
+            best_r = min(q["rot_err_deg"] for q in qs)
+            best_t = min(q["trans_err_spacings"] for q in qs)
+            gap_r, gap_t = s["rot_err_deg"] - best_r, s["trans_err_spacings"] - best_t
+            if gap_r <= 0 and gap_t <= 0:
+                ahead += 1
+            elif gap_r <= sr and gap_t <= st:
+                within += 1
+            else:
+                beyond += 1
+        if not ratio_r:
+            out.append(f"| {label} | n/a | n/a | n/a | n/a |")
+            continue
+        out.append(f"| {label} | {fmt(float(np.median(ratio_r)), 2)}, {fmt(float(np.median(ratio_t)), 2)} | "
+                   f"{ahead}/{len(ratio_r)} | {within}/{len(ratio_r)} | {beyond}/{len(ratio_r)} |")
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--pairs", required=True, help="directory written by make_pairs.py")
@@ -240,14 +291,15 @@ def main():
                    "wall_seconds": math.nan, "n_reference": len(ref), "n_moving": len(mov),
                    "spacing": spacing, "true_rotation_deg": truth["true_rotation_deg"],
                    "true_translation_spacings": truth["true_translation_spacings"], "note": "",
-                   "matrix": ""}
+                   "sigma_rot_deg": math.nan, "sigma_trans_spacings": math.nan, "matrix": ""}
             try:
                 if m == "surfreg":
                     if not have_surfreg:
                         row["status"], row["note"] = "n/a", why
                         rows[(name, m)] = row
                         continue
-                    est, secs, wall, note = run_surfreg(args.surfreg, ref_path, mov_path, args.timeout)
+                    est, secs, wall, note, stddev = run_surfreg(args.surfreg, ref_path, mov_path, args.timeout)
+                    row["sigma_rot_deg"], row["sigma_trans_spacings"] = sigma_norms(stddev, spacing)
                 else:
                     est, secs, wall, note = run_open3d(m, ref, mov, spacing, schedule)
                 row["rot_err_deg"], row["trans_err_spacings"] = errors(est, t_true, mov.mean(0), spacing)
@@ -295,6 +347,18 @@ def main():
     md.append("")
     md.append(no_worse_line(rows, methods, names, f"All {len(names)} pairs"))
     md.append("")
+    cal = calibration(rows, methods, names, groups)
+    if cal:
+        md.append("### surfreg's reported uncertainty")
+        md.append("")
+        md.append("sigma: the norms of surfreg's reported standard deviations (rx, ry, rz in degrees; "
+                  "tx, ty, tz at the centre, in spacings). A median error / sigma near 1 means the reported "
+                  "uncertainty is the size of the actual error. The last three columns split the pairs: "
+                  "both errors no larger than the better peer's; else both within one of surfreg's sigmas of it; "
+                  "else beyond.")
+        md.append("")
+        md += cal
+        md.append("")
     md.append(f"(run_peers.py: {elapsed:.0f} s for all methods and pairs)")
     text = "\n".join(md) + "\n"
     with open(os.path.join(args.out, "align_peers.md"), "w") as f:
