@@ -54,7 +54,9 @@ struct Avx2 {
     return _mm_cvtsd_f64(_mm_add_sd(s, _mm_unpackhi_pd(s, s)));
   }
 
-  static I LoadInt(const uint64_t* p) { return _mm256_load_si256(reinterpret_cast<const __m256i*>(p)); }
+  static I LoadInt(const uint64_t* p) {
+    return _mm256_load_si256(reinterpret_cast<const __m256i*>(p));
+  }
   static I Shift8(I x) { return _mm256_srli_epi64(x, 8); }
   template <int kBit>
   static M TestBit(I x) {
@@ -75,7 +77,9 @@ struct Avx2 {
   static void LoadRecords(const TriangleRecord* base, const int32_t* index, D out[8]) {
     const double* r[4];
     for (int l = 0; l < 4; ++l) r[l] = reinterpret_cast<const double*>(base + index[l]);
-    for (int f = 0; f < 8; f += 2) Pair(r[0] + f, r[1] + f, r[2] + f, r[3] + f, &out[f], &out[f + 1]);
+    for (int f = 0; f < 8; f += 2) {
+      Pair(r[0] + f, r[1] + f, r[2] + f, r[3] + f, &out[f], &out[f + 1]);
+    }
   }
 
   // (z0, bits) of each triangle as two doubles' bits: plain loads instead

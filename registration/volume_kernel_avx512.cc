@@ -71,8 +71,9 @@ struct Avx512 {
     const __m512i hi = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
     for (int l = 0; l < 8; l += 4) {
       for (int h = 0; h < 2; ++h) {
-        v[l + h] = _mm512_permutex2var_pd(u[l + h], lo, u[l + 2 + h]);      // fields 0|1, 4|5 of rows l..l+3
-        v[l + 2 + h] = _mm512_permutex2var_pd(u[l + h], hi, u[l + 2 + h]);  // fields 2|3, 6|7
+        // Fields 0|1, 4|5 of rows l..l+3, then 2|3, 6|7.
+        v[l + h] = _mm512_permutex2var_pd(u[l + h], lo, u[l + 2 + h]);
+        v[l + 2 + h] = _mm512_permutex2var_pd(u[l + h], hi, u[l + 2 + h]);
       }
     }
     // v[0]: field 0 (rows 0-3), field 4; v[1]: 1, 5; v[2]: 2, 6; v[3]: 3, 7; v[4..7] rows 4-7.

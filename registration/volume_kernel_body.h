@@ -394,12 +394,14 @@ void Run(const CellKernelInput& in, int32_t lo, int32_t hi, Moment* moment,
   constexpr int kLanes = V::kLanes;
   Batch<V> batches[4];
   typename V::D total_abs = V::Zero(), total_area = V::Zero();
+  typename V::D* abs = &total_abs;
+  typename V::D* area = &total_area;
   auto flush = [&](int bucket) {
     switch (bucket) {
-      case 0: Flush<V, kGradient, kWeighted, 3>(in, &batches[0], &total_abs, &total_area, moment); break;
-      case 1: Flush<V, kGradient, kWeighted, 4>(in, &batches[1], &total_abs, &total_area, moment); break;
-      case 2: Flush<V, kGradient, kWeighted, 5>(in, &batches[2], &total_abs, &total_area, moment); break;
-      default: Flush<V, kGradient, kWeighted, 0>(in, &batches[3], &total_abs, &total_area, moment); break;
+      case 0: Flush<V, kGradient, kWeighted, 3>(in, &batches[0], abs, area, moment); break;
+      case 1: Flush<V, kGradient, kWeighted, 4>(in, &batches[1], abs, area, moment); break;
+      case 2: Flush<V, kGradient, kWeighted, 5>(in, &batches[2], abs, area, moment); break;
+      default: Flush<V, kGradient, kWeighted, 0>(in, &batches[3], abs, area, moment); break;
     }
   };
   // Lanes filled per bucket, 8 bits each, in a register: through memory,
@@ -473,10 +475,14 @@ template <class V>
 void IntegrateCells(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
                     Moment* moment, CellKernelOutput* out) {
   const bool weighted = in.weight_a != nullptr;
-  if (gradient) {
-    weighted ? Run<V, true, true>(in, lo, hi, moment, out) : Run<V, true, false>(in, lo, hi, moment, out);
+  if (gradient && weighted) {
+    Run<V, true, true>(in, lo, hi, moment, out);
+  } else if (gradient) {
+    Run<V, true, false>(in, lo, hi, moment, out);
+  } else if (weighted) {
+    Run<V, false, true>(in, lo, hi, moment, out);
   } else {
-    weighted ? Run<V, false, true>(in, lo, hi, moment, out) : Run<V, false, false>(in, lo, hi, moment, out);
+    Run<V, false, false>(in, lo, hi, moment, out);
   }
 }
 

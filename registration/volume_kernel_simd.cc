@@ -72,7 +72,9 @@ void IntegrateCellsSimd(CellKernel kernel, const CellKernelInput& in, int32_t lo
                         bool gradient, Moment* moment, CellKernelOutput* out) {
 #if defined(SURFREG_X86_CELL_KERNELS) && defined(__x86_64__)
   if (CpuRuns(kernel)) {  // as SelectedCellKernel made sure; cheap
-    if (kernel == CellKernel::kAvx512) return IntegrateCellsAvx512(in, lo, hi, gradient, moment, out);
+    if (kernel == CellKernel::kAvx512) {
+      return IntegrateCellsAvx512(in, lo, hi, gradient, moment, out);
+    }
     if (kernel == CellKernel::kAvx2) return IntegrateCellsAvx2(in, lo, hi, gradient, moment, out);
   }
 #endif
