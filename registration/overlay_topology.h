@@ -106,6 +106,11 @@ class OverlayTopology {
   int64_t num_cells() const { return live_; }
   const TopologyCell* cells_of(int32_t ta) const { return cells_.data() + begin_[ta]; }
   int32_t count_of(int32_t ta) const { return count_[ta]; }
+  // The same as plain arrays (cells_of(ta) = cells() + begins()[ta]), for
+  // code that must not call inline functions (volume_kernel_body.h).
+  const TopologyCell* cells() const { return cells_.data(); }
+  const int64_t* begins() const { return begin_.data(); }
+  const int32_t* counts() const { return count_.data(); }
 
   OverlayTopology();
   ~OverlayTopology();

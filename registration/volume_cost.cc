@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <thread>
 #include <utility>
 
@@ -22,7 +21,9 @@ using volume_internal::FanSums;
 using volume_internal::SumFan;
 using volume_internal::TwiceArea;
 using volume_internal::VolumeAccumulator;
+using volume_internal::CellKernel;
 using volume_internal::Gradient2;
+using volume_internal::Moment;
 using volume_internal::TriangleExtra;
 using volume_internal::TriangleRecord;
 
@@ -97,15 +98,15 @@ struct VolumeCostCache::Impl {
   // Per thread and B triangle: Σ s|P| and Σ s|P|(c − p0) over the sign parts
   // P of its cells (s = sign of d on P, c its centroid, p0 T_B's corner 0):
   // all the gradient needs of the interior, as ∂_θF̂_B' is affine on T_B.
-  std::vector<std::array<double, 3>> moments[2];
+  std::vector<Moment> moments[2];
 
   void Bind(const PairState& s);
   void MarkDirty(const PairState& s);
   template <bool kWeighted>
   void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
                  VolumeCostValue* out);
-  void IntegrateSimd(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
-                     VolumeCostValue* out);
+  void IntegrateSimd(CellKernel kernel, const PairState& s, bool gradient, int32_t lo, int32_t hi,
+                     int part, VolumeCostValue* out);
   void Generic(const PairState& s, bool gradient, const std::vector<std::array<Point2, 3>>* mask,
                int32_t lo, int32_t hi, VolumeCostValue* out);
 };
@@ -226,7 +227,7 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   const int32_t* triangles_b = mesh_b.triangles.data();
   const TriangleRecord* records_b = record_b.data();
   const TriangleExtra* extras_b = extra_b.data();
-  std::array<double, 3>* moment = moments[part].data();
+  Moment* moment = moments[part].data();
   VolumeAccumulator boundary(s, gradient, nullptr);
   OverlayCell cell;
   double abs = 0, area_sum = 0;
@@ -301,10 +302,10 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
       auto add = [&](const FanSums& f, double sign) {
         abs += std::max(0.0, sign * f.wd);  // ∫_P μ|d|
         if (!gradient) return;
-        std::array<double, 3>& m3 = moment[tb];
-        m3[0] += sign * f.w;
-        m3[1] += sign * f.wx;
-        m3[2] += sign * f.wy;
+        Moment& m3 = moment[tb];
+        m3.w += sign * f.w;
+        m3.x += sign * f.wx;
+        m3.y += sign * f.wy;
       };
       if (d_lo >= 0 || d_hi <= 0) {  // one sign part: the whole cell
         const FanSums f = SumFan<kWeighted>(x, y, d, m, n);
@@ -362,13 +363,15 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   out->d_area = boundary.value.d_area;
 }
 
-// As Integrate<kWeighted>, vectorized across cells (volume_kernel_simd.h);
-// the hull cells' boundary term stays scalar.
-void VolumeCostCache::Impl::IntegrateSimd(const PairState& s, bool gradient, int32_t lo, int32_t hi,
-                                          int part, VolumeCostValue* out) {
+// As Integrate<kWeighted>, vectorized across cells by `kernel`
+// (volume_kernel_simd.h); the hull cells' boundary term stays scalar.
+void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s, bool gradient,
+                                          int32_t lo, int32_t hi, int part, VolumeCostValue* out) {
   VolumeAccumulator boundary(s, gradient, nullptr);
   volume_internal::CellKernelInput in;
-  in.topology = &topology;
+  in.cells = topology.cells();
+  in.cell_begin = topology.begins();
+  in.cell_count = topology.counts();
   in.record_a = record_a.data(), in.extra_a = extra_a.data();
   in.weight_a = weight_a.empty() ? nullptr : weight_a.data();
   in.record_b = record_b.data(), in.extra_b = extra_b.data();
@@ -381,8 +384,8 @@ void VolumeCostCache::Impl::IntegrateSimd(const PairState& s, bool gradient, int
     static_cast<VolumeAccumulator*>(context)->AddBoundaryOf(cell);
   };
   volume_internal::CellKernelOutput result;
-  volume_internal::IntegrateCellsSimd(in, lo, hi, gradient, gradient ? moments[part].data() : nullptr,
-                                      &result);
+  volume_internal::IntegrateCellsSimd(kernel, in, lo, hi, gradient,
+                                      gradient ? moments[part].data() : nullptr, &result);
   out->abs = result.abs;
   out->area = result.area;
   out->cells = result.cells;
@@ -509,14 +512,13 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   }
   // ∇F̂_B' on each moved B triangle, then the cells.
   const bool weighted = !m.reference->weight.empty();
-  // The vector kernel where the CPU has it (weighted or not);
-  // SURFREG_SCALAR_KERNEL set in the environment forces the scalar one.
-  static const bool vector_kernel =
-      volume_internal::CellKernelAvailable() && std::getenv("SURFREG_SCALAR_KERNEL") == nullptr;
+  // A vector kernel where the CPU has one (weighted or not); the
+  // environment variable SURFREG_CELL_KERNEL may choose another.
+  static const CellKernel kernel = volume_internal::SelectedCellKernel();
   // The μ planes come from Bind (weights are fixed with the reference);
   // weights added or dropped since then take the scalar kernel.
-  const bool vectorized =
-      vector_kernel && m.weight_a.size() == (weighted ? static_cast<std::size_t>(na) : 0u);
+  const bool vectorized = kernel != CellKernel::kScalar &&
+                          m.weight_a.size() == (weighted ? static_cast<std::size_t>(na) : 0u);
   m.record_b.resize(nb);
   m.extra_b.resize(nb);
   const auto& xy = s.moved_xy();
@@ -527,15 +529,16 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
       const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
       const int32_t* next = &mesh_b.neighbors[3 * t];
       const bool hull = next[0] < 0 || next[1] < 0 || next[2] < 0;
-      volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, hull, &m.record_b[t], &m.extra_b[t]);
+      volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, hull, &m.record_b[t],
+                                  &m.extra_b[t]);
     }
   });
   if (gradient) {
-    for (auto& moment : m.moments) moment.resize(nb, {0.0, 0.0, 0.0});  // zeroed after each use
+    for (auto& moment : m.moments) moment.resize(nb, Moment{0.0, 0.0, 0.0});  // zeroed after each use
   }
   Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
     if (vectorized) {
-      m.IntegrateSimd(s, gradient, lo, hi, part, &parts[part]);
+      m.IntegrateSimd(kernel, s, gradient, lo, hi, part, &parts[part]);
     } else if (weighted) {
       m.Integrate<true>(s, gradient, lo, hi, part, &parts[part]);
     } else {
@@ -553,12 +556,12 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   Split(nb, parallel, [&](int32_t lo, int32_t hi, int part) {
     Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
     for (int32_t t = lo; t < hi; ++t) {
-      std::array<double, 3>& m0 = m.moments[0][t];
-      double w = m0[0], cx = m0[1], cy = m0[2];
+      Moment& m0 = m.moments[0][t];
+      double w = m0.w, cx = m0.x, cy = m0.y;
       m0 = {0.0, 0.0, 0.0};
       if (parallel) {  // one thread leaves moments[1] zero: not worth a pass over memory
-        std::array<double, 3>& m1 = m.moments[1][t];
-        w += m1[0], cx += m1[1], cy += m1[2];
+        Moment& m1 = m.moments[1][t];
+        w += m1.w, cx += m1.x, cy += m1.y;
         m1 = {0.0, 0.0, 0.0};
       }
       if (w == 0 && cx == 0 && cy == 0) continue;

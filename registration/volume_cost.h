@@ -77,9 +77,10 @@ struct VolumeCostCacheStats {
 // call is at another pose and again too far, it is built whole. Same value
 // and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); with
 // two threads, deterministic (fixed split and summation order). Unmasked
-// cells are integrated by a vector kernel on CPUs with AVX-512 (run-time
-// check; the environment variable SURFREG_SCALAR_KERNEL forces the scalar
-// kernel, for comparison and tests).
+// cells are integrated by a vector kernel on CPUs with AVX-512 or AVX2 +
+// FMA (run-time check); the environment variable SURFREG_CELL_KERNEL =
+// scalar, avx2 or avx512 picks one, for comparison and tests (one the CPU
+// cannot run: a warning and the best it can).
 //
 // Keeps no reference to the state between calls, but remembers its address:
 // call Reset() before using it with a new state at the same address whose B

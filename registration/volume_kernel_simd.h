@@ -1,9 +1,11 @@
 #pragma once
 // Internal to the incremental volume cost (volume_cost.cc): the cell kernel
-// (unweighted or weighted) vectorized across overlay cells (8 per AVX-512
-// vector). Not a public interface; volume_cost.cc keeps the scalar kernel
-// as the fallback.
-#include <array>
+// (unweighted or weighted) vectorized across overlay cells, on AVX-512 (8
+// cells per vector) or AVX2 + FMA (4), chosen at run time. Not a public
+// interface; volume_cost.cc keeps the scalar kernel as the fallback. The
+// kernel itself is volume_kernel_body.h, compiled once per instruction set
+// (volume_kernel_avx512.cc, volume_kernel_avx2.cc); this header is what the
+// rest of the library sees, and none of it needs those instruction sets.
 #include <cstdint>
 
 #include "measure/surface.h"
@@ -16,8 +18,8 @@ struct Gradient2 {
   double gx = 0, gy = 0;
 };
 
-// A triangle as the vector kernel loads it: one cache line per triangle
-// (8 of them transpose into 8 vectors), instead of ~12 gathers.
+// A triangle as the vector kernels load it: one cache line per triangle
+// (8 or 4 of them transpose into 8 vectors), instead of ~12 gathers.
 struct alignas(64) TriangleRecord {
   double x[3], y[3];  // corners
   double gx, gy;      // ∇ of the facet
@@ -25,10 +27,10 @@ struct alignas(64) TriangleRecord {
 // The rest: F at corner 0; in `bits`, bit i (0..2) set when edge i's
 // endpoints (kFirst[i], kSecond[i]) are in decreasing global index order,
 // bit 3 when the triangle has a hull edge (B's moving boundary).
-struct TriangleExtra {
+struct alignas(16) TriangleExtra {  // aligned: AVX2 loads it whole
   double z0;
   uint32_t bits;
-  uint32_t unused;
+  uint32_t unused;  // 0: the vector kernels read `bits` as 64 bits
 };
 enum : uint32_t { kHullBit = 8 };
 
@@ -50,8 +52,20 @@ struct WeightPlane {
   double m0 = 0, gx = 0, gy = 0;
 };
 
+// What a B triangle's cells add up for the interior gradient: Σ s∫_P μ and
+// Σ s∫_P μ(x − p0) over their sign parts P (s the sign of d on P, p0 T_B's
+// corner 0; μ ≡ 1 without weights). A plain struct: the vector kernels use
+// no inline functions of other headers (volume_kernel_body.h says why).
+struct Moment {
+  double w, x, y;
+};
+
+// The topology as plain arrays (OverlayTopology::cells, begins, counts),
+// for the same reason.
 struct CellKernelInput {
-  const OverlayTopology* topology = nullptr;
+  const TopologyCell* cells = nullptr;
+  const int64_t* cell_begin = nullptr;  // per A triangle
+  const int32_t* cell_count = nullptr;  // per A triangle
   const TriangleRecord* record_a = nullptr;  // per A triangle
   const TriangleExtra* extra_a = nullptr;
   const WeightPlane* weight_a = nullptr;     // per A triangle; null: μ ≡ 1
@@ -68,14 +82,29 @@ struct CellKernelOutput {
   int64_t cells = 0;
 };
 
-// Whether this CPU runs the vector kernel (AVX-512 F/DQ/VL).
-bool CellKernelAvailable();
+enum class CellKernel { kScalar, kAvx2, kAvx512 };
+
+// The cell kernel of this process, decided on the first call: the one the
+// environment variable SURFREG_CELL_KERNEL names (scalar, avx2, avx512) if
+// this CPU runs it, else the best it runs (AVX-512 F/DQ/VL, then AVX2 +
+// FMA, then scalar), with a warning if the variable names another.
+CellKernel SelectedCellKernel();
+const char* CellKernelName(CellKernel kernel);
+inline const char* SelectedCellKernelName() { return CellKernelName(SelectedCellKernel()); }
 
 // ∫μ|d| and ∫μ over the cells of A's triangles [lo, hi), and, with
-// `gradient`, Σ s∫_P μ and Σ s∫_P μ(x − p0) per B triangle added to
-// `moment` (as the scalar kernel; μ ≡ 1 without in.weight_a). Only when CellKernelAvailable().
-void IntegrateCellsSimd(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
-                        std::array<double, 3>* moment, CellKernelOutput* out);
+// `gradient`, each cell's Moment added to moment[T_B] (as the scalar kernel;
+// μ ≡ 1 without in.weight_a), by the vector kernel `kernel` (not kScalar;
+// one SelectedCellKernel may return).
+void IntegrateCellsSimd(CellKernel kernel, const CellKernelInput& in, int32_t lo, int32_t hi,
+                        bool gradient, Moment* moment, CellKernelOutput* out);
+
+// IntegrateCellsSimd per instruction set, compiled for it: only through
+// IntegrateCellsSimd, which calls them after the CPU check.
+void IntegrateCellsAvx512(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
+                          Moment* moment, CellKernelOutput* out);
+void IntegrateCellsAvx2(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
+                        Moment* moment, CellKernelOutput* out);
 
 }  // namespace volume_internal
 }  // namespace surfreg

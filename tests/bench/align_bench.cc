@@ -40,6 +40,9 @@
 // converged is only printed as a NOTE).
 //
 // N = 1e4 and 1e5; the flag --with_1e6 adds N = 1e6 (Align only at 1e5).
+// The context line cell_kernel names the volume cost's cell kernel
+// (SURFREG_CELL_KERNEL = scalar, avx2 or avx512 picks one; default the best
+// this CPU runs).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -64,6 +67,7 @@
 #include "registration/pair_state.h"
 #include "registration/rigid_motion.h"
 #include "registration/volume_cost.h"
+#include "registration/volume_kernel_simd.h"
 #include "tests/testing/surface_pairs.h"
 
 namespace surfreg {
@@ -523,6 +527,7 @@ int main(int argc, char** argv) {
   }
   argc = out;
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::AddCustomContext("cell_kernel", surfreg::volume_internal::SelectedCellKernelName());
   surfreg::RegisterAll(with_1e6);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
