@@ -161,5 +161,13 @@ if [[ $rc -ne 0 ]]; then
   fail "triangulate with --minloglevel and --json: expected exit 0"
 fi
 
+# SURFREG_CELL_KERNEL naming no kernel: one warning naming the variable and
+# the value, then the best kernel; the alignment goes on.
+SURFREG_CELL_KERNEL=bogus run align configs/data/face_a.xyz configs/data/face_b_moved.xyz --json
+if [[ $rc -ne 0 ]] || ! grep -q "SURFREG_CELL_KERNEL=bogus: unknown (scalar, avx2 or avx512); using" "$tmp/err" \
+    || ! grep -q '"verdict": "converged_improved"' "$tmp/out"; then
+  fail "SURFREG_CELL_KERNEL=bogus: expected a warning and a converged alignment"
+fi
+
 echo "$((checks - failures)) of $checks checks passed"
 [[ $failures -eq 0 ]]
