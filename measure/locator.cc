@@ -196,6 +196,26 @@ int64_t WalkStepLimit(const Triangulation& mesh) {
 
 Location LocatePoint(const std::vector<Point2>& points, const Triangulation& mesh, const Point2& p,
                      int32_t start_triangle, int* steps) {
+  // Most re-locations after a small motion: p strictly inside the start
+  // triangle, every sub-area accurate (Orient2DClear). The walk would stop
+  // there after one step and Barycentric would compute these same values.
+  if (start_triangle >= 0 && start_triangle < mesh.num_triangles()) {
+    const int32_t* v = &mesh.triangles[3 * start_triangle];
+    const Point2& a = points[v[0]];
+    const Point2& b = points[v[1]];
+    const Point2& c = points[v[2]];
+    double w[3];
+    if (Orient2DClear(b, c, p, &w[0]) && w[0] > 0.0 && Orient2DClear(c, a, p, &w[1]) &&
+        w[1] > 0.0 && Orient2DClear(a, b, p, &w[2]) && w[2] > 0.0) {
+      Location inside;
+      inside.triangle = start_triangle;
+      inside.where = Where::kInside;
+      const double sum = w[0] + w[1] + w[2];
+      for (int i = 0; i < 3; ++i) inside.barycentric[i] = w[i] / sum;
+      if (steps != nullptr) *steps = 1;
+      return inside;
+    }
+  }
   Walker walker(points, mesh, p);
   const Location location = walker.Run(start_triangle, 0);
   if (steps != nullptr) *steps = static_cast<int>(std::min<int64_t>(walker.steps(), INT32_MAX));

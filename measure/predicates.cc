@@ -279,19 +279,6 @@ double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Po
 
 }  // namespace predicates_internal
 
-double Orient2DAccurate(const Point2& a, const Point2& b, const Point2& c) {
-  const double left = (a.x - c.x) * (b.y - c.y);
-  const double right = (a.y - c.y) * (b.x - c.x);
-  const double det = left - right;
-  const double scale = std::fabs(left) + std::fabs(right);
-  // Relative error of det is below kOrientBound * scale / |det| <= 2^-40 here.
-  if (std::fabs(det) > 0x1p40 * predicates_internal::kOrientBound * scale &&
-      scale >= predicates_internal::kOrientMinScale) {
-    return det;
-  }
-  return predicates_internal::Orient2DExact(a, b, c);
-}
-
 PredicateCounters& ThreadPredicateCounters() {
   static thread_local PredicateCounters counters;
   return counters;

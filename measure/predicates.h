@@ -50,11 +50,27 @@ inline double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
   return predicates_internal::Orient2DExact(a, b, c);
 }
 
+// The orientation determinant when its floating-point value is already
+// accurate to 2^-40 relative (so its sign is exact) in *det, true; false when
+// only the exact stage could say. Orient2DAccurate's fast path, inline for
+// the hot loops that can use it.
+inline bool Orient2DClear(const Point2& a, const Point2& b, const Point2& c, double* det) {
+  const double left = (a.x - c.x) * (b.y - c.y);
+  const double right = (a.y - c.y) * (b.x - c.x);
+  *det = left - right;
+  const double scale = std::fabs(left) + std::fabs(right);
+  return std::fabs(*det) > 0x1p40 * predicates_internal::kOrientBound * scale &&
+         scale >= predicates_internal::kOrientMinScale;
+}
+
 // The orientation determinant itself (twice the signed area of a, b, c) with
 // the exact sign and a relative error below 2^-40, even for slivers: the
 // filter's value when it is that accurate, else the exact expansion's
 // leading component. For barycentric coordinates.
-double Orient2DAccurate(const Point2& a, const Point2& b, const Point2& c);
+inline double Orient2DAccurate(const Point2& a, const Point2& b, const Point2& c) {
+  double det;
+  return Orient2DClear(a, b, c, &det) ? det : predicates_internal::Orient2DExact(a, b, c);
+}
 
 // > 0 if d lies inside the circle through a, b, c (given counter-clockwise),
 // < 0 outside, 0 on it. Sign flips if a, b, c are clockwise.

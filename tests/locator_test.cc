@@ -93,6 +93,16 @@ void ExpectSameAsBruteForce(const std::vector<Point2>& points, uint64_t seed) {
       continue;
     }
     if (truth.found()) {
+      // From the containing triangle itself (LocatePoint's shortcut for a
+      // point strictly inside; the walk for one on its edges or corners):
+      // the same answer as from anywhere, bit for bit inside.
+      const Location here = LocatePoint(points, mesh, q, truth.triangle);
+      EXPECT_EQ(here.where, walk.where) << "query (" << q.x << ", " << q.y << ")";
+      EXPECT_EQ(Support(mesh, here), Support(mesh, walk)) << "query (" << q.x << ", " << q.y << ")";
+      if (walk.where == Where::kInside) {
+        EXPECT_EQ(here.triangle, walk.triangle);
+        EXPECT_EQ(here.barycentric, walk.barycentric);
+      }
       EXPECT_NEAR(Interpolate(points, mesh, walk), Linear(q), 1e-9 * (1.0 + std::fabs(Linear(q))))
           << "query (" << q.x << ", " << q.y << ") where " << static_cast<int>(walk.where)
           << " index " << static_cast<int>(walk.index) << " barycentric " << walk.barycentric[0]
