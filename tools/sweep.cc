@@ -442,7 +442,13 @@ void RunSweepRuns(const SweepPlan& plan, const std::vector<SweepRun>& runs, int 
       try {
         std::vector<std::string> row = RunOne(plan, runs[i]);
         std::lock_guard<std::mutex> lock(mutex);
-        if (!stop) on_row(runs[i], std::move(row));
+        if (stop) break;
+        try {
+          on_row(runs[i], std::move(row));
+        } catch (...) {
+          stop = true;  // before the lock is released: no row is handled after this one
+          throw;
+        }
       } catch (...) {
         std::lock_guard<std::mutex> lock(mutex);
         if (!error) error = std::current_exception();
