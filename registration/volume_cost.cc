@@ -101,6 +101,7 @@ struct VolumeCostCache::Impl {
   std::vector<Moment> moments[2];
 
   void Bind(const PairState& s);
+  void BindWeights();
   void MarkDirty(const PairState& s);
   template <bool kWeighted>
   void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
@@ -135,19 +136,24 @@ void VolumeCostCache::Impl::Bind(const PairState& s) {
     const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
     volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, false, &record_a[t], &extra_a[t]);
   }
-  // The weights are fixed with the reference: their planes too.
-  weight_a.clear();
-  if (!reference->weight.empty()) {
-    const auto& w = reference->weight;
-    weight_a.resize(nt);
-    for (int32_t t = 0; t < nt; ++t) {
-      const int32_t* v = &mesh.triangles[3 * t];
-      const auto& xy = reference->xy;
-      const Plane mu = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
-      weight_a[t] = {mu.z0, mu.gx, mu.gy};
-    }
-  }
+  BindWeights();
   built = false;
+}
+
+// μ's plane on each A triangle (both kernels read them): the weights are
+// fixed with the reference; empty without weights.
+void VolumeCostCache::Impl::BindWeights() {
+  weight_a.clear();
+  if (reference->weight.empty()) return;
+  const Triangulation& mesh = reference->mesh;
+  const auto& w = reference->weight;
+  const auto& xy = reference->xy;
+  weight_a.resize(mesh.num_triangles());
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    const Plane mu = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
+    weight_a[t] = {mu.z0, mu.gx, mu.gy};
+  }
 }
 
 // The A triangles whose cells may have changed since the last evaluation:
@@ -221,7 +227,6 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   const Triangulation& mesh_b = s.moving_mesh();
   const auto& xa = reference->xy;
   const auto& za = reference->z;
-  const auto& weight = reference->weight;
   const auto& xb = s.moved_xy();
   const auto& zb = s.moved_z();
   const int32_t* triangles_b = mesh_b.triangles.data();
@@ -252,10 +257,8 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
     }
     const Gradient2 ga = {record_a[ta].gx, record_a[ta].gy};
     const double za0 = za[ia[0]];
-    Plane mu;
-    if (kWeighted) {
-      mu = PlaneThrough(xa[ia[0]], xa[ia[1]], xa[ia[2]], weight[ia[0]], weight[ia[1]], weight[ia[2]]);
-    }
+    // μ relative to T_A's corner 0 (Bind's plane).
+    const volume_internal::WeightPlane mu = kWeighted ? weight_a[ta] : volume_internal::WeightPlane{};
     cells += count;
     for (int32_t c = 0; c < count; ++c) {
       const TopologyCell& tc = list[c];
@@ -274,7 +277,7 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
       const double bx = cx6[3], by = cy6[3];
       const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
       const double dgx = fb.gx - ga.gx, dgy = fb.gy - ga.gy;
-      const double mu0 = kWeighted ? mu.At({bx, by}) : 1.0;
+      const double mu0 = kWeighted ? mu.m0 + mu.gx * (bx - cx6[0]) + mu.gy * (by - cy6[0]) : 1.0;
       double x[8], y[8], d[8], m[8];
       double d_lo = 0, d_hi = 0;
       for (int k = 0; k < n; ++k) {
@@ -515,10 +518,9 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   // A vector kernel where the CPU has one (weighted or not); the
   // environment variable SURFREG_CELL_KERNEL may choose another.
   static const CellKernel kernel = volume_internal::SelectedCellKernel();
-  // The μ planes come from Bind (weights are fixed with the reference);
-  // weights added or dropped since then take the scalar kernel.
-  const bool vectorized = kernel != CellKernel::kScalar &&
-                          m.weight_a.size() == (weighted ? static_cast<std::size_t>(na) : 0u);
+  // Weights added or dropped since Bind: their planes again.
+  if (m.weight_a.size() != (weighted ? static_cast<std::size_t>(na) : 0u)) m.BindWeights();
+  const bool vectorized = kernel != CellKernel::kScalar;
   m.record_b.resize(nb);
   m.extra_b.resize(nb);
   const auto& xy = s.moved_xy();
