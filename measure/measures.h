@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "measure/domain.h"
 #include "measure/surface.h"
 
 namespace surfreg {
@@ -38,6 +39,9 @@ enum class WeightMode {
 
 struct MeasureOptions {
   VolumeMode volume = VolumeMode::kOverlay;
+  // Which triangles of each mesh are surface (measure/domain.h): the data
+  // domain (default) or the whole convex hull (the paper's Ω).
+  DomainRule domain;
   WeightMode weight = WeightMode::kUniform;
   // Simple polygon (either orientation, not closed explicitly) in input
   // coordinates (not local), for WeightMode::kMask.

@@ -111,6 +111,9 @@ struct AlignOptions {
   // (counted in AlignResult::remeshes); beyond it the surface overlaps
   // itself in xy, which the solver treats as an infeasible step.
   double max_fold_fraction = 0.5;
+  // Which triangles of each surface are data (measure/domain.h); the cost
+  // and the reported measures integrate over the two domains' intersection.
+  DomainRule domain;
   bool compute_covariance = true;
   int num_threads = 2;
   // Called after every solver iteration (progress, logs).

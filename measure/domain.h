@@ -1,0 +1,61 @@
+#pragma once
+// The data domain of a sampled surface: the triangles of its Delaunay mesh
+// that are data, not the convex hull's filler (issue 20).
+//
+// A convex-hull triangulation bridges every gap: voids in a DEM, the concave
+// outline of a face patch, and the thin slivers that join nearly collinear
+// samples along the hull. Those triangles are not measured surface: their
+// heights are invented, and the slivers stand nearly vertical in 3D, so a
+// tilt of a fraction of a degree turns them over. The data domain drops them:
+//
+// - scattered samples: a triangle whose longest edge is longer than
+//   `max_edge_spacings` times the local sample spacing (the largest, over its
+//   three vertices, of the median length of the vertex's Delaunay edges)
+//   bridges a gap; then, from the outside in, a triangle on the domain's
+//   boundary thinner than `min_boundary_thinness` (its height over its
+//   longest edge, divided by that edge; 0.866 for an equilateral triangle)
+//   is an outline sliver, and is peeled, until no boundary triangle is one;
+// - raster samples (`grid`): a triangle is data when it is half of a raster
+//   cell whose four corners are all samples, i.e. it and its neighbour across
+//   its longest edge form a parallelogram; a cell with a nodata corner is not
+//   part of the surface.
+//
+// Thresholds (measured, README "The data domain"): on uniformly random
+// samplings the longest Delaunay edges are under 3 local spacings, and
+// interior triangles thinner than 0.1 are rare.
+#include <cstdint>
+#include <vector>
+
+#include "measure/delaunay.h"
+#include "measure/surface.h"
+
+namespace surfreg {
+
+enum class DomainKind {
+  kData,  // the data domain (default)
+  kHull,  // the paper's: the whole convex hull
+};
+
+struct DomainRule {
+  DomainKind kind = DomainKind::kData;
+  double max_edge_spacings = 3.0;
+  double min_boundary_thinness = 0.1;
+  bool grid = false;  // the samples are raster cell centres
+};
+
+// Per triangle of `mesh` (a triangulation of `xy`): 1 if it is part of the
+// data domain, 0 if not. kHull: all 1.
+std::vector<uint8_t> DataDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
+                                const DomainRule& rule = DomainRule());
+
+// The xy area of the triangles with in_domain[t] != 0.
+double DomainArea(const std::vector<Point2>& xy, const Triangulation& mesh,
+                  const std::vector<uint8_t>& in_domain);
+
+// Per vertex: 1 if the vertex is a corner of some triangle in the domain.
+std::vector<uint8_t> DomainVertices(const Triangulation& mesh, std::size_t num_vertices,
+                                    const std::vector<uint8_t>& in_domain);
+
+const char* DomainKindName(DomainKind kind);  // "data" | "hull"
+
+}  // namespace surfreg
