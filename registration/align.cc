@@ -292,7 +292,9 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
     final_state.Update(theta, &stats);
   }
 
+  const Clock::time_point information_start = Clock::now();
   const Information info = AnalyseInformation(final_state, context, options.compute_covariance);
+  result.covariance_seconds = Seconds(information_start);
   result.observability = info.observability;
   result.constrained = info.constrained;
   result.condition_number = info.condition_number;

@@ -172,6 +172,7 @@ struct AlignResult {
   double folded_area_fraction = 0;
   int remeshes = 0;              // re-triangulations of the moving surface after sliver folds
   double seconds = 0;
+  double covariance_seconds = 0;  // of `seconds`: observability and standard deviations
   std::vector<AlignOptions::Iteration> log;
 };
 

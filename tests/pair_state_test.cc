@@ -1,6 +1,7 @@
 // PairState against independent truth: warm-started re-location equals a
 // brute-force search, folds are detected (and slivers re-meshed), and
 // locked parameters stay exactly where they start.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -295,6 +296,57 @@ TEST(SolverRoundsTest, VolumeSolveRetriangulatesBetweenRounds) {
   const Eigen::Vector3d w(r.theta[0], r.theta[1], r.theta[2]);
   EXPECT_NEAR(w.norm() * 180 / M_PI, 15.0, 0.05);
   for (int k = 1; k < 6; ++k) EXPECT_NEAR(r.theta[k], truth[k], k < 3 ? 0.05 * M_PI / 180 : 0.05) << k;
+}
+
+// ---------------------------------------------------------------- 5b. covariance
+
+// σ² (JᵀJ)⁻¹ of the axial residuals, computed here from the residuals and a
+// full-pivot LU: AnalyseInformation must give the same (it inverts JᵀJ by its
+// eigen-decomposition), for all six parameters free and with some locked.
+TEST(AnalyseInformationTest, CovarianceIsResidualVarianceTimesInverseInformation) {
+  const auto sides = MakeSides(testing::SampleUniform(testing::SmoothTerrain, 1200, 0, 100, 0, 100, 5),
+                               testing::SampleUniform(testing::SmoothTerrain, 1100, 0, 100, 0, 100, 6));
+  for (const std::array<bool, 6> free : {std::array<bool, 6>{true, true, true, true, true, true},
+                                         std::array<bool, 6>{false, true, true, true, false, true}}) {
+    AlignOptions options;
+    options.free = free;
+    SolveContext context;
+    context.options = &options;
+    context.rotation_scale = sides->radius;
+    PairState state(sides->reference, sides->moving);
+    const Theta theta = {0.001, -0.002, 0.0005, 0.3, -0.2, 0.1};
+    ASSERT_TRUE(state.Update(theta));
+    const Information info = AnalyseInformation(state, context, true);
+    ASSERT_TRUE(info.covariance_ok);
+
+    AxialResiduals r;
+    ComputeAxialResiduals(state, context.axial, true, &r);
+    std::vector<int> f;
+    for (int k = 0; k < 6; ++k) {
+      if (free[k]) f.push_back(k);
+    }
+    const int n = static_cast<int>(f.size());
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
+    double squares = 0;
+    for (std::size_t k = 0; k < r.r.size(); ++k) {
+      if (!r.active[k]) continue;
+      for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) h(i, j) += r.jacobian[k][f[i]] * r.jacobian[k][f[j]];
+      }
+      squares += r.r[k] * r.r[k];
+    }
+    const Eigen::MatrixXd expected =
+        squares / static_cast<double>(r.active_count - n) * h.fullPivLu().inverse();
+    for (int i = 0; i < 6; ++i) {
+      for (int j = 0; j < 6; ++j) {
+        const auto it = [&](int k) { return static_cast<int>(std::find(f.begin(), f.end(), k) - f.begin()); };
+        const double want = free[i] && free[j] ? expected(it(i), it(j)) : 0.0;
+        const double scale = std::sqrt(std::fabs(expected.diagonal().maxCoeff()));
+        EXPECT_NEAR(info.covariance(i, j), want, 1e-9 * std::max(std::fabs(want), scale * scale * 1e-3))
+            << i << "," << j;
+      }
+    }
+  }
 }
 
 // ---------------------------------------------------------------- 6. locked parameters

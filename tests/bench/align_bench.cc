@@ -443,6 +443,8 @@ void BM_Align(benchmark::State& state, int64_t n, bool axial) {
   state.counters["t_before_solve"] = solve_start;
   state.counters["t_solve"] = solve_end - solve_start;
   state.counters["t_after_solve"] = result.seconds - solve_end;
+  state.counters["t_covariance"] = result.covariance_seconds;
+  state.counters["covariance_share"] = result.covariance_seconds / result.seconds;
   state.counters["t_measures_inside"] = result.before.timings.total + result.after.timings.total;
   state.counters["converged"] = result.verdict == Verdict::kConvergedImproved ? 1 : 0;
   char text[320];
