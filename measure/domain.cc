@@ -23,8 +23,10 @@ int LongestEdge(const std::vector<Point2>& xy, const int32_t* v, double* length)
   return best;
 }
 
-// Median length of each vertex's Delaunay edges (every interior edge is seen
-// from both triangles, hull edges once; a median does not mind).
+// The lower quartile of the lengths of each vertex's Delaunay edges (every
+// interior edge is seen from both triangles, hull edges once): a vertex on a
+// void's rim has several long edges across it, which a median would count
+// (measured: a median let 3/4 of a void's bridging area through).
 std::vector<double> LocalSpacing(const std::vector<Point2>& xy, const Triangulation& mesh) {
   std::vector<std::vector<float>> lengths(xy.size());
   for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
@@ -40,8 +42,8 @@ std::vector<double> LocalSpacing(const std::vector<Point2>& xy, const Triangulat
   for (std::size_t k = 0; k < xy.size(); ++k) {
     std::vector<float>& l = lengths[k];
     if (l.empty()) continue;
-    std::nth_element(l.begin(), l.begin() + l.size() / 2, l.end());
-    spacing[k] = l[l.size() / 2];
+    std::nth_element(l.begin(), l.begin() + l.size() / 4, l.end());
+    spacing[k] = l[l.size() / 4];
   }
   return spacing;
 }

@@ -10,7 +10,7 @@
 //
 // - scattered samples: a triangle whose longest edge is longer than
 //   `max_edge_spacings` times the local sample spacing (the largest, over its
-//   three vertices, of the median length of the vertex's Delaunay edges)
+//   three vertices, of the lower quartile of the vertex's Delaunay edges)
 //   bridges a gap; then, from the outside in, a triangle on the domain's
 //   boundary thinner than `min_boundary_thinness` (its height over its
 //   longest edge, divided by that edge; 0.866 for an equilateral triangle)
@@ -20,9 +20,10 @@
 //   its longest edge form a parallelogram; a cell with a nodata corner is not
 //   part of the surface.
 //
-// Thresholds (measured, README "The data domain"): on uniformly random
-// samplings the longest Delaunay edges are under 3 local spacings, and
-// interior triangles thinner than 0.1 are rare.
+// Thresholds (measured, README "The data domain"): on random crops of the
+// benchmark's face and LIDAR clouds they keep 98.9% and 99.0% of the hull's
+// area (all of the loss hull slivers); a void of area 707 in 2500 random
+// samples over 100 × 100 leaves out 829 (the void with its ragged rim).
 #include <cstdint>
 #include <vector>
 
@@ -38,7 +39,7 @@ enum class DomainKind {
 
 struct DomainRule {
   DomainKind kind = DomainKind::kData;
-  double max_edge_spacings = 3.0;
+  double max_edge_spacings = 4.0;
   double min_boundary_thinness = 0.1;
   bool grid = false;  // the samples are raster cell centres
 };

@@ -66,6 +66,7 @@ MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
   MeasureOptions m;
   m.weight = options.weight;
   m.mask_polygon = options.mask_polygon;
+  m.domain = options.domain;
   m.parallel = options.num_threads > 1;
   return m;
 }
@@ -171,10 +172,10 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   for (int l = 0; l < options.levels; ++l) {
     const double keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1 - l));
     auto level = std::make_unique<Level>();
-    level->reference = PrepareReference(reference, keep);  // weights kept per point
+    level->reference = PrepareReference(reference, keep, options.domain);  // weights kept per point
     if (options.weight != WeightMode::kPerPoint) level->reference.weight.clear();
     if (options.cost == CostKind::kVolume) ApplySlopeWeight(options.slope_weight, &level->reference);
-    level->moving = PrepareMoving(moving, shift, keep);
+    level->moving = PrepareMoving(moving, shift, keep, options.domain);
     levels.push_back(std::move(level));
   }
   Level& finest = *levels.back();

@@ -56,7 +56,8 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   int64_t overlap = 0;
   for (std::size_t i = 0; i < na; ++i) {
     const Location& loc = state.a_in_b()[i];
-    if (!loc.found()) continue;
+    // Nodes of either surface's junk (measure/domain.h) are not in Ω.
+    if (!a.domain_vertex[i] || !state.OnMovingSurface(loc)) continue;
     ++overlap;
     if (masked && !InsidePolygon(settings.mask, a.xy[i])) continue;
     if (weighted && !(mu[i] > 0.0)) continue;
@@ -80,7 +81,7 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   }
   for (std::size_t j = 0; j < nb; ++j) {
     const Location& loc = state.b_in_a()[j];
-    if (!loc.found()) continue;
+    if (!state.moving_node_active(j) || !state.OnReferenceSurface(loc)) continue;
     ++overlap;
     if (masked && !InsidePolygon(settings.mask, bxy[j])) continue;
     const int32_t* v = &a.mesh.triangles[3 * loc.triangle];

@@ -37,6 +37,7 @@ struct OverlayTopology::Searcher {
   // Current A triangle.
   const std::vector<Point2>* pb = nullptr;
   const Triangulation* mb = nullptr;
+  const uint8_t* keep_b = nullptr;  // null: all
   Point2 a[3];
 
   void Size(int32_t num_b_triangles, int64_t num_b_points) {
@@ -111,7 +112,7 @@ struct OverlayTopology::Searcher {
       TopologyCell cell;
       cell.triangle_b = tb;
       cell.num_corners = static_cast<uint8_t>(ClipLabeled(a, b, signs, cell.corner.data()));
-      if (cell.num_corners >= 3) out->push_back(cell);
+      if (cell.num_corners >= 3 && (keep_b == nullptr || keep_b[tb])) out->push_back(cell);
       for (int j = 0; j < 3; ++j) Push(mb->neighbors[3 * tb + j]);
     }
     return met;
@@ -133,7 +134,8 @@ void OverlayTopology::SizeSearchers(const Triangulation& mesh_a, const Triangula
 TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                                      const std::vector<Location>& a_in_b,
                                      const std::vector<Point2>& points_b, const Triangulation& mesh_b,
-                                     const std::vector<Location>& b_in_a, bool parallel) {
+                                     const std::vector<Location>& b_in_a, bool parallel,
+                                     const uint8_t* keep_a, const uint8_t* keep_b) {
   SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
   const int32_t na = mesh_a.num_triangles();
   // The pairs that make cells, from the full overlay, by T_A.
@@ -169,8 +171,13 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
       s.Begin(a);
       TopologyCell* cells = cells_.data() + begin_[ta];
       int32_t kept = 0;
+      if (keep_a != nullptr && !keep_a[ta]) {
+        count_[ta] = 0;
+        continue;
+      }
       for (int32_t k = 0; k < count_[ta]; ++k) {
         const int32_t tb = cells[k].triangle_b;
+        if (keep_b != nullptr && !keep_b[tb]) continue;
         const int32_t* vb = &mesh_b.triangles[3 * tb];
         int8_t signs[3][3];
         for (int c = 0; c < 3; ++c) std::copy(s.Sides(vb[c]), s.Sides(vb[c]) + 3, signs[c]);
@@ -203,7 +210,8 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
                                       const std::vector<Point2>& points_b,
                                       const Triangulation& mesh_b, const std::vector<int32_t>& dirty,
                                       const std::vector<std::pair<int32_t, int32_t>>& seeds,
-                                      bool parallel) {
+                                      bool parallel, const uint8_t* keep_a,
+                                      const uint8_t* keep_b) {
   SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
   const int32_t na = mesh_a.num_triangles();
   const int32_t middle = parallel ? na / 2 : na;
@@ -211,12 +219,17 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
   auto repair = [&](Searcher& s, int32_t lo, int32_t hi) {
     s.pb = &points_b;
     s.mb = &mesh_b;
+    s.keep_b = keep_b;
     s.fresh.clear();
     s.fresh_runs.clear();
     auto d = std::lower_bound(dirty.begin(), dirty.end(), lo);
     auto e = std::lower_bound(seeds.begin(), seeds.end(), std::make_pair(lo, -1));
     for (; d != dirty.end() && *d < hi; ++d) {
       const int32_t ta = *d;
+      if (keep_a != nullptr && !keep_a[ta]) {  // junk: no cells, never searched
+        s.fresh_runs.push_back({ta, static_cast<int64_t>(s.fresh.size()), 0});
+        continue;
+      }
       const int32_t* va = &mesh_a.triangles[3 * ta];
       const Point2 a[3] = {points_a[va[0]], points_a[va[1]], points_a[va[2]]};
       s.Begin(a);

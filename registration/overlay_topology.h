@@ -86,11 +86,15 @@ struct TopologyStats {
 class OverlayTopology {
  public:
   // The whole overlay (two threads with `parallel`). Keeps no reference to
-  // its arguments: each call passes the current meshes and points.
+  // its arguments: each call passes the current meshes and points. Cells of
+  // A triangles with keep_a[t] == 0 or B triangles with keep_b[t] == 0 (the
+  // surfaces' junk, measure/domain.h) are not kept; the search still walks
+  // through those B triangles. Null: keep all.
   TopologyStats Build(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                       const std::vector<Location>& a_in_b, const std::vector<Point2>& points_b,
                       const Triangulation& mesh_b, const std::vector<Location>& b_in_a,
-                      bool parallel);
+                      bool parallel, const uint8_t* keep_a = nullptr,
+                      const uint8_t* keep_b = nullptr);
 
   // Searches again the A triangles in `dirty` (ascending, unique). Each
   // search starts from the B triangles the triangle met before, from where
@@ -100,7 +104,8 @@ class OverlayTopology {
   TopologyStats Repair(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                        const std::vector<Location>& a_in_b, const std::vector<Point2>& points_b,
                        const Triangulation& mesh_b, const std::vector<int32_t>& dirty,
-                       const std::vector<std::pair<int32_t, int32_t>>& seeds, bool parallel);
+                       const std::vector<std::pair<int32_t, int32_t>>& seeds, bool parallel,
+                       const uint8_t* keep_a = nullptr, const uint8_t* keep_b = nullptr);
 
   int32_t num_triangles_a() const { return static_cast<int32_t>(begin_.size()); }
   int64_t num_cells() const { return live_; }

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include "measure/enforce_triangles.h"
 #include "measure/input_error.h"
 #include "measure/predicates.h"
 #include "measure/spatial_sort.h"
@@ -77,7 +78,7 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
 
 }  // namespace
 
-ReferenceSide PrepareReference(const Surface& surface, double keep_fraction) {
+ReferenceSide PrepareReference(const Surface& surface, double keep_fraction, const DomainRule& rule) {
   ValidateSurface(surface);
   ReferenceSide side;
   Cloud cloud = PrepareCloud(surface, {0, 0, 0}, keep_fraction, &side.mesh);
@@ -86,6 +87,8 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction) {
   side.weight = std::move(cloud.weight);
   side.tree = EuclideanMst(side.xy, side.mesh);
   side.hull_area = MeshArea(side.xy, side.mesh);
+  side.domain = DataDomain(side.xy, side.mesh, rule);
+  side.domain_vertex = DomainVertices(side.mesh, side.xy.size(), side.domain);
   return side;
 }
 
@@ -110,12 +113,14 @@ void ApplySlopeWeight(double exponent, ReferenceSide* reference) {
 }
 
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
-                         double keep_fraction) {
+                         double keep_fraction, const DomainRule& rule) {
   ValidateSurface(surface);
   MovingSide side;
   Cloud cloud = PrepareCloud(surface, shift, keep_fraction, &side.mesh);
   side.tree = EuclideanMst(cloud.xy, side.mesh);
   side.hull_area = MeshArea(cloud.xy, side.mesh);
+  side.rule = rule;
+  side.domain = DataDomain(cloud.xy, side.mesh, rule);
   side.points.resize(cloud.xy.size());
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < cloud.xy.size(); ++i) {
@@ -157,6 +162,12 @@ PairState::PairState(const ReferenceSide& reference, const MovingSide& moving,
   moved_z_.resize(n);
   moved_q_.resize(n);
   area3d_ = SurfaceArea(moving.points, mesh_);
+  active_ = moving.domain;
+  active_vertex_ = DomainVertices(mesh_, n, active_);
+  for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
+    if (active_[t]) kept_triangles_.insert(kept_triangles_.end(), &mesh_.triangles[3 * t], &mesh_.triangles[3 * t + 3]);
+  }
+  IndexKept();
 }
 
 bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
@@ -173,12 +184,13 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
   }
   // A fold turns a triangle's projection over; walking and the overlay
   // assume a valid planar mesh, so nothing is located then.
-  int32_t folded = 0;
+  int32_t folded = 0, folded_active = 0;
   double folded_area = 0;
   for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
     const int32_t* v = &mesh_.triangles[3 * t];
     if (Orient2D(moved_xy_[v[0]], moved_xy_[v[1]], moved_xy_[v[2]]) <= 0.0) {
       ++folded;
+      folded_active += active_[t];
       folded_area += TriangleArea3d(moving_.points, v);
     }
   }
@@ -186,18 +198,23 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
   const double fraction = area3d_ > 0 ? folded_area / area3d_ : 0.0;
   if (stats != nullptr) {
     stats->folded = folded;
+    stats->folded_active = folded_active;
     stats->folded_area_fraction = fraction;
   }
   if (folded > 0 && fraction > max_fold_fraction_) return false;
-  if (folded > 0 && !remesh_on_fold_) {
+  if (folded > 0 && folded_active == 0) {
+    // Only junk turned over: re-mesh around the active triangles, which
+    // stay as they are, so the surface does not change.
+    if (RemeshAndLocate(true, stats)) return true;
+  }
+  if (folded > 0 && fixed_) {
     if (stats != nullptr) stats->remesh_refused = true;
     return false;
   }
   if (folded > 0) {
-    // Only slivers turned over: the height field seen from above at this
-    // pose is B's Delaunay triangulation there.
-    if (stats != nullptr) stats->remeshed = true;
-    RemeshAndLocate(stats);
+    // Data turned over: the height field seen from above at this pose is
+    // B's Delaunay triangulation there.
+    RemeshAndLocate(false, stats);
     return true;
   }
   if (!located_) {
@@ -222,16 +239,125 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
   return true;
 }
 
-void PairState::Retriangulate() {
-  folded_ = 0;
-  RemeshAndLocate(nullptr);
-}
-
-void PairState::RemeshAndLocate(UpdateStats* stats) {
-  mesh_ = Triangulate(moved_xy_);
+bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
+  Triangulation mesh = Triangulate(moved_xy_);
+  if (keep) {
+    if (!EnforceTriangles(moved_xy_, kept_triangles_, &mesh)) return false;
+    mesh_ = std::move(mesh);
+    SetActiveFlags();
+  } else {
+    mesh_ = std::move(mesh);
+    active_ = DataDomain(moved_xy_, mesh_, moving_.rule);
+    active_vertex_ = DomainVertices(mesh_, moved_xy_.size(), active_);
+    kept_triangles_.clear();
+    for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
+      if (!active_[t]) continue;
+      kept_triangles_.insert(kept_triangles_.end(), &mesh_.triangles[3 * t], &mesh_.triangles[3 * t + 3]);
+    }
+    IndexKept();
+  }
   area3d_ = SurfaceArea(moving_.points, mesh_);
   ++remeshes_;
+  ++surface_version_;
+  if (stats != nullptr) stats->remeshed = true;
   LocateEverything(stats);
+  return true;
+}
+
+void PairState::IndexKept() {
+  const int32_t n = static_cast<int32_t>(moved_xy_.size());
+  kept_begin_.assign(n + 1, 0);
+  const std::size_t count = kept_triangles_.size() / 3;
+  auto sorted = [&](std::size_t k) {
+    std::array<int32_t, 3> v = {kept_triangles_[3 * k], kept_triangles_[3 * k + 1],
+                                kept_triangles_[3 * k + 2]};
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  for (std::size_t k = 0; k < count; ++k) ++kept_begin_[sorted(k)[0] + 1];
+  for (int32_t v = 0; v < n; ++v) kept_begin_[v + 1] += kept_begin_[v];
+  kept_rest_.resize(count);
+  std::vector<int32_t> fill(kept_begin_.begin(), kept_begin_.end() - 1);
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto v = sorted(k);
+    kept_rest_[fill[v[0]]++] = {v[1], v[2]};
+  }
+}
+
+void PairState::SetActiveFlags() {
+  active_.assign(mesh_.num_triangles(), 0);
+  for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
+    std::array<int32_t, 3> v = {mesh_.triangles[3 * t], mesh_.triangles[3 * t + 1],
+                                mesh_.triangles[3 * t + 2]};
+    std::sort(v.begin(), v.end());
+    for (int32_t k = kept_begin_[v[0]]; k < kept_begin_[v[0] + 1]; ++k) {
+      if (kept_rest_[k][0] == v[1] && kept_rest_[k][1] == v[2]) active_[t] = 1;
+    }
+  }
+  active_vertex_ = DomainVertices(mesh_, moved_xy_.size(), active_);
+}
+
+int PairState::FixSurface(double max_slope_deg) {
+  // B's own domain triangles, found in the current mesh (which holds them all
+  // unless a free re-mesh replaced some) and enforced into it.
+  const double min_cos = std::cos(max_slope_deg * M_PI / 180.0);
+  kept_triangles_.clear();
+  int steep = 0;
+  const Triangulation& own = moving_.mesh;
+  for (int32_t t = 0; t < own.num_triangles(); ++t) {
+    if (!moving_.domain[t]) continue;
+    const int32_t* v = &own.triangles[3 * t];
+    const Eigen::Vector3d p0(moved_xy_[v[0]].x, moved_xy_[v[0]].y, moved_z_[v[0]]);
+    const Eigen::Vector3d p1(moved_xy_[v[1]].x, moved_xy_[v[1]].y, moved_z_[v[1]]);
+    const Eigen::Vector3d p2(moved_xy_[v[2]].x, moved_xy_[v[2]].y, moved_z_[v[2]]);
+    const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);
+    if (!(normal.z() > min_cos * normal.norm())) {
+      ++steep;
+      continue;
+    }
+    kept_triangles_.insert(kept_triangles_.end(), v, v + 3);
+  }
+  IndexKept();
+  fixed_ = true;
+  ++surface_version_;
+  SetActiveFlags();
+  int32_t found = 0;
+  for (uint8_t a : active_) found += a;
+  if (static_cast<std::size_t>(found) != kept_triangles_.size() / 3) {
+    // Some were replaced by an earlier free re-mesh: put them back.
+    if (RemeshAndLocate(true, nullptr)) return steep;
+    // Cannot be (they fold here): keep the current mesh's domain instead.
+    kept_triangles_.clear();
+    for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
+      if (active_[t]) kept_triangles_.insert(kept_triangles_.end(), &mesh_.triangles[3 * t], &mesh_.triangles[3 * t + 3]);
+    }
+    IndexKept();
+    SetActiveFlags();
+  }
+  return steep;
+}
+
+bool PairState::OnMovingSurface(const Location& l) const {
+  if (!l.found()) return false;
+  if (active_[l.triangle]) return true;
+  if (l.where == Where::kOnEdge) {
+    const int32_t next = mesh_.neighbors[3 * l.triangle + l.index];
+    return next >= 0 && active_[next];
+  }
+  if (l.where == Where::kOnVertex) return active_vertex_[mesh_.triangles[3 * l.triangle + l.index]] != 0;
+  return false;
+}
+
+bool PairState::OnReferenceSurface(const Location& l) const {
+  if (!l.found()) return false;
+  const ReferenceSide& a = reference_;
+  if (a.domain[l.triangle]) return true;
+  if (l.where == Where::kOnEdge) {
+    const int32_t next = a.mesh.neighbors[3 * l.triangle + l.index];
+    return next >= 0 && a.domain[next];
+  }
+  if (l.where == Where::kOnVertex) return a.domain_vertex[a.mesh.triangles[3 * l.triangle + l.index]] != 0;
+  return false;
 }
 
 void PairState::LocateEverything(UpdateStats* stats) {

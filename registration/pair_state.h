@@ -3,20 +3,32 @@
 // and B's state at the current parameter value θ (DESIGN.md 4):
 // - both in A's local frame, duplicates merged (heights averaged), in
 //   Hilbert order;
-// - A triangulated once; B triangulated once in its own frame and keeping
-//   that mesh while it moves (a rigid motion moves the mesh);
+// - A triangulated once; B triangulated once in its own frame;
+// - each surface is its data domain (measure/domain.h): the triangles of its
+//   mesh that are data. The others (gap bridges, outline slivers: "junk")
+//   stay in the mesh only so that walking and the overlay have a convex,
+//   valid triangulation; nothing is integrated on them and no node located in
+//   them is in the overlap;
 // - at each new θ, B's points are moved, every B triangle's projection is
 //   checked for folding (exact orientation), and both location sets are
 //   updated by walking from where each point was found at the previous θ:
 //   B's nodes in A's mesh and A's nodes in B's moved mesh.
 //
 // Folds: a triangle turns over in projection when a tilt carries it past
-// vertical. Random samplings have slivers (nearly collinear in xy) that are
-// nearly vertical in 3D, and a tilt of a degree or two turns some of them
-// over: then B is re-triangulated at that pose (the height field seen from
-// above) and the event is counted. When the folded triangles carry more than
-// `max_fold_fraction` of B's surface area, the surface itself overlaps in xy
-// (it is no longer a height field at that pose): Update fails and says so.
+// vertical. Junk triangles (hull slivers nearly collinear in xy) turn over
+// under tilts of a fraction of a degree; then B's mesh is re-triangulated at
+// that pose around its active triangles, which are kept exactly (Delaunay,
+// then the active triangles enforced by edge flips): the surface, and so
+// every cost, does not change. When an active triangle folds:
+// - after FixSurface (the volume solve), the step is infeasible: Update
+//   fails. FixSurface leaves out, for the whole solve, the domain triangles
+//   steeper than a given slope at the pose where it is called, so only a
+//   tilt of several degrees from there can turn an active one over;
+// - otherwise (the axial prealignment, which travels far), B is
+//   re-triangulated at that pose and its domain found again by the rule (the
+//   height field seen from above), and the event is counted.
+// When folded triangles carry more than `max_fold_fraction` of B's surface
+// area, the surface itself overlaps in xy: Update fails.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -24,6 +36,7 @@
 #include <Eigen/Core>
 
 #include "measure/delaunay.h"
+#include "measure/domain.h"
 #include "measure/locator.h"
 #include "measure/spanning_tree.h"
 #include "measure/surface.h"
@@ -41,6 +54,8 @@ struct ReferenceSide {
   Triangulation mesh;
   SpanningTree tree;
   double hull_area = 0;
+  std::vector<uint8_t> domain;         // per mesh triangle: 1 = data
+  std::vector<uint8_t> domain_vertex;  // per node: 1 = a corner of a data triangle
 };
 
 struct MovingSide {
@@ -49,15 +64,19 @@ struct MovingSide {
   SpanningTree tree;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   double hull_area = 0;
+  DomainRule rule;              // how `domain` was found (again after a re-mesh)
+  std::vector<uint8_t> domain;  // per triangle of `mesh`: 1 = data
 };
 
 // Builds one side from a surface; `shift` is added to every point (moves it
 // into the reference's local frame). Keeps a deterministic pseudo-random
 // `keep_fraction` of the points (1 = all; at least 3): the coarse levels.
 // The reference keeps the surface's weights (if any) of the points kept.
-ReferenceSide PrepareReference(const Surface& surface, double keep_fraction = 1.0);
+// `rule` decides each side's data domain.
+ReferenceSide PrepareReference(const Surface& surface, double keep_fraction = 1.0,
+                               const DomainRule& rule = DomainRule());
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
-                         double keep_fraction = 1.0);
+                         double keep_fraction = 1.0, const DomainRule& rule = DomainRule());
 
 // Multiplies the reference's μ (1 where it has none) at every node by
 // cos(slope)^exponent, the slope that of the node's normal: the sum of its
@@ -72,9 +91,10 @@ struct UpdateStats {
   int64_t walk_steps = 0;  // triangles visited by all re-location walks
   int32_t folded = 0;      // B triangles whose moved projection is not counter-clockwise
   double folded_area_fraction = 0;  // their share of B's 3D surface area
+  int32_t folded_active = 0;  // of them, active triangles (part of B's surface)
   bool remeshed = false;   // B was re-triangulated at this pose
-  // Refused only because re-meshing is off: slivers folded, few enough that
-  // a re-mesh would have gone on (set_remesh_on_fold).
+  // Refused only because the surface is fixed (FixSurface): active triangles
+  // folded, few enough that a free re-mesh would have gone on.
   bool remesh_refused = false;
 };
 
@@ -100,24 +120,44 @@ class PairState {
   const std::vector<Eigen::Vector3d>& moved_q() const { return moved_q_; }
   const std::vector<Location>& a_in_b() const { return a_in_b_; }
   const std::vector<Location>& b_in_a() const { return b_in_a_; }
-  // Whether a fold within max_fold_fraction re-triangulates B (the default)
-  // or makes Update return false. A solver whose line search compares
-  // values turns it off: a new mesh is a different surface B, so values
-  // before and after it are not of one function.
-  void set_remesh_on_fold(bool remesh) { remesh_on_fold_ = remesh; }
-  // Re-triangulates B at the current pose (Delaunay of its moved xy) and
-  // locates everything again; for a solver stopped at a fold, so that it can
-  // go on with a surface that does not fold there. Update must have succeeded.
-  void Retriangulate();
+  // Fixes B's surface for a solve: its active triangles become B's own
+  // domain triangles (of its mesh at θ = 0, whatever re-meshes came before)
+  // less those whose slope at the current pose exceeds `max_slope_deg`.
+  // Until ReleaseSurface, a fold of an active triangle makes Update fail,
+  // and re-meshes keep the active triangles exactly. Update must have
+  // succeeded. Returns the number of domain triangles left out as too steep.
+  int FixSurface(double max_slope_deg);
+  void ReleaseSurface() { fixed_ = false; }
+  bool surface_fixed() const { return fixed_; }
 
   // B's current mesh: its own, or its re-triangulation after a fold.
   const Triangulation& moving_mesh() const { return mesh_; }
+  // Per triangle of moving_mesh(): 1 if it is part of B's surface now.
+  const std::vector<uint8_t>& active_b() const { return active_; }
+  // Whether edge i (opposite corner i) of active B triangle t bounds B's
+  // surface: no triangle, or an inactive one, across it.
+  bool MovingBoundaryEdge(int32_t t, int i) const {
+    const int32_t next = mesh_.neighbors[3 * t + i];
+    return next < 0 || !active_[next];
+  }
+  // Whether a location in B's mesh / A's mesh is on that surface (on an edge
+  // or a vertex: on any active triangle sharing it).
+  bool OnMovingSurface(const Location& l) const;
+  bool moving_node_active(std::size_t j) const { return active_vertex_[j] != 0; }
+  bool OnReferenceSurface(const Location& l) const;
   int32_t folded() const { return folded_; }
   int remeshes() const { return remeshes_; }
+  // Changes whenever B's mesh or its active triangles change (re-meshes,
+  // FixSurface): what a cache of the overlay must be rebuilt for.
+  int surface_version() const { return surface_version_; }
 
  private:
-  // B's Delaunay triangulation at the current pose, then LocateEverything.
-  void RemeshAndLocate(UpdateStats* stats);
+  // B's Delaunay triangulation at the current pose, then LocateEverything:
+  // keeping the active triangles (false if they cannot all be kept), or
+  // (keep = false) with the domain found again by B's rule.
+  bool RemeshAndLocate(bool keep, UpdateStats* stats);
+  void SetActiveFlags();  // active_ for mesh_ from the kept triangles
+  void IndexKept();       // kept_begin_ and kept_rest_ from kept_triangles_
   // Both ways from scratch, in spanning-tree order.
   void LocateEverything(UpdateStats* stats);
 
@@ -127,6 +167,7 @@ class PairState {
   Triangulation mesh_;
   double area3d_ = 0;  // B's 3D surface area on mesh_
   int remeshes_ = 0;
+  int surface_version_ = 0;
   std::array<double, 6> theta_{};
   MotionDerivative derivative_;
   std::vector<Point2> moved_xy_;
@@ -134,8 +175,15 @@ class PairState {
   std::vector<Eigen::Vector3d> moved_q_;
   std::vector<Location> a_in_b_, b_in_a_;
   bool located_ = false;
-  bool remesh_on_fold_ = true;
+  bool fixed_ = false;
   int32_t folded_ = 0;
+  std::vector<uint8_t> active_;           // per triangle of mesh_
+  std::vector<uint8_t> active_vertex_;    // per B node: a corner of an active triangle
+  // The fixed active triangles as sorted vertex triples, grouped by their
+  // smallest vertex (CSR): to find them again in a new mesh.
+  std::vector<int32_t> kept_begin_;
+  std::vector<std::array<int32_t, 2>> kept_rest_;
+  std::vector<int32_t> kept_triangles_;  // 3 per active triangle, for EnforceTriangles
 };
 
 // The motion θ as a RigidMotion about B's centroid.

@@ -314,16 +314,20 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   solver.update_state_every_iteration = true;
   LogCallback log(context);
   solver.callbacks.push_back(&log);
-  // B is not re-triangulated inside a solve: the line search compares values,
-  // and another mesh is another surface (on a face with noise a mid-search
-  // re-mesh changed the cost by 2% and stopped the solve at its start). A
-  // trial step that folds B is refused, so the search stays where B's mesh
-  // holds; a solve stopped against a fold re-triangulates B there and goes on.
+  // B's surface is fixed for the solve (PairState::FixSurface): the line
+  // search compares values, and another surface is another function (on a
+  // face with noise a mid-search re-mesh of the whole of B changed the cost
+  // by 2% and stopped the solve at its start). Junk re-meshes keep the active
+  // triangles, so they change nothing; a trial step that turns an active
+  // triangle over is refused (the line search shortens it). Active
+  // triangles steeper than kMaxSlopeDeg at the start are left out, so only a
+  // tilt of several degrees can do that; a solve stopped against such a fold
+  // fixes the surface again there and goes on.
   constexpr int kMaxRounds = 6;
-  // At the start B may still re-mesh: each level and start begins on B's own
-  // mesh, which may fold there. (If it cannot, the first evaluation fails.)
-  state.Update(theta0);
-  state.set_remesh_on_fold(false);
+  constexpr double kMaxSlopeDeg = 80.0;
+  // At the start B may still re-mesh freely: each level and start begins on
+  // B's own mesh, which may fold there. (If it cannot, the first evaluation fails.)
+  if (state.Update(theta0)) state.FixSurface(kMaxSlopeDeg);
   ceres::GradientProblemSolver::Summary summary;
   double initial_cost = 0;
   int iterations = 0, rounds = 0;
@@ -341,9 +345,9 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
     moved |= summary.iterations.size() > 1;
     if (function->refused_folds() == 0 || !std::isfinite(summary.final_cost)) break;
     if (round + 1 == kMaxRounds || !state.Update(map.Full(x.data()))) break;
-    state.Retriangulate();
+    state.FixSurface(kMaxSlopeDeg);
   }
-  state.set_remesh_on_fold(true);
+  state.ReleaseSurface();
   // A failed line search after accepted steps leaves a usable (if not
   // converged) solution; a failure before any step does not.
   const bool usable = std::isfinite(summary.final_cost) &&

@@ -125,11 +125,13 @@ class VolumeAccumulator {
   // Only the boundary term of a cell (no mask): for callers that integrate
   // the interior themselves.
   void AddBoundaryOf(const OverlayCell& cell) {
+    if (!OnSurfaces(cell)) return;
     SetContext(cell);
     if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, nullptr);
   }
 
   void operator()(const OverlayCell& cell) {
+    if (!OnSurfaces(cell)) return;
     SetContext(cell);
     ++value.cells;
     if (mask_ == nullptr) {
@@ -143,6 +145,11 @@ class VolumeAccumulator {
   VolumeCostValue value;
 
  private:
+  // Cells of junk triangles (measure/domain.h) are not part of Ω.
+  bool OnSurfaces(const OverlayCell& cell) const {
+    return state_.reference().domain[cell.triangle_a] && state_.active_b()[cell.triangle_b];
+  }
+
   void SetContext(const OverlayCell& cell) {
     const ReferenceSide& a = state_.reference();
     if (cell.triangle_a != last_a_) {
@@ -202,7 +209,7 @@ class VolumeAccumulator {
     tb_.height = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
     tb_.normal = Eigen::Vector3d(-tb_.height.gx, -tb_.height.gy, 1.0);
     has_hull_edge_ = false;
-    for (int k = 0; k < 3; ++k) has_hull_edge_ |= mesh_b.neighbors[3 * t + k] < 0;
+    for (int k = 0; k < 3; ++k) has_hull_edge_ |= state_.MovingBoundaryEdge(t, k);
   }
 
   // A convex piece of a cell (of area `area`): split by the sign of d
@@ -275,15 +282,16 @@ class VolumeAccumulator {
     value.d_abs.tail<3>() += w * tb_.normal;
   }
 
-  // B's hull edges of this cell's B triangle, within its A triangle (and
-  // the mask triangle, if any): the moving part of ∂Ω.
+  // The edges of B's surface (its hull, or next to junk) of this cell's B
+  // triangle, within its A triangle (and the mask triangle, if any): the
+  // moving part of ∂Ω.
   void AddBoundary(int32_t t, const std::array<Point2, 3>* mask_triangle) {
     const Triangulation& mesh_b = state_.moving_mesh();
     const int32_t* v = &mesh_b.triangles[3 * t];
     const auto& xy = state_.moved_xy();
     const auto& q = state_.moved_q();
     for (int i = 0; i < 3; ++i) {
-      if (mesh_b.neighbors[3 * t + i] >= 0) continue;
+      if (!state_.MovingBoundaryEdge(t, i)) continue;
       const int32_t va = v[(i + 1) % 3], vb = v[(i + 2) % 3];  // interior on the left
       const Point2 e0 = xy[va], e1 = xy[vb];
       double s0 = 0.0, s1 = 1.0;

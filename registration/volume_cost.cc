@@ -466,7 +466,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   const Triangulation& mesh_a = m.reference->mesh;
   const Triangulation& mesh_b = s.moving_mesh();
   const int32_t na = mesh_a.num_triangles(), nb = mesh_b.num_triangles();
-  bool build = !m.built || m.remeshes != s.remeshes();
+  bool build = !m.built || m.remeshes != s.surface_version();
   if (!build) {
     m.MarkDirty(s);
     build = m.dirty.size() > m.max_dirty_fraction * na;
@@ -488,13 +488,15 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   }
   m.fell_back = false;
   if (build) {
-    m.topology.Build(m.reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), parallel);
+    m.topology.Build(m.reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), parallel,
+                     m.reference->domain.data(), s.active_b().data());
     m.built = true;
-    m.remeshes = s.remeshes();
+    m.remeshes = s.surface_version();
     ++m.stats.full_builds;
   } else if (!m.dirty.empty()) {
     const TopologyStats t = m.topology.Repair(m.reference->xy, mesh_a, s.a_in_b(), s.moved_xy(),
-                                              mesh_b, m.dirty, m.seeds, parallel);
+                                              mesh_b, m.dirty, m.seeds, parallel,
+                                              m.reference->domain.data(), s.active_b().data());
     m.stats.triangles_searched += t.triangles_searched;
   }
   m.last_a.resize(s.a_in_b().size());
@@ -529,8 +531,9 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
     for (int32_t t = lo; t < hi; ++t) {
       const int32_t* v = &mesh_b.triangles[3 * t];
       const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
-      const int32_t* next = &mesh_b.neighbors[3 * t];
-      const bool hull = next[0] < 0 || next[1] < 0 || next[2] < 0;
+      // An edge of B's surface: the boundary term's cells (the moving part of ∂Ω).
+      const bool hull = s.MovingBoundaryEdge(t, 0) || s.MovingBoundaryEdge(t, 1) ||
+                        s.MovingBoundaryEdge(t, 2);
       volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, hull, &m.record_b[t],
                                   &m.extra_b[t]);
     }

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "measure/delaunay.h"
+#include "measure/domain.h"
 #include "measure/locator.h"
 #include "measure/overlay.h"
 #include "measure/weights.h"
@@ -229,6 +230,41 @@ TEST(VolumeCostCacheTest, MatchesWithWeightsAndMask) {
   }();
   Walk(*plain, false, &shifted, "mask", 100.0 / std::sqrt(2000.0));
   Walk(*weighted, true, &shifted, "weights and mask", 100.0 / std::sqrt(2000.0));
+}
+
+// The data domain: cells of either surface's junk (here the triangles that
+// bridge a void in each) are left out by the incremental path exactly as by
+// the full one, through repairs and B's junk re-meshes.
+TEST(VolumeCostCacheTest, MatchesWithDataDomain) {
+  const auto sides = VoidSides(2500, 2200);
+  for (bool parallel : {false, true}) Walk(*sides, parallel, nullptr, "data domain", 100.0 / std::sqrt(2500.0));
+}
+
+// At the identity with B's data covering A's, Ω is A's data domain: the
+// cost's area is DomainArea(A), not A's hull (which includes its void).
+TEST(VolumeCostCacheTest, AreaIsTheDataDomainsIntersection) {
+  const auto points = testing::SampleUniform(testing::SmoothTerrain, 2500, 0, 100, 0, 100, 11);
+  // B: a lattice over [−10, 110]² (no junk inside A's hull).
+  std::vector<std::array<double, 3>> lattice;
+  for (int i = 0; i <= 80; ++i) {
+    for (int j = 0; j <= 80; ++j) {
+      const double x = -10 + 1.5 * i, y = -10 + 1.5 * j;
+      lattice.push_back({x, y, testing::SmoothTerrain(x, y)});
+    }
+  }
+  const auto sides = MakeSides(WithoutDisc(points, 50, 50, 15), lattice, nullptr, DomainRule());
+  PairState state(sides->reference, sides->moving);
+  ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
+  const ReferenceSide& a = sides->reference;
+  const double domain = DomainArea(a.xy, a.mesh, a.domain);
+  const double hull = MeshArea(a.xy, a.mesh);
+  std::printf("A: hull %.1f, data domain %.1f (void of radius 15: %.1f)\n", hull, domain, M_PI * 225);
+  // The empty region is the disc and its ragged rim: a little more than the disc.
+  EXPECT_GT(hull - domain, 0.95 * M_PI * 225);
+  EXPECT_LT(hull - domain, 1.3 * M_PI * 225);
+  VolumeCostCache cache;
+  EXPECT_NEAR(cache.Evaluate(state, true, false).area, domain, 1e-9 * domain);
+  EXPECT_NEAR(EvaluateVolumeCost(state, false, true).area, domain, 1e-9 * domain);
 }
 
 // A step too large to repair takes the plain full path and keeps the

@@ -363,6 +363,14 @@ TEST(VolumeCostTest, GradientMatchesCentralDifferencesBInsideA) {
   CheckVolumeGradient(*sides, {-0.01, 0.004, -0.3, -3.1, 2.2, -0.5}, true);
 }
 
+// With the data domain, ∂Ω also runs along B's edges next to its junk (a
+// void's rim): their boundary term is in the gradient too.
+TEST(VolumeCostTest, GradientMatchesCentralDifferencesWithVoids) {
+  const auto sides = VoidSides(2000, 1800);
+  CheckVolumeGradient(*sides, {0.004, -0.003, 0.02, 1.5, -0.8, 0.3}, false);
+  CheckVolumeGradient(*sides, {-0.006, 0.005, -0.05, -2.1, 1.2, -0.5}, false);
+}
+
 // ∫μ|d| / ∫μ: μ fixed to the reference, linear per cell; the boundary term
 // carries μ (0/1 μ: the disc's edge blurs over one triangle, still linear).
 TEST(VolumeCostTest, WeightedGradientMatchesCentralDifferences) {

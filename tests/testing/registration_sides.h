@@ -3,6 +3,7 @@
 // pair_state_test.cc: a reference/moving pair prepared for a PairState,
 // weights as functions, motions and heights computed independently of
 // surfreg's own code (Eigen's AngleAxis, a brute-force triangle search).
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -37,9 +38,18 @@ using WeightFunction = std::function<double(double, double)>;
 inline double SmoothWeight(double x, double y) { return 0.5 + 0.3 * std::sin(x / 13.0) * std::cos(y / 17.0); }
 inline double DiscZero(double x, double y) { return std::hypot(x - 60, y - 45) < 20 ? 0.0 : 1.0; }
 
+// The exact tests compare with independent computations over the whole
+// convex hulls (`rule` kHull); the data domain has tests of its own.
+inline DomainRule HullRule() {
+  DomainRule rule;
+  rule.kind = DomainKind::kHull;
+  return rule;
+}
+
 inline std::unique_ptr<Sides> MakeSides(const std::vector<std::array<double, 3>>& pa,
                                  const std::vector<std::array<double, 3>>& pb,
-                                 const WeightFunction& weight = nullptr) {
+                                 const WeightFunction& weight = nullptr,
+                                 const DomainRule& rule = HullRule()) {
   auto s = std::make_unique<Sides>();
   std::vector<double> mu;
   for (const auto& p : pa) {
@@ -47,9 +57,9 @@ inline std::unique_ptr<Sides> MakeSides(const std::vector<std::array<double, 3>>
   }
   s->a = MakeSurface(pa, mu, "a");
   s->b = MakeSurface(pb, {}, "b");
-  s->reference = PrepareReference(s->a);
+  s->reference = PrepareReference(s->a, 1.0, rule);
   s->moving = PrepareMoving(s->b, {s->b.origin[0] - s->a.origin[0], s->b.origin[1] - s->a.origin[1],
-                                   s->b.origin[2] - s->a.origin[2]});
+                                   s->b.origin[2] - s->a.origin[2]}, 1.0, rule);
   double sum = 0;
   for (const auto& p : s->moving.points) sum += (p - s->moving.centroid).squaredNorm();
   s->radius = std::sqrt(sum / s->moving.points.size());
@@ -58,9 +68,27 @@ inline std::unique_ptr<Sides> MakeSides(const std::vector<std::array<double, 3>>
 
 // Two different random samplings of SmoothTerrain; B on [b0, b1]².
 inline std::unique_ptr<Sides> TerrainSides(int na, int nb, double b0, double b1,
-                                    const WeightFunction& weight = nullptr) {
+                                    const WeightFunction& weight = nullptr,
+                                    const DomainRule& rule = HullRule()) {
   return MakeSides(testing::SampleUniform(testing::SmoothTerrain, na, 0, 100, 0, 100, 11),
-                   testing::SampleUniform(testing::SmoothTerrain, nb, b0, b1, b0, b1, 23), weight);
+                   testing::SampleUniform(testing::SmoothTerrain, nb, b0, b1, b0, b1, 23), weight, rule);
+}
+
+// Two samplings of SmoothTerrain on [0, 100]², each with a void (a disc of
+// radius 12 with no samples: A's about (35, 60), B's about (65, 40)), with
+// the data domain: the voids' bridging triangles are junk.
+inline std::vector<std::array<double, 3>> WithoutDisc(std::vector<std::array<double, 3>> points,
+                                                      double cx, double cy, double r) {
+  points.erase(std::remove_if(points.begin(), points.end(),
+                              [&](const std::array<double, 3>& p) { return std::hypot(p[0] - cx, p[1] - cy) < r; }),
+               points.end());
+  return points;
+}
+
+inline std::unique_ptr<Sides> VoidSides(int na, int nb) {
+  return MakeSides(WithoutDisc(testing::SampleUniform(testing::SmoothTerrain, na, 0, 100, 0, 100, 11), 35, 60, 12),
+                   WithoutDisc(testing::SampleUniform(testing::SmoothTerrain, nb, 0, 100, 0, 100, 23), 65, 40, 12),
+                   nullptr, DomainRule());
 }
 
 // The moved point computed with Eigen's AngleAxis (not surfreg's rotation code).
