@@ -337,6 +337,12 @@ int PairState::FixSurface(double max_slope_deg) {
   return steep;
 }
 
+uint64_t PairState::surface_key() const {
+  uint64_t key = kept_triangles_.size();
+  for (int32_t v : kept_triangles_) key = Mix(key ^ static_cast<uint64_t>(v));
+  return key;
+}
+
 bool PairState::OnMovingSurface(const Location& l) const {
   if (!l.found()) return false;
   if (active_[l.triangle]) return true;

@@ -128,6 +128,9 @@ class PairState {
   // succeeded. Returns the number of domain triangles left out as too steep.
   int FixSurface(double max_slope_deg);
   void ReleaseSurface() { fixed_ = false; }
+  // Which triangles FixSurface kept (a hash of their vertex triples): the
+  // same value means the same surface.
+  uint64_t surface_key() const;
   bool surface_fixed() const { return fixed_; }
 
   // B's current mesh: its own, or its re-triangulation after a fold.

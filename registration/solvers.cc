@@ -343,9 +343,16 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
     if (round == 0) initial_cost = summary.initial_cost;
     iterations += static_cast<int>(summary.iterations.size()) - 1;
     moved |= summary.iterations.size() > 1;
-    if (function->refused_folds() == 0 || !std::isfinite(summary.final_cost)) break;
-    if (round + 1 == kMaxRounds || !state.Update(map.Full(x.data()))) break;
+    if (!std::isfinite(summary.final_cost) || round + 1 == kMaxRounds) break;
+    // Which triangles are too steep was decided where the solve started,
+    // which depends on the path there; decided again at the solution, the
+    // surface is the same from any start (unless a triangle's slope is
+    // within the solution's own resolution of the limit). Solve again only
+    // if that changed it, or if the solve stopped against a fold.
+    const uint64_t key = state.surface_key();
+    if (!state.Update(map.Full(x.data()))) break;
     state.FixSurface(kMaxSlopeDeg);
+    if (function->refused_folds() == 0 && state.surface_key() == key) break;
   }
   state.ReleaseSurface();
   // A failed line search after accepted steps leaves a usable (if not
