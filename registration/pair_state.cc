@@ -145,6 +145,26 @@ double TriangleArea3d(const std::vector<Eigen::Vector3d>& p, const int32_t* v) {
   return 0.5 * (p[v[1]] - p[v[0]]).cross(p[v[2]] - p[v[0]]).norm();
 }
 
+// The Delaunay triangulation of the vertices of `triangles` (3 indices each
+// into `points`), indexed like `points`: the other points belong to no
+// triangle (vertex_triangle −1, as merged duplicates).
+Triangulation TriangulateSubset(const std::vector<Point2>& points, const std::vector<int32_t>& triangles) {
+  std::vector<int32_t> used(triangles);
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::vector<Point2> subset(used.size());
+  for (std::size_t k = 0; k < used.size(); ++k) subset[k] = points[used[k]];
+  Triangulation mesh = Triangulate(subset);
+  for (int32_t& v : mesh.triangles) v = used[v];
+  std::vector<int32_t> vertex_triangle(points.size(), -1);
+  for (std::size_t k = 0; k < used.size(); ++k) vertex_triangle[used[k]] = mesh.vertex_triangle[k];
+  mesh.vertex_triangle = std::move(vertex_triangle);
+  mesh.vertex_of_input.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) mesh.vertex_of_input[i] = static_cast<int32_t>(i);
+  mesh.num_duplicates = 0;
+  return mesh;
+}
+
 double SurfaceArea(const std::vector<Eigen::Vector3d>& p, const Triangulation& mesh) {
   double area = 0;
   for (int32_t t = 0; t < mesh.num_triangles(); ++t) area += TriangleArea3d(p, &mesh.triangles[3 * t]);
@@ -240,13 +260,18 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
 }
 
 bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
-  Triangulation mesh = Triangulate(moved_xy_);
+  Triangulation mesh;
   if (keep) {
+    // Only the active triangles' corners: the others are not part of the
+    // surface, and under a tilt a vertex whose triangles are all left out
+    // (too steep) can swing over an active triangle.
+    if (kept_triangles_.empty()) return false;
+    mesh = TriangulateSubset(moved_xy_, kept_triangles_);
     if (!EnforceTriangles(moved_xy_, kept_triangles_, &mesh)) return false;
     mesh_ = std::move(mesh);
     SetActiveFlags();
   } else {
-    mesh_ = std::move(mesh);
+    mesh_ = Triangulate(moved_xy_);
     active_ = DataDomain(moved_xy_, mesh_, moving_.rule);
     active_vertex_ = DomainVertices(mesh_, moved_xy_.size(), active_);
     kept_triangles_.clear();
@@ -299,11 +324,17 @@ void PairState::SetActiveFlags() {
 
 int PairState::FixSurface(double max_slope_deg) {
   // B's own domain triangles, found in the current mesh (which holds them all
-  // unless a free re-mesh replaced some) and enforced into it.
+  // unless a free re-mesh replaced some) and enforced into it. Left out: the
+  // steep ones, and every triangle sharing a corner with one. A steep
+  // triangle that turns over carries its corner across the opposite edge,
+  // into the triangle beyond it: with both out, the active surface still
+  // does not overlap itself in xy (measured on a face: without the ring,
+  // 1 in 6 of the prealignment's trial steps was refused for that).
   const double min_cos = std::cos(max_slope_deg * M_PI / 180.0);
-  kept_triangles_.clear();
-  int steep = 0;
   const Triangulation& own = moving_.mesh;
+  std::vector<uint8_t> near_steep(moved_xy_.size(), 0);
+  std::vector<uint8_t> steep(own.num_triangles(), 0);
+  int num_steep = 0;
   for (int32_t t = 0; t < own.num_triangles(); ++t) {
     if (!moving_.domain[t]) continue;
     const int32_t* v = &own.triangles[3 * t];
@@ -312,11 +343,18 @@ int PairState::FixSurface(double max_slope_deg) {
     const Eigen::Vector3d p2(moved_xy_[v[2]].x, moved_xy_[v[2]].y, moved_z_[v[2]]);
     const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);
     if (!(normal.z() > min_cos * normal.norm())) {
-      ++steep;
-      continue;
+      steep[t] = 1;
+      ++num_steep;
+      for (int k = 0; k < 3; ++k) near_steep[v[k]] = 1;
     }
+  }
+  kept_triangles_.clear();
+  for (int32_t t = 0; t < own.num_triangles(); ++t) {
+    const int32_t* v = &own.triangles[3 * t];
+    if (!moving_.domain[t] || near_steep[v[0]] || near_steep[v[1]] || near_steep[v[2]]) continue;
     kept_triangles_.insert(kept_triangles_.end(), v, v + 3);
   }
+  const int steep_count = num_steep;
   IndexKept();
   fixed_ = true;
   ++surface_version_;
@@ -325,7 +363,7 @@ int PairState::FixSurface(double max_slope_deg) {
   for (uint8_t a : active_) found += a;
   if (static_cast<std::size_t>(found) != kept_triangles_.size() / 3) {
     // Some were replaced by an earlier free re-mesh: put them back.
-    if (RemeshAndLocate(true, nullptr)) return steep;
+    if (RemeshAndLocate(true, nullptr)) return steep_count;
     // Cannot be (they fold here): keep the current mesh's domain instead.
     kept_triangles_.clear();
     for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
@@ -334,7 +372,7 @@ int PairState::FixSurface(double max_slope_deg) {
     IndexKept();
     SetActiveFlags();
   }
-  return steep;
+  return steep_count;
 }
 
 uint64_t PairState::surface_key() const {

@@ -90,7 +90,9 @@ class AxialEvaluation : public ceres::EvaluationCallback {
 
   void PrepareForEvaluation(bool evaluate_jacobians, bool new_evaluation_point) override {
     if (new_evaluation_point) {
-      ok_ = state_.Update(map_.Full(x_));
+      UpdateStats stats;
+      ok_ = state_.Update(map_.Full(x_), &stats);
+      refused_folds_ += stats.remesh_refused ? 1 : 0;
       have_jacobians_ = false;
       if (ok_) {
         ComputeAxialResiduals(state_, settings_, evaluate_jacobians, &residuals);
@@ -103,6 +105,7 @@ class AxialEvaluation : public ceres::EvaluationCallback {
     }
   }
   bool ok() const { return ok_; }
+  int refused_folds() const { return refused_folds_; }
   AxialResiduals residuals;
 
  private:
@@ -112,6 +115,7 @@ class AxialEvaluation : public ceres::EvaluationCallback {
   const double* x_;
   double min_active_weight_;
   bool ok_ = false, have_jacobians_ = false;
+  int refused_folds_ = 0;
 };
 
 class NodeResidual : public ceres::CostFunction {
@@ -233,21 +237,41 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
   solver.logging_type = ceres::SILENT;
   LogCallback log(context);
   solver.callbacks.push_back(&log);
-  // Unlike SolveVolume, B may re-mesh at a trial point here. The axial solve
-  // travels far (it starts the registration), and B's mesh carried rigidly
-  // folds a sliver somewhere for almost any tilt: on a fixed mesh the trust
-  // region could not get past them (tried: a self-copy 5° away stalled in
-  // every one of six re-meshed rounds). A re-mesh changes only the few
-  // residuals of nodes in the re-meshed triangles, which a trust region,
-  // judging whole steps by their decrease, tolerates.
+  // B's surface is fixed as in SolveVolume: a trust region compares the
+  // cost at the trial point with the cost at the current one, which must be
+  // of one surface (a whole re-mesh at trial points made Levenberg-Marquardt
+  // alternate between two costs for 40 iterations on a face). Junk folds
+  // re-mesh around the surface and change nothing; a step that turns an
+  // active triangle over is refused (the radius shrinks). The solve travels
+  // far, so it goes in rounds: stopped against such a fold, or with other
+  // triangles steep at its end than at its start, it fixes the surface again
+  // there and goes on.
+  constexpr int kMaxRounds = 6;
+  constexpr double kMaxSlopeDeg = 80.0;
+  if (state.Update(theta0)) state.FixSurface(kMaxSlopeDeg);
   ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
+  double initial_cost = 0;
+  int iterations = 0, rounds = 0;
+  for (int round = 0; round < kMaxRounds; ++round) {
+    ++rounds;
+    log.set_iteration_offset(iterations, round > 0);
+    const int refused_before = evaluation.refused_folds();
+    ceres::Solve(solver, &problem, &summary);
+    if (round == 0) initial_cost = summary.initial_cost;
+    iterations += static_cast<int>(summary.iterations.size()) - 1;
+    if (!summary.IsSolutionUsable() || !std::isfinite(summary.final_cost) || round + 1 == kMaxRounds) break;
+    const uint64_t key = state.surface_key();
+    if (!state.Update(map.Full(x.data()))) break;
+    state.FixSurface(kMaxSlopeDeg);
+    const bool refused = evaluation.refused_folds() > refused_before;
+    if (!refused && state.surface_key() == key) break;
+  }
+  state.ReleaseSurface();
   SolveResult result;
-  FillResult(map, x, summary.initial_cost, summary.final_cost,
-             static_cast<int>(summary.iterations.size()) - 1, summary.termination_type,
+  FillResult(map, x, initial_cost, summary.final_cost, iterations, summary.termination_type,
              summary.IsSolutionUsable() && std::isfinite(summary.final_cost), summary.message,
              &result);
-  result.rounds = 1;
+  result.rounds = rounds;
   return result;
 }
 

@@ -275,6 +275,32 @@ TEST(PairStateTest, FixedSurfaceKeepsItsTrianglesThroughJunkFolds) {
   CheckLocations(state);
 }
 
+// A fixed surface is one function of θ: the axial residuals and the volume
+// cost at a pose are the same before and after B went through junk folds
+// and re-meshes elsewhere (a solver compares values across its steps; a
+// whole re-mesh changed them and made Levenberg-Marquardt cycle).
+TEST(PairStateTest, FixedSurfaceCostsDoNotDependOnThePath) {
+  const auto sides = TerrainSides(1500, 1500, 0, 100, nullptr, DomainRule());
+  PairState state(sides->reference, sides->moving);
+  const Theta here = {1 * M_PI / 180, 0.002, 0, 0.1, -0.1, 0};
+  ASSERT_TRUE(state.Update(here));
+  state.FixSurface(80.0);
+  AxialResiduals before, after;
+  ComputeAxialResiduals(state, AxialSettings(), false, &before);
+  const double volume_before = EvaluateVolumeCost(state, false, false).PerArea();
+  const int remeshes = state.remeshes();
+  ASSERT_TRUE(state.Update({5 * M_PI / 180, 0, 0, 0.5, -0.5, 0}));
+  ASSERT_TRUE(state.Update({6 * M_PI / 180, 0.01, 0, 0.6, -0.4, 0}));
+  ASSERT_TRUE(state.Update(here));
+  EXPECT_GT(state.remeshes(), remeshes) << "no junk fold on the way: the test lost its point";
+  ComputeAxialResiduals(state, AxialSettings(), false, &after);
+  ASSERT_EQ(before.active_count, after.active_count);
+  double worst = 0;
+  for (std::size_t k = 0; k < before.r.size(); ++k) worst = std::max(worst, std::fabs(before.r[k] - after.r[k]));
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_NEAR(EvaluateVolumeCost(state, false, false).PerArea(), volume_before, 1e-12 * volume_before);
+}
+
 // With every triangle part of the surface (hull domain) and the surface
 // fixed, the same slivers are active: the step is refused and B's mesh kept.
 TEST(PairStateTest, FixedSurfaceRefusesActiveFolds) {
