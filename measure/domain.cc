@@ -23,10 +23,9 @@ int LongestEdge(const std::vector<Point2>& xy, const int32_t* v, double* length)
   return best;
 }
 
-// The lower quartile of the lengths of each vertex's Delaunay edges (every
-// interior edge is seen from both triangles, hull edges once): a vertex on a
-// void's rim has several long edges across it, which a median would count
-// (measured: a median let 3/4 of a void's bridging area through).
+// Each vertex's local sample spacing: the median length of its Delaunay edges
+// (every interior edge is seen from both triangles, hull edges once), then
+// the lower quartile of that over its neighbours.
 std::vector<double> LocalSpacing(const std::vector<Point2>& xy, const Triangulation& mesh) {
   std::vector<std::vector<float>> lengths(xy.size());
   for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
@@ -42,10 +41,27 @@ std::vector<double> LocalSpacing(const std::vector<Point2>& xy, const Triangulat
   for (std::size_t k = 0; k < xy.size(); ++k) {
     std::vector<float>& l = lengths[k];
     if (l.empty()) continue;
-    std::nth_element(l.begin(), l.begin() + l.size() / 4, l.end());
-    spacing[k] = l[l.size() / 4];
+    std::nth_element(l.begin(), l.begin() + l.size() / 2, l.end());
+    spacing[k] = l[l.size() / 2];
   }
-  return spacing;
+  // The lower quartile over the neighbours' medians: a vertex on a void's
+  // rim has long edges across it (its own median is inflated), but interior
+  // neighbours too; along scan lines every vertex's median is the distance
+  // between lines, as it should be (the lower quartile of a vertex's own
+  // edges would be the spacing along them, and leave 70% of a scan out).
+  std::vector<std::vector<float>> ring(xy.size());
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    for (int i = 0; i < 3; ++i) ring[v[i]].push_back(static_cast<float>(spacing[v[(i + 1) % 3]]));
+  }
+  std::vector<double> local(xy.size(), 0.0);
+  for (std::size_t k = 0; k < xy.size(); ++k) {
+    std::vector<float>& r = ring[k];
+    if (r.empty()) continue;
+    std::nth_element(r.begin(), r.begin() + r.size() / 4, r.end());
+    local[k] = r[r.size() / 4];
+  }
+  return local;
 }
 
 std::vector<uint8_t> GridDomain(const std::vector<Point2>& xy, const Triangulation& mesh) {

@@ -75,13 +75,14 @@ def start_of(matrix, centre):
     return rotation_vector(r), matrix[:3, :3] @ c + matrix[:3, 3] - c
 
 
-def grid_starts(truth_start, spacing, n, max_deg=10.0, max_spacings=20.0):
-    """n deterministic starts about the truth: rotations and shifts up to the maxima."""
+def grid_starts(truth_start, spacing, n, max_deg=10.0, max_spacings=20.0, at_max=False):
+    """n deterministic starts about the truth: rotations and shifts up to the
+    maxima (evenly growing to them; all at them with at_max), random axes."""
     rng = np.random.default_rng(20)
     w0, t0 = truth_start
     out = []
     for k in range(n):
-        scale = (k + 1) / n
+        scale = 1.0 if at_max else (k + 1) / n
         axis = rng.normal(size=3)
         axis /= np.linalg.norm(axis)
         direction = rng.normal(size=3)
@@ -98,6 +99,9 @@ def main():
     ap.add_argument("--out", default="")
     ap.add_argument("--only", default="", help="comma-separated substrings of pair names")
     ap.add_argument("--grid", type=int, default=0, help="starts about the truth per pair")
+    ap.add_argument("--max-deg", type=float, default=10.0, help="the grid's largest rotation away")
+    ap.add_argument("--max-spacings", type=float, default=20.0, help="the grid's largest shift away")
+    ap.add_argument("--at-max", action="store_true", help="every start at the largest rotation and shift")
     ap.add_argument("--extra", default="", help="extra flags for surfreg align")
     a = ap.parse_args()
     extra = a.extra.split()
@@ -106,7 +110,8 @@ def main():
         names = [n for n in names if any(s in n for s in a.only.split(","))]
     rows = []
     print("| pair | cost default | cost from truth | rel. gap | rot err default / truth (deg) "
-          "| trans err default / truth (spacings) | verdict |" + (" grid spread (deg / sp), same min |" if a.grid else ""))
+          "| trans err default / truth (spacings) | verdict |" +
+          (" grid: spread (deg / sp), same minimum, succeeded (< 0.1 deg, < 0.5 sp) |" if a.grid else ""))
     print("|---|---:|---:|---:|---:|---:|---|" + ("---|" if a.grid else ""))
     worst = 0.0
     for name in names:
@@ -128,8 +133,8 @@ def main():
                          verdict=outt["verdict"], seconds=outt["seconds"]))
         cell = ""
         if a.grid:
-            ms, same = [], 0
-            for k, s in enumerate(grid_starts(ts, spacing, a.grid)):
+            ms, same, ok = [], 0, 0
+            for k, s in enumerate(grid_starts(ts, spacing, a.grid, a.max_deg, a.max_spacings, a.at_max)):
                 try:
                     mg, outg, cg, _ = run(a.surfreg, pair, s, extra)
                 except RuntimeError as e:
@@ -140,9 +145,10 @@ def main():
                                  trans_err=eg[1], verdict=outg["verdict"], seconds=outg["seconds"]))
                 ms.append(mg)
                 same += abs(cg - ct) <= 1e-6 * ct
+                ok += eg[0] < 0.1 and eg[1] < 0.5
             spread_r = max((errors(x, ms[0], centre, spacing)[0] for x in ms), default=math.nan)
             spread_t = max((errors(x, ms[0], centre, spacing)[1] for x in ms), default=math.nan)
-            cell = f" {spread_r:.2g} / {spread_t:.2g}, {same}/{a.grid} |"
+            cell = f" {spread_r:.2g} / {spread_t:.2g}, {same}/{a.grid}, {ok} succeeded |"
         print(f"| {name} | {c0:.9g} | {ct:.9g} | {gap:.1e} | {e0[0]:.2g} / {et[0]:.2g} | "
               f"{e0[1]:.2g} / {et[1]:.2g} | {out0['verdict']} |{cell}", flush=True)
     print(f"\nworst relative gap (default above truth): {worst:.2e}")
