@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "measure/locator.h"
+
 namespace surfreg {
 namespace {
 
@@ -191,6 +193,33 @@ std::vector<uint8_t> DomainVertices(const Triangulation& mesh, std::size_t num_v
 
 const char* DomainKindName(DomainKind kind) {
   return kind == DomainKind::kHull ? "hull" : "data";
+}
+
+bool MeshDomain::Contains(const Triangulation& mesh, const Location& location) const {
+  switch (location.where) {
+    case Where::kOutside:
+      return false;
+    case Where::kInside:
+      return whole || triangles[location.triangle];
+    case Where::kOnEdge: {
+      const int32_t across = mesh.neighbors[3 * location.triangle + location.index];
+      return whole || triangles[location.triangle] || (across >= 0 && triangles[across]);
+    }
+    case Where::kOnVertex:
+      return whole || vertices[mesh.triangles[3 * location.triangle + location.index]];
+  }
+  return false;
+}
+
+MeshDomain MakeMeshDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
+                          const DomainRule& rule) {
+  MeshDomain domain;
+  domain.triangles = DataDomain(xy, mesh, rule);
+  domain.vertices = DomainVertices(mesh, xy.size(), domain.triangles);
+  domain.area = DomainArea(xy, mesh, domain.triangles);
+  domain.whole = std::all_of(domain.triangles.begin(), domain.triangles.end(),
+                             [](uint8_t in) { return in != 0; });
+  return domain;
 }
 
 }  // namespace surfreg

@@ -39,6 +39,8 @@
 
 namespace surfreg {
 
+struct Location;  // measure/locator.h
+
 enum class DomainKind {
   kData,  // the data domain (default)
   kHull,  // the paper's: the whole convex hull
@@ -65,5 +67,21 @@ std::vector<uint8_t> DomainVertices(const Triangulation& mesh, std::size_t num_v
                                     const std::vector<uint8_t>& in_domain);
 
 const char* DomainKindName(DomainKind kind);  // "data" | "hull"
+
+// One surface's domain as the measures use it.
+struct MeshDomain {
+  std::vector<uint8_t> triangles;  // DataDomain
+  std::vector<uint8_t> vertices;   // DomainVertices
+  double area = 0;                 // DomainArea
+  bool whole = true;               // every triangle is in (no test needed)
+
+  // Whether a point located in the mesh (LocatePoint) lies in the closed
+  // domain: inside a domain triangle; on an edge of one (either triangle
+  // sharing the edge); at a vertex of one.
+  bool Contains(const Triangulation& mesh, const Location& location) const;
+};
+
+MeshDomain MakeMeshDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
+                          const DomainRule& rule);
 
 }  // namespace surfreg
