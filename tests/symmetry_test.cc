@@ -195,7 +195,7 @@ TEST(SymmetryTest, ChainedGradientMatchesCentralDifferences) {
   std::printf("chained gradient vs central differences: worst difference %.2e\n", worst);
   // At the base plane the objective is Measure's ρd per area between the face
   // and its mirror image (the mirror is triangulated afresh there), over the
-  // hulls: the objective does not take the data domain (yet).
+  // hulls, as the objective integrates (registration/symmetry.cc).
   double cost = 0;
   ASSERT_TRUE(objective.Evaluate(zero, &cost, nullptr));
   MeasureOptions hull;

@@ -56,7 +56,7 @@ DEFINE_string(domain, "",
               "measure, align, triangulate: data (default: without the triangles that bridge "
               "voids, nodata holes and concave outlines) | hull (the whole convex hulls)");
 DEFINE_string(domain_max_edge_spacings, "",
-              "measure, align, triangulate: data domain: longest edge in local spacings (3)");
+              "measure, align, triangulate: data domain: longest edge in local spacings (4)");
 DEFINE_string(domain_min_thinness, "",
               "measure, align, triangulate: data domain: outline slivers thinner are peeled (0.1)");
 DEFINE_bool(covariance, true, "align: compute the parameters' standard deviations");
