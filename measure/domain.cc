@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "measure/locator.h"
+
 namespace surfreg {
 namespace {
 
@@ -25,50 +27,70 @@ int LongestEdge(const std::vector<Point2>& xy, const int32_t* v, double* length)
 
 // Each vertex's local sample spacing: the median length of its Delaunay edges
 // (every interior edge is seen from both triangles, hull edges once), then
-// the lower quartile of that over its neighbours.
+// the lower quartile of that over its neighbours (the vertex following it in
+// each of its triangles). Flat arrays, one segment per vertex: order
+// statistics of the same values as per-vertex lists, without an allocation
+// per vertex (this runs in every Measure).
 std::vector<double> LocalSpacing(const std::vector<Point2>& xy, const Triangulation& mesh) {
-  std::vector<std::vector<float>> lengths(xy.size());
-  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+  const std::size_t n = xy.size();
+  const int32_t num_triangles = mesh.num_triangles();
+  std::vector<int32_t> first(n + 1, 0);  // a vertex's triangles: first[v] .. first[v + 1]
+  for (int32_t t = 0; t < num_triangles; ++t) {
+    for (int i = 0; i < 3; ++i) ++first[mesh.triangles[3 * t + i] + 1];
+  }
+  for (std::size_t v = 0; v < n; ++v) first[v + 1] += first[v];
+  std::vector<int32_t> next(first.begin(), first.end() - 1);
+  std::vector<float> lengths(2 * static_cast<std::size_t>(first[n]));  // two edges per triangle
+  for (int32_t t = 0; t < num_triangles; ++t) {
     const int32_t* v = &mesh.triangles[3 * t];
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < 3; ++i) {  // edge v[i] v[i + 1], to both ends
       const int32_t a = v[i], b = v[(i + 1) % 3];
       const float l = static_cast<float>(Length(xy[a], xy[b]));
-      lengths[a].push_back(l);
-      lengths[b].push_back(l);
+      lengths[2 * static_cast<std::size_t>(first[a]) + (next[a]++ - first[a])] = l;
+      lengths[2 * static_cast<std::size_t>(first[b]) + (next[b]++ - first[b])] = l;
     }
   }
-  std::vector<double> spacing(xy.size(), 0.0);
-  for (std::size_t k = 0; k < xy.size(); ++k) {
-    std::vector<float>& l = lengths[k];
-    if (l.empty()) continue;
-    std::nth_element(l.begin(), l.begin() + l.size() / 2, l.end());
-    spacing[k] = l[l.size() / 2];
+  std::vector<double> spacing(n, 0.0);
+  for (std::size_t v = 0; v < n; ++v) {
+    const std::size_t size = 2 * static_cast<std::size_t>(first[v + 1] - first[v]);
+    if (size == 0) continue;
+    float* l = &lengths[2 * static_cast<std::size_t>(first[v])];
+    std::nth_element(l, l + size / 2, l + size);
+    spacing[v] = l[size / 2];
   }
-  // The lower quartile over the neighbours' medians: a vertex on a void's
-  // rim has long edges across it (its own median is inflated), but interior
-  // neighbours too; along scan lines every vertex's median is the distance
-  // between lines, as it should be (the lower quartile of a vertex's own
-  // edges would be the spacing along them, and leave 70% of a scan out).
-  std::vector<std::vector<float>> ring(xy.size());
-  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+  std::vector<float> ring(first[n]);
+  std::copy(first.begin(), first.end() - 1, next.begin());
+  for (int32_t t = 0; t < num_triangles; ++t) {
     const int32_t* v = &mesh.triangles[3 * t];
-    for (int i = 0; i < 3; ++i) ring[v[i]].push_back(static_cast<float>(spacing[v[(i + 1) % 3]]));
+    for (int i = 0; i < 3; ++i) ring[next[v[i]]++] = static_cast<float>(spacing[v[(i + 1) % 3]]);
   }
-  std::vector<double> local(xy.size(), 0.0);
-  for (std::size_t k = 0; k < xy.size(); ++k) {
-    std::vector<float>& r = ring[k];
-    if (r.empty()) continue;
-    std::nth_element(r.begin(), r.begin() + r.size() / 4, r.end());
-    local[k] = r[r.size() / 4];
+  std::vector<double> local(n, 0.0);
+  for (std::size_t v = 0; v < n; ++v) {
+    const std::size_t size = first[v + 1] - first[v];
+    if (size == 0) continue;
+    float* r = &ring[first[v]];
+    std::nth_element(r, r + size / 4, r + size);
+    local[v] = r[size / 4];
   }
   return local;
 }
 
+// A raster cell with four corners is two triangles that form a
+// parallelogram across their longest edge. Triangles between samples around
+// a missing one can also form one (the diamond of the four samples next to
+// a missing pixel; a rectangle of 1 x k cells across a void strip), but on a
+// lattice every triangle's area is a multiple of half a cell's, and such a
+// false cell has at least twice the area of the true cells next to it. So a
+// pair is a cell if no corner of it has a smaller pair (by a factor 1.5:
+// reprojected rasters change cell areas far less from one cell to the next).
 std::vector<uint8_t> GridDomain(const std::vector<Point2>& xy, const Triangulation& mesh) {
   const int32_t n = mesh.num_triangles();
-  std::vector<uint8_t> in(n, 0);
+  std::vector<int32_t> fourth(n, -1);  // the parallelogram's fourth corner, or -1
+  std::vector<double> area(n, 0.0);
+  std::vector<double> smallest(xy.size(), HUGE_VAL);  // per vertex: its smallest pair's area
   for (int32_t t = 0; t < n; ++t) {
     const int32_t* v = &mesh.triangles[3 * t];
+    area[t] = 0.5 * std::fabs(TwiceArea(xy[v[0]], xy[v[1]], xy[v[2]]));
     double longest = 0;
     const int i = LongestEdge(xy, v, &longest);
     const int32_t u = mesh.neighbors[3 * t + i];
@@ -85,7 +107,19 @@ std::vector<uint8_t> GridDomain(const std::vector<Point2>& xy, const Triangulati
     const Point2& b = xy[v[(i + 2) % 3]];
     const Point2& c = xy[v[i]];
     const Point2 expected = {a.x + b.x - c.x, a.y + b.y - c.y};
-    in[t] = Length(xy[opposite], expected) <= 0.01 * longest;
+    if (Length(xy[opposite], expected) > 0.01 * longest) continue;
+    fourth[t] = opposite;
+    for (int32_t corner : {v[0], v[1], v[2], opposite}) {
+      smallest[corner] = std::min(smallest[corner], area[t]);
+    }
+  }
+  std::vector<uint8_t> in(n, 0);
+  for (int32_t t = 0; t < n; ++t) {
+    if (fourth[t] < 0) continue;
+    const int32_t* v = &mesh.triangles[3 * t];
+    const double least =
+        std::min({smallest[v[0]], smallest[v[1]], smallest[v[2]], smallest[fourth[t]]});
+    in[t] = area[t] <= 1.5 * least;
   }
   return in;
 }
@@ -159,6 +193,33 @@ std::vector<uint8_t> DomainVertices(const Triangulation& mesh, std::size_t num_v
 
 const char* DomainKindName(DomainKind kind) {
   return kind == DomainKind::kHull ? "hull" : "data";
+}
+
+bool MeshDomain::Contains(const Triangulation& mesh, const Location& location) const {
+  switch (location.where) {
+    case Where::kOutside:
+      return false;
+    case Where::kInside:
+      return whole || triangles[location.triangle];
+    case Where::kOnEdge: {
+      const int32_t across = mesh.neighbors[3 * location.triangle + location.index];
+      return whole || triangles[location.triangle] || (across >= 0 && triangles[across]);
+    }
+    case Where::kOnVertex:
+      return whole || vertices[mesh.triangles[3 * location.triangle + location.index]];
+  }
+  return false;
+}
+
+MeshDomain MakeMeshDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
+                          const DomainRule& rule) {
+  MeshDomain domain;
+  domain.triangles = DataDomain(xy, mesh, rule);
+  domain.vertices = DomainVertices(mesh, xy.size(), domain.triangles);
+  domain.area = DomainArea(xy, mesh, domain.triangles);
+  domain.whole = std::all_of(domain.triangles.begin(), domain.triangles.end(),
+                             [](uint8_t in) { return in != 0; });
+  return domain;
 }
 
 }  // namespace surfreg

@@ -18,9 +18,13 @@
 //   longest edge, divided by that edge; 0.866 for an equilateral triangle)
 //   is an outline sliver, and is peeled, until no boundary triangle is one;
 // - raster samples (`grid`): a triangle is data when it is half of a raster
-//   cell whose four corners are all samples, i.e. it and its neighbour across
-//   its longest edge form a parallelogram; a cell with a nodata corner is not
-//   part of the surface.
+//   cell whose four corners are all samples: it and its neighbour across its
+//   longest edge form a parallelogram, and no corner of the two has such a
+//   pair of less than 2/3 of their area (around a missing sample, triangles
+//   of the samples next to it can form a larger parallelogram: on a lattice
+//   those have at least twice a cell's area). A cell with a nodata corner is
+//   not part of the surface. A raster with no complete cell next to a sample
+//   (every other cell nodata) is beyond this rule.
 //
 // Thresholds (measured, README "The data domain"): on rectangular crops of
 // the benchmark's face and LIDAR clouds they keep 98.9% and 99.0% of the
@@ -34,6 +38,8 @@
 #include "measure/surface.h"
 
 namespace surfreg {
+
+struct Location;  // measure/locator.h
 
 enum class DomainKind {
   kData,  // the data domain (default)
@@ -61,5 +67,21 @@ std::vector<uint8_t> DomainVertices(const Triangulation& mesh, std::size_t num_v
                                     const std::vector<uint8_t>& in_domain);
 
 const char* DomainKindName(DomainKind kind);  // "data" | "hull"
+
+// One surface's domain as the measures use it.
+struct MeshDomain {
+  std::vector<uint8_t> triangles;  // DataDomain
+  std::vector<uint8_t> vertices;   // DomainVertices
+  double area = 0;                 // DomainArea
+  bool whole = true;               // every triangle is in (no test needed)
+
+  // Whether a point located in the mesh (LocatePoint) lies in the closed
+  // domain: inside a domain triangle; on an edge of one (either triangle
+  // sharing the edge); at a vertex of one.
+  bool Contains(const Triangulation& mesh, const Location& location) const;
+};
+
+MeshDomain MakeMeshDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
+                          const DomainRule& rule);
 
 }  // namespace surfreg

@@ -168,11 +168,18 @@ class CellIntegrator {
   CellIntegrator(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                  const std::vector<double>& z_a, const std::vector<Point2>& xy_b,
                  const Triangulation& mesh_b, const std::vector<double>& z_b,
-                 const WeightField& mu, double lod)
+                 const WeightField& mu, double lod, const OmegaDomains& domains)
       : xy_a_(xy_a), mesh_a_(mesh_a), z_a_(z_a), xy_b_(xy_b), mesh_b_(mesh_b), z_b_(z_b), mu_(mu),
-        lod_(lod) {}
+        lod_(lod),
+        in_a_(domains.a == nullptr || domains.a->whole ? nullptr : &domains.a->triangles),
+        in_b_(domains.b == nullptr || domains.b->whole ? nullptr : &domains.b->triangles) {}
 
   void operator()(const OverlayCell& cell) {
+    if ((in_a_ != nullptr && !(*in_a_)[cell.triangle_a]) ||
+        (in_b_ != nullptr && !(*in_b_)[cell.triangle_b])) {
+      return;  // not data on one side: outside Ω
+    }
+    ++result.cells;
     if (cell.triangle_a != last_a_) {  // all cells of one A triangle come in a row
       last_a_ = cell.triangle_a;
       fa_ = PlaneOf(xy_a_, mesh_a_, z_a_, cell.triangle_a);
@@ -203,6 +210,8 @@ class CellIntegrator {
   const std::vector<double>& z_b_;
   const WeightField& mu_;
   const double lod_;
+  const std::vector<uint8_t>* in_a_;  // null: every triangle
+  const std::vector<uint8_t>* in_b_;
   int32_t last_a_ = -1;
   Plane fa_;
 };
@@ -213,22 +222,21 @@ VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation&
                            const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
                            const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
-                           const WeightField& mu, bool parallel, double lod) {
-  CellIntegrator first(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod);
+                           const WeightField& mu, bool parallel, double lod,
+                           const OmegaDomains& domains) {
+  CellIntegrator first(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod, domains);
   if (!parallel) {
-    const OverlayStats stats =
-        ForEachOverlayCell(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, std::ref(first));
-    first.result.cells = stats.cells;
+    ForEachOverlayCell(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, std::ref(first));
     return first.result;
   }
-  CellIntegrator second(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod);
-  const OverlayStats stats = ForEachOverlayCellInTwo(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a,
-                                                     std::ref(first), std::ref(second));
+  CellIntegrator second(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod, domains);
+  ForEachOverlayCellInTwo(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, std::ref(first),
+                          std::ref(second));
   VolumeResult result = first.result;
   result.gap += second.result.gap;
   result.change += second.result.change;
   result.area += second.result.area;
-  result.cells = stats.cells;
+  result.cells += second.result.cells;
   return result;
 }
 
@@ -236,22 +244,32 @@ VolumeResult UnionVolume(const std::vector<Point2>& xy_a, const Triangulation& m
                          const std::vector<Location>& a_in_b, const std::vector<double>& gaps_a,
                          const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                          const std::vector<Location>& b_in_a, const std::vector<double>& gaps_b,
-                         const WeightField& mu) {
-  // The nodes of A ∪ B inside Ω, each with its gap and weight.
+                         const WeightField& mu, const OmegaDomains& domains) {
+  // The nodes of A ∪ B inside Ω, each with its gap and weight, and where a
+  // walk to a point near it starts in A and in B.
   std::vector<Point2> nodes;
   std::vector<double> gap, weight;
+  std::vector<int32_t> start_a, start_b;
   for (std::size_t i = 0; i < xy_a.size(); ++i) {
-    if (!a_in_b[i].found() || mesh_a.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
+    const bool in = domains.nodes_a != nullptr ? (*domains.nodes_a)[i] != 0 : a_in_b[i].found();
+    if (!in || mesh_a.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
     nodes.push_back(xy_a[i]);
     gap.push_back(gaps_a[i]);
     weight.push_back(mu.AtNodeA(i));
+    start_a.push_back(mesh_a.vertex_triangle[i]);
+    start_b.push_back(a_in_b[i].triangle);
   }
   for (std::size_t j = 0; j < xy_b.size(); ++j) {
-    if (!b_in_a[j].found() || mesh_b.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
+    const bool in = domains.nodes_b != nullptr ? (*domains.nodes_b)[j] != 0 : b_in_a[j].found();
+    if (!in || mesh_b.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
     nodes.push_back(xy_b[j]);
     gap.push_back(gaps_b[j]);
     weight.push_back(mu.AtNodeB(j));
+    start_a.push_back(b_in_a[j].triangle);
+    start_b.push_back(mesh_b.vertex_triangle[j]);
   }
+  const bool check_a = domains.a != nullptr && !domains.a->whole;
+  const bool check_b = domains.b != nullptr && !domains.b->whole;
   Triangulation mesh;
   try {
     mesh = Triangulate(nodes);
@@ -264,6 +282,18 @@ VolumeResult UnionVolume(const std::vector<Point2>& xy_a, const Triangulation& m
     const Point2 corners[3] = {nodes[v[0]], nodes[v[1]], nodes[v[2]]};
     const double area = 0.5 * TwiceArea(corners[0], corners[1], corners[2]);
     if (!(area > 0.0)) continue;
+    if (check_a || check_b) {
+      const Point2 centroid = {(corners[0].x + corners[1].x + corners[2].x) / 3.0,
+                               (corners[0].y + corners[1].y + corners[2].y) / 3.0};
+      if (check_a && !domains.a->Contains(mesh_a, LocatePoint(xy_a, mesh_a, centroid,
+                                                              start_a[v[0]]))) {
+        continue;
+      }
+      if (check_b && !domains.b->Contains(mesh_b, LocatePoint(xy_b, mesh_b, centroid,
+                                                              start_b[v[0]]))) {
+        continue;
+      }
+    }
     ++result.cells;
     if (mu.mode == WeightMode::kUniform) {
       GapIntegrals g = IntegrateGap(area, gap[v[0]], gap[v[1]], gap[v[2]]);

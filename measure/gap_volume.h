@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "measure/delaunay.h"
+#include "measure/domain.h"
 #include "measure/locator.h"
 #include "measure/volume.h"
 #include "measure/weights.h"
@@ -32,6 +33,17 @@ struct DetectedChange {
   }
 };
 
+// Ω as the intersection of the two data domains (measure/domain.h). A null
+// domain is the whole hull of its surface; null node flags: every node found
+// in the other surface's hull.
+struct OmegaDomains {
+  const MeshDomain* a = nullptr;
+  const MeshDomain* b = nullptr;
+  // Per sample (the index of xy_a / xy_b): 1 if the node lies in Ω.
+  const std::vector<uint8_t>* nodes_a = nullptr;
+  const std::vector<uint8_t>* nodes_b = nullptr;
+};
+
 struct VolumeResult {
   GapIntegrals gap;        // ∫|d|μ, ∫d⁺μ, ∫d⁻μ, ∫dμ, ∫μ
   DetectedChange change;   // with the `lod` given (all zero when lod < 0)
@@ -54,18 +66,23 @@ void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightF
 
 // With `parallel`, on two threads (overlay.h, ForEachOverlayCellInTwo); the
 // result is deterministic but may differ from the serial one in rounding.
+// Cells whose A or B triangle is outside its domain contribute nothing (and
+// are not counted in `cells`).
 VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                            const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
                            const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
-                           const WeightField& mu, bool parallel = false, double lod = -1.0);
+                           const WeightField& mu, bool parallel = false, double lod = -1.0,
+                           const OmegaDomains& domains = OmegaDomains());
 
 // The union's triangles use the paper's closed form for ∫|d| (volume.h,
-// AbsVolumePaper) with μ = 1.
+// AbsVolumePaper) with μ = 1. The union is made of the nodes in Ω; its
+// Delaunay triangles bridge the gaps between the domains again, so a
+// triangle whose centroid is outside Ω (located in both meshes) is dropped.
 VolumeResult UnionVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                          const std::vector<Location>& a_in_b, const std::vector<double>& gaps_a,
                          const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                          const std::vector<Location>& b_in_a, const std::vector<double>& gaps_b,
-                         const WeightField& mu);
+                         const WeightField& mu, const OmegaDomains& domains = OmegaDomains());
 
 }  // namespace surfreg

@@ -34,6 +34,7 @@ struct Prepared {
   Triangulation mesh;
   SpanningTree tree;
   double hull_area = 0.0;
+  MeshDomain domain;
 };
 
 void MergeDuplicateHeights(Prepared& s) {
@@ -69,7 +70,14 @@ std::vector<int32_t> SortSpatially(Prepared& s) {
   return order;
 }
 
-
+// A surface whose domain is empty has nothing to compare.
+void CheckDomain(const Surface& s, const Prepared& p, const DomainRule& rule, const char* name) {
+  if (p.domain.area > 0.0) return;
+  throw InputError((s.source.empty() ? std::string(name) : s.source) + ": no part of it is data (" +
+                   (rule.grid ? "no raster cell has all four corners valid"
+                              : "every triangle bridges a gap or is an outline sliver") +
+                   "); 'domain: hull' measures over the convex hull instead");
+}
 
 // Runs first() here and second() on another thread (or both here when not
 // parallel); an exception from either is rethrown after both finished.
@@ -145,7 +153,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.n_points_b = static_cast<int64_t>(b.size());
 
   // Both in A's local frame.
-  Prepared pa{a.xy, a.z, a.weight, {}, {}, 0.0}, pb{b.xy, b.z, b.weight, {}, {}, 0.0};
+  Prepared pa{a.xy, a.z, a.weight, {}, {}, 0.0, {}}, pb{b.xy, b.z, b.weight, {}, {}, 0.0, {}};
   const double shift[3] = {b.origin[0] - a.origin[0], b.origin[1] - a.origin[1],
                            b.origin[2] - a.origin[2]};
   for (Point2& p : pb.xy) p = {p.x + shift[0], p.y + shift[1]};
@@ -164,6 +172,17 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   MergeDuplicateHeights(pb);
   pa.hull_area = MeshArea(pa.xy, pa.mesh);
   pb.hull_area = MeshArea(pb.xy, pb.mesh);
+
+  // Each surface's data domain, by its own rule (raster samples: cells).
+  stage = Clock::now();
+  DomainRule rule_a = options.domain, rule_b = options.domain;
+  rule_a.grid = a.raster_grid;
+  rule_b.grid = b.raster_grid;
+  RunBoth(parallel, [&] { pa.domain = MakeMeshDomain(pa.xy, pa.mesh, rule_a); },
+          [&] { pb.domain = MakeMeshDomain(pb.xy, pb.mesh, rule_b); });
+  summary.timings.domain = Seconds(stage);
+  CheckDomain(a, pa, rule_a, "surface A");
+  CheckDomain(b, pb, rule_b, "surface B");
 
   stage = Clock::now();
   RunBoth(parallel, [&] { pa.tree = EuclideanMst(pa.xy, pa.mesh); },
@@ -186,11 +205,22 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   NodeGaps gaps;
   gaps.a.assign(pa.xy.size(), 0.0);
   gaps.b.assign(pb.xy.size(), 0.0);
+  // A node is in Ω when it is a corner of its own domain and lies in the
+  // other's (closed) domain.
+  std::vector<uint8_t> omega_a(pa.xy.size(), 0), omega_b(pb.xy.size(), 0);
+  for (std::size_t i = 0; i < pa.xy.size(); ++i) {
+    omega_a[i] = a_in_b[i].found() && pa.domain.vertices[pa.mesh.vertex_of_input[i]] &&
+                 pb.domain.Contains(pb.mesh, a_in_b[i]);
+  }
+  for (std::size_t j = 0; j < pb.xy.size(); ++j) {
+    omega_b[j] = b_in_a[j].found() && pb.domain.vertices[pb.mesh.vertex_of_input[j]] &&
+                 pa.domain.Contains(pa.mesh, b_in_a[j]);
+  }
   double gap_sum = 0.0, node_weight = 0.0;
   for (std::size_t i = 0; i < pa.xy.size(); ++i) {
     if (!a_in_b[i].found()) continue;
     gaps.a[i] = InterpolateAt(pb.mesh, pb.z, a_in_b[i]) - pa.z[i];
-    if (pa.mesh.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
+    if (!omega_a[i] || pa.mesh.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
     const double w = mu.AtNodeA(i);
     gap_sum += w * std::fabs(gaps.a[i]);
     node_weight += w;
@@ -199,7 +229,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   for (std::size_t j = 0; j < pb.xy.size(); ++j) {
     if (!b_in_a[j].found()) continue;
     gaps.b[j] = pb.z[j] - InterpolateAt(pa.mesh, pa.z, b_in_a[j]);
-    if (pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
+    if (!omega_b[j] || pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
     if (b_in_a[j].where == Where::kOnVertex) continue;  // the same node of G1 ∪ G2 as A's
     const double w = mu.AtNodeB(j);
     gap_sum += w * std::fabs(gaps.b[j]);
@@ -211,20 +241,23 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
 
   stage = Clock::now();
   VolumeResult volume;
+  const OmegaDomains omega{&pa.domain, &pb.domain, &omega_a, &omega_b};
   if (options.volume == VolumeMode::kOverlay) {
     volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu, parallel,
-                           options.detect_change ? options.level_of_detection : -1.0);
+                           options.detect_change ? options.level_of_detection : -1.0, omega);
   } else {
-    volume = UnionVolume(pa.xy, pa.mesh, a_in_b, gaps.a, pb.xy, pb.mesh, b_in_a, gaps.b, mu);
+    volume = UnionVolume(pa.xy, pa.mesh, a_in_b, gaps.a, pb.xy, pb.mesh, b_in_a, gaps.b, mu, omega);
   }
   summary.timings.volume = Seconds(stage);
 
-  const double smaller_hull = std::min(pa.hull_area, pb.hull_area);
-  if (!(volume.area > options.min_overlap_fraction * smaller_hull) || volume.cells == 0) {
+  // The domains' areas: the hulls' with DomainKind::kHull.
+  const double smaller = std::min(pa.domain.area, pb.domain.area);
+  const char* what = options.domain.kind == DomainKind::kHull ? "hull" : "data domain";
+  if (!(volume.area > options.min_overlap_fraction * smaller) || volume.cells == 0) {
     char numbers[160];
     std::snprintf(numbers, sizeof numbers,
-                  " (overlap area %.3g, %.3g%% of the smaller hull; the minimum is %.3g%%)",
-                  volume.area, smaller_hull > 0.0 ? 100.0 * volume.area / smaller_hull : 0.0,
+                  " (overlap area %.3g, %.3g%% of the smaller %s; the minimum is %.3g%%)",
+                  volume.area, smaller > 0.0 ? 100.0 * volume.area / smaller : 0.0, what,
                   100.0 * options.min_overlap_fraction);
     throw InputError((a.source.empty() ? std::string("surface A") : a.source) + " and " +
                      (b.source.empty() ? std::string("surface B") : b.source) +
@@ -235,6 +268,11 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.overlap_area = volume.area;
   summary.hull_area_a = pa.hull_area;
   summary.hull_area_b = pb.hull_area;
+  summary.domain_kind = options.domain.kind;
+  summary.domain_area_a = pa.domain.area;
+  summary.domain_area_b = pb.domain.area;
+  summary.excluded_area_a = pa.hull_area - pa.domain.area;
+  summary.excluded_area_b = pb.hull_area - pb.domain.area;
   summary.weight_integral = volume.gap.weight;
   summary.signed_volume = volume.gap.signed_volume;
   summary.volume_above = volume.gap.above;
@@ -250,7 +288,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   if (options.keep_node_gaps) {
     summary.dz_a.assign(pa.xy.size(), std::nan(""));
     for (std::size_t k = 0; k < pa.xy.size(); ++k) {
-      if (a_in_b[k].found()) summary.dz_a[order_a[k]] = gaps.a[k];
+      if (omega_a[k]) summary.dz_a[order_a[k]] = gaps.a[k];
     }
   }
   summary.timings.total = Seconds(start);
@@ -258,13 +296,14 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
 }
 
 std::string MeasureSummary::BriefReport() const {
-  char text[1024];
+  char text[1280];
   std::snprintf(
       text, sizeof text,
       "rho_d (volume between)   %.9g units^3\n"
       "rho'_d (mean node gap)   %.9g units\n"
       "rho_s (1 / rho_d)        %.9g\n"
       "overlap area             %.9g units^2\n"
+      "%-24s %.9g / %.9g units^2 (excluded from the hulls %.9g / %.9g)\n"
       "mean |dz|                %.9g units\n"
       "signed volume (B - A)    %.9g units^3\n"
       "B above A (fill)         %.9g units^3\n"
@@ -272,13 +311,17 @@ std::string MeasureSummary::BriefReport() const {
       "points A / B             %lld / %lld (duplicates merged %lld / %lld)\n"
       "overlap nodes            %lld\n"
       "%s cells            %lld\n"
-      "time (s)                 triangulate %.3f, tree %.3f, locate %.3f, interpolate %.3f, "
-      "volume %.3f, total %.3f\n",
-      rho_d, rho_d_axial, rho_s, overlap_area, mean_abs_dz, signed_volume, volume_above,
-      volume_below, static_cast<long long>(n_points_a), static_cast<long long>(n_points_b),
+      "time (s)                 triangulate %.3f, domain %.3f, tree %.3f, locate %.3f, "
+      "interpolate %.3f, volume %.3f, total %.3f\n",
+      rho_d, rho_d_axial, rho_s, overlap_area,
+      domain_kind == DomainKind::kHull ? "hull areas A / B" : "data domain areas A / B",
+      domain_area_a, domain_area_b, excluded_area_a, excluded_area_b, mean_abs_dz, signed_volume,
+      volume_above, volume_below, static_cast<long long>(n_points_a),
+      static_cast<long long>(n_points_b),
       static_cast<long long>(n_duplicates_a), static_cast<long long>(n_duplicates_b),
       static_cast<long long>(n_overlap_nodes), VolumeModeName(volume_mode),
-      static_cast<long long>(n_cells), timings.triangulate, timings.spanning_tree, timings.locate,
+      static_cast<long long>(n_cells), timings.triangulate, timings.domain, timings.spanning_tree,
+      timings.locate,
       timings.interpolate, timings.volume, timings.total);
   return text;
 }

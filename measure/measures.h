@@ -2,10 +2,16 @@
 // The one-call comparison of two surfaces (Dyshkant 2010; DESIGN.md 2, 3):
 // triangulate each, locate each cloud in the other's mesh (walking in EMST
 // order), interpolate, and integrate the gap d = F̂_B − F̂_A over the overlap
-// Ω = Conv(A) ∩ Conv(B) with weight μ:
+// Ω with weight μ. Ω is the intersection of the two surfaces' data domains
+// (measure/domain.h: the triangles that are data, not filler across voids,
+// nodata holes and concave outlines), or with DomainKind::kHull the paper's
+// Conv(A) ∩ Conv(B):
 //
 //   ρd  = ∫∫_Ω |d| μ            volume between the surfaces (units³)
-//   ρ'd = mean |d| over the sample nodes of A and B inside Ω (units)
+//   ρ'd = mean |d| over the sample nodes of A and B inside Ω (units): a
+//         node of A counts when it is a corner of one of A's domain triangles
+//         and lies in B's closed domain (inside, on an edge or at a corner
+//         of one of B's domain triangles); likewise B's nodes
 //   ρs  = 1 / ρd (1 when ρd = 0)
 //
 // B is brought into A's local frame (A's origin), so both are compared in
@@ -26,7 +32,8 @@ enum class VolumeMode {
   kOverlay,
   // The paper's: the Delaunay triangulation of A ∪ B with each surface known
   // at every node (one given, one interpolated). Approximates ρd, since F̂_A
-  // is not linear on the union's triangles.
+  // is not linear on the union's triangles. Over the data domain: the nodes
+  // in Ω, and the union triangles whose centroid is in Ω.
   kUnion,
 };
 
@@ -40,14 +47,16 @@ enum class WeightMode {
 struct MeasureOptions {
   VolumeMode volume = VolumeMode::kOverlay;
   // Which triangles of each mesh are surface (measure/domain.h): the data
-  // domain (default) or the whole convex hull (the paper's Ω).
+  // domain (default) or the whole convex hull (the paper's Ω). `grid` is
+  // set per surface from Surface::raster_grid (raster cells).
   DomainRule domain;
   WeightMode weight = WeightMode::kUniform;
   // Simple polygon (either orientation, not closed explicitly) in input
   // coordinates (not local), for WeightMode::kMask.
   std::vector<std::array<double, 2>> mask_polygon;
-  // An overlap smaller than this fraction of the smaller convex hull's area
-  // is reported as an error (a sliver, or surfaces that do not overlap):
+  // An overlap smaller than this fraction of the smaller domain's area (the
+  // convex hull's with kHull) is reported as an error (a sliver, or surfaces
+  // that do not overlap):
   // the measures of a sliver rest on a handful of nodes and mean little.
   double min_overlap_fraction = 1e-4;
   // Use two threads: for the two surfaces' independent stages
@@ -68,7 +77,8 @@ struct MeasureOptions {
 };
 
 struct MeasureTimings {  // seconds, wall clock
-  double triangulate = 0, spanning_tree = 0, locate = 0, interpolate = 0, volume = 0, total = 0;
+  double triangulate = 0, domain = 0, spanning_tree = 0, locate = 0, interpolate = 0, volume = 0;
+  double total = 0;
 };
 
 struct MeasureSummary {
@@ -77,6 +87,11 @@ struct MeasureSummary {
   double rho_s = 0;          // 1 / ρd, or 1 when ρd = 0
   double overlap_area = 0;   // |Ω|, units² (unweighted)
   double hull_area_a = 0, hull_area_b = 0;  // areas of the two meshes (convex hulls), units²
+  // Areas of the two data domains (the hulls' with kHull), and what the
+  // domains leave out of the hulls (hull area minus domain area), units².
+  DomainKind domain_kind = DomainKind::kData;
+  double domain_area_a = 0, domain_area_b = 0;
+  double excluded_area_a = 0, excluded_area_b = 0;
   double weight_integral = 0;  // ∫_Ω μ (equals overlap_area for uniform μ)
   double mean_abs_dz = 0;    // ρd / ∫_Ω μ: mean vertical distance, units
   double signed_volume = 0;  // ∫_Ω (F̂_B − F̂_A) μ
@@ -90,13 +105,14 @@ struct MeasureSummary {
   double level_of_detection = 0;
   double fill_detected = 0, cut_detected = 0;
   double fill_area = 0, cut_area = 0;
-  // d = F̂_B − F̂_A at each sample of A, in A's input order (NaN outside Ω);
+  // d = F̂_B − F̂_A at each sample of A, in A's input order (NaN at the
+  // nodes not in Ω, by the rule of ρ'd above);
   // filled only with MeasureOptions::keep_node_gaps.
   std::vector<double> dz_a;
   int64_t n_points_a = 0, n_points_b = 0;          // input samples
   int64_t n_duplicates_a = 0, n_duplicates_b = 0;  // merged (heights averaged)
   int64_t n_overlap_nodes = 0;  // nodes of G1 ∪ G2 (as a set of xy) inside Ω
-  int64_t n_cells = 0;          // overlay cells (overlay) or union triangles
+  int64_t n_cells = 0;          // overlay cells or union triangles inside Ω
   int64_t walk_steps = 0;       // triangles visited by all location walks
   VolumeMode volume_mode = VolumeMode::kOverlay;
   MeasureTimings timings;
@@ -106,7 +122,8 @@ struct MeasureSummary {
 };
 
 // Compares surface B with surface A. Throws InputError for invalid surfaces
-// (see ValidateSurface), invalid options, or an empty or sliver overlap.
+// (see ValidateSurface), invalid options, a surface with an empty data
+// domain, or an empty or sliver overlap.
 MeasureSummary Measure(const Surface& a, const Surface& b,
                        const MeasureOptions& options = MeasureOptions());
 

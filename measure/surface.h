@@ -21,6 +21,10 @@ struct Surface {
   std::vector<double> z;        // heights relative to origin[2]; z.size() == xy.size()
   std::vector<double> weight;   // optional per-sample weight >= 0; empty = uniform
   std::string source;           // where the samples came from (for messages)
+  // The samples are the valid cell centres of one raster (a lattice with
+  // nodata holes): the data domain is then its complete cells
+  // (measure/domain.h, DomainRule::grid). Set by the raster reader.
+  bool raster_grid = false;
 
   std::size_t size() const { return xy.size(); }
 };

@@ -135,6 +135,9 @@ mask_raster: stable.tif
 normal_distance: false
 slope_weight: 1.5
 weights: per_point
+domain: hull
+domain_max_edge_spacings: 4.5
+domain_min_thinness: 0.2
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -154,6 +157,9 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_FALSE(o.normal_distance);
   EXPECT_EQ(o.slope_weight, 1.5);
   EXPECT_TRUE(c.per_point_weights);
+  EXPECT_EQ(o.domain.kind, DomainKind::kHull);
+  EXPECT_EQ(o.domain.max_edge_spacings, 4.5);
+  EXPECT_EQ(o.domain.min_boundary_thinness, 0.2);
   EXPECT_EQ(o.free, (std::array<bool, 6>{true, true, false, true, true, true}));
   EXPECT_EQ(o.levels, 3);
   EXPECT_EQ(o.level_factor, 2.5);
@@ -310,6 +316,30 @@ TEST(AlignConfigErrors, UnknownEnumValueListsTheAllowed) {
   EXPECT_TRUE(Contains(YamlError("trust_region: lm"), "one of levenberg_marquardt, dogleg"));
   EXPECT_TRUE(Contains(FlagError("line_search", "cg"),
                        "flag '--line_search' expects one of lbfgs, bfgs, nonlinear_cg, got 'cg'"));
+}
+
+// The data domain's keys, also as `measure` and `triangulate` read their flags.
+TEST(AlignConfig, DomainKeys) {
+  EXPECT_EQ(AlignConfig().options.domain.kind, DomainKind::kData);
+  EXPECT_EQ(FromYaml("domain: hull").options.domain.kind, DomainKind::kHull);
+  EXPECT_EQ(FromYaml("domain: data").options.domain.kind, DomainKind::kData);
+  EXPECT_TRUE(Contains(YamlError("domain: convex"),
+                       "t.yaml:1: key 'domain' expects one of data, hull, got 'convex'"));
+  EXPECT_TRUE(Contains(YamlError("domain_max_edge_spacings: 0.5"),
+                       "key 'domain_max_edge_spacings' expects a number in [1, 100], got '0.5'"));
+  EXPECT_TRUE(Contains(YamlError("domain_min_thinness: 0.7"),
+                       "key 'domain_min_thinness' expects a number in [0, 0.5], got '0.7'"));
+  const DomainRule rule = DomainRuleFromFlags("hull", "5", "");
+  EXPECT_EQ(rule.kind, DomainKind::kHull);
+  EXPECT_EQ(rule.max_edge_spacings, 5.0);
+  EXPECT_EQ(rule.min_boundary_thinness, DomainRule().min_boundary_thinness);
+  EXPECT_EQ(DomainRuleFromFlags("", "", "").kind, DomainKind::kData);
+  try {
+    DomainRuleFromFlags("all", "", "");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "flag '--domain' expects one of data, hull, got 'all'");
+  }
 }
 
 // linear_solver and subsample (the sweep's keys): every value, both bounds.

@@ -154,13 +154,15 @@ EOF
 keys='["rho_d", "rho_d_axial", "rho_s", "overlap_area", "mean_abs_dz", "signed_volume",
        "volume_above", "volume_below", "n_points_a", "n_points_b", "n_overlap_nodes", "timings",
        "file_a", "file_b", "volume_mode", "weight_mode", "n_duplicates_a", "n_duplicates_b",
-       "n_cells", "weight_integral"]'
-stages='["read", "triangulate", "spanning_tree", "locate", "interpolate", "volume", "total"]'
+       "n_cells", "weight_integral", "domain", "domain_area_a", "domain_area_b",
+       "excluded_area_a", "excluded_area_b"]'
+stages='["read", "triangulate", "domain", "spanning_tree", "locate", "interpolate", "volume",
+         "total"]'
 
 # --- the volcano pair ----------------------------------------------------------
 
 if measure_json ab "$a" "$b"; then
-  check "measure A B: keys, counts, overlap = B's hull, small gap" "
+  check "measure A B: keys, counts, overlap = B's data domain, small gap" "
 ab = r('ab')
 missing = [k for k in $keys if k not in ab] + ['timings.' + k for k in $stages if k not in ab['timings']]
 assert not missing, missing
@@ -172,10 +174,16 @@ assert ab['n_duplicates_a'] == 0 and ab['n_duplicates_b'] == 0, ab
 assert ab['n_overlap_nodes'] > 4000 and ab['n_cells'] > 0, ab
 hull_b = hull_area('$b')
 print('  overlap_area %.6f m², hull of B %.6f m² (ratio %.9f)' % (ab['overlap_area'], hull_b, ab['overlap_area'] / hull_b))
+# A (the whole grid) is data everywhere; B (4000 random points) loses its
+# hull's outline slivers: Ω is B's data domain.
+assert ab['domain'] == 'data', ab
+assert close(ab['domain_area_a'], 860 * 600, 1e-12) and abs(ab['excluded_area_a']) < 1e-6, ab
+assert close(ab['excluded_area_b'], hull_b - ab['domain_area_b'], 1e-9), (ab, hull_b)
+assert 0.97 * hull_b < ab['domain_area_b'] < hull_b, (ab['domain_area_b'], hull_b)
+assert close(ab['overlap_area'], ab['domain_area_b'], 1e-9), ab
 print('  rho_d %.6f m³, rho_d_axial %.6f m, mean_abs_dz %.6f m, rho_s %.6g' % (ab['rho_d'], ab['rho_d_axial'], ab['mean_abs_dz'], ab['rho_s']))
 print('  signed %.6f m³ = above %.6f - below %.6f' % (ab['signed_volume'], ab['volume_above'], ab['volume_below']))
 assert ab['rho_d'] >= 0 and ab['rho_d_axial'] >= 0, ab
-assert close(ab['overlap_area'], hull_b, 0.01), (ab['overlap_area'], hull_b)
 assert ab['overlap_area'] <= 860 * 600 * (1 + 1e-12), ab
 assert close(ab['weight_integral'], ab['overlap_area'], 1e-12), ab
 assert 0 < ab['mean_abs_dz'] < 2 and 0 < ab['rho_d_axial'] < 2, ab
@@ -233,13 +241,33 @@ fi
 
 # --- volume and weight modes -------------------------------------------------
 
+if measure_json hull "$a" "$b" --domain=hull; then
+  check "--domain=hull: overlap = B's hull" "
+ab, h = r('ab'), r('hull')
+hull_b = hull_area('$b')
+assert h['domain'] == 'hull', h
+assert close(h['overlap_area'], hull_b, 1e-9), (h['overlap_area'], hull_b)
+assert close(h['domain_area_b'], hull_b, 1e-9) and h['excluded_area_b'] == 0, h
+assert h['overlap_area'] > ab['overlap_area'] and h['n_overlap_nodes'] >= ab['n_overlap_nodes'], h
+"
+fi
+
+# Over the data domain the union's triangles are kept where their centroid
+# is in Ω: an area close to the overlay's, not the same.
 if measure_json union "$a" "$b" --volume=union; then
   check "--volume=union: close to overlay on the pair" "
 ab, un = r('ab'), r('union')
 print('  union rho_d %.6f m³ vs overlay %.6f m³' % (un['rho_d'], ab['rho_d']))
 assert un['volume_mode'] == 'union', un
 assert close(un['rho_d'], ab['rho_d'], 0.10), (un['rho_d'], ab['rho_d'])
-assert close(un['overlap_area'], ab['overlap_area'], 1e-9), (un['overlap_area'], ab['overlap_area'])
+assert close(un['overlap_area'], ab['overlap_area'], 1e-3), (un['overlap_area'], ab['overlap_area'])
+"
+fi
+
+if measure_json union_hull "$a" "$b" --volume=union --domain=hull; then
+  check "--volume=union --domain=hull: the union's hull is B's" "
+h, un = r('hull'), r('union_hull')
+assert close(un['overlap_area'], h['overlap_area'], 1e-9), (un['overlap_area'], h['overlap_area'])
 "
 fi
 
@@ -252,10 +280,12 @@ assert w['rho_d'] == 0, w
 "
 fi
 
-if measure_json inner "$a" "$b" --weights=mask:"$tmp/inner.txt"; then
+# Over the hulls: the rectangle is inside B's hull, while B's data domain may
+# leave out a triangle or two inside it (an empty spot of the random samples).
+if measure_json inner "$a" "$b" --weights=mask:"$tmp/inner.txt" --domain=hull; then
   check "--weights=mask: A B, a rectangle inside B's hull" "
 assert all(inside_hull('$b', x, y) for x, y in ((20, 20), (430, 20), (430, 580), (20, 580)))
-w, ab = r('inner'), r('ab')
+w, ab = r('inner'), r('hull')
 print('  mask weight_integral %.9f m² (rectangle %d m²), rho_d %.6f m³' % (w['weight_integral'], 410 * 560, w['rho_d']))
 assert close(w['weight_integral'], 410 * 560, 1e-6), w['weight_integral']
 assert close(w['overlap_area'], ab['overlap_area'], 1e-12), w
@@ -270,6 +300,10 @@ expect_input_error "configs/data/no_such_b.xyz: cannot open" measure "$a" config
 expect_input_error "configs/data/no_such_a.xyz: cannot open" measure configs/data/no_such_a.xyz "$b"
 expect_input_error "'--volume'" measure "$a" "$b" --volume=foo
 expect_input_error "'--weights'" measure "$a" "$b" --weights=bogus
+expect_input_error "flag '--domain' expects one of data, hull, got 'convex'" \
+  measure "$a" "$b" --domain=convex
+expect_input_error "flag '--domain_max_edge_spacings' expects a number in [1, 100], got '0.5'" \
+  measure "$a" "$b" --domain_max_edge_spacings=0.5
 expect_input_error "'--weights'" measure "$a" "$b" --weights=mask:
 expect_input_error "$tmp/bad_line.txt:4: y is not a number: '6O0'" \
   measure "$a" "$b" --weights=mask:"$tmp/bad_line.txt"

@@ -259,6 +259,7 @@ void CheckAxialResiduals(const WeightFunction& weight, const Theta& theta) {
   for (int k = 0; k < 3; ++k) motion.centre[k] += sides->a.origin[k];  // local → input frame
   MeasureOptions options;
   options.weight = weight ? WeightMode::kPerPoint : WeightMode::kUniform;
+  options.domain.kind = DomainKind::kHull;  // the sides' Ω (MakeSides: over the hulls)
   const MeasureSummary m = Measure(sides->a, TransformSurface(sides->b, ReferenceFromMoving(motion)), options);
   std::printf("axial residuals (%s): %d nodes checked, %d outside, max |dr| %.2e; "
               "sum mu|r| / sum mu %.12g vs rho'_d %.12g\n", weight ? "weighted" : "uniform", checked,
@@ -394,6 +395,7 @@ void CheckVolumeValue(const WeightFunction& weight, double tolerance) {
   const Theta thetas[] = {{0, 0, 0, 0, 0, 0}, {0, 0, 0.3, 4.2, -7.7, 0.6}, {0, 0, -1.1, -12, 3, -2}};
   MeasureOptions options;
   options.weight = weight ? WeightMode::kPerPoint : WeightMode::kUniform;
+  options.domain.kind = DomainKind::kHull;  // the sides' Ω (MakeSides: over the hulls)
   for (const Theta& theta : thetas) {
     PairState state(sides->reference, sides->moving);
     ASSERT_TRUE(state.Update(theta));

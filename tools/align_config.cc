@@ -39,6 +39,7 @@ const Names<LineSearchKind> kLineSearches = {{"lbfgs", LineSearchKind::kLbfgs},
                                              {"bfgs", LineSearchKind::kBfgs},
                                              {"nonlinear_cg", LineSearchKind::kNonlinearCg}};
 const Names<bool> kWeightModes = {{"uniform", false}, {"per_point", true}};
+const Names<DomainKind> kDomains = {{"data", DomainKind::kData}, {"hull", DomainKind::kHull}};
 const Names<LinearSolverKind> kLinearSolvers = {
     {"dense_qr", LinearSolverKind::kDenseQr},
     {"dense_normal_cholesky", LinearSolverKind::kDenseNormalCholesky},
@@ -177,6 +178,21 @@ const std::vector<KeyEntry>& Table() {
         "mu: uniform, or the reference's per-sample weights (4th .xyz column, PLY 'weight')"},
        [](const Value& v, C* c) { c->per_point_weights = Choice(v, kWeightModes); },
        [](const C& c) { return std::string(c.per_point_weights ? "per_point" : "uniform"); }},
+      {{"domain", "one of data, hull",
+        "where the surfaces are compared: data (each mesh without the triangles that bridge "
+        "voids, nodata holes and concave outlines) or hull (the whole convex hulls)"},
+       [](const Value& v, C* c) { c->options.domain.kind = Choice(v, kDomains); },
+       [](const C& c) { return NameOf(c.options.domain.kind, kDomains); }},
+      {{"domain_max_edge_spacings", "a number in [1, 100]",
+        "data domain of scattered samples: a triangle whose longest edge is more local sample "
+        "spacings than this bridges a gap"},
+       [](const Value& v, C* c) { c->options.domain.max_edge_spacings = Number(v, 1, 100); },
+       [](const C& c) { return Text(c.options.domain.max_edge_spacings); }},
+      {{"domain_min_thinness", "a number in [0, 0.5]",
+        "data domain of scattered samples: outline triangles thinner than this (height over "
+        "longest edge, per longest edge) are peeled"},
+       [](const Value& v, C* c) { c->options.domain.min_boundary_thinness = Number(v, 0, 0.5); },
+       [](const C& c) { return Text(c.options.domain.min_boundary_thinness); }},
       {{"max_fold_fraction", "a number in [0, 1]",
         "share of the moving surface's area that may fold over (slivers: re-triangulated)"},
        [](const Value& v, C* c) { c->options.max_fold_fraction = Number(v, 0, 1); },
@@ -442,6 +458,19 @@ void FinishAlignConfig(AlignConfig* config) {
                                   : config->Where(key)) +
                      ": " + error);
   }
+}
+
+DomainRule DomainRuleFromFlags(const std::string& domain, const std::string& max_edge_spacings,
+                               const std::string& min_thinness) {
+  AlignConfig config;
+  const std::pair<const char*, const std::string*> flags[] = {
+      {"domain", &domain},
+      {"domain_max_edge_spacings", &max_edge_spacings},
+      {"domain_min_thinness", &min_thinness}};
+  for (const auto& [key, text] : flags) {
+    if (!text->empty()) ApplyAlignFlag(key, *text, &config);
+  }
+  return config.options.domain;
 }
 
 Surface ReadAlignSurface(const AlignConfig& config, const std::string& key) {

@@ -106,6 +106,12 @@ void ApplyAlignArguments(const std::string& reference, const std::string& moving
 // InputError naming the key.
 void FinishAlignConfig(AlignConfig* config);
 
+// The domain keys as `measure` and `triangulate` take them from their flags
+// (`--domain`, `--domain_max_edge_spacings`, `--domain_min_thinness`; ""
+// = not given): the same values, defaults and messages as align's keys.
+DomainRule DomainRuleFromFlags(const std::string& domain, const std::string& max_edge_spacings,
+                               const std::string& min_thinness);
+
 // Reads config.reference or config.moving (`key` is "reference" or
 // "moving"); a read error is prefixed with where the key was set.
 Surface ReadAlignSurface(const AlignConfig& config, const std::string& key);

@@ -52,6 +52,13 @@ DEFINE_string(initial_rotation_deg, "", "align: initial rotation vector rx,ry,rz
 DEFINE_string(initial_translation, "", "align: initial shift tx,ty,tz of the moving centroid");
 DEFINE_string(mask, "", "align: polygon file: weight 1 inside, 0 outside");
 DEFINE_string(max_fold_fraction, "", "align: area share of moving triangles that may fold");
+DEFINE_string(domain, "",
+              "measure, align, triangulate: data (default: without the triangles that bridge "
+              "voids, nodata holes and concave outlines) | hull (the whole convex hulls)");
+DEFINE_string(domain_max_edge_spacings, "",
+              "measure, align, triangulate: data domain: longest edge in local spacings (4)");
+DEFINE_string(domain_min_thinness, "",
+              "measure, align, triangulate: data domain: outline slivers thinner are peeled (0.1)");
 DEFINE_bool(covariance, true, "align: compute the parameters' standard deviations");
 DEFINE_string(threads, "", "align: threads");
 DEFINE_string(output, "", "align: write the transform JSON here");

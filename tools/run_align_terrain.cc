@@ -41,7 +41,10 @@ std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in
       .Number("fill_uncertainty", lod * a.fill_area)
       .Number("cut_uncertainty", lod * a.cut_area)
       .Number("net_uncertainty", lod * (a.fill_area + a.cut_area))
-      .Number("overlap_area", a.overlap_area);
+      .Number("overlap_area", a.overlap_area)
+      .String("domain", DomainKindName(a.domain_kind))
+      .Number("excluded_area_reference", a.excluded_area_a)
+      .Number("excluded_area_moving", a.excluded_area_b);
   JsonObject terrain;
   terrain.String("frame", in.frame.Describe())
       .String("reference_crs", in.reference_crs.name)

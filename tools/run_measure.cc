@@ -1,6 +1,7 @@
 // surfreg measure A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE]
-// [--json]: the volume between two surfaces and the measures derived from it
-// (measure/measures.h), with counts and per-stage timings.
+// [--domain=data|hull] [--json]: the volume between two surfaces and the
+// measures derived from it (measure/measures.h), with counts and per-stage
+// timings.
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
@@ -17,6 +18,7 @@
 
 #include "measure/input_error.h"
 #include "measure/measures.h"
+#include "tools/align_config.h"
 #include "tools/commands.h"
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader.h"
@@ -31,6 +33,10 @@ DEFINE_string(weights, "uniform",
               "measure, align: the weight of the integrals: uniform, per_point (the samples' weights, "
               "interpolated linearly) or mask:POLYGON_FILE (1 inside the polygon, 0 outside; "
               "one 'x y' vertex per line, input coordinates, '#' comments)");
+
+DECLARE_string(domain);  // tools/run_align.cc: a key of align's too
+DECLARE_string(domain_max_edge_spacings);
+DECLARE_string(domain_min_thinness);
 
 namespace surfreg {
 namespace {
@@ -84,6 +90,7 @@ void PrintJson(const MeasureReport& r) {
   // Seconds to the nanosecond (the clock's resolution); the measures above in full.
   timings.Fixed("read", r.read_s, 9)
       .Fixed("triangulate", s.timings.triangulate, 9)
+      .Fixed("domain", s.timings.domain, 9)
       .Fixed("spanning_tree", s.timings.spanning_tree, 9)
       .Fixed("locate", s.timings.locate, 9)
       .Fixed("interpolate", s.timings.interpolate, 9)
@@ -94,7 +101,8 @@ void PrintJson(const MeasureReport& r) {
   json.String("file_a", r.file_a)
       .String("file_b", r.file_b)
       .String("volume_mode", VolumeModeName(s.volume_mode))
-      .String("weight_mode", WeightModeName(r.options.weight));
+      .String("weight_mode", WeightModeName(r.options.weight))
+      .String("domain", DomainKindName(s.domain_kind));
   if (r.options.weight == WeightMode::kMask) {
     json.String("mask_file", r.mask_file)
         .Int("mask_vertices", static_cast<int64_t>(r.options.mask_polygon.size()));
@@ -103,6 +111,10 @@ void PrintJson(const MeasureReport& r) {
       .Number("rho_d_axial", s.rho_d_axial)
       .Number("rho_s", s.rho_s)
       .Number("overlap_area", s.overlap_area)
+      .Number("domain_area_a", s.domain_area_a)
+      .Number("domain_area_b", s.domain_area_b)
+      .Number("excluded_area_a", s.excluded_area_a)
+      .Number("excluded_area_b", s.excluded_area_b)
       .Number("weight_integral", s.weight_integral)
       .Number("mean_abs_dz", s.mean_abs_dz)
       .Number("signed_volume", s.signed_volume)
@@ -143,8 +155,15 @@ void PrintText(const MeasureReport& r) {
       "overlap)\n",
       s.rho_d_axial, static_cast<long long>(s.n_overlap_nodes));
   std::printf("rho_s   (ρs):       %.10g  (1 / ρd; 1 when ρd = 0)\n", s.rho_s);
-  std::printf("overlap area:       %.10g units²  (common part of the two convex hulls)\n",
-              s.overlap_area);
+  const bool hull = s.domain_kind == DomainKind::kHull;
+  std::printf("domain:             %s  (%s)\n", DomainKindName(s.domain_kind),
+              hull ? "the whole convex hulls"
+                   : "without the triangles that bridge voids, holes and concave outlines");
+  std::printf("overlap area:       %.10g units²  (common part of the two %s)\n", s.overlap_area,
+              hull ? "convex hulls" : "data domains");
+  std::printf("domain area A / B:  %.10g / %.10g units²  (excluded from the hulls: %.10g / "
+              "%.10g)\n",
+              s.domain_area_a, s.domain_area_b, s.excluded_area_a, s.excluded_area_b);
   if (r.options.weight != WeightMode::kUniform) {
     std::printf("weight integral:    %.10g %s\n", s.weight_integral,
                 r.options.weight == WeightMode::kPerPoint ? "units² × weight" : "units²");
@@ -160,6 +179,7 @@ void PrintText(const MeasureReport& r) {
   std::printf("walk steps:         %lld\n", static_cast<long long>(s.walk_steps));
   std::printf("time read:          %.6f s\n", r.read_s);
   std::printf("time triangulate:   %.6f s\n", s.timings.triangulate);
+  std::printf("time domain:        %.6f s\n", s.timings.domain);
   std::printf("time spanning tree: %.6f s\n", s.timings.spanning_tree);
   std::printf("time locate:        %.6f s\n", s.timings.locate);
   std::printf("time interpolate:   %.6f s\n", s.timings.interpolate);
@@ -184,6 +204,8 @@ int RunMeasure(const std::vector<std::string>& args) {
   report.file_b = args[1];
   // Flags first: a bad flag value is reported before any file is read.
   report.options.volume = ParseVolumeMode(FLAGS_volume);
+  report.options.domain = DomainRuleFromFlags(FLAGS_domain, FLAGS_domain_max_edge_spacings,
+                                              FLAGS_domain_min_thinness);
   ParseWeights(FLAGS_weights, &report);
   const Surface a = ReadSurface(report.file_a);
   const Surface b = ReadSurface(report.file_b);

@@ -1,4 +1,6 @@
-// surfreg triangulate FILE [--json]: read + Delaunay, with counts and timings.
+// surfreg triangulate FILE [--domain=data|hull] [--json]: read + Delaunay,
+// with counts, the data domain (measure/domain.h) and timings.
+#include <gflags/gflags.h>
 #include <glog/logging.h>
 
 #include <algorithm>
@@ -10,9 +12,15 @@
 #include <string>
 
 #include "measure/delaunay.h"
+#include "measure/domain.h"
+#include "tools/align_config.h"
 #include "tools/commands.h"
 #include "tools/io/surface_reader.h"
 #include "tools/json_writer.h"
+
+DECLARE_string(domain);  // tools/run_align.cc
+DECLARE_string(domain_max_edge_spacings);
+DECLARE_string(domain_min_thinness);
 
 namespace surfreg {
 namespace {
@@ -24,8 +32,13 @@ struct TriangulateReport {
   int64_t n_duplicates = 0;
   int64_t n_triangles = 0;
   int64_t n_hull_edges = 0;
+  DomainKind domain = DomainKind::kData;
+  bool raster_grid = false;  // the domain rule of raster cells
+  int64_t n_domain_triangles = 0;
+  double hull_area = 0.0, domain_area = 0.0;
   double read_s = 0.0;
   double triangulate_s = 0.0;
+  double domain_s = 0.0;
   double total_s = 0.0;
 
   int64_t n_vertices() const { return n_points - n_duplicates; }
@@ -44,6 +57,7 @@ void PrintJson(const TriangulateReport& r) {
   JsonObject timings;
   timings.Fixed("read", r.read_s, 6)
       .Fixed("triangulate", r.triangulate_s, 6)
+      .Fixed("domain", r.domain_s, 6)
       .Fixed("total", r.total_s, 6);
   JsonObject json;
   json.String("file", r.file)
@@ -53,6 +67,12 @@ void PrintJson(const TriangulateReport& r) {
       .Int("n_duplicates", r.n_duplicates)
       .Int("n_triangles", r.n_triangles)
       .Int("n_hull_edges", r.n_hull_edges)
+      .String("domain", DomainKindName(r.domain))
+      .String("domain_rule", r.raster_grid ? "raster_cells" : "scattered")
+      .Int("n_domain_triangles", r.n_domain_triangles)
+      .Number("hull_area", r.hull_area)
+      .Number("domain_area", r.domain_area)
+      .Number("excluded_area", r.hull_area - r.domain_area)
       .Object("timings", timings)
       .Fixed("points_per_second", r.points_per_s(), 0);
   std::printf("%s\n", json.str().c_str());
@@ -67,8 +87,17 @@ void PrintText(const TriangulateReport& r) {
   std::printf("duplicates merged: %lld\n", static_cast<long long>(r.n_duplicates));
   std::printf("triangles:         %lld\n", static_cast<long long>(r.n_triangles));
   std::printf("hull edges:        %lld\n", static_cast<long long>(r.n_hull_edges));
+  std::printf("domain:            %s  (%s)\n", DomainKindName(r.domain),
+              r.domain == DomainKind::kHull ? "the whole convex hull"
+              : r.raster_grid              ? "raster cells with four valid corners"
+                                           : "without triangles that bridge gaps, outline slivers");
+  std::printf("domain triangles:  %lld\n", static_cast<long long>(r.n_domain_triangles));
+  std::printf("hull area:         %.10g units²\n", r.hull_area);
+  std::printf("domain area:       %.10g units²  (excluded from the hull: %.10g)\n", r.domain_area,
+              r.hull_area - r.domain_area);
   std::printf("time read:         %.6f s\n", r.read_s);
   std::printf("time triangulate:  %.6f s\n", r.triangulate_s);
+  std::printf("time domain:       %.6f s\n", r.domain_s);
   std::printf("time total:        %.6f s\n", r.total_s);
   std::printf("throughput:        %.3g points/s (triangulate)\n", r.points_per_s());
 }
@@ -84,9 +113,14 @@ int RunTriangulate(const std::vector<std::string>& args) {
   if (args.size() > 1) throw UsageError("triangulate: too many arguments");
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
+  DomainRule rule = DomainRuleFromFlags(FLAGS_domain, FLAGS_domain_max_edge_spacings,
+                                        FLAGS_domain_min_thinness);
   const Surface surface = ReadSurface(args[0]);
+  rule.grid = surface.raster_grid;
   const Clock::time_point read = Clock::now();
   const Triangulation triangulation = Triangulate(surface.xy);
+  const Clock::time_point triangulated = Clock::now();
+  const std::vector<uint8_t> in_domain = DataDomain(surface.xy, triangulation, rule);
   const Clock::time_point done = Clock::now();
 
   TriangulateReport report;
@@ -97,8 +131,14 @@ int RunTriangulate(const std::vector<std::string>& args) {
   report.n_triangles = triangulation.num_triangles();
   report.n_hull_edges =
       std::count(triangulation.neighbors.begin(), triangulation.neighbors.end(), -1);
+  report.domain = rule.kind;
+  report.raster_grid = surface.raster_grid;
+  report.n_domain_triangles = std::count(in_domain.begin(), in_domain.end(), 1);
+  report.hull_area = MeshArea(surface.xy, triangulation);
+  report.domain_area = DomainArea(surface.xy, triangulation, in_domain);
   report.read_s = Seconds(read - start);
-  report.triangulate_s = Seconds(done - read);
+  report.triangulate_s = Seconds(triangulated - read);
+  report.domain_s = Seconds(done - triangulated);
   report.total_s = Seconds(done - start);
   LOG(INFO) << "triangulated " << report.n_points << " points of " << report.file << " in "
             << report.total_s << " s";

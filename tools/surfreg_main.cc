@@ -45,12 +45,14 @@ bool IsJawKey(const std::string& name) {
 }
 
 const Command kCommands[] = {
-    {"triangulate", RunTriangulate, "FILE [--json]",
-     "read a surface, Delaunay-triangulate it, print counts and timings", "json", nullptr},
+    {"triangulate", RunTriangulate, "FILE [--domain=data|hull] [--json]",
+     "read a surface, Delaunay-triangulate it, print counts, its data domain and timings",
+     "json domain domain_max_edge_spacings domain_min_thinness", nullptr},
     {"measure", RunMeasure,
-     "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE] [--json]",
+     "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE] "
+     "[--domain=data|hull] [--json]",
      "compare surface B with A: volume between them (rho_d), mean gap, cut/fill, timings",
-     "json volume weights", nullptr},
+     "json volume weights domain domain_max_edge_spacings domain_min_thinness", nullptr},
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json]",
      "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary",

@@ -191,9 +191,12 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
   options.level_of_detection = config.terrain.lod;
   options.keep_node_gaps = true;
   options.parallel = config.options.num_threads > 1;
+  options.domain = config.options.domain;  // everything over Ω: dz, the DoD, cut/fill
   TerrainReport report;
   report.before = Measure(in.reference, in.moving, options);
-  report.after = Measure(in.reference, TransformSurface(in.moving, result.matrix), options);
+  Surface moved = TransformSurface(in.moving, result.matrix);
+  moved.raster_grid = in.moving.raster_grid;  // a rigidly moved raster is still its cells
+  report.after = Measure(in.reference, moved, options);
 
   // Stable terrain: the mask of the registration (frame coordinates), or all.
   const auto& mask = config.options.mask_polygon;
@@ -326,6 +329,9 @@ std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& in,
   }
   text += "\n              over areas of gain " + Number(a.fill_area) + " and loss " +
           Number(a.cut_area) + " units^2 (overlap " + Number(a.overlap_area) + ")";
+  text += std::string("\ndomain:       ") + DomainKindName(a.domain_kind) +
+          " (left out of the hulls: reference " + Number(a.excluded_area_a) + ", moving " +
+          Number(a.excluded_area_b) + " units^2)";
   return text;
 }
 

@@ -12,8 +12,8 @@
 // d = F̂_B − F̂_A is about 0.01 + 0.02 x (mean about 0.02 over the square).
 //
 // Names: BM_Stage/<stage>/<distribution>/<N> for the stages of Measure in
-// its order (triangulate, spanning_tree, locate, interpolate, overlay,
-// union), each on both clouds, with the inputs and every earlier stage
+// its order (triangulate, domain, spanning_tree, locate, interpolate,
+// overlay, union), each on both clouds, with the inputs and every earlier stage
 // prepared outside the timed loop exactly as Measure prepares them (points
 // in A's frame, sorted by SpatialOrder(xy, false, 0));
 // BM_Measure/<impl>/<distribution>/<N>, impl surfreg (the whole
@@ -106,11 +106,12 @@ std::vector<std::array<double, 3>> MakeCloud(Distribution d, int64_t n, bool is_
 }
 
 // A surface as Measure prepares it (measures.cc, Prepared): in A's frame,
-// sorted spatially, then its mesh and EMST.
+// sorted spatially, then its mesh, data domain and EMST.
 struct Prepared {
   std::vector<Point2> xy;
   std::vector<double> z;
   Triangulation mesh;
+  MeshDomain domain;
   SpanningTree tree;
 };
 
@@ -134,22 +135,33 @@ double Interpolate(const Triangulation& mesh, const std::vector<double>& values,
          l.barycentric[2] * values[v[2]];
 }
 
-// Measure's interpolate stage: μ, then the gap at every node inside Ω
-// (each distinct vertex once) and ρ'd. Same loop as measures.cc.
+// Measure's interpolate stage: μ, the nodes in Ω, then the gap at every
+// node inside Ω (each distinct vertex once) and ρ'd. Same loop as measures.cc.
 double NodeGapsAndAxial(const Surface& a, const Prepared& pa, const Prepared& pb,
                         const std::vector<Location>& a_in_b, const std::vector<Location>& b_in_a,
-                        const MeasureOptions& options, WeightField* mu, NodeGaps* gaps) {
+                        const MeasureOptions& options, WeightField* mu, NodeGaps* gaps,
+                        std::vector<uint8_t>* omega_a, std::vector<uint8_t>* omega_b) {
   static const std::vector<double> kNoWeights;
   *mu = MakeWeightField(options, a, pa.xy, pa.mesh, kNoWeights, pb.xy, pb.mesh, kNoWeights, a_in_b,
                         b_in_a);
   gaps->a.assign(pa.xy.size(), 0.0);
   gaps->b.assign(pb.xy.size(), 0.0);
+  omega_a->assign(pa.xy.size(), 0);
+  omega_b->assign(pb.xy.size(), 0);
+  for (std::size_t i = 0; i < pa.xy.size(); ++i) {
+    (*omega_a)[i] = a_in_b[i].found() && pa.domain.vertices[pa.mesh.vertex_of_input[i]] &&
+                    pb.domain.Contains(pb.mesh, a_in_b[i]);
+  }
+  for (std::size_t j = 0; j < pb.xy.size(); ++j) {
+    (*omega_b)[j] = b_in_a[j].found() && pb.domain.vertices[pb.mesh.vertex_of_input[j]] &&
+                    pa.domain.Contains(pa.mesh, b_in_a[j]);
+  }
   double gap_sum = 0.0, node_weight = 0.0;
   int64_t overlap_nodes = 0;
   for (std::size_t i = 0; i < pa.xy.size(); ++i) {
     if (!a_in_b[i].found()) continue;
     gaps->a[i] = Interpolate(pb.mesh, pb.z, a_in_b[i]) - pa.z[i];
-    if (pa.mesh.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
+    if (!(*omega_a)[i] || pa.mesh.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
     const double w = mu->AtNodeA(i);
     gap_sum += w * std::fabs(gaps->a[i]);
     node_weight += w;
@@ -158,7 +170,7 @@ double NodeGapsAndAxial(const Surface& a, const Prepared& pa, const Prepared& pb
   for (std::size_t j = 0; j < pb.xy.size(); ++j) {
     if (!b_in_a[j].found()) continue;
     gaps->b[j] = pb.z[j] - Interpolate(pa.mesh, pa.z, b_in_a[j]);
-    if (pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
+    if (!(*omega_b)[j] || pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
     if (b_in_a[j].where == Where::kOnVertex) continue;
     const double w = mu->AtNodeB(j);
     gap_sum += w * std::fabs(gaps->b[j]);
@@ -180,12 +192,13 @@ struct Input {
   std::vector<CgalKernel::Point_2> cgal_union;  // A's points then B's, input coordinates
 #endif
   // Stages prepared as in Measure, each on demand, in this order.
-  enum Level { kSorted, kMeshes, kTrees, kLocations, kGaps };
+  enum Level { kSorted, kMeshes, kDomains, kTrees, kLocations, kGaps };
   int level = kSorted;
   Prepared pa, pb;
   std::vector<Location> a_in_b, b_in_a;
   WeightField mu;
   NodeGaps gaps;
+  std::vector<uint8_t> omega_a, omega_b;  // the nodes in Ω
   MeasureOptions options;  // defaults: overlay volume, uniform μ
   double overlay_rho_d = -1.0;  // from the overlay stage, for the cross-check
   std::string error;            // a stage threw: the rows of this input are skipped
@@ -212,6 +225,11 @@ void Prepare(Input& input, int level) {
       }
       input.level = Input::kMeshes;
     }
+    if (input.level < Input::kDomains && level >= Input::kDomains) {
+      input.pa.domain = MakeMeshDomain(input.pa.xy, input.pa.mesh, input.options.domain);
+      input.pb.domain = MakeMeshDomain(input.pb.xy, input.pb.mesh, input.options.domain);
+      input.level = Input::kDomains;
+    }
     if (input.level < Input::kTrees && level >= Input::kTrees) {
       input.pa.tree = EuclideanMst(input.pa.xy, input.pa.mesh);
       input.pb.tree = EuclideanMst(input.pb.xy, input.pb.mesh);
@@ -226,7 +244,7 @@ void Prepare(Input& input, int level) {
     }
     if (input.level < Input::kGaps && level >= Input::kGaps) {
       NodeGapsAndAxial(input.a, input.pa, input.pb, input.a_in_b, input.b_in_a, input.options,
-                       &input.mu, &input.gaps);
+                       &input.mu, &input.gaps, &input.omega_a, &input.omega_b);
       input.level = Input::kGaps;
     }
   } catch (const std::exception& e) {
@@ -319,8 +337,21 @@ void BM_Triangulate(benchmark::State& state, Distribution d, int64_t n) {
   SetCounters(state, *input);
 }
 
-void BM_SpanningTree(benchmark::State& state, Distribution d, int64_t n) {
+void BM_Domain(benchmark::State& state, Distribution d, int64_t n) {
   Input* input = Setup(state, d, n, Input::kMeshes);
+  if (!input) return;
+  for (auto _ : state) {
+    MeshDomain da = MakeMeshDomain(input->pa.xy, input->pa.mesh, input->options.domain);
+    MeshDomain db = MakeMeshDomain(input->pb.xy, input->pb.mesh, input->options.domain);
+    Keep(da.triangles.data());
+    Keep(db.triangles.data());
+    benchmark::ClobberMemory();
+  }
+  SetCounters(state, *input);
+}
+
+void BM_SpanningTree(benchmark::State& state, Distribution d, int64_t n) {
+  Input* input = Setup(state, d, n, Input::kDomains);
   if (!input) return;
   for (auto _ : state) {
     SpanningTree ta = EuclideanMst(input->pa.xy, input->pa.mesh);
@@ -359,8 +390,9 @@ void BM_Interpolate(benchmark::State& state, Distribution d, int64_t n) {
   for (auto _ : state) {
     WeightField mu;
     NodeGaps gaps;
+    std::vector<uint8_t> omega_a, omega_b;
     axial = NodeGapsAndAxial(input->a, input->pa, input->pb, input->a_in_b, input->b_in_a,
-                             input->options, &mu, &gaps);
+                             input->options, &mu, &gaps, &omega_a, &omega_b);
     Keep(axial);
     Keep(gaps.a.data());
     Keep(gaps.b.data());
@@ -368,6 +400,10 @@ void BM_Interpolate(benchmark::State& state, Distribution d, int64_t n) {
   }
   SetCounters(state, *input);
   state.counters["rho_d_axial"] = axial;
+}
+
+OmegaDomains Omega(const Input& input) {
+  return {&input.pa.domain, &input.pb.domain, &input.omega_a, &input.omega_b};
 }
 
 void BM_Overlay(benchmark::State& state, Distribution d, int64_t n) {
@@ -378,7 +414,7 @@ void BM_Overlay(benchmark::State& state, Distribution d, int64_t n) {
   VolumeResult volume;
   for (auto _ : state) {
     volume = OverlayVolume(pa.xy, pa.mesh, pa.z, input->a_in_b, pb.xy, pb.mesh, pb.z,
-                           input->b_in_a, input->mu);
+                           input->b_in_a, input->mu, false, -1.0, Omega(*input));
     Keep(volume.gap.abs);
     benchmark::ClobberMemory();
   }
@@ -396,7 +432,7 @@ void BM_Union(benchmark::State& state, Distribution d, int64_t n) {
   VolumeResult volume;
   for (auto _ : state) {
     volume = UnionVolume(pa.xy, pa.mesh, input->a_in_b, input->gaps.a, pb.xy, pb.mesh,
-                         input->b_in_a, input->gaps.b, input->mu);
+                         input->b_in_a, input->gaps.b, input->mu, Omega(*input));
     Keep(volume.gap.abs);
     benchmark::ClobberMemory();
   }
@@ -455,6 +491,7 @@ void MeasureSurfreg(benchmark::State& state, Distribution d, int64_t n, bool par
   // Measure's own stage timings (last iteration, seconds), to compare with
   // the BM_Stage rows.
   state.counters["t_triangulate"] = summary.timings.triangulate;
+  state.counters["t_domain"] = summary.timings.domain;
   state.counters["t_spanning_tree"] = summary.timings.spanning_tree;
   state.counters["t_locate"] = summary.timings.locate;
   state.counters["t_interpolate"] = summary.timings.interpolate;
@@ -509,7 +546,8 @@ void RegisterAll() {
   const int64_t sizes[] = {10000, 100000, 1000000};
   const Distribution distributions[] = {Distribution::kUniform, Distribution::kJittered};
   const std::pair<const char*, Function> stages[] = {
-      {"BM_Stage/triangulate", BM_Triangulate}, {"BM_Stage/spanning_tree", BM_SpanningTree},
+      {"BM_Stage/triangulate", BM_Triangulate}, {"BM_Stage/domain", BM_Domain},
+      {"BM_Stage/spanning_tree", BM_SpanningTree},
       {"BM_Stage/locate", BM_Locate},           {"BM_Stage/interpolate", BM_Interpolate},
       {"BM_Stage/overlay", BM_Overlay},         {"BM_Stage/union", BM_Union},
       {"BM_Measure/surfreg", BM_MeasureSurfreg},

@@ -78,7 +78,8 @@ def ok(r):
 def ns_per_point(r):
     return r["real"] / r["points"] * 1e9
 
-stages = [("triangulate", "triangulate (both)"), ("spanning_tree", "spanning tree (both EMSTs)"),
+stages = [("triangulate", "triangulate (both)"), ("domain", "data domain (both)"),
+          ("spanning_tree", "spanning tree (both EMSTs)"),
           ("locate", "locate (both ways)"), ("interpolate", "interpolate (node gaps)"),
           ("overlay", "overlay volume"), ("union", "union volume"),
           ("surfreg", "**whole Measure** (2 threads)"), ("surfreg_serial", "whole Measure, 1 thread"),
@@ -132,7 +133,7 @@ for dist in dists:
 print()
 print("### Whole measure vs CGAL's Delaunay triangulation of A ∪ B (2N points)")
 print()
-print("| distribution | N | surfreg Measure (2 threads) | CGAL union | surfreg/CGAL time | 1 thread/CGAL time | Measure: triangulate / tree / locate / interpolate / volume |")
+print("| distribution | N | surfreg Measure (2 threads) | CGAL union | surfreg/CGAL time | 1 thread/CGAL time | Measure: triangulate / domain / tree / locate / interpolate / volume |")
 print("|---|---:|---:|---:|---:|---:|---|")
 large = []
 for dist in dists:
@@ -149,7 +150,8 @@ for dist in dists:
             total = t.get("t_total", 0.0)
             if total > 0:
                 split = " / ".join("%.0f%%" % (100.0 * t.get(k, 0.0) / total) for k in (
-                    "t_triangulate", "t_spanning_tree", "t_locate", "t_interpolate", "t_volume"))
+                    "t_triangulate", "t_domain", "t_spanning_tree", "t_locate", "t_interpolate",
+                    "t_volume"))
         print("| %s | %s | %s | %s | %s | %s | %s |" % (
             dist, fmt_n(n),
             "%.1f ms" % (s["real"] * 1e3) if ok(s) else "-",

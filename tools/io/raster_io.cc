@@ -198,6 +198,7 @@ Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_samp
   }
   if (points.empty()) Fail(raster.source, "every cell is nodata");
   Surface surface = MakeSurface(points, {}, raster.source, origin_step);
+  surface.raster_grid = true;  // its data domain is the cells with four valid corners
   ValidateSurface(surface);
   return surface;
 }
