@@ -143,7 +143,9 @@ Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix) 
     const Eigen::Vector3d p = r * Eigen::Vector3d(surface.xy[i].x, surface.xy[i].y, surface.z[i]);
     points[i] = {p.x() + moved_origin.x(), p.y() + moved_origin.y(), p.z() + moved_origin.z()};
   }
-  return MakeSurface(points, surface.weight, surface.source);
+  Surface moved = MakeSurface(points, surface.weight, surface.source);
+  moved.raster_grid = surface.raster_grid;  // a rigidly moved raster is still its cells
+  return moved;
 }
 
 AlignResult Align(const Surface& reference, const Surface& moving, const AlignOptions& options_in) {
@@ -327,7 +329,7 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   result.quaternion = {q[0], q[1], q[2], q[3]};
   result.euler_deg = EulerDegrees(result.matrix.topLeftCorner<3, 3>());
   auto fraction = [](const MeasureSummary& s) {
-    return s.overlap_area / std::min(s.hull_area_a, s.hull_area_b);
+    return s.overlap_area / std::min(s.domain_area_a, s.domain_area_b);
   };
   result.overlap_fraction_before = fraction(result.before);
   result.overlap_fraction_after = fraction(result.after);

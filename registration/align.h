@@ -160,7 +160,7 @@ struct AlignResult {
   double condition_number = 0;  // of the information matrix (rotations scaled by the RMS radius)
 
   MeasureSummary before, after;  // Measure(reference, moving moved by the initial / final motion)
-  double overlap_fraction_before = 0, overlap_fraction_after = 0;  // of the smaller hull
+  double overlap_fraction_before = 0, overlap_fraction_after = 0;  // of the smaller data domain
   int iterations = 0;            // solver iterations over all levels and starts
   std::string termination;       // the solver's message (last level)
   Verdict verdict = Verdict::kFailed;

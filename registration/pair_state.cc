@@ -87,7 +87,10 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction, con
   side.weight = std::move(cloud.weight);
   side.tree = EuclideanMst(side.xy, side.mesh);
   side.hull_area = MeshArea(side.xy, side.mesh);
-  side.domain = DataDomain(side.xy, side.mesh, rule);
+  // A subsampled lattice is no longer a lattice (the coarse levels).
+  DomainRule own = rule;
+  own.grid = surface.raster_grid && keep_fraction >= 1.0;
+  side.domain = DataDomain(side.xy, side.mesh, own);
   side.domain_vertex = DomainVertices(side.mesh, side.xy.size(), side.domain);
   return side;
 }
@@ -120,7 +123,8 @@ MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& sh
   side.tree = EuclideanMst(cloud.xy, side.mesh);
   side.hull_area = MeshArea(cloud.xy, side.mesh);
   side.rule = rule;
-  side.domain = DataDomain(cloud.xy, side.mesh, rule);
+  side.rule.grid = surface.raster_grid && keep_fraction >= 1.0;
+  side.domain = DataDomain(cloud.xy, side.mesh, side.rule);
   side.points.resize(cloud.xy.size());
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < cloud.xy.size(); ++i) {

@@ -188,12 +188,8 @@ SymmetryObjective::SymmetryObjective(const Surface& face, const SymmetryPlane& b
   const std::array<double, 3> shift = {mirror.origin[0] - face.origin[0],
                                        mirror.origin[1] - face.origin[1],
                                        mirror.origin[2] - face.origin[2]};
-  // The convex hulls, as Measure still integrates over them (its data
-  // domain is not there yet).
-  DomainRule hull;
-  hull.kind = DomainKind::kHull;
-  s.reference = PrepareReference(face, keep_fraction, hull);
-  s.moving = PrepareMoving(mirror, shift, keep_fraction, hull);
+  s.reference = PrepareReference(face, keep_fraction);
+  s.moving = PrepareMoving(mirror, shift, keep_fraction);
   s.centre = s.origin + s.moving.centroid;
   double mx = 0, my = 0, sum2 = 0;
   for (const Point2& p : face.xy) mx += p.x, my += p.y;

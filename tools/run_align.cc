@@ -184,7 +184,7 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
               r.after.rho_d_axial);
   std::printf("mean |dz|:    %.6g -> %.6g units  (rho_d / overlap area)\n", r.before.mean_abs_dz,
               r.after.mean_abs_dz);
-  std::printf("overlap:      %.2f%% -> %.2f%% of the smaller hull\n",
+  std::printf("overlap:      %.2f%% -> %.2f%% of the smaller data domain\n",
               100 * r.overlap_fraction_before, 100 * r.overlap_fraction_after);
   std::printf("iterations:   %d  (%s)\n", r.iterations, r.termination.c_str());
   std::printf("time:         %.3f s\n", r.seconds);
