@@ -11,6 +11,7 @@
 #include "measure/weights.h"
 #include "registration/pair_state.h"
 #include "registration/solvers.h"
+#include "registration/wide_search.h"
 
 namespace surfreg {
 namespace {
@@ -148,7 +149,9 @@ Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix) 
   return moved;
 }
 
-AlignResult Align(const Surface& reference, const Surface& moving, const AlignOptions& options_in) {
+namespace {
+
+AlignResult AlignFrom(const Surface& reference, const Surface& moving, const AlignOptions& options_in) {
   const Clock::time_point start = Clock::now();
   std::string error;
   if (!options_in.IsValid(&error)) throw InputError("align options: " + error);
@@ -218,13 +221,22 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   result.before = Measure(reference, TransformSurface(moving, MatrixOf(theta0, centre, reference.origin)),
                           measure_options);
 
+  std::array<double, 6> start_theta = theta0;
+  if (options.wide_search == AlignOptions::WideSearch::kAlways) {
+    const double keep_a = std::min(1.0, 2000.0 / static_cast<double>(reference.size()));
+    const double keep_b = std::min(1.0, 2000.0 / static_cast<double>(moving.size()));
+    const ReferenceSide coarse_reference = PrepareReference(reference, keep_a, options.domain);
+    MovingSide coarse_moving = PrepareMoving(moving, shift, keep_b, options.domain);
+    coarse_moving.centroid = finest.moving.centroid;  // θ: the same motion on every level
+    start_theta = WideSearch(coarse_reference, coarse_moving, theta0, options, context.rotation_scale).theta;
+  }
   const double spacing = std::sqrt(finest.moving.hull_area / static_cast<double>(finest.moving.points.size()));
   const double start_shift = options.multi_start_shift > 0 ? options.multi_start_shift : 5.0 * spacing;
   SolveResult best;
   bool have_best = false;
   int iterations = 0;
   for (int s = 0; s <= options.multi_start; ++s) {
-    std::array<double, 6> theta = Perturbed(theta0, s, options, start_shift);
+    std::array<double, 6> theta = Perturbed(start_theta, s, options, start_shift);
     SolveResult solved;
     bool usable = true;
     for (std::size_t l = 0; l < levels.size() && usable; ++l) {
@@ -335,6 +347,20 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   result.overlap_fraction_after = fraction(result.after);
   result.seconds = Seconds(start);
   return result;
+}
+
+}  // namespace
+
+AlignResult Align(const Surface& reference, const Surface& moving, const AlignOptions& options) {
+  AlignResult result = AlignFrom(reference, moving, options);
+  const bool poor = result.verdict == Verdict::kFailed || result.verdict == Verdict::kConvergedNotImproved;
+  if (options.wide_search != AlignOptions::WideSearch::kAuto || !poor) return result;
+  AlignOptions wide = options;
+  wide.wide_search = AlignOptions::WideSearch::kAlways;
+  AlignResult second = AlignFrom(reference, moving, wide);
+  if (second.verdict != Verdict::kConvergedImproved) return result;
+  second.seconds += result.seconds;
+  return second;
 }
 
 }  // namespace surfreg

@@ -108,6 +108,7 @@ level_factor: 2.5
 multi_start: 4
 multi_start_angle_deg: 5
 multi_start_shift: 12.5
+wide_search: always
 initial_rotation_deg: [1, -2, 90]
 initial_translation: [10, -20, 0.5]
 mask: poly.txt
@@ -166,6 +167,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(o.multi_start, 4);
   EXPECT_EQ(o.multi_start_angle_deg, 5);
   EXPECT_EQ(o.multi_start_shift, 12.5);
+  EXPECT_EQ(o.wide_search, AlignOptions::WideSearch::kAlways);
   EXPECT_DOUBLE_EQ(o.initial_rotation[0], kPi / 180);
   EXPECT_DOUBLE_EQ(o.initial_rotation[1], -2 * kPi / 180);
   EXPECT_DOUBLE_EQ(o.initial_rotation[2], kPi / 2);
@@ -196,7 +198,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.mask_raster, "stable.tif");
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
-  EXPECT_EQ(c.Where("progress"), "t.yaml:28: key 'progress'");
+  EXPECT_EQ(c.Where("progress"), "t.yaml:29: key 'progress'");
   EXPECT_EQ(AlignConfigValue(c, "free"), "[rx, ry, tx, ty, tz]");
   EXPECT_EQ(AlignConfigValue(c, "initial_rotation_deg"), "[1, -2, 90]");
 }

@@ -170,6 +170,30 @@ TEST(AlignTest, TwoSamplingsOfRealDem) {
   }
 }
 
+// A start 20° and 40 spacings away is beyond the prealignment's basin; the
+// wide search (50 coarse starts) brings it back.
+TEST(AlignTest, WideSearchRecoversAFarStart) {
+  const testing::GridDem dem = testing::ReadGridDem("configs/data/volcano.xyz");
+  const int n = 2500;
+  const double spacing = std::sqrt((dem.x1() - dem.x0) * (dem.y1() - dem.y0) / n);
+  const auto a = testing::SampleUniform(std::cref(dem), n, dem.x0, dem.x1(), dem.y0, dem.y1(), 7);
+  const auto b = testing::SampleUniform(std::cref(dem), n, dem.x0, dem.x1(), dem.y0, dem.y1(), 8);
+  const Pair pair = MakePair(a, b, kAxes[3], 20.0, Eigen::Vector3d(30, -25, 5) / std::sqrt(30 * 30 + 25 * 25 + 25.0) * 40,
+                             spacing);
+  AlignOptions options;
+  options.wide_search = AlignOptions::WideSearch::kNever;
+  const MotionError without = AlignAndCompare(pair, options);
+  EXPECT_GT(without.rotation_deg, 1.0) << "the start is within the basin: the test lost its point";
+  options.wide_search = AlignOptions::WideSearch::kAlways;
+  AlignResult result;
+  const MotionError error = AlignAndCompare(pair, options, &result);
+  std::printf("wide search from 20° / 40 spacings: %.2g deg, %.2g spacings, %.2f s\n", error.rotation_deg,
+              error.translation, result.seconds);
+  EXPECT_LT(error.rotation_deg, 0.05);
+  EXPECT_LT(error.translation, 0.1);
+  EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
+}
+
 TEST(AlignTest, CoarseToFineAndMultiStartStillRecover) {
   const double spacing = 100.0 / std::sqrt(6000.0);
   const auto a = testing::SampleUniform(testing::SmoothTerrain, 6000, 0, 100, 0, 100, 9);

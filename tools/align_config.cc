@@ -28,6 +28,9 @@ constexpr double kPi = 3.14159265358979323846;
 using namespace config_value;  // the value parsers shared with the terrain keys
 
 const Names<CostKind> kCosts = {{"axial", CostKind::kAxial}, {"volume", CostKind::kVolume}};
+const Names<AlignOptions::WideSearch> kWideSearches = {{"auto", AlignOptions::WideSearch::kAuto},
+                                                      {"always", AlignOptions::WideSearch::kAlways},
+                                                      {"never", AlignOptions::WideSearch::kNever}};
 const Names<LossKind> kLosses = {{"none", LossKind::kNone},
                                  {"huber", LossKind::kHuber},
                                  {"soft_l1", LossKind::kSoftL1},
@@ -159,6 +162,12 @@ const std::vector<KeyEntry>& Table() {
         "shift of the extra starts (data units); 0 = 5 mean sample spacings"},
        [](const Value& v, C* c) { c->options.multi_start_shift = Number(v, 0, HUGE_VAL); },
        [](const C& c) { return Text(c.options.multi_start_shift); }},
+      {{"wide_search", "one of auto, always, never",
+        "try 50 starts (12° and 24° about 12 axes, and the centroids matched) on a coarse "
+        "subsample and solve from the best: always, or (auto) when the alignment from the initial "
+        "motion fails or does not improve"},
+       [](const Value& v, C* c) { c->options.wide_search = Choice(v, kWideSearches); },
+       [](const C& c) { return NameOf(c.options.wide_search, kWideSearches); }},
       {{"initial_rotation_deg", "a list of 3 numbers [rx, ry, rz]",
         "initial rotation vector (degrees), about the moving centroid"},
        [](const Value& v, C* c) {

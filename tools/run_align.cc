@@ -48,6 +48,7 @@ DEFINE_string(subsample, "", "align: fraction of each cloud's points used at the
 DEFINE_string(multi_start, "", "align: extra starts around the initial motion");
 DEFINE_string(multi_start_angle_deg, "", "align: rotation of the extra starts");
 DEFINE_string(multi_start_shift, "", "align: shift of the extra starts");
+DEFINE_string(wide_search, "", "align: try many coarse starts first (auto | always | never)");
 DEFINE_string(initial_rotation_deg, "", "align: initial rotation vector rx,ry,rz in degrees");
 DEFINE_string(initial_translation, "", "align: initial shift tx,ty,tz of the moving centroid");
 DEFINE_string(mask, "", "align: polygon file: weight 1 inside, 0 outside");
