@@ -191,6 +191,24 @@ std::vector<uint8_t> DomainVertices(const Triangulation& mesh, std::size_t num_v
   return used;
 }
 
+std::vector<uint8_t> InteriorVertices(const Triangulation& mesh, std::size_t num_vertices,
+                                      const std::vector<uint8_t>& in_domain) {
+  std::vector<uint8_t> inner = DomainVertices(mesh, num_vertices, in_domain);
+  // Around a vertex, a change from a domain triangle to anything else
+  // crosses an edge at that vertex: zeroing both ends of every outline edge
+  // zeroes every vertex that touches the outside.
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    if (!in_domain[t]) continue;
+    for (int i = 0; i < 3; ++i) {
+      const int32_t next = mesh.neighbors[3 * t + i];
+      if (next >= 0 && in_domain[next]) continue;
+      inner[mesh.triangles[3 * t + (i + 1) % 3]] = 0;
+      inner[mesh.triangles[3 * t + (i + 2) % 3]] = 0;
+    }
+  }
+  return inner;
+}
+
 const char* DomainKindName(DomainKind kind) {
   return kind == DomainKind::kHull ? "hull" : "data";
 }

@@ -66,6 +66,13 @@ double DomainArea(const std::vector<Point2>& xy, const Triangulation& mesh,
 std::vector<uint8_t> DomainVertices(const Triangulation& mesh, std::size_t num_vertices,
                                     const std::vector<uint8_t>& in_domain);
 
+// Per vertex: 1 if every triangle around it is in the domain and it is not
+// on the hull (an inner vertex of the domain), 0 if it is on the domain's
+// outline or outside it. Interpolated linearly, these make a taper that is 1
+// inside the domain's outer ring of triangles and falls to 0 on its outline.
+std::vector<uint8_t> InteriorVertices(const Triangulation& mesh, std::size_t num_vertices,
+                                      const std::vector<uint8_t>& in_domain);
+
 const char* DomainKindName(DomainKind kind);  // "data" | "hull"
 
 // One surface's domain as the measures use it.

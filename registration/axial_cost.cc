@@ -48,10 +48,14 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   const bool normal = settings.normal_distance;
   const std::vector<double>& mu = a.weight;
   const bool weighted = !mu.empty();
-  // μ per node, and dμ_j/dθ per B node (for the normalization's derivative).
-  std::vector<double> node_weight(weighted ? na + nb : 0, 0.0);
-  std::vector<std::array<double, 6>> d_weight(weighted && jacobians ? nb : 0,
-                                              std::array<double, 6>{});
+  const std::vector<uint8_t>& inner_a = state.reference_interior();
+  const std::vector<uint8_t>& inner_b = state.moving_interior();
+  const std::vector<double>& a_cosine = state.reference_cosine();
+  const std::vector<Eigen::Vector3d>& b_normal = state.moving_normal();
+  const Eigen::Matrix3d& rotation = state.derivative().rotation;
+  // Each node's share of the normalization, μ τ², and its derivative.
+  std::vector<double> node_weight(na + nb, 0.0);
+  std::vector<std::array<double, 6>> d_weight(jacobians ? na + nb : 0, std::array<double, 6>{});
 
   int64_t overlap = 0;
   for (std::size_t i = 0; i < na; ++i) {
@@ -63,21 +67,49 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     if (weighted && !(mu[i] > 0.0)) continue;
     const int32_t* v = &mesh_b.triangles[3 * loc.triangle];
     const auto& l = loc.barycentric;
+    // The taper τ: B's inner-vertex flags interpolated on the moved triangle.
+    const double taper = l[0] * inner_b[v[0]] + l[1] * inner_b[v[1]] + l[2] * inner_b[v[2]];
+    if (!(taper > 0.0)) continue;
+    // normal_distance: the cosine of B''s slope, linear on the moved
+    // triangle from its corners' moved unit normals (continuous from one
+    // triangle to the next, unlike each triangle's own slope).
+    double cosine = 1.0;
+    Eigen::Vector3d u[3];
+    if (normal) {
+      for (int c = 0; c < 3; ++c) u[c] = rotation * b_normal[v[c]];
+      cosine = l[0] * u[0].z() + l[1] * u[1].z() + l[2] * u[2].z();
+      if (!(cosine > 0.0)) continue;  // overturned: the weight has reached 0
+    }
     const double root = weighted ? std::sqrt(mu[i]) : 1.0;  // μ_i is fixed: a constant factor
-    if (weighted) node_weight[i] = mu[i];
+    const double mu_i = weighted ? mu[i] : 1.0;
+    node_weight[i] = mu_i * taper * taper;
     const double gap = l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i];
-    Eigen::Vector3d n(0.0, 0.0, 1.0);
-    if (jacobians || normal) n = UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], bz[v[0]], bz[v[1]], bz[v[2]]);
-    const double cosine = normal ? 1.0 / n.norm() : 1.0;
-    out->r[i] = root * cosine * gap;
+    const double untapered = root * cosine * gap;
+    out->r[i] = taper * untapered;
     out->active[i] = 1;
     if (!jacobians) continue;
+    const Eigen::Vector3d n = UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], bz[v[0]], bz[v[1]], bz[v[2]]);
     const Eigen::Vector3d q = l[0] * bq[v[0]] + l[1] * bq[v[1]] + l[2] * bq[v[2]];
-    Eigen::Vector3d d_rotation = -(mt * n.cross(q)) * cosine;
-    // The moved triangle's unit normal u = n/|n| turns with the rotation
-    // (du = Mδω × u) and the cosine is u_z: d(cos)/dω = Mᵀ(u × e_z).
-    if (normal) d_rotation += gap * cosine * (mt * n.cross(Eigen::Vector3d::UnitZ()));
-    Store(d_rotation * root, n * (cosine * root), &out->jacobian[i]);
+    // A field f linear on the moved triangle, read at the fixed xy of node
+    // i, moves as the height does, with (−∂f/∂x, −∂f/∂y, 0) in place of n.
+    auto eulerian = [&](double f0, double f1, double f2) {
+      const Eigen::Vector3d up = UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], f0, f1, f2);
+      return Eigen::Vector3d(up.x(), up.y(), 0.0);
+    };
+    Eigen::Vector3d d_rotation = -(mt * n.cross(q)) * cosine, d_translation = n * cosine;
+    if (normal) {
+      // The corners' normals turn with the rotation (du = Mδω × u), and
+      // their z is the cosine: d(u_z)/dω = Mᵀ(u × e_z).
+      const Eigen::Vector3d n_cosine = eulerian(u[0].z(), u[1].z(), u[2].z());
+      const Eigen::Vector3d turned = mt * (l[0] * u[0] + l[1] * u[1] + l[2] * u[2]).cross(Eigen::Vector3d::UnitZ());
+      d_rotation += gap * (turned - mt * n_cosine.cross(q));
+      d_translation += gap * n_cosine;
+    }
+    const Eigen::Vector3d n_taper = eulerian(inner_b[v[0]], inner_b[v[1]], inner_b[v[2]]);
+    const Eigen::Vector3d dt_rotation = -(mt * n_taper.cross(q));
+    Store(taper * root * d_rotation + untapered * dt_rotation,
+          taper * root * d_translation + untapered * n_taper, &out->jacobian[i]);
+    Store(2.0 * mu_i * taper * dt_rotation, 2.0 * mu_i * taper * n_taper, &d_weight[i]);
   }
   for (std::size_t j = 0; j < nb; ++j) {
     const Location& loc = state.b_in_a()[j];
@@ -91,32 +123,50 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
       w = l[0] * mu[v[0]] + l[1] * mu[v[1]] + l[2] * mu[v[2]];
       if (!(w > 0.0)) continue;
     }
+    // The taper τ: A's inner-vertex flags interpolated on A's triangle.
+    const double taper = l[0] * inner_a[v[0]] + l[1] * inner_a[v[1]] + l[2] * inner_a[v[2]];
+    if (!(taper > 0.0)) continue;
+    // normal_distance: the cosine of A's slope, linear on A's triangle.
+    const double cosine =
+        normal ? l[0] * a_cosine[v[0]] + l[1] * a_cosine[v[1]] + l[2] * a_cosine[v[2]] : 1.0;
+    if (!(cosine > 0.0)) continue;
     const std::size_t k = na + j;
-    Eigen::Vector3d n(0.0, 0.0, 1.0);
-    if (jacobians || normal) {
-      n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
-    }
-    // A's slope is constant within its triangle: the cosine is a constant factor.
-    const double cosine = normal ? 1.0 / n.norm() : 1.0;
-    const double r = cosine * (l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j]);
+    const double gap = l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j];
+    const double r = cosine * gap;
     const double root = std::sqrt(w);
-    out->r[k] = root * r;
+    out->r[k] = taper * root * r;
     out->active[k] = 1;
-    if (weighted) node_weight[k] = w;
+    node_weight[k] = w * taper * taper;
     if (!jacobians) continue;
+    const Eigen::Vector3d n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
+    // A field linear on the A triangle (μ, τ, the cosine) has a gradient g
+    // that moves with x'_j: d/dt = g, d/dω = −Mᵀ(g × q).
+    auto gradient_of = [&](double f0, double f1, double f2) {
+      const Eigen::Vector3d up = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], f0, f1, f2);
+      return Eigen::Vector3d(-up.x(), -up.y(), 0.0);
+    };
     Eigen::Vector3d d_rotation = cosine * (mt * n.cross(bq[j])), d_translation = -cosine * n;
+    if (normal) {
+      const Eigen::Vector3d g = gradient_of(a_cosine[v[0]], a_cosine[v[1]], a_cosine[v[2]]);
+      d_rotation -= gap * (mt * g.cross(bq[j]));
+      d_translation += gap * g;
+    }
+    Eigen::Vector3d dw_rotation = Eigen::Vector3d::Zero(), dw_translation = Eigen::Vector3d::Zero();
     if (weighted) {
-      // μ(x'_j) is linear on the A triangle: its gradient g moves with x'_j.
-      const Eigen::Vector3d up =
-          UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], mu[v[0]], mu[v[1]], mu[v[2]]);
-      const Eigen::Vector3d g(-up.x(), -up.y(), 0.0);
-      const Eigen::Vector3d dw_rotation = -(mt * g.cross(bq[j]));
-      Store(dw_rotation, g, &d_weight[j]);
+      dw_translation = gradient_of(mu[v[0]], mu[v[1]], mu[v[2]]);
+      dw_rotation = -(mt * dw_translation.cross(bq[j]));
       const double half = r / (2.0 * root);
       d_rotation = root * d_rotation + half * dw_rotation;
-      d_translation = root * d_translation + half * g;
+      d_translation = root * d_translation + half * dw_translation;
     }
-    Store(d_rotation, d_translation, &out->jacobian[k]);
+    const Eigen::Vector3d dt_translation = gradient_of(inner_a[v[0]], inner_a[v[1]], inner_a[v[2]]);
+    const Eigen::Vector3d dt_rotation = -(mt * dt_translation.cross(bq[j]));
+    const double untapered = root * r;
+    Store(taper * d_rotation + untapered * dt_rotation,
+          taper * d_translation + untapered * dt_translation, &out->jacobian[k]);
+    const double t2 = taper * taper;
+    Store(t2 * dw_rotation + 2.0 * w * taper * dt_rotation,
+          t2 * dw_translation + 2.0 * w * taper * dt_translation, &d_weight[k]);
   }
   out->overlap_count = overlap;
 
@@ -146,18 +196,13 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     }
   }
   out->active_count = active;
-  // Σ μ over the active nodes, and its derivative (B's μ_j only).
-  double total = static_cast<double>(active);
+  // Σ μ τ² over the active nodes, and its derivative.
+  double total = 0.0;
   Eigen::Matrix<double, 6, 1> d_total = Eigen::Matrix<double, 6, 1>::Zero();
-  if (weighted) {
-    total = 0.0;
-    for (std::size_t k = 0; k < out->r.size(); ++k) {
-      if (!out->active[k]) continue;
-      total += node_weight[k];
-      if (jacobians && k >= na) {
-        d_total += Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d_weight[k - na].data());
-      }
-    }
+  for (std::size_t k = 0; k < out->r.size(); ++k) {
+    if (!out->active[k]) continue;
+    total += node_weight[k];
+    if (jacobians) d_total += Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d_weight[k].data());
   }
   out->active_weight = total;
   if (settings.normalize_count > 0 && total > 0) {

@@ -20,6 +20,15 @@
 // there; μ r², the cost, does not): the gradient Jᵀr stays exact and
 // bounded, only the Gauss-Newton matrix is inflated for those few nodes.
 // Trimming and a robust loss see the weighted residuals sqrt(μ) r.
+//
+// The taper τ: every residual is multiplied by τ, the other surface's
+// inner-vertex flags (measure/domain.h InteriorVertices) interpolated where
+// the node lies, 1 except on the outer ring of triangles of that surface's
+// data (B's: its active triangles), where it falls linearly to 0 at the
+// outline. A node entering or leaving Ω then changes the cost continuously
+// instead of by its whole r² (which made trust-region steps alternate between
+// two costs). Its derivative, r ∇τ moved as μ's, is in the Jacobian, and the
+// normalization below counts Σ μ τ².
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -51,14 +60,16 @@ struct AxialSettings {
   // overlap). With weights, active_weight depends on θ through B's μ_j and
   // the Jacobian includes the derivative of the scale.
   double normalize_count = 0;
-  // Multiply each residual by w_k = 1/|n_k|, n_k = (−∂F/∂x, −∂F/∂y, 1) of
-  // the interpolated surface at node k (the cos of its slope): the vertical
-  // gap becomes about the gap along the normal (point-to-plane). Steep walls,
-  // where two samplings of one surface differ by large vertical gaps for a
-  // tiny sideways offset, then neither dominate nor bias the fit. Applied
-  // before trimming, μ and the normalization. The Jacobian is exact: for B's
-  // nodes w is constant within A's triangle; for A's nodes w = cos of the
-  // moved B triangle's tilt, dw/dt = 0, dw/dω = w Mᵀ(n × e_z).
+  // Multiply each residual by w_k, the cos of the other surface's slope at
+  // node k: the vertical gap becomes about the gap along the normal
+  // (point-to-plane). Steep walls, where two samplings of one surface differ
+  // by large vertical gaps for a tiny sideways offset, then neither dominate
+  // nor bias the fit. w is linear on each triangle, from its corners' unit
+  // vertex normals (PairState::reference_cosine, moving_normal): a
+  // triangle's own slope would make the cost jump wherever a node crosses an
+  // edge, and Levenberg-Marquardt then alternates between two costs. Applied
+  // before trimming, μ and the normalization; its derivative (B's normals
+  // turn with ω, and w moves with the node) is in the Jacobian.
   bool normal_distance = false;
 };
 

@@ -175,6 +175,24 @@ double SurfaceArea(const std::vector<Eigen::Vector3d>& p, const Triangulation& m
   return area;
 }
 
+// Per vertex: the unit sum of its domain triangles' normals, each as long as
+// twice the triangle's area (upward: both meshes are counter-clockwise in xy).
+std::vector<Eigen::Vector3d> VertexNormals(const std::vector<Eigen::Vector3d>& p, const Triangulation& mesh,
+                                           const std::vector<uint8_t>& in_domain) {
+  std::vector<Eigen::Vector3d> normal(p.size(), Eigen::Vector3d::Zero());
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    if (!in_domain[t]) continue;
+    const int32_t* v = &mesh.triangles[3 * t];
+    const Eigen::Vector3d n = (p[v[1]] - p[v[0]]).cross(p[v[2]] - p[v[0]]);
+    for (int i = 0; i < 3; ++i) normal[v[i]] += n;
+  }
+  for (Eigen::Vector3d& n : normal) {
+    const double length = n.norm();
+    n = length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::UnitZ();
+  }
+  return normal;
+}
+
 }  // namespace
 
 PairState::PairState(const ReferenceSide& reference, const MovingSide& moving,
@@ -188,6 +206,16 @@ PairState::PairState(const ReferenceSide& reference, const MovingSide& moving,
   area3d_ = SurfaceArea(moving.points, mesh_);
   active_ = moving.domain;
   active_vertex_ = DomainVertices(mesh_, n, active_);
+  interior_vertex_ = InteriorVertices(mesh_, n, active_);
+  reference_interior_ = InteriorVertices(reference.mesh, reference.xy.size(), reference.domain);
+  moving_normal_ = VertexNormals(moving.points, moving.mesh, moving.domain);
+  {
+    std::vector<Eigen::Vector3d> a3(reference.xy.size());
+    for (std::size_t i = 0; i < a3.size(); ++i) a3[i] = {reference.xy[i].x, reference.xy[i].y, reference.z[i]};
+    const std::vector<Eigen::Vector3d> normal = VertexNormals(a3, reference.mesh, reference.domain);
+    reference_cosine_.resize(normal.size());
+    for (std::size_t i = 0; i < normal.size(); ++i) reference_cosine_[i] = normal[i].z();
+  }
   for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
     if (active_[t]) kept_triangles_.insert(kept_triangles_.end(), &mesh_.triangles[3 * t], &mesh_.triangles[3 * t + 3]);
   }
@@ -278,6 +306,7 @@ bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
     mesh_ = Triangulate(moved_xy_);
     active_ = DataDomain(moved_xy_, mesh_, moving_.rule);
     active_vertex_ = DomainVertices(mesh_, moved_xy_.size(), active_);
+    interior_vertex_ = InteriorVertices(mesh_, moved_xy_.size(), active_);
     kept_triangles_.clear();
     for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
       if (!active_[t]) continue;
@@ -324,6 +353,7 @@ void PairState::SetActiveFlags() {
     }
   }
   active_vertex_ = DomainVertices(mesh_, moved_xy_.size(), active_);
+  interior_vertex_ = InteriorVertices(mesh_, moved_xy_.size(), active_);
 }
 
 int PairState::FixSurface(double max_slope_deg) {

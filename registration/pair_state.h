@@ -148,6 +148,16 @@ class PairState {
   bool OnMovingSurface(const Location& l) const;
   bool moving_node_active(std::size_t j) const { return active_vertex_[j] != 0; }
   bool OnReferenceSurface(const Location& l) const;
+  // Per node: 1 if it is an inner vertex of the surface (InteriorVertices in
+  // measure/domain.h), B's for its active triangles. The axial cost's taper.
+  const std::vector<uint8_t>& moving_interior() const { return interior_vertex_; }
+  const std::vector<uint8_t>& reference_interior() const { return reference_interior_; }
+  // Per node: the cosine of A's slope (its unit vertex normal's z, the
+  // normal averaged over its domain triangles by area), and B's unit vertex
+  // normals at θ = 0 (over its own domain triangles; moved, R times them).
+  // Interpolated linearly, the axial cost's normal_distance weight.
+  const std::vector<double>& reference_cosine() const { return reference_cosine_; }
+  const std::vector<Eigen::Vector3d>& moving_normal() const { return moving_normal_; }
   int32_t folded() const { return folded_; }
   int remeshes() const { return remeshes_; }
   // Changes whenever B's mesh or its active triangles change (re-meshes,
@@ -182,6 +192,10 @@ class PairState {
   int32_t folded_ = 0;
   std::vector<uint8_t> active_;           // per triangle of mesh_
   std::vector<uint8_t> active_vertex_;    // per B node: a corner of an active triangle
+  std::vector<uint8_t> interior_vertex_;  // per B node: inner vertex of the active triangles
+  std::vector<uint8_t> reference_interior_;  // per A node: inner vertex of A's domain
+  std::vector<double> reference_cosine_;
+  std::vector<Eigen::Vector3d> moving_normal_;
   // The fixed active triangles as sorted vertex triples, grouped by their
   // smallest vertex (CSR): to find them again in a new mesh.
   std::vector<int32_t> kept_begin_;

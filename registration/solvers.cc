@@ -194,6 +194,8 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
     scale = state.Update(theta0) ? AutomaticLossScale(state, context.axial, 1e-12) : 1.0;
   }
   std::unique_ptr<ceres::LossFunction> loss = MakeLoss(options.loss, scale);
+  // The cost is a mean over Ω (see AxialSettings::normalize_count); with the
+  // taper (axial_cost.h), continuous as nodes enter and leave Ω.
   AxialSettings settings = context.axial;
   {
     AxialResiduals start;
@@ -228,10 +230,8 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
   solver.max_num_iterations = options.max_iterations;
   solver.function_tolerance = options.function_tolerance;
   solver.gradient_tolerance = 1e-16;
-  // A node entering or leaving the overlap makes the cost jump by its
-  // residual; near the solution that can stall the decrease test while the
-  // steps shrink to nothing. Steps of 1e-10 of the parameters' size are far
-  // below any accuracy the data support.
+  // Steps of 1e-10 of the parameters' size are far below any accuracy the
+  // data support (a trim or a mask still makes the cost jump).
   solver.parameter_tolerance = 1e-10;
   solver.num_threads = std::max(1, options.num_threads);
   solver.logging_type = ceres::SILENT;

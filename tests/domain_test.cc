@@ -226,5 +226,44 @@ TEST(DataDomainTest, DomainVerticesAreTheCornersOfKeptTriangles) {
   }
 }
 
+// The axial cost's taper is 1 only at inner vertices: on a raster, the
+// samples whose four cells are all complete.
+TEST(DataDomainTest, InteriorVerticesAreTheSamplesWithFourCompleteCells) {
+  const Lattice lattice = HolesAndStrip();
+  const std::vector<Point2> xy = lattice.Points();
+  const Triangulation mesh = Triangulate(xy);
+  DomainRule rule;
+  rule.grid = true;
+  const std::vector<uint8_t> inner = InteriorVertices(mesh, xy.size(), DataDomain(xy, mesh, rule));
+  auto complete = [&](int c, int r) {
+    return lattice.Has(c, r) && lattice.Has(c + 1, r) && lattice.Has(c, r + 1) && lattice.Has(c + 1, r + 1);
+  };
+  std::size_t k = 0;
+  int inner_count = 0, outline_count = 0;
+  for (int r = 0; r < lattice.rows; ++r) {
+    for (int c = 0; c < lattice.columns; ++c) {
+      if (!lattice.Has(c, r)) continue;
+      const bool all = complete(c - 1, r - 1) && complete(c, r - 1) && complete(c - 1, r) && complete(c, r);
+      EXPECT_EQ(inner[k], all ? 1 : 0) << c << ", " << r;
+      (all ? inner_count : outline_count)++;
+      ++k;
+    }
+  }
+  EXPECT_GT(inner_count, 1000);
+  EXPECT_GT(outline_count, 150);
+  // The whole hull: only the hull's vertices are not inner.
+  const std::vector<uint8_t> hull_inner =
+      InteriorVertices(mesh, xy.size(), std::vector<uint8_t>(mesh.num_triangles(), 1));
+  k = 0;
+  for (int r = 0; r < lattice.rows; ++r) {
+    for (int c = 0; c < lattice.columns; ++c) {
+      if (!lattice.Has(c, r)) continue;
+      const bool border = r == 0 || c == 0 || r == lattice.rows - 1 || c == lattice.columns - 1;
+      EXPECT_EQ(hull_inner[k], border ? 0 : 1) << c << ", " << r;
+      ++k;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace surfreg
