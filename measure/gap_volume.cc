@@ -283,14 +283,17 @@ VolumeResult UnionVolume(const std::vector<Point2>& xy_a, const Triangulation& m
     const double area = 0.5 * TwiceArea(corners[0], corners[1], corners[2]);
     if (!(area > 0.0)) continue;
     if (check_a || check_b) {
-      const Point2 centroid = {(corners[0].x + corners[1].x + corners[2].x) / 3.0,
-                               (corners[0].y + corners[1].y + corners[2].y) / 3.0};
-      if (check_a && !domains.a->Contains(mesh_a, LocatePoint(xy_a, mesh_a, centroid,
-                                                              start_a[v[0]]))) {
+      // The exact centroid, never rounded: on a grid it often lies on an
+      // edge of a mesh, on Ω's boundary, and a rounded one falls on either
+      // side depending on the frame (A's or B's origin), which made
+      // Measure(A, B) and Measure(B, A) keep different triangles.
+      const std::array<Point2, 3> triangle = {corners[0], corners[1], corners[2]};
+      if (check_a &&
+          !domains.a->Contains(mesh_a, LocateCentroid(xy_a, mesh_a, triangle, start_a[v[0]]))) {
         continue;
       }
-      if (check_b && !domains.b->Contains(mesh_b, LocatePoint(xy_b, mesh_b, centroid,
-                                                              start_b[v[0]]))) {
+      if (check_b &&
+          !domains.b->Contains(mesh_b, LocateCentroid(xy_b, mesh_b, triangle, start_b[v[0]]))) {
         continue;
       }
     }

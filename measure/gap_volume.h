@@ -78,7 +78,8 @@ VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation&
 // The union's triangles use the paper's closed form for ∫|d| (volume.h,
 // AbsVolumePaper) with μ = 1. The union is made of the nodes in Ω; its
 // Delaunay triangles bridge the gaps between the domains again, so a
-// triangle whose centroid is outside Ω (located in both meshes) is dropped.
+// triangle whose centroid is outside Ω (located in both meshes, exactly:
+// LocateCentroid) is dropped.
 VolumeResult UnionVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                          const std::vector<Location>& a_in_b, const std::vector<double>& gaps_a,
                          const std::vector<Point2>& xy_b, const Triangulation& mesh_b,

@@ -13,6 +13,9 @@ namespace {
 
 inline int Next(int i) { return i == 2 ? 0 : i + 1; }
 inline int Prev(int i) { return i == 0 ? 2 : i - 1; }
+inline int EdgeTowards(const Triangulation& mesh, int32_t t, int32_t from) {
+  return mesh.neighbors[3 * t] == from ? 0 : (mesh.neighbors[3 * t + 1] == from ? 1 : 2);
+}
 inline bool Same(const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; }
 
 // For q on the line through a and b (q != a): does q lie on a's ray towards b?
@@ -250,6 +253,68 @@ Location LocatePointBruteForce(const std::vector<Point2>& points, const Triangul
     if (zeros == 1) location.index = static_cast<int8_t>(o[0] == 0.0 ? 0 : (o[1] == 0.0 ? 1 : 2));
     location.barycentric = Barycentric(A, B, C, p, location.index);
     return location;
+  }
+  return Location();
+}
+
+Location LocateCentroid(const std::vector<Point2>& points, const Triangulation& mesh,
+                        const std::array<Point2, 3>& corners, int32_t start_triangle) {
+  const int32_t n = mesh.num_triangles();
+  const Point2* g = corners.data();
+  // Where g lies in triangle t: the exact sign for each edge (edge i is
+  // opposite local vertex i), or false if it lies strictly beyond edge
+  // `*beyond` (one other than `skip`, the edge the walk came in through).
+  auto signs = [&](int32_t t, int skip, int o[3], int* beyond) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    *beyond = -1;
+    for (int i = 0; i < 3; ++i) {
+      if (i == skip) {
+        o[i] = 1;  // g is strictly on this side: the walk crossed towards it
+        continue;
+      }
+      o[i] = Orient2DCentroidSign(points[v[Next(i)]], points[v[Prev(i)]], g);
+      if (o[i] < 0 && *beyond < 0) *beyond = i;
+    }
+    return *beyond < 0;
+  };
+  auto classify = [&](int32_t t, const int o[3]) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    Location location;
+    location.triangle = t;
+    const int zeros = (o[0] == 0) + (o[1] == 0) + (o[2] == 0);
+    if (zeros >= 2) {
+      location.where = Where::kOnVertex;
+      location.index = static_cast<int8_t>(o[0] != 0 ? 0 : (o[1] != 0 ? 1 : 2));
+      location.barycentric[location.index] = 1.0;
+      return location;
+    }
+    location.where = zeros == 1 ? Where::kOnEdge : Where::kInside;
+    if (zeros == 1) location.index = static_cast<int8_t>(o[0] == 0 ? 0 : (o[1] == 0 ? 1 : 2));
+    const Point2 rounded = {(g[0].x + g[1].x + g[2].x) / 3.0, (g[0].y + g[1].y + g[2].y) / 3.0};
+    location.barycentric =
+        Barycentric(points[v[0]], points[v[1]], points[v[2]], rounded, location.index);
+    return location;
+  };
+  int o[3];
+  int beyond = -1;
+  int32_t t = start_triangle >= 0 && start_triangle < n ? start_triangle : 0;
+  int skip = -1;
+  const int64_t limit = WalkStepLimit(mesh);
+  for (int64_t step = 0; step <= limit && n > 0; ++step) {
+    if (signs(t, skip, o, &beyond)) return classify(t, o);
+    const int32_t next = mesh.neighbors[3 * t + beyond];
+    if (next < 0) {  // beyond a hull edge: outside
+      Location outside;
+      outside.triangle = t;
+      outside.index = static_cast<int8_t>(beyond);
+      return outside;
+    }
+    skip = EdgeTowards(mesh, next, t);
+    t = next;
+  }
+  // A visibility walk can cycle on a non-Delaunay mesh: every triangle then.
+  for (int32_t u = 0; u < n; ++u) {
+    if (signs(u, -1, o, &beyond)) return classify(u, o);
   }
   return Location();
 }

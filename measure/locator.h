@@ -62,6 +62,19 @@ int64_t WalkStepLimit(const Triangulation& mesh);
 Location LocatePoint(const std::vector<Point2>& points, const Triangulation& mesh, const Point2& p,
                      int32_t start_triangle, int* steps = nullptr);
 
+// Locates the exact centroid g = (corners[0] + corners[1] + corners[2]) / 3
+// of three points without rounding it to a double (Orient2DCentroidSign):
+// kOnEdge / kOnVertex exactly when g lies on an edge / at a vertex of the
+// mesh. A rounded g lands on either side of an edge it lies on, depending on
+// the frame (a translation by whole units changes the rounding); this answer
+// does not. Walks from `start_triangle` by visibility (on each triangle,
+// across an edge that g lies strictly beyond) and, should a non-Delaunay
+// mesh make that cycle past WalkStepLimit, checks every triangle.
+// `barycentric` holds the rounded centroid's coordinates in the triangle
+// found (clamped to it; exact 0 on the edges that hold g).
+Location LocateCentroid(const std::vector<Point2>& points, const Triangulation& mesh,
+                        const std::array<Point2, 3>& corners, int32_t start_triangle);
+
 // Same, checking every triangle: the oracle for tests. O(number of triangles).
 Location LocatePointBruteForce(const std::vector<Point2>& points, const Triangulation& mesh,
                                const Point2& p);

@@ -277,6 +277,39 @@ double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Po
   return MostSignificant(nd, det);
 }
 
+int Orient2DCentroidExact(const Point2& a, const Point2& b, const Point2* c) {
+  ++ThreadPredicateCounters().orient_exact;
+  // Σ_i (a − c_i) × (b − c_i) with every difference an exact expansion and
+  // one common power-of-two scaling (the sum is homogeneous of degree 2).
+  double d[12][2];
+  int n[12];
+  for (int i = 0; i < 3; ++i) {
+    n[4 * i + 0] = ExactDifference(a.x, c[i].x, d[4 * i + 0]);
+    n[4 * i + 1] = ExactDifference(a.y, c[i].y, d[4 * i + 1]);
+    n[4 * i + 2] = ExactDifference(b.x, c[i].x, d[4 * i + 2]);
+    n[4 * i + 3] = ExactDifference(b.y, c[i].y, d[4 * i + 3]);
+  }
+  double* arrays[12];
+  for (int k = 0; k < 12; ++k) arrays[k] = d[k];
+  ScaleToRange(arrays, n, 12, 500);  // products < 2^1000, their sum of six < 2^1003
+  double sum[48], next[48];
+  int ns = 0;
+  for (int i = 0; i < 3; ++i) {
+    double* const acx = d[4 * i + 0];
+    double* const acy = d[4 * i + 1];
+    double* const bcx = d[4 * i + 2];
+    double* const bcy = d[4 * i + 3];
+    double det[16];
+    const int nd = Minor(n[4 * i + 0], acx, n[4 * i + 1], acy, n[4 * i + 2], bcx, n[4 * i + 3],
+                         bcy, det);
+    const int nn = ExpansionSum(ns, sum, nd, det, next);
+    std::copy(next, next + nn, sum);
+    ns = nn;
+  }
+  const double most = MostSignificant(ns, sum);
+  return most > 0.0 ? 1 : (most < 0.0 ? -1 : 0);
+}
+
 }  // namespace predicates_internal
 
 PredicateCounters& ThreadPredicateCounters() {

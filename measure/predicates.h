@@ -34,6 +34,7 @@ constexpr double kInCircleMinScale = 0x1p-400;  // permanent
 constexpr double kMaxDifference = 0x1p240;      // any coordinate difference
 // The exact stages, out of line: reached only when the filter cannot decide.
 double Orient2DExact(const Point2& a, const Point2& b, const Point2& c);
+int Orient2DCentroidExact(const Point2& a, const Point2& b, const Point2* corners);
 double InCircleExact(const Point2& a, const Point2& b, const Point2& c, const Point2& d);
 }  // namespace predicates_internal
 
@@ -48,6 +49,31 @@ inline double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
   // NaN from overflowed products.
   if (std::fabs(det) > bound && scale >= predicates_internal::kOrientMinScale) return det;
   return predicates_internal::Orient2DExact(a, b, c);
+}
+
+// The exact sign of Orient2D(a, b, g) for g = (c[0] + c[1] + c[2]) / 3, the
+// centroid of three points, never rounded to a double: +1, -1 or 0 (g on the
+// line ab). The determinant is affine in g, so 3 Orient2D(a, b, g) =
+// Σ Orient2D(a, b, c[i]), evaluated with the same filter and exact stage as
+// Orient2D. Rounding g itself would make the answer depend on the frame the
+// points are in when g lies on the line (a centroid on a mesh edge falls on
+// either side after a translation by whole units; the union volume's test of
+// its triangles against Ω, measure/gap_volume.cc). Same domain as Orient2D.
+inline int Orient2DCentroidSign(const Point2& a, const Point2& b, const Point2* c) {
+  double det = 0.0, scale = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double left = (a.x - c[i].x) * (b.y - c[i].y);
+    const double right = (a.y - c[i].y) * (b.x - c[i].x);
+    det += left - right;
+    scale += std::fabs(left) + std::fabs(right);
+  }
+  // Each term's error is Orient2D's bound; the two sums add at most 2 ulps
+  // of the scale: (3 + 2) eps, doubled.
+  const double bound = 10.0 * predicates_internal::kEpsilon * scale + 0x1p-100 * scale;
+  if (std::fabs(det) > bound && scale >= predicates_internal::kOrientMinScale) {
+    return det > 0.0 ? 1 : -1;
+  }
+  return predicates_internal::Orient2DCentroidExact(a, b, c);
 }
 
 // The orientation determinant when its floating-point value is already

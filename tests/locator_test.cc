@@ -4,6 +4,7 @@
 #include "measure/locator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <set>
@@ -14,6 +15,7 @@
 
 #include "measure/delaunay.h"
 #include "measure/spanning_tree.h"
+#include "tests/testing/delaunay_checks.h"
 #include "tests/testing/point_sets.h"
 
 namespace surfreg {
@@ -175,6 +177,80 @@ TEST(LocatorTest, LocateAllInMstOrderMatchesBruteForce) {
   }
   // Each walk starts next to its tree neighbour: a few triangles per point.
   EXPECT_LT(static_cast<double>(stats.steps) / queries.size(), 12.0);
+}
+
+// LocateCentroid against brute force on three times the coordinates, where
+// the centroid (c0 + c1 + c2) / 3 becomes c0 + c1 + c2, exactly: the points
+// are multiples of 2^-20 (lattice points, and random points rounded), so
+// tripling and summing them is exact. Frames shifted by whole units give the
+// same answer; the rounded centroid does not always (it is off an edge or a
+// vertex it lies on).
+void ExpectCentroidsExact(const std::vector<Point2>& points, uint64_t seed, int* rounded_wrong) {
+  const Triangulation mesh = Triangulate(points);
+  std::vector<Point2> tripled;
+  for (const Point2& p : points) tripled.push_back({3.0 * p.x, 3.0 * p.y});
+  std::mt19937_64 rng(seed);
+  std::uniform_int_distribution<std::size_t> pick_point(0, points.size() - 1);
+  std::uniform_int_distribution<int32_t> pick(0, mesh.num_triangles() - 1);
+  std::uniform_int_distribution<int> shift(-1000, 1000);
+  int mismatches = 0;
+  for (int k = 0; k < 3000; ++k) {
+    std::array<Point2, 3> corners;
+    if (k % 2 == 0) {  // three samples: centroids on edges and at vertices are common
+      for (Point2& c : corners) c = points[pick_point(rng)];
+    } else {  // corners of adjacent triangles of the mesh
+      const int32_t t = pick(rng);
+      const int32_t u = std::max(0, mesh.neighbors[3 * t + k % 3]);
+      corners = {points[mesh.triangles[3 * t]], points[mesh.triangles[3 * t + 1]],
+                 points[mesh.triangles[3 * u + (k / 3) % 3]]};
+    }
+    const Point2 sum{corners[0].x + corners[1].x + corners[2].x,
+                     corners[0].y + corners[1].y + corners[2].y};
+    const Location truth = LocatePointBruteForce(tripled, mesh, sum);
+    for (int frame = 0; frame < 3; ++frame) {
+      const Point2 d{frame == 0 ? 0.0 : double(shift(rng)), frame == 0 ? 0.0 : double(shift(rng))};
+      std::vector<Point2> moved = points;
+      for (Point2& p : moved) p = {p.x + d.x, p.y + d.y};
+      std::array<Point2, 3> moved_corners = corners;
+      for (Point2& c : moved_corners) c = {c.x + d.x, c.y + d.y};
+      const Location exact = LocateCentroid(moved, mesh, moved_corners, pick(rng));
+      if (exact.where != truth.where || Support(mesh, exact) != Support(mesh, truth)) {
+        if (++mismatches <= 5) {
+          ADD_FAILURE() << "centroid of " << testing::Str(corners[0]) << testing::Str(corners[1])
+                        << testing::Str(corners[2]) << " in frame " << d.x << " " << d.y
+                        << ": where " << static_cast<int>(exact.where) << ", truth "
+                        << static_cast<int>(truth.where);
+        }
+      }
+      if (exact.found()) {
+        double total = 0.0;
+        for (double b : exact.barycentric) total += b;
+        EXPECT_NEAR(total, 1.0, 1e-12);
+      }
+      const Point2 g{(moved_corners[0].x + moved_corners[1].x + moved_corners[2].x) / 3.0,
+                     (moved_corners[0].y + moved_corners[1].y + moved_corners[2].y) / 3.0};
+      const Location rounded = LocatePoint(moved, mesh, g, 0);
+      *rounded_wrong += rounded.where != truth.where || Support(mesh, rounded) != Support(mesh, truth);
+    }
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+
+TEST(LocatorTest, CentroidsAreLocatedExactlyInEveryFrame) {
+  int rounded_wrong = 0;
+  ExpectCentroidsExact(testing::GridPoints(25, 20), 41, &rounded_wrong);
+  std::vector<Point2> lattice;  // random lattice points: many collinear triples
+  std::mt19937_64 rng(42);
+  std::uniform_int_distribution<int> u(-30, 30);
+  for (int k = 0; k < 400; ++k) lattice.push_back({double(u(rng)), double(u(rng))});
+  ExpectCentroidsExact(lattice, 43, &rounded_wrong);
+  std::vector<Point2> quantized = testing::UniformPoints(1500, 44);
+  for (Point2& p : quantized) p = {std::ldexp(std::round(std::ldexp(p.x, 20)), -20) * 64,
+                                   std::ldexp(std::round(std::ldexp(p.y, 20)), -20) * 64};
+  ExpectCentroidsExact(quantized, 45, &rounded_wrong);
+  // What the exact location is for: rounded centroids miss edges and
+  // vertices they lie on.
+  EXPECT_GT(rounded_wrong, 0);
 }
 
 TEST(LocatorTest, StartingOnTheQueryVertex) {

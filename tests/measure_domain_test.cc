@@ -413,5 +413,51 @@ TEST(MeasureDomainTest, NodesOnTheOthersEdgesCountWhenEitherSideIsData) {
   EXPECT_NEAR(s.signed_volume, volume, 1e-9);
 }
 
+
+// Found by fuzz_measure (tests/fuzz/corpus/measure/
+// regression_data_domain_union_centroid_symmetry): small integer clouds whose
+// union volume over the data domain was 264.81 one way and 263.17 the other
+// (0.6%, 32 union triangles in Ω against 31). The union triangle (-4, 3),
+// (-3, 2), (-3, 4) has its centroid (-10/3, 3) on A's edge (-6, 5)-(-2, 2),
+// which separates one of A's domain triangles from a triangle outside it;
+// closed, the domain holds the centroid. Rounded in A's frame (origin x = -2:
+// -4/3 -> -1.3333333333333333) it fell on the domain's side, in B's (origin
+// x = -1: -7/3 -> -2.3333333333333335) on the other. The centroid is now
+// located exactly (LocateCentroid), so both ways keep the triangle.
+TEST(MeasureDomainTest, UnionModeIsSymmetricWhenACentroidLiesOnAnEdgeOfOmega) {
+  const std::vector<std::array<double, 3>> points_a = {
+      {-2, -3, -5}, {0, 3, -7}, {0, -5, -4}, {-7, 5, -2}, {-3, 7, 1}, {2, 2, -7},
+      {4, 3, 0},    {-2, 2, 4}, {0, 5, 3},   {-6, 5, 4},  {2, 0, 4},  {-7, -7, -6}};
+  const std::vector<std::array<double, 3>> points_b = {
+      {-6, 6, 3},  {-7, -2, -3}, {-1, -7, 5}, {3, 0, 0},   {0, 0, 0},   {-1, 3, 1},  {4, -1, -1},
+      {-3, 2, 3},  {1, -7, 3},   {5, 0, 6},   {-3, -5, 5}, {-2, 2, 0},  {2, 3, 2},   {-3, 4, 6},
+      {-4, -2, 6}, {6, -1, -7},  {-4, 3, 2},  {0, -4, -6}, {-6, 1, 0},  {4, 4, 0},   {4, -4, 0},
+      {-1, 2, 6},  {6, 4, -2},   {-5, 7, -5}, {1, -3, -6}};
+  const Surface a = MakeSurface(points_a, {}, "A"), b = MakeSurface(points_b, {}, "B");
+  ASSERT_NE(a.origin[0], b.origin[0]);  // two frames: the rounding differed
+  for (const VolumeMode volume : {VolumeMode::kUnion, VolumeMode::kOverlay}) {
+    for (const bool parallel : {false, true}) {
+      MeasureOptions options;
+      options.volume = volume;
+      options.parallel = parallel;
+      const MeasureSummary ab = Measure(a, b, options), ba = Measure(b, a, options);
+      const char* name = VolumeModeName(volume);
+      EXPECT_NEAR(ab.rho_d, ba.rho_d, 1e-12 * ab.rho_d) << name;
+      EXPECT_NEAR(ab.signed_volume, -ba.signed_volume, 1e-12 * ab.rho_d) << name;
+      EXPECT_NEAR(ab.overlap_area, ba.overlap_area, 1e-12 * ab.overlap_area) << name;
+      EXPECT_EQ(ab.n_cells, ba.n_cells) << name;
+      EXPECT_EQ(ab.n_overlap_nodes, ba.n_overlap_nodes) << name;
+      EXPECT_NEAR(ab.rho_d_axial, ba.rho_d_axial, 1e-12 * ab.rho_d_axial) << name;
+      if (volume == VolumeMode::kUnion) {
+        // The triangle on A's edge is in Ω (the closed domains hold its
+        // centroid): 32 triangles, 76.5 units².
+        EXPECT_EQ(ab.n_cells, 32);
+        EXPECT_EQ(ab.overlap_area, 76.5);
+        EXPECT_NEAR(ab.rho_d, 264.80919980421913, 1e-9);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace surfreg

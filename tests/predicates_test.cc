@@ -388,5 +388,83 @@ TEST(Orient2DTest, SmallNextToLargeWithinDocumentedDomain) {
   }
 }
 
+
+// ---------------------------------------------------------------------------
+// Orient2DCentroidSign: the side of line ab the exact centroid of three
+// points lies on, against the oracle sign(Σ exact Orient2D(a, b, c_i)).
+
+int ExactCentroidSign(const Point2& a, const Point2& b, const Point2* c) {
+  const testing::Dyadic sum =
+      ExactOrientDet(a, b, c[0]) + ExactOrientDet(a, b, c[1]) + ExactOrientDet(a, b, c[2]);
+  return sum.Sign();
+}
+
+// The centroid of (-4, 3), (-3, 2), (-3, 4) lies on the line through (-6, 5)
+// and (-2, 2), the case the fuzzer found (measure_domain_test): exactly 0 in
+// every frame shifted by whole units, while the rounded centroid is off the
+// line in some of them (on either side).
+TEST(Orient2DCentroidTest, CentroidOnTheLineIsZeroInEveryFrame) {
+  int off_line[2] = {0, 0};
+  for (int s = -64; s <= 64; ++s) {
+    for (const double big : {0.0, 1e6, 4.5e15}) {
+      const double dx = big + s, dy = 0.5 * big - 3 * s;
+      const Point2 a{-6 + dx, 5 + dy}, b{-2 + dx, 2 + dy};
+      const Point2 c[3] = {{-4 + dx, 3 + dy}, {-3 + dx, 2 + dy}, {-3 + dx, 4 + dy}};
+      ASSERT_EQ(ExactCentroidSign(a, b, c), 0);  // whole units below 2^53: exact
+      EXPECT_EQ(Orient2DCentroidSign(a, b, c), 0) << "shift " << dx << " " << dy;
+      const Point2 g{(c[0].x + c[1].x + c[2].x) / 3.0, (c[0].y + c[1].y + c[2].y) / 3.0};
+      const double rounded = Orient2D(a, b, g);
+      if (rounded > 0.0) ++off_line[0];
+      if (rounded < 0.0) ++off_line[1];
+    }
+  }
+  EXPECT_GT(off_line[0], 0) << "the rounded centroid is never left of the line";
+  EXPECT_GT(off_line[1], 0) << "the rounded centroid is never right of the line";
+}
+
+// Centroids within a few ulps of the line: three points on y = x (and on a
+// line of another slope, offset far from the origin), each coordinate moved
+// by -3..3 ulps, against the oracle.
+TEST(Orient2DCentroidTest, NearTheLineMatchesExact) {
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(-100.0, 100.0);
+  std::uniform_int_distribution<int> k(-3, 3);
+  int bad = 0, zeros = 0, signs[2] = {0, 0};
+  for (int n = 0; n < 20000; ++n) {
+    const double ox = n % 2 ? 3.7e5 : 0.0, oy = n % 2 ? -6.1e6 : 0.0, slope = n % 3 ? 1.0 : 0.375;
+    auto on_line = [&](double t) {
+      return Point2{Ulps(ox + t, k(rng)), Ulps(oy + slope * t, k(rng))};
+    };
+    const Point2 a = on_line(u(rng)), b = on_line(u(rng));
+    const Point2 c[3] = {on_line(u(rng)), on_line(u(rng)), on_line(u(rng))};
+    const int expected = ExactCentroidSign(a, b, c);
+    zeros += expected == 0;
+    if (expected != 0) ++signs[expected > 0];
+    const int got = Orient2DCentroidSign(a, b, c);
+    if (got != expected && bad++ < 5) {
+      ADD_FAILURE() << "Orient2DCentroidSign(" << Str(a, b, c[0]) << " " << testing::Str(c[1]) << " " << testing::Str(c[2])
+                    << ") = " << got << ", exact " << expected;
+    }
+  }
+  EXPECT_EQ(bad, 0);
+  EXPECT_GT(zeros, 0);
+  EXPECT_GT(signs[0], 0);
+  EXPECT_GT(signs[1], 0);
+}
+
+// Random points far from degenerate: the filter decides, and agrees.
+TEST(Orient2DCentroidTest, RandomPointsMatchExact) {
+  std::mt19937_64 rng(32);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int bad = 0;
+  for (int n = 0; n < 5000; ++n) {
+    const double scale = std::ldexp(1.0, static_cast<int>(rng() % 200) - 100);
+    Point2 p[5];
+    for (Point2& q : p) q = {scale * u(rng), scale * u(rng)};
+    bad += Orient2DCentroidSign(p[0], p[1], p + 2) != ExactCentroidSign(p[0], p[1], p + 2);
+  }
+  EXPECT_EQ(bad, 0);
+}
+
 }  // namespace
 }  // namespace surfreg
