@@ -74,7 +74,7 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     // triangle from its corners' moved unit normals (continuous from one
     // triangle to the next, unlike each triangle's own slope).
     double cosine = 1.0;
-    Eigen::Vector3d u[3];
+    Eigen::Vector3d u[3] = {Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ()};
     if (normal) {
       for (int c = 0; c < 3; ++c) u[c] = rotation * b_normal[v[c]];
       cosine = l[0] * u[0].z() + l[1] * u[1].z() + l[2] * u[2].z();

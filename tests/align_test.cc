@@ -182,16 +182,52 @@ TEST(AlignTest, WideSearchRecoversAFarStart) {
                              spacing);
   AlignOptions options;
   options.wide_search = AlignOptions::WideSearch::kNever;
-  const MotionError without = AlignAndCompare(pair, options);
+  AlignResult stuck;
+  const MotionError without = AlignAndCompare(pair, options, &stuck);
   EXPECT_GT(without.rotation_deg, 1.0) << "the start is within the basin: the test lost its point";
-  options.wide_search = AlignOptions::WideSearch::kAlways;
+  // A wrong minimum that looks like success: the solver converged and the
+  // cost went down, but the surfaces lie far apart for two samplings of one
+  // terrain, which is what wide_search auto looks at.
+  EXPECT_EQ(stuck.verdict, Verdict::kConvergedImproved) << stuck.verdict_reason;
+  EXPECT_GT(stuck.after.mean_abs_dz, stuck.sampling_gap);
+  for (const auto mode : {AlignOptions::WideSearch::kAlways, AlignOptions::WideSearch::kAuto}) {
+    options.wide_search = mode;
+    AlignResult result;
+    const MotionError error = AlignAndCompare(pair, options, &result);
+    std::printf("wide search (%s) from 20° / 40 spacings: %.2g deg, %.2g spacings, %.2f s; "
+                "mean gap %.3g, sampling gap %.3g\n",
+                mode == AlignOptions::WideSearch::kAuto ? "auto" : "always", error.rotation_deg,
+                error.translation, result.seconds, result.after.mean_abs_dz, result.sampling_gap);
+    EXPECT_LT(error.rotation_deg, 0.05);
+    EXPECT_LT(error.translation, 0.1);
+    EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
+    EXPECT_LT(result.after.mean_abs_dz, 0.5 * result.sampling_gap);
+  }
+}
+
+// At the right pose two samplings of one surface differ by a fraction of
+// their sampling gap, so wide_search auto leaves a good alignment alone.
+TEST(AlignTest, SamplingGapBoundsTheGapAtTheRightPose) {
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 4000, 0, 100, 0, 100, 21);
+  const auto b = testing::SampleUniform(testing::SmoothTerrain, 4000, 0, 100, 0, 100, 22);
+  const double spacing = 100.0 / std::sqrt(4000.0);
+  const Pair pair = MakePair(a, b, kAxes[2], 2.0, {3, -2, 1}, spacing);
+  AlignOptions options;
   AlignResult result;
   const MotionError error = AlignAndCompare(pair, options, &result);
-  std::printf("wide search from 20° / 40 spacings: %.2g deg, %.2g spacings, %.2f s\n", error.rotation_deg,
-              error.translation, result.seconds);
-  EXPECT_LT(error.rotation_deg, 0.05);
-  EXPECT_LT(error.translation, 0.1);
-  EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
+  std::printf("sampling gap %.3g, mean gap at the solution %.3g (%.2f of it)\n", result.sampling_gap,
+              result.after.mean_abs_dz, result.after.mean_abs_dz / result.sampling_gap);
+  EXPECT_LT(error.rotation_deg, 0.01);
+  EXPECT_GT(result.sampling_gap, 0.0);
+  EXPECT_LT(result.after.mean_abs_dz, 0.5 * result.sampling_gap);
+  // Its own definition, by brute force on A: the mean distance from a
+  // sample to the least-squares plane through its Delaunay neighbours is
+  // positive on a curved surface and 0 on a plane.
+  std::vector<std::array<double, 3>> plane_a, plane_b;
+  for (const auto& p : a) plane_a.push_back({p[0], p[1], 0.2 * p[0] - 0.1 * p[1] + 3});
+  for (const auto& p : b) plane_b.push_back({p[0], p[1], 0.2 * p[0] - 0.1 * p[1] + 3});
+  const AlignResult flat = Align(MakeSurface(plane_a, {}, "a"), MakeSurface(plane_b, {}, "b"), options);
+  EXPECT_LT(flat.sampling_gap, 1e-9);
 }
 
 TEST(AlignTest, CoarseToFineAndMultiStartStillRecover) {

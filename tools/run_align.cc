@@ -183,8 +183,8 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
               sd[0] * kDegrees, sd[1] * kDegrees, sd[2] * kDegrees, sd[3], sd[4], sd[5]);
   std::printf("rho'_d:       %.6g -> %.6g units  (mean |dz| at the nodes)\n", r.before.rho_d_axial,
               r.after.rho_d_axial);
-  std::printf("mean |dz|:    %.6g -> %.6g units  (rho_d / overlap area)\n", r.before.mean_abs_dz,
-              r.after.mean_abs_dz);
+  std::printf("mean |dz|:    %.6g -> %.6g units  (rho_d / overlap area; sampling gap %.3g)\n",
+              r.before.mean_abs_dz, r.after.mean_abs_dz, r.sampling_gap);
   std::printf("overlap:      %.2f%% -> %.2f%% of the smaller data domain\n",
               100 * r.overlap_fraction_before, 100 * r.overlap_fraction_after);
   std::printf("iterations:   %d  (%s)\n", r.iterations, r.termination.c_str());

@@ -59,6 +59,7 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r,
       .Object("stddev", PerParameter(r.stddev, number))
       .Object("before", MeasuresJson(r.before, r.overlap_fraction_before))
       .Object("after", MeasuresJson(r.after, r.overlap_fraction_after))
+      .Number("sampling_gap", r.sampling_gap)
       .Int("iterations", r.iterations)
       .String("termination", r.termination)
       .Fixed("seconds", r.seconds, 6)
