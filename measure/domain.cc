@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "measure/locator.h"
 
@@ -75,62 +76,18 @@ std::vector<double> LocalSpacing(const std::vector<Point2>& xy, const Triangulat
   return local;
 }
 
-// A raster cell with four corners is two triangles that form a
-// parallelogram across their longest edge. Triangles between samples around
-// a missing one can also form one (the diamond of the four samples next to
-// a missing pixel; a rectangle of 1 x k cells across a void strip), but on a
-// lattice every triangle's area is a multiple of half a cell's, and such a
-// false cell has at least twice the area of the true cells next to it. So a
-// pair is a cell if no corner of it has a smaller pair (by a factor 1.5:
-// reprojected rasters change cell areas far less from one cell to the next).
-std::vector<uint8_t> GridDomain(const std::vector<Point2>& xy, const Triangulation& mesh) {
-  const int32_t n = mesh.num_triangles();
-  std::vector<int32_t> fourth(n, -1);  // the parallelogram's fourth corner, or -1
-  std::vector<double> area(n, 0.0);
-  std::vector<double> smallest(xy.size(), HUGE_VAL);  // per vertex: its smallest pair's area
-  for (int32_t t = 0; t < n; ++t) {
-    const int32_t* v = &mesh.triangles[3 * t];
-    area[t] = 0.5 * std::fabs(TwiceArea(xy[v[0]], xy[v[1]], xy[v[2]]));
-    double longest = 0;
-    const int i = LongestEdge(xy, v, &longest);
-    const int32_t u = mesh.neighbors[3 * t + i];
-    if (u < 0) continue;
-    const int32_t* w = &mesh.triangles[3 * u];
-    int32_t opposite = -1;
-    for (int j = 0; j < 3; ++j) {
-      if (w[j] != v[(i + 1) % 3] && w[j] != v[(i + 2) % 3]) opposite = w[j];
-    }
-    // The cell's fourth corner is where the parallelogram on the right
-    // angle's corner and the diagonal puts it; projected rasters are lattices
-    // up to rounding, reprojected ones deviate by far less than 1% of a cell.
-    const Point2& a = xy[v[(i + 1) % 3]];
-    const Point2& b = xy[v[(i + 2) % 3]];
-    const Point2& c = xy[v[i]];
-    const Point2 expected = {a.x + b.x - c.x, a.y + b.y - c.y};
-    if (Length(xy[opposite], expected) > 0.01 * longest) continue;
-    fourth[t] = opposite;
-    for (int32_t corner : {v[0], v[1], v[2], opposite}) {
-      smallest[corner] = std::min(smallest[corner], area[t]);
-    }
-  }
-  std::vector<uint8_t> in(n, 0);
-  for (int32_t t = 0; t < n; ++t) {
-    if (fourth[t] < 0) continue;
-    const int32_t* v = &mesh.triangles[3 * t];
-    const double least =
-        std::min({smallest[v[0]], smallest[v[1]], smallest[v[2]], smallest[fourth[t]]});
-    in[t] = area[t] <= 1.5 * least;
-  }
-  return in;
-}
-
 }  // namespace
 
 std::vector<uint8_t> DataDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
-                                const DomainRule& rule) {
+                                const DomainRule& rule, const std::vector<uint8_t>* grid) {
   const int32_t n = mesh.num_triangles();
   if (rule.kind == DomainKind::kHull) return std::vector<uint8_t>(n, 1);
-  if (rule.grid) return GridDomain(xy, mesh);
+  if (rule.grid) {
+    if (grid == nullptr || grid->size() != static_cast<std::size_t>(n)) {
+      throw std::invalid_argument("DataDomain: a raster's domain needs its grid triangles");
+    }
+    return *grid;
+  }
   std::vector<uint8_t> in(n, 1);
   const std::vector<double> spacing = LocalSpacing(xy, mesh);
   std::vector<double> thinness(n);
@@ -230,9 +187,9 @@ bool MeshDomain::Contains(const Triangulation& mesh, const Location& location) c
 }
 
 MeshDomain MakeMeshDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
-                          const DomainRule& rule) {
+                          const DomainRule& rule, const std::vector<uint8_t>* grid) {
   MeshDomain domain;
-  domain.triangles = DataDomain(xy, mesh, rule);
+  domain.triangles = DataDomain(xy, mesh, rule, grid);
   domain.vertices = DomainVertices(mesh, xy.size(), domain.triangles);
   domain.area = DomainArea(xy, mesh, domain.triangles);
   domain.whole = std::all_of(domain.triangles.begin(), domain.triangles.end(),

@@ -1,6 +1,6 @@
 #pragma once
-// The data domain of a sampled surface: the triangles of its Delaunay mesh
-// that are data, not the convex hull's filler (issue 20).
+// The data domain of a sampled surface: the triangles of its mesh (Delaunay,
+// or a raster's grid mesh) that are data, not the convex hull's filler (issue 20).
 //
 // A convex-hull triangulation bridges every gap: voids in a DEM, the concave
 // outline of a face patch, and the thin slivers that join nearly collinear
@@ -17,14 +17,9 @@
 //   boundary thinner than `min_boundary_thinness` (its height over its
 //   longest edge, divided by that edge; 0.866 for an equilateral triangle)
 //   is an outline sliver, and is peeled, until no boundary triangle is one;
-// - raster samples (`grid`): a triangle is data when it is half of a raster
-//   cell whose four corners are all samples: it and its neighbour across its
-//   longest edge form a parallelogram, and no corner of the two has such a
-//   pair of less than 2/3 of their area (around a missing sample, triangles
-//   of the samples next to it can form a larger parallelogram: on a lattice
-//   those have at least twice a cell's area). A cell with a nodata corner is
-//   not part of the surface. A raster with no complete cell next to a sample
-//   (every other cell nodata) is beyond this rule.
+// - raster samples (`grid`): the mesh holds the raster's cells, each split
+//   by one diagonal rule (grid_mesh.h); the domain is exactly those grid
+//   triangles. A cell with a nodata corner is not part of the surface.
 //
 // Thresholds (measured, README "The data domain"): on rectangular crops of
 // the benchmark's face and LIDAR clouds they keep 98.9% and 99.0% of the
@@ -50,13 +45,16 @@ struct DomainRule {
   DomainKind kind = DomainKind::kData;
   double max_edge_spacings = 4.0;
   double min_boundary_thinness = 0.1;
-  bool grid = false;  // the samples are raster cell centres
+  bool grid = false;  // the samples are one raster's (Surface::raster_cell)
 };
 
 // Per triangle of `mesh` (a triangulation of `xy`): 1 if it is part of the
-// data domain, 0 if not. kHull: all 1.
+// data domain, 0 if not. kHull: all 1. With rule.grid (and kData) the domain
+// is `grid`, the grid triangles EnforceGrid reported for this mesh; then
+// `grid` is required (std::invalid_argument if null or of the wrong size).
 std::vector<uint8_t> DataDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
-                                const DomainRule& rule = DomainRule());
+                                const DomainRule& rule = DomainRule(),
+                                const std::vector<uint8_t>* grid = nullptr);
 
 // The xy area of the triangles with in_domain[t] != 0.
 double DomainArea(const std::vector<Point2>& xy, const Triangulation& mesh,
@@ -89,6 +87,6 @@ struct MeshDomain {
 };
 
 MeshDomain MakeMeshDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
-                          const DomainRule& rule);
+                          const DomainRule& rule, const std::vector<uint8_t>* grid = nullptr);
 
 }  // namespace surfreg

@@ -9,6 +9,7 @@
 
 #include "measure/delaunay.h"
 #include "measure/gap_volume.h"
+#include "measure/grid_mesh.h"
 #include "measure/input_error.h"
 #include "measure/locator.h"
 #include "measure/overlay.h"
@@ -32,10 +33,23 @@ struct Prepared {
   std::vector<double> z;       // per input index; merged groups share their mean
   std::vector<double> weight;  // per input index, empty if none
   Triangulation mesh;
+  std::vector<uint8_t> in_grid;  // a raster's: per mesh triangle, a grid triangle
   SpanningTree tree;
   double hull_area = 0.0;
   MeshDomain domain;
 };
+
+// Delaunay, and for a raster its cells forced in (measure/grid_mesh.h);
+// `order` is the spatial sort (sorted k holds input order[k]).
+void MeshOf(const Surface& s, const std::vector<int32_t>& order, Prepared& p) {
+  p.mesh = Triangulate(p.xy);
+  if (!s.raster_grid()) return;
+  std::vector<int32_t> cells = GridCellTriangles(s.raster_cell, s.source);
+  std::vector<int32_t> sorted_index(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) sorted_index[order[k]] = static_cast<int32_t>(k);
+  RemapGridTriangles(sorted_index, &cells);
+  p.in_grid = EnforceGrid(p.xy, cells, &p.mesh);
+}
 
 void MergeDuplicateHeights(Prepared& s) {
   if (s.mesh.num_duplicates == 0) return;
@@ -153,18 +167,18 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.n_points_b = static_cast<int64_t>(b.size());
 
   // Both in A's local frame.
-  Prepared pa{a.xy, a.z, a.weight, {}, {}, 0.0, {}}, pb{b.xy, b.z, b.weight, {}, {}, 0.0, {}};
+  Prepared pa{a.xy, a.z, a.weight, {}, {}, {}, 0.0, {}}, pb{b.xy, b.z, b.weight, {}, {}, {}, 0.0, {}};
   const double shift[3] = {b.origin[0] - a.origin[0], b.origin[1] - a.origin[1],
                            b.origin[2] - a.origin[2]};
   for (Point2& p : pb.xy) p = {p.x + shift[0], p.y + shift[1]};
   for (double& z : pb.z) z += shift[2];
   // Work in Hilbert order: every later stage then walks memory locally.
   const std::vector<int32_t> order_a = SortSpatially(pa);
-  SortSpatially(pb);
+  const std::vector<int32_t> order_b = SortSpatially(pb);
 
   const bool parallel = options.parallel;
   Clock::time_point stage = Clock::now();
-  RunBoth(parallel, [&] { pa.mesh = Triangulate(pa.xy); }, [&] { pb.mesh = Triangulate(pb.xy); });
+  RunBoth(parallel, [&] { MeshOf(a, order_a, pa); }, [&] { MeshOf(b, order_b, pb); });
   summary.timings.triangulate = Seconds(stage);
   summary.n_duplicates_a = pa.mesh.num_duplicates;
   summary.n_duplicates_b = pb.mesh.num_duplicates;
@@ -176,10 +190,10 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   // Each surface's data domain, by its own rule (raster samples: cells).
   stage = Clock::now();
   DomainRule rule_a = options.domain, rule_b = options.domain;
-  rule_a.grid = a.raster_grid;
-  rule_b.grid = b.raster_grid;
-  RunBoth(parallel, [&] { pa.domain = MakeMeshDomain(pa.xy, pa.mesh, rule_a); },
-          [&] { pb.domain = MakeMeshDomain(pb.xy, pb.mesh, rule_b); });
+  rule_a.grid = a.raster_grid();
+  rule_b.grid = b.raster_grid();
+  RunBoth(parallel, [&] { pa.domain = MakeMeshDomain(pa.xy, pa.mesh, rule_a, &pa.in_grid); },
+          [&] { pb.domain = MakeMeshDomain(pb.xy, pb.mesh, rule_b, &pb.in_grid); });
   summary.timings.domain = Seconds(stage);
   CheckDomain(a, pa, rule_a, "surface A");
   CheckDomain(b, pb, rule_b, "surface B");

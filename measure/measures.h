@@ -1,8 +1,9 @@
 #pragma once
 // The one-call comparison of two surfaces (Dyshkant 2010; DESIGN.md 2, 3):
-// triangulate each, locate each cloud in the other's mesh (walking in EMST
-// order), interpolate, and integrate the gap d = F̂_B − F̂_A over the overlap
-// Ω with weight μ. Ω is the intersection of the two surfaces' data domains
+// triangulate each (a raster on its own cells, measure/grid_mesh.h), locate
+// each cloud in the other's mesh (walking in EMST order), interpolate, and
+// integrate the gap d = F̂_B − F̂_A over the overlap Ω with weight μ. Ω is
+// the intersection of the two surfaces' data domains
 // (measure/domain.h: the triangles that are data, not filler across voids,
 // nodata holes and concave outlines), or with DomainKind::kHull the paper's
 // Conv(A) ∩ Conv(B):
@@ -48,7 +49,7 @@ struct MeasureOptions {
   VolumeMode volume = VolumeMode::kOverlay;
   // Which triangles of each mesh are surface (measure/domain.h): the data
   // domain (default) or the whole convex hull (the paper's Ω). `grid` is
-  // set per surface from Surface::raster_grid (raster cells).
+  // set per surface from Surface::raster_grid() (raster cells).
   DomainRule domain;
   WeightMode weight = WeightMode::kUniform;
   // Simple polygon (either orientation, not closed explicitly) in input

@@ -61,6 +61,9 @@ void ValidateSurface(const Surface& surface) {
   if (!surface.weight.empty() && surface.weight.size() != n) {
     throw InputError(where + ": weight count differs from point count");
   }
+  if (!surface.raster_cell.empty() && surface.raster_cell.size() != n) {
+    throw InputError(where + ": raster cell count differs from point count");
+  }
   if (n < 3) {
     throw InputError(where + ": " + std::to_string(n) +
                      " points; a surface needs at least 3 not on one line");

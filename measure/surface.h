@@ -4,6 +4,7 @@
 // in every later computation (squares in the in-circle test, volumes).
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,12 @@ struct Point2 {
   double y = 0.0;
 };
 
+// A sample's cell in the raster it was read from (row 0 at the top, as GDAL).
+struct RasterCell {
+  int32_t column = 0;
+  int32_t row = 0;
+};
+
 struct Surface {
   // Added to every stored sample to get input coordinates (same units).
   std::array<double, 3> origin = {0.0, 0.0, 0.0};
@@ -21,12 +28,16 @@ struct Surface {
   std::vector<double> z;        // heights relative to origin[2]; z.size() == xy.size()
   std::vector<double> weight;   // optional per-sample weight >= 0; empty = uniform
   std::string source;           // where the samples came from (for messages)
-  // The samples are the valid cell centres of one raster (a lattice with
-  // nodata holes): the data domain is then its complete cells
-  // (measure/domain.h, DomainRule::grid). Set by the raster reader.
-  bool raster_grid = false;
+  // Raster topology: per sample, its cell in the one raster all samples came
+  // from; empty for scattered samples. Set by the raster reader and kept by
+  // every change of frame and rigid motion (they move points, not cells).
+  // The surface is then the raster's cells with four valid samples, each
+  // split by one diagonal rule, not a Delaunay triangulation
+  // (measure/grid_mesh.h); its data domain is exactly those triangles.
+  std::vector<RasterCell> raster_cell;
 
   std::size_t size() const { return xy.size(); }
+  bool raster_grid() const { return !raster_cell.empty(); }
 };
 
 // Builds a Surface from points in input coordinates. The origin is the
@@ -39,8 +50,8 @@ Surface MakeSurface(const std::vector<std::array<double, 3>>& points,
 
 // Checks what every algorithm downstream assumes and throws InputError
 // naming `surface.source` if it does not hold: at least 3 samples, all
-// coordinates finite, weights finite and >= 0, and the xy positions not all
-// on one line (exact test).
+// coordinates finite, weights finite and >= 0, one raster cell per sample
+// if any, and the xy positions not all on one line (exact test).
 void ValidateSurface(const Surface& surface);
 
 }  // namespace surfreg

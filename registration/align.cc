@@ -191,7 +191,7 @@ Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix) 
     points[i] = {p.x() + moved_origin.x(), p.y() + moved_origin.y(), p.z() + moved_origin.z()};
   }
   Surface moved = MakeSurface(points, surface.weight, surface.source);
-  moved.raster_grid = surface.raster_grid;  // a rigidly moved raster is still its cells
+  moved.raster_cell = surface.raster_cell;  // a rigidly moved raster keeps its cells
   return moved;
 }
 

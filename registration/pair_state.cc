@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "measure/enforce_triangles.h"
+#include "measure/grid_mesh.h"
 #include "measure/input_error.h"
 #include "measure/predicates.h"
 #include "measure/spatial_sort.h"
@@ -23,21 +24,27 @@ uint64_t Mix(uint64_t x) {  // splitmix64 finalizer: a fixed pseudo-random key p
 struct Cloud {
   std::vector<Point2> xy;
   std::vector<double> z;
-  std::vector<double> weight;  // empty when the surface has none
+  std::vector<double> weight;    // empty when the surface has none
+  std::vector<int32_t> grid;     // a raster's cells (measure/grid_mesh.h), indices into xy
+  std::vector<uint8_t> in_grid;  // per mesh triangle: one of the grid's
 };
 
-// Subsampled, Hilbert-sorted, duplicates merged (mean height), triangulated.
+// Subsampled, Hilbert-sorted, duplicates merged (mean height), triangulated;
+// with `grid` (a raster at full resolution: a subsampled lattice is not
+// one) on its own cells.
 Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
-                   double keep_fraction, Triangulation* mesh) {
+                   double keep_fraction, bool grid, Triangulation* mesh) {
   Cloud all;
   const std::size_t n = surface.size();
   const bool weighted = !surface.weight.empty();
   const double threshold = keep_fraction * 18446744073709551616.0;  // 2^64
+  std::vector<int32_t> sample;  // the surface index of each point of `all`
   for (std::size_t i = 0; i < n; ++i) {
     if (keep_fraction < 1.0 && static_cast<double>(Mix(i)) >= threshold) continue;
     all.xy.push_back({surface.xy[i].x + shift[0], surface.xy[i].y + shift[1]});
     all.z.push_back(surface.z[i] + shift[2]);
     if (weighted) all.weight.push_back(surface.weight[i]);
+    sample.push_back(static_cast<int32_t>(i));
   }
   if (all.xy.size() < 3) {
     throw InputError(surface.source + ": too few points left after subsampling by " +
@@ -47,50 +54,62 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
   Cloud sorted;
   sorted.xy.reserve(order.size());
   sorted.z.reserve(order.size());
+  std::vector<int32_t> index_of(grid ? n : 0, -1);  // surface index -> cloud index
   for (int32_t k : order) {
+    if (grid) index_of[sample[k]] = static_cast<int32_t>(sorted.xy.size());
     sorted.xy.push_back(all.xy[k]);
     sorted.z.push_back(all.z[k]);
     if (weighted) sorted.weight.push_back(all.weight[k]);
   }
   *mesh = Triangulate(sorted.xy);
-  if (mesh->num_duplicates == 0) return sorted;
-  // Keep one point per xy with the mean height (and weight, as Measure
-  // does), then triangulate the rest: a moving surface must not carry
-  // unreferenced points.
-  std::vector<double> sum(sorted.xy.size(), 0.0), weight_sum(weighted ? sorted.xy.size() : 0, 0.0);
-  std::vector<int32_t> count(sorted.xy.size(), 0);
-  for (std::size_t i = 0; i < sorted.xy.size(); ++i) {
-    sum[mesh->vertex_of_input[i]] += sorted.z[i];
-    ++count[mesh->vertex_of_input[i]];
-    if (weighted) weight_sum[mesh->vertex_of_input[i]] += sorted.weight[i];
-  }
+  Cloud* result = &sorted;
   Cloud unique;
-  for (std::size_t i = 0; i < sorted.xy.size(); ++i) {
-    if (mesh->vertex_of_input[i] != static_cast<int32_t>(i)) continue;
-    unique.xy.push_back(sorted.xy[i]);
-    unique.z.push_back(sum[i] / count[i]);
-    if (weighted) unique.weight.push_back(weight_sum[i] / count[i]);
+  if (mesh->num_duplicates > 0) {
+    // Keep one point per xy with the mean height (and weight, as Measure
+    // does), then triangulate the rest: a moving surface must not carry
+    // unreferenced points.
+    std::vector<double> sum(sorted.xy.size(), 0.0), weight_sum(weighted ? sorted.xy.size() : 0, 0.0);
+    std::vector<int32_t> count(sorted.xy.size(), 0), unique_of(sorted.xy.size(), -1);
+    for (std::size_t i = 0; i < sorted.xy.size(); ++i) {
+      sum[mesh->vertex_of_input[i]] += sorted.z[i];
+      ++count[mesh->vertex_of_input[i]];
+      if (weighted) weight_sum[mesh->vertex_of_input[i]] += sorted.weight[i];
+    }
+    for (std::size_t i = 0; i < sorted.xy.size(); ++i) {
+      if (mesh->vertex_of_input[i] != static_cast<int32_t>(i)) continue;
+      unique_of[i] = static_cast<int32_t>(unique.xy.size());
+      unique.xy.push_back(sorted.xy[i]);
+      unique.z.push_back(sum[i] / count[i]);
+      if (weighted) unique.weight.push_back(weight_sum[i] / count[i]);
+    }
+    // A raster cell with a merged corner is degenerate: it goes.
+    for (int32_t& k : index_of) k = k < 0 ? -1 : unique_of[k];
+    *mesh = Triangulate(unique.xy);
+    result = &unique;
   }
-  *mesh = Triangulate(unique.xy);
-  return unique;
+  if (grid) {
+    result->grid = GridCellTriangles(surface.raster_cell, surface.source);
+    RemapGridTriangles(index_of, &result->grid);
+    result->in_grid = EnforceGrid(result->xy, result->grid, mesh);
+  }
+  return std::move(*result);
 }
-
 
 }  // namespace
 
 ReferenceSide PrepareReference(const Surface& surface, double keep_fraction, const DomainRule& rule) {
   ValidateSurface(surface);
   ReferenceSide side;
-  Cloud cloud = PrepareCloud(surface, {0, 0, 0}, keep_fraction, &side.mesh);
+  // A subsampled lattice is no longer a lattice (the coarse levels).
+  DomainRule own = rule;
+  own.grid = surface.raster_grid() && keep_fraction >= 1.0;
+  Cloud cloud = PrepareCloud(surface, {0, 0, 0}, keep_fraction, own.grid, &side.mesh);
   side.xy = std::move(cloud.xy);
   side.z = std::move(cloud.z);
   side.weight = std::move(cloud.weight);
   side.tree = EuclideanMst(side.xy, side.mesh);
   side.hull_area = MeshArea(side.xy, side.mesh);
-  // A subsampled lattice is no longer a lattice (the coarse levels).
-  DomainRule own = rule;
-  own.grid = surface.raster_grid && keep_fraction >= 1.0;
-  side.domain = DataDomain(side.xy, side.mesh, own);
+  side.domain = DataDomain(side.xy, side.mesh, own, &cloud.in_grid);
   side.domain_vertex = DomainVertices(side.mesh, side.xy.size(), side.domain);
   return side;
 }
@@ -119,12 +138,13 @@ MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& sh
                          double keep_fraction, const DomainRule& rule) {
   ValidateSurface(surface);
   MovingSide side;
-  Cloud cloud = PrepareCloud(surface, shift, keep_fraction, &side.mesh);
+  side.rule = rule;
+  side.rule.grid = surface.raster_grid() && keep_fraction >= 1.0;
+  Cloud cloud = PrepareCloud(surface, shift, keep_fraction, side.rule.grid, &side.mesh);
   side.tree = EuclideanMst(cloud.xy, side.mesh);
   side.hull_area = MeshArea(cloud.xy, side.mesh);
-  side.rule = rule;
-  side.rule.grid = surface.raster_grid && keep_fraction >= 1.0;
-  side.domain = DataDomain(cloud.xy, side.mesh, side.rule);
+  side.domain = DataDomain(cloud.xy, side.mesh, side.rule, &cloud.in_grid);
+  side.grid = std::move(cloud.grid);
   side.points.resize(cloud.xy.size());
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < cloud.xy.size(); ++i) {
@@ -304,7 +324,9 @@ bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
     SetActiveFlags();
   } else {
     mesh_ = Triangulate(moved_xy_);
-    active_ = DataDomain(moved_xy_, mesh_, moving_.rule);
+    std::vector<uint8_t> in_grid;  // a raster: its cells at this pose (folds left out)
+    if (moving_.rule.grid) in_grid = EnforceGrid(moved_xy_, moving_.grid, &mesh_);
+    active_ = DataDomain(moved_xy_, mesh_, moving_.rule, &in_grid);
     active_vertex_ = DomainVertices(mesh_, moved_xy_.size(), active_);
     interior_vertex_ = InteriorVertices(mesh_, moved_xy_.size(), active_);
     kept_triangles_.clear();

@@ -3,7 +3,8 @@
 // and B's state at the current parameter value θ (DESIGN.md 4):
 // - both in A's local frame, duplicates merged (heights averaged), in
 //   Hilbert order;
-// - A triangulated once; B triangulated once in its own frame;
+// - A triangulated once; B triangulated once in its own frame (a raster at
+//   full resolution on its own cells, measure/grid_mesh.h);
 // - each surface is its data domain (measure/domain.h): the triangles of its
 //   mesh that are data. The others (gap bridges, outline slivers: "junk")
 //   stay in the mesh only so that walking and the overlay have a convex,
@@ -26,7 +27,8 @@
 //   tilt of several degrees from there can turn an active one over;
 // - otherwise (the axial prealignment, which travels far), B is
 //   re-triangulated at that pose and its domain found again by the rule (the
-//   height field seen from above), and the event is counted.
+//   height field seen from above; a raster: its cells forced in again, the
+//   folded ones and their neighbours left out), and the event is counted.
 // When folded triangles carry more than `max_fold_fraction` of B's surface
 // area, the surface itself overlaps in xy: Update fails.
 #include <array>
@@ -66,6 +68,9 @@ struct MovingSide {
   double hull_area = 0;
   DomainRule rule;              // how `domain` was found (again after a re-mesh)
   std::vector<uint8_t> domain;  // per triangle of `mesh`: 1 = data
+  // With rule.grid: the raster's cells, six indices into `points` per cell
+  // (measure/grid_mesh.h), forced in again by a free re-mesh.
+  std::vector<int32_t> grid;
 };
 
 // Builds one side from a surface; `shift` is added to every point (moves it

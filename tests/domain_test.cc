@@ -1,5 +1,6 @@
 // The data domain of a sampled surface (measure/domain.h): raster cells with
-// four corners, scattered clouds with voids, and the convex hull.
+// four corners (on the grid mesh, measure/grid_mesh.h), scattered clouds with
+// voids, and the convex hull.
 #include "measure/domain.h"
 
 #include <gtest/gtest.h>
@@ -8,10 +9,12 @@
 #include <cmath>
 #include <random>
 #include <set>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "measure/delaunay.h"
+#include "measure/grid_mesh.h"
 
 namespace surfreg {
 namespace {
@@ -44,6 +47,21 @@ struct Lattice {
     }
     return xy;
   }
+  std::vector<RasterCell> Cells() const {
+    std::vector<RasterCell> cells;
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < columns; ++c) {
+        if (Has(c, r)) cells.push_back({c, r});
+      }
+    }
+    return cells;
+  }
+  // The grid mesh (Delaunay, the cells forced in) and its grid triangles.
+  Triangulation Mesh(const std::vector<Point2>& xy, std::vector<uint8_t>* in_grid) const {
+    Triangulation mesh = Triangulate(xy);
+    *in_grid = EnforceGrid(xy, GridCellTriangles(Cells(), "lattice"), &mesh);
+    return mesh;
+  }
   // Cells between sample (c, r) and (c + 1, r + 1) with all four corners.
   int CompleteCells() const {
     int n = 0;
@@ -74,10 +92,11 @@ Lattice HolesAndStrip() {
 TEST(DataDomainTest, GridKeepsExactlyTheCellsWithFourCorners) {
   const Lattice lattice = HolesAndStrip();
   const std::vector<Point2> xy = lattice.Points();
-  const Triangulation mesh = Triangulate(xy);
+  std::vector<uint8_t> in_grid;
+  const Triangulation mesh = lattice.Mesh(xy, &in_grid);
   DomainRule rule;
   rule.grid = true;
-  const std::vector<uint8_t> in = DataDomain(xy, mesh, rule);
+  const std::vector<uint8_t> in = DataDomain(xy, mesh, rule, &in_grid);
   ASSERT_EQ(in.size(), static_cast<std::size_t>(mesh.num_triangles()));
   const int complete = lattice.CompleteCells();
   // 39 x 39 cells; lost: 4 per inner pixel, 2 at the edge, 1 in the corner,
@@ -99,6 +118,15 @@ TEST(DataDomainTest, GridKeepsExactlyTheCellsWithFourCorners) {
                 lattice.Has(c + 1, r + 1))
         << "triangle " << t << " in cell " << c << ", " << r;
     EXPECT_NEAR(TriangleArea(xy, mesh, t), 0.5 * lattice.dx * lattice.dy, 1e-9);
+    // Split along the diagonal from sample (c, r) to (c + 1, r + 1).
+    const Point2 from{lattice.x0 + c * lattice.dx, lattice.y0 + r * lattice.dy};
+    const Point2 to{from.x + lattice.dx, from.y + lattice.dy};
+    int on_diagonal = 0;
+    for (int i = 0; i < 3; ++i) {
+      on_diagonal += (xy[v[i]].x == from.x && xy[v[i]].y == from.y) ||
+                     (xy[v[i]].x == to.x && xy[v[i]].y == to.y);
+    }
+    EXPECT_EQ(on_diagonal, 2) << "triangle " << t << " in cell " << c << ", " << r;
     halves_seen.insert({c, r});
   }
   EXPECT_EQ(kept, 2 * complete);
@@ -110,12 +138,15 @@ TEST(DataDomainTest, GridWithoutHolesIsTheWholeHull) {
   Lattice lattice;
   lattice.columns = 17, lattice.rows = 9;
   const std::vector<Point2> xy = lattice.Points();
-  const Triangulation mesh = Triangulate(xy);
+  std::vector<uint8_t> in_grid;
+  const Triangulation mesh = lattice.Mesh(xy, &in_grid);
   DomainRule rule;
   rule.grid = true;
-  const std::vector<uint8_t> in = DataDomain(xy, mesh, rule);
+  const std::vector<uint8_t> in = DataDomain(xy, mesh, rule, &in_grid);
   EXPECT_EQ(std::count(in.begin(), in.end(), 1), mesh.num_triangles());
   EXPECT_NEAR(DomainArea(xy, mesh, in), MeshArea(xy, mesh), 1e-9);
+  // A raster's domain is its grid triangles: without them it is a caller error.
+  EXPECT_THROW(DataDomain(xy, mesh, rule), std::invalid_argument);
 }
 
 // Distance from p to a triangle (0 inside).
@@ -203,10 +234,11 @@ TEST(DataDomainTest, HullKeepsEveryTriangle) {
 TEST(DataDomainTest, DomainVerticesAreTheCornersOfKeptTriangles) {
   const Lattice lattice = HolesAndStrip();
   const std::vector<Point2> xy = lattice.Points();
-  const Triangulation mesh = Triangulate(xy);
+  std::vector<uint8_t> in_grid;
+  const Triangulation mesh = lattice.Mesh(xy, &in_grid);
   DomainRule rule;
   rule.grid = true;
-  const std::vector<uint8_t> in = DataDomain(xy, mesh, rule);
+  const std::vector<uint8_t> in = DataDomain(xy, mesh, rule, &in_grid);
   const std::vector<uint8_t> used = DomainVertices(mesh, xy.size(), in);
   // A sample is a domain vertex iff one of its four cells is complete.
   std::size_t k = 0;
@@ -231,10 +263,12 @@ TEST(DataDomainTest, DomainVerticesAreTheCornersOfKeptTriangles) {
 TEST(DataDomainTest, InteriorVerticesAreTheSamplesWithFourCompleteCells) {
   const Lattice lattice = HolesAndStrip();
   const std::vector<Point2> xy = lattice.Points();
-  const Triangulation mesh = Triangulate(xy);
+  std::vector<uint8_t> in_grid;
+  const Triangulation mesh = lattice.Mesh(xy, &in_grid);
   DomainRule rule;
   rule.grid = true;
-  const std::vector<uint8_t> inner = InteriorVertices(mesh, xy.size(), DataDomain(xy, mesh, rule));
+  const std::vector<uint8_t> inner =
+      InteriorVertices(mesh, xy.size(), DataDomain(xy, mesh, rule, &in_grid));
   auto complete = [&](int c, int r) {
     return lattice.Has(c, r) && lattice.Has(c + 1, r) && lattice.Has(c, r + 1) && lattice.Has(c + 1, r + 1);
   };

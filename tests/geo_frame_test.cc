@@ -336,18 +336,22 @@ TEST(ToCommonMetricFrameTest, LonLatRasterPairMeasuresLikeItsProjReprojection) {
   EXPECT_EQ(frame.Describe(), "UTM zone 60S (WGS 84)");
   const double rho_utm = Measure(a, b).rho_d;
 
-  // (ii) the same cell centres reprojected by PROJ.
+  // (ii) the same cell centres reprojected by PROJ, the same grid cells.
   std::vector<std::array<double, 3>> pa, pb;
+  std::vector<RasterCell> cells;
   for (int row = 0; row < 60; ++row) {
     for (int c = 0; c < 60; ++c) {
       const Point2 p = ra.CellCentre(c, row);
       pa.push_back({p.x, p.y, ra.values[row * 60 + c]});
       pb.push_back({p.x, p.y, rb.values[row * 60 + c]});
+      cells.push_back({c, row});
     }
   }
   ProjTransform("EPSG:32760", &pa);
   ProjTransform("EPSG:32760", &pb);
-  const double rho_proj = Measure(Points(pa, "pa"), Points(pb, "pb")).rho_d;
+  Surface proj_a = Points(pa, "pa"), proj_b = Points(pb, "pb");
+  proj_a.raster_cell = proj_b.raster_cell = cells;
+  const double rho_proj = Measure(proj_a, proj_b).rho_d;
   EXPECT_GT(rho_proj, 1e6);  // a real volume (m³), not a degenerate zero
   EXPECT_LT(std::fabs(rho_utm - rho_proj) / rho_proj, 1e-6) << rho_utm << " vs " << rho_proj;
 

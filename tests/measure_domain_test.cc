@@ -279,7 +279,7 @@ TEST(MeasureDomainTest, ASurfaceWithNoDataDomainIsAnInputError) {
   const Surface b = MakeSurface({{-1, -1, 0}, {5, -1, 0}, {5, 5, 0}, {-1, 5, 0}, {2, 2, 0}});
   // Raster samples without one complete cell (a staircase).
   Surface stairs = MakeSurface({{0, 0, 0}, {1, 0, 0}, {2, 1, 0}, {3, 1, 0}}, {}, "stairs.tif");
-  stairs.raster_grid = true;
+  stairs.raster_cell = {{0, 0}, {1, 0}, {2, 1}, {3, 1}};  // column x, row y
   // A scattered sliver.
   const Surface sliver = MakeSurface({{0, 0, 0}, {4, 0, 0}, {2, 0.05, 0}}, {}, "sliver.xyz");
   for (const auto& [surface, why] :
@@ -326,15 +326,21 @@ LatticePair MakeLatticePair(double shift_x) {
   pair.missing = {{3, 3}, {10, 0}, {0, 12}, {15, 15}, {16, 15}, {7, 9}, {7, 10}, {19, 5}};
   for (int j = 4; j < 9; ++j) pair.missing.insert({12, j});  // a one-sample-wide strip
   std::vector<std::array<double, 3>> pa, pb;
+  std::vector<RasterCell> ca, cb;  // column i, row j
   for (int j = 0; j < 20; ++j) {
     for (int i = 0; i < 20; ++i) {
       pa.push_back({1.0 * i, 1.0 * j, 0.0});
-      if (pair.HasB(i, j)) pb.push_back({i + shift_x, 1.0 * j, G(i + shift_x, j)});
+      ca.push_back({i, j});
+      if (pair.HasB(i, j)) {
+        pb.push_back({i + shift_x, 1.0 * j, G(i + shift_x, j)});
+        cb.push_back({i, j});
+      }
     }
   }
   pair.a = MakeSurface(pa, {}, "A");
   pair.b = MakeSurface(pb, {}, "B");
-  pair.a.raster_grid = pair.b.raster_grid = true;
+  pair.a.raster_cell = ca;
+  pair.b.raster_cell = cb;
   return pair;
 }
 

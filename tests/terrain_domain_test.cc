@@ -138,7 +138,7 @@ class TerrainDomainTest : public ::testing::Test {
     config.terrain.dod = dir_.path() + (kind == DomainKind::kData ? "/dod.tif" : "/dod_hull.tif");
     config.options.domain.kind = kind;
     const TerrainInputs inputs = ReadTerrainInputs(config);
-    EXPECT_TRUE(inputs.reference.raster_grid && inputs.moving.raster_grid);
+    EXPECT_TRUE(inputs.reference.raster_grid() && inputs.moving.raster_grid());
     AlignResult identity;
     identity.matrix.setIdentity();
     *report = AnalyseTerrain(config, inputs, identity);

@@ -193,9 +193,9 @@ void Convert(const FrameMap& map, double prime_meridian_deg, Surface* s) {
     const double h = s->origin[2] + s->z[i];
     map.Forward(lat, lon, h, &points[i][0], &points[i][1], &points[i][2]);
   }
-  const bool raster_grid = s->raster_grid;  // a converted raster is still a (near) lattice
+  std::vector<RasterCell> cells = std::move(s->raster_cell);  // a converted raster keeps its cells
   *s = MakeSurface(points, std::move(s->weight), std::move(s->source), 1.0);
-  s->raster_grid = raster_grid;
+  s->raster_cell = std::move(cells);
 }
 
 const char* KindName(CrsKind kind) {

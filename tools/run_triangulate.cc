@@ -1,5 +1,5 @@
-// surfreg triangulate FILE [--domain=data|hull] [--json]: read + Delaunay,
-// with counts, the data domain (measure/domain.h) and timings.
+// surfreg triangulate FILE [--domain=data|hull] [--json]: read + Delaunay
+// (a raster: with its cells forced in, measure/grid_mesh.h), with counts, the data domain (measure/domain.h) and timings.
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
@@ -13,6 +13,7 @@
 
 #include "measure/delaunay.h"
 #include "measure/domain.h"
+#include "measure/grid_mesh.h"
 #include "tools/align_config.h"
 #include "tools/commands.h"
 #include "tools/io/surface_reader.h"
@@ -116,11 +117,16 @@ int RunTriangulate(const std::vector<std::string>& args) {
   DomainRule rule = DomainRuleFromFlags(FLAGS_domain, FLAGS_domain_max_edge_spacings,
                                         FLAGS_domain_min_thinness);
   const Surface surface = ReadSurface(args[0]);
-  rule.grid = surface.raster_grid;
+  rule.grid = surface.raster_grid();
   const Clock::time_point read = Clock::now();
-  const Triangulation triangulation = Triangulate(surface.xy);
+  Triangulation triangulation = Triangulate(surface.xy);
+  std::vector<uint8_t> in_grid;  // a raster: its cells forced in (measure/grid_mesh.h)
+  if (rule.grid) {
+    in_grid = EnforceGrid(surface.xy, GridCellTriangles(surface.raster_cell, surface.source),
+                          &triangulation);
+  }
   const Clock::time_point triangulated = Clock::now();
-  const std::vector<uint8_t> in_domain = DataDomain(surface.xy, triangulation, rule);
+  const std::vector<uint8_t> in_domain = DataDomain(surface.xy, triangulation, rule, &in_grid);
   const Clock::time_point done = Clock::now();
 
   TriangulateReport report;
@@ -132,7 +138,7 @@ int RunTriangulate(const std::vector<std::string>& args) {
   report.n_hull_edges =
       std::count(triangulation.neighbors.begin(), triangulation.neighbors.end(), -1);
   report.domain = rule.kind;
-  report.raster_grid = surface.raster_grid;
+  report.raster_grid = surface.raster_grid();
   report.n_domain_triangles = std::count(in_domain.begin(), in_domain.end(), 1);
   report.hull_area = MeshArea(surface.xy, triangulation);
   report.domain_area = DomainArea(surface.xy, triangulation, in_domain);

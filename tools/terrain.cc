@@ -194,8 +194,7 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
   options.domain = config.options.domain;  // everything over Ω: dz, the DoD, cut/fill
   TerrainReport report;
   report.before = Measure(in.reference, in.moving, options);
-  Surface moved = TransformSurface(in.moving, result.matrix);
-  moved.raster_grid = in.moving.raster_grid;  // a rigidly moved raster is still its cells
+  const Surface moved = TransformSurface(in.moving, result.matrix);  // keeps a raster's cells
   report.after = Measure(in.reference, moved, options);
 
   // Stable terrain: the mask of the registration (frame coordinates), or all.

@@ -185,6 +185,7 @@ Raster ReadRaster(const std::string& path, const RasterReadOptions& options) {
 Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_sample,
                         double origin_step) {
   std::vector<std::array<double, 3>> points;
+  std::vector<RasterCell> cells;
   if (cell_of_sample != nullptr) cell_of_sample->clear();
   for (int row = 0; row < raster.rows; ++row) {
     for (int column = 0; column < raster.columns; ++column) {
@@ -193,12 +194,13 @@ Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_samp
       if (!std::isfinite(z)) continue;
       const Point2 centre = raster.CellCentre(column, row);
       points.push_back({centre.x, centre.y, z});
+      cells.push_back({column, row});
       if (cell_of_sample != nullptr) cell_of_sample->push_back(cell);
     }
   }
   if (points.empty()) Fail(raster.source, "every cell is nodata");
   Surface surface = MakeSurface(points, {}, raster.source, origin_step);
-  surface.raster_grid = true;  // its data domain is the cells with four valid corners
+  surface.raster_cell = std::move(cells);  // meshed on its own cells (measure/grid_mesh.h)
   ValidateSurface(surface);
   return surface;
 }

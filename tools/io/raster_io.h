@@ -62,8 +62,9 @@ Raster ReadRaster(const std::string& path, const RasterReadOptions& options = {}
 // The valid cells as samples at cell centres, in input coordinates (CRS
 // units; stored relative to an origin rounded to `origin_step`, see
 // MakeSurface), in row-major order; Surface::source is raster.source and
-// Surface::raster_grid is set (the measures' data domain is then the cells
-// whose four corner samples are valid, measure/domain.h). If
+// Surface::raster_cell holds each sample's (column, row) (the surface is
+// then meshed on the raster's cells, measure/grid_mesh.h, and its data
+// domain is the cells whose four corner samples are valid). If
 // `cell_of_sample` is not null it receives, for sample i, the cell index
 // row * columns + column. The result has passed ValidateSurface. Throws
 // InputError "<source>: every cell is nodata" when no cell is valid.
