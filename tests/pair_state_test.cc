@@ -324,6 +324,62 @@ TEST(PairStateTest, FixedSurfaceRefusesActiveFolds) {
   CheckLocations(state);
 }
 
+// A raster is its cells, split by one rule (measure/grid_mesh.h), on both
+// sides; after a free re-mesh too. A 5° tilt turns the cliff cells of a
+// 20 m step over one 1 m row past vertical: re-meshed, the moving raster is
+// its cells again, less the folded row and the rows next to it.
+TEST(PairStateTest, RasterSidesAreTheirCellsAlsoAfterAFreeRemesh) {
+  std::vector<std::array<double, 3>> points;
+  std::vector<RasterCell> cells;
+  for (int r = 0; r < 30; ++r) {
+    for (int c = 0; c < 30; ++c) {
+      points.push_back({1.0 * c, 1.0 * r, r >= 15 ? 20.0 : 0.0});
+      cells.push_back({c, r});
+    }
+  }
+  Surface raster = MakeSurface(points, {}, "cliff.tif");
+  raster.raster_cell = cells;
+  const ReferenceSide reference = PrepareReference(raster);
+  const MovingSide moving = PrepareMoving(raster, {0, 0, 0});
+  // Each triangle by the rule: its cell's corners (c, r) and (c+1, r+1) on it
+  // (at θ = 0 a point's xy is its (column, row)).
+  auto by_rule = [](const std::vector<Point2>& at_rest, const int32_t* v) {
+    double c = 1e9, r = 1e9;
+    for (int i = 0; i < 3; ++i) c = std::min(c, at_rest[v[i]].x), r = std::min(r, at_rest[v[i]].y);
+    int on_diagonal = 0;
+    for (int i = 0; i < 3; ++i) {
+      const Point2& p = at_rest[v[i]];
+      on_diagonal += (p.x == c && p.y == r) || (p.x == c + 1 && p.y == r + 1);
+    }
+    return on_diagonal == 2;
+  };
+  auto count_by_rule = [&](const std::vector<Point2>& at_rest, const Triangulation& mesh,
+                           const std::vector<uint8_t>& in) {
+    int n = 0;
+    for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+      if (!in[t]) continue;
+      EXPECT_TRUE(by_rule(at_rest, &mesh.triangles[3 * t])) << t;
+      ++n;
+    }
+    return n;
+  };
+  std::vector<Point2> rest(moving.points.size());
+  for (std::size_t j = 0; j < rest.size(); ++j) rest[j] = {moving.points[j].x(), moving.points[j].y()};
+  EXPECT_EQ(count_by_rule(reference.xy, reference.mesh, reference.domain), 2 * 29 * 29);
+  EXPECT_EQ(count_by_rule(rest, moving.mesh, moving.domain), 2 * 29 * 29);
+  EXPECT_EQ(moving.grid.size(), 6u * 29 * 29);
+
+  PairState state(reference, moving, /*max_fold_fraction=*/0.9);
+  UpdateStats stats;
+  ASSERT_TRUE(state.Update({5 * M_PI / 180, 0, 0, 0, 0, 0}, &stats));
+  EXPECT_GT(stats.folded_active, 0);
+  EXPECT_TRUE(stats.remeshed);
+  ExpectUnfolded(state);
+  CheckLocations(state);
+  // Cell rows 13, 14 (the cliff, folded) and 15 are left out.
+  EXPECT_EQ(count_by_rule(rest, state.moving_mesh(), state.active_b()), 2 * 29 * 26);
+}
+
 // The volume solver keeps B's surface fixed for the whole solve: the moving
 // cloud is a second sampling turned by −15° about x, so B's own mesh folds
 // slivers (junk) on the way from 12° to the solution; they are re-meshed
