@@ -16,7 +16,10 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "measure/measures.h"
+#include "registration/align.h"
 #include "tests/testing/file_checks.h"
 #include "tools/align_config.h"
 #include "tools/geo_frame.h"
@@ -91,9 +94,12 @@ class RasterGridTest : public ::testing::Test {
 
 // --- a projected grid --------------------------------------------------------
 
+// (A north-up grid in its own CRS has columns of equal x and rows of equal
+// y, so every cell is an exact rectangle and a Delaunay triangulation's
+// tie-breaking happened to split them all alike too; the turned and lon/lat
+// grids below are where it did not.)
 TEST_F(RasterGridTest, BlockChangeOnAProjectedGridIsEightTimesItsCells) {
-  // 0.3 m cells at UTM-sized coordinates: the cell centres are a lattice
-  // only up to rounding.
+  // 0.3 m cells at UTM-sized coordinates: cell centres rounded.
   const double h = 0.3;
   const std::array<double, 6> gt = {431234.5, h, 0.0, 6123456.7, 0.0, -h};
   const int columns = 40, rows = 30;
@@ -141,6 +147,39 @@ TEST_F(RasterGridTest, ChangeAtSingleNodesIsOneCellEach) {
               s.volume_below / cut - 1);
   EXPECT_NEAR(s.volume_below, cut, 1e-9 * cut);
   EXPECT_LE(s.volume_above, 1e-12 * cut);
+}
+
+// A rigid motion moves the points, not the cells. Turned 20° about z (no
+// longer rows of equal y: Delaunay would pick each diagonal from rounding),
+// the block's cut is still 8 h² N, and two windows of one DEM, both turned,
+// still agree between the nodes.
+TEST_F(RasterGridTest, RigidlyMovedGridsKeepTheirCells) {
+  const double h = 0.3;
+  const std::array<double, 6> gt = {431234.5, h, 0.0, 6123456.7, 0.0, -h};
+  Eigen::Matrix4d turn = Eigen::Matrix4d::Identity();
+  turn.topLeftCorner<3, 3>() = Eigen::AngleAxisd(0.349, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  turn.topRightCorner<3, 1>() = Eigen::Vector3d(-1000.0, 2000.0, 3.0);
+  const Block block{11, 7, 9, 6, {{30, 20}, {34, 4}, {3, 25}}};
+  const TerrainInputs change =
+      Read(Write("a.tif", Dem(gt, "EPSG:32760", 0, 0, 40, 30, block, 0.0)),
+           Write("b.tif", Dem(gt, "EPSG:32760", 0, 0, 40, 30, block, 8.0)));
+  const MeasureSummary s =
+      Measure(TransformSurface(change.reference, turn), TransformSurface(change.moving, turn));
+  const double cut = 8.0 * h * h * block.nodes();
+  std::printf("turned block: cut %.12g, 8 h^2 N %.12g (relative %.2e)\n", s.volume_below, cut,
+              s.volume_below / cut - 1);
+  EXPECT_NEAR(s.volume_below, cut, 1e-9 * cut);
+  EXPECT_LE(s.volume_above, 1e-12 * cut);
+
+  const Block none;
+  const TerrainInputs windows =
+      Read(Write("c.tif", Dem(gt, "EPSG:32760", 0, 0, 40, 30, none, 0.0)),
+           Write("d.tif", Dem(gt, "EPSG:32760", 7, 5, 40, 30, none, 0.0)));
+  const MeasureSummary w =
+      Measure(TransformSurface(windows.reference, turn), TransformSurface(windows.moving, turn));
+  std::printf("turned windows: mean |dz| %.3g m\n", w.mean_abs_dz);
+  EXPECT_GT(w.overlap_area, 0.5 * w.domain_area_a);
+  EXPECT_LT(w.mean_abs_dz, 1e-6);
 }
 
 // --- a grid regular in lon/lat ----------------------------------------------
