@@ -114,24 +114,38 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction, con
   return side;
 }
 
+namespace {
+
+// Per vertex: the unit sum of its domain triangles' normals, each as long as
+// twice the triangle's area (upward: both meshes are counter-clockwise in xy).
+std::vector<Eigen::Vector3d> VertexNormals(const std::vector<Eigen::Vector3d>& p, const Triangulation& mesh,
+                                           const std::vector<uint8_t>& in_domain) {
+  std::vector<Eigen::Vector3d> normal(p.size(), Eigen::Vector3d::Zero());
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    if (!in_domain[t]) continue;
+    const int32_t* v = &mesh.triangles[3 * t];
+    const Eigen::Vector3d n = (p[v[1]] - p[v[0]]).cross(p[v[2]] - p[v[0]]);
+    for (int i = 0; i < 3; ++i) normal[v[i]] += n;
+  }
+  for (Eigen::Vector3d& n : normal) {
+    const double length = n.norm();
+    n = length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::UnitZ();
+  }
+  return normal;
+}
+
+}  // namespace
+
 void ApplySlopeWeight(double exponent, ReferenceSide* reference) {
   if (exponent == 0) return;
   ReferenceSide& a = *reference;
-  std::vector<Eigen::Vector3d> normal(a.xy.size(), Eigen::Vector3d::Zero());
-  const std::vector<int32_t>& t = a.mesh.triangles;
-  for (std::size_t k = 0; k + 2 < t.size(); k += 3) {
-    const Eigen::Vector3d p0(a.xy[t[k]].x, a.xy[t[k]].y, a.z[t[k]]);
-    const Eigen::Vector3d p1(a.xy[t[k + 1]].x, a.xy[t[k + 1]].y, a.z[t[k + 1]]);
-    const Eigen::Vector3d p2(a.xy[t[k + 2]].x, a.xy[t[k + 2]].y, a.z[t[k + 2]]);
-    const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);  // counter-clockwise in xy: n.z > 0
-    for (int j = 0; j < 3; ++j) normal[t[k + j]] += n;
-  }
+  std::vector<Eigen::Vector3d> points(a.xy.size());
+  for (std::size_t v = 0; v < a.xy.size(); ++v) points[v] = {a.xy[v].x, a.xy[v].y, a.z[v]};
+  // Over every triangle of the mesh; a node on none keeps its μ (cos = 1).
+  const std::vector<Eigen::Vector3d> normal =
+      VertexNormals(points, a.mesh, std::vector<uint8_t>(a.mesh.num_triangles(), 1));
   if (a.weight.empty()) a.weight.assign(a.xy.size(), 1.0);
-  for (std::size_t v = 0; v < a.xy.size(); ++v) {
-    const double length = normal[v].norm();
-    // A node on no triangle (all collinear input cannot get here) keeps μ.
-    if (length > 0) a.weight[v] *= std::pow(normal[v].z() / length, exponent);
-  }
+  for (std::size_t v = 0; v < a.xy.size(); ++v) a.weight[v] *= std::pow(normal[v].z(), exponent);
 }
 
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
@@ -193,24 +207,6 @@ double SurfaceArea(const std::vector<Eigen::Vector3d>& p, const Triangulation& m
   double area = 0;
   for (int32_t t = 0; t < mesh.num_triangles(); ++t) area += TriangleArea3d(p, &mesh.triangles[3 * t]);
   return area;
-}
-
-// Per vertex: the unit sum of its domain triangles' normals, each as long as
-// twice the triangle's area (upward: both meshes are counter-clockwise in xy).
-std::vector<Eigen::Vector3d> VertexNormals(const std::vector<Eigen::Vector3d>& p, const Triangulation& mesh,
-                                           const std::vector<uint8_t>& in_domain) {
-  std::vector<Eigen::Vector3d> normal(p.size(), Eigen::Vector3d::Zero());
-  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
-    if (!in_domain[t]) continue;
-    const int32_t* v = &mesh.triangles[3 * t];
-    const Eigen::Vector3d n = (p[v[1]] - p[v[0]]).cross(p[v[2]] - p[v[0]]);
-    for (int i = 0; i < 3; ++i) normal[v[i]] += n;
-  }
-  for (Eigen::Vector3d& n : normal) {
-    const double length = n.norm();
-    n = length > 0 ? Eigen::Vector3d(n / length) : Eigen::Vector3d::UnitZ();
-  }
-  return normal;
 }
 
 }  // namespace

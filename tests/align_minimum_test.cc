@@ -92,13 +92,25 @@ std::vector<Family> Families() {
   return out;
 }
 
+// The family's pair with the moving scan moved by the inverse of a fixed
+// true motion (2.5° about (1, −2, 0.5), a shift of (3, −2, 0.5) spacings).
+struct Moved {
+  Eigen::Vector3d centre;
+  Eigen::Matrix4d truth;
+  Surface reference, moving;
+};
+Moved MovedPair(const Family& family) {
+  Moved out;
+  out.centre = testing::Centroid(family.moving_unmoved);
+  out.truth = testing::TrueMotion({1, -2, 0.5}, 2.5, Eigen::Vector3d(3, -2, 0.5) * family.spacing, out.centre);
+  out.reference = MakeSurface(family.reference, {}, "reference");
+  out.moving = MakeSurface(testing::MoveByInverse(family.moving_unmoved, out.truth), {}, "moving");
+  return out;
+}
+
 TEST(AlignMinimumTest, SameFinalCostFromTheDefaultStartAndFromTheTruth) {
   for (const Family& family : Families()) {
-    const Eigen::Vector3d centre = testing::Centroid(family.moving_unmoved);
-    const Eigen::Matrix4d truth =
-        testing::TrueMotion({1, -2, 0.5}, 2.5, Eigen::Vector3d(3, -2, 0.5) * family.spacing, centre);
-    const Surface reference = MakeSurface(family.reference, {}, "reference");
-    const Surface moving = MakeSurface(testing::MoveByInverse(family.moving_unmoved, truth), {}, "moving");
+    const auto [centre, truth, reference, moving] = MovedPair(family);
     AlignOptions options;
     const AlignResult from_default = Align(reference, moving, options);
     // The truth as Align's start: rotation vector, and the shift of the
@@ -159,11 +171,7 @@ TEST(AlignMinimumTest, AxialSolveNeverRevisitsACost) {
     families.push_back(partial);
   }
   for (const Family& family : families) {
-    const Eigen::Vector3d centre = testing::Centroid(family.moving_unmoved);
-    const Eigen::Matrix4d truth =
-        testing::TrueMotion({1, -2, 0.5}, 2.5, Eigen::Vector3d(3, -2, 0.5) * family.spacing, centre);
-    const Surface reference = MakeSurface(family.reference, {}, "reference");
-    const Surface moving = MakeSurface(testing::MoveByInverse(family.moving_unmoved, truth), {}, "moving");
+    const auto [centre, truth, reference, moving] = MovedPair(family);
     AlignOptions options;
     options.cost = CostKind::kAxial;
     const AlignResult result = Align(reference, moving, options);
