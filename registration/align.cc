@@ -43,38 +43,18 @@ double RmsRadius(const MovingSide& side) {
 // over inner vertices of the data domain (every k-th, at most ~4000), the
 // mean vertical distance from the vertex to the least-squares plane through
 // its Delaunay neighbours, i.e. the surface's own interpolation error plus
-// its noise. `at(v)` gives vertex v's (x, y, z).
-template <typename At>
-double InterpolationGap(std::size_t num_vertices, const Triangulation& mesh,
-                        const std::vector<uint8_t>& domain, At at) {
-  const std::vector<uint8_t> inner = InteriorVertices(mesh, num_vertices, domain);
-  const std::size_t stride = std::max<std::size_t>(1, num_vertices / 4000);
+// its noise (pair_state.h PlaneGaps).
+double InterpolationGap(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh,
+                        const std::vector<uint8_t>& domain) {
+  const std::vector<uint8_t> inner = InteriorVertices(mesh, points.size(), domain);
+  const std::vector<double> gap = PlaneGaps(points, mesh, std::max<std::size_t>(1, points.size() / 4000));
   double sum = 0;
   int64_t count = 0;
-  for (std::size_t v = 0; v < num_vertices; v += stride) {
-    if (!inner[v] || mesh.vertex_triangle[v] < 0) continue;
-    const Eigen::Vector3d centre = at(v);
-    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();  // of z = c0 + c1 dx + c2 dy
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
-    const int32_t first = mesh.vertex_triangle[v];
-    int32_t t = first;
-    int neighbours = 0;
-    do {  // around v: across the edge from v to its successor's successor
-      int i = 0;
-      while (mesh.triangles[3 * t + i] != static_cast<int32_t>(v)) ++i;
-      const Eigen::Vector3d d = at(mesh.triangles[3 * t + (i + 1) % 3]) - centre;
-      const Eigen::Vector3d row(1.0, d.x(), d.y());
-      normal += row * row.transpose();
-      rhs += row * d.z();
-      ++neighbours;
-      t = mesh.neighbors[3 * t + (i + 1) % 3];
-    } while (t >= 0 && t != first && neighbours < 64);
-    if (t != first || neighbours < 3) continue;
-    const Eigen::Vector3d plane = normal.ldlt().solve(rhs);
-    if (!std::isfinite(plane[0])) continue;
-    sum += std::fabs(plane[0]);
-    ++count;
-  }
+  for (std::size_t v = 0; v < points.size(); ++v)
+    if (inner[v] && gap[v] >= 0) {
+      sum += gap[v];
+      ++count;
+    }
   return count > 0 ? sum / static_cast<double>(count) : 0.0;
 }
 
@@ -156,6 +136,7 @@ bool AlignOptions::IsValid(std::string* error) const {
   if (cost == CostKind::kVolume && trim_fraction > 0) return fail("trim_fraction applies to the axial cost only");
   if (num_threads < 1) return fail("threads must be >= 1");
   if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");
+  if (!(gap_weight >= 0 && gap_weight <= 100)) return fail("gap_weight must be in [0, 100]");
   MeasureOptions m;
   m.weight = weight;
   m.mask_polygon = mask_polygon;
@@ -225,7 +206,10 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
     auto level = std::make_unique<Level>();
     level->reference = PrepareReference(reference, keep, options.domain);  // weights kept per point
     if (options.weight != WeightMode::kPerPoint) level->reference.weight.clear();
-    if (options.cost == CostKind::kVolume) ApplySlopeWeight(options.slope_weight, &level->reference);
+    if (options.cost == CostKind::kVolume) {
+      ApplySlopeWeight(options.slope_weight, &level->reference);
+      ApplyGapWeight(options.gap_weight, &level->reference);
+    }
     level->moving = PrepareMoving(moving, shift, keep, options.domain);
     levels.push_back(std::move(level));
   }
@@ -393,10 +377,9 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   result.overlap_fraction_after = fraction(result.after);
   const ReferenceSide& a = finest.reference;
   const MovingSide& b = finest.moving;
-  result.sampling_gap =
-      InterpolationGap(a.xy.size(), a.mesh, a.domain,
-                       [&](std::size_t v) { return Eigen::Vector3d(a.xy[v].x, a.xy[v].y, a.z[v]); }) +
-      InterpolationGap(b.points.size(), b.mesh, b.domain, [&](std::size_t v) { return b.points[v]; });
+  std::vector<Eigen::Vector3d> points_a(a.xy.size());
+  for (std::size_t v = 0; v < a.xy.size(); ++v) points_a[v] = {a.xy[v].x, a.xy[v].y, a.z[v]};
+  result.sampling_gap = InterpolationGap(points_a, a.mesh, a.domain) + InterpolationGap(b.points, b.mesh, b.domain);
   result.seconds = Seconds(start);
   return result;
 }

@@ -148,6 +148,74 @@ void ApplySlopeWeight(double exponent, ReferenceSide* reference) {
   for (std::size_t v = 0; v < a.xy.size(); ++v) a.weight[v] *= std::pow(normal[v].z(), exponent);
 }
 
+std::vector<double> PlaneGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh,
+                              std::size_t stride) {
+  std::vector<double> gap(points.size(), -1.0);
+  for (std::size_t v = 0; v < points.size(); v += std::max<std::size_t>(stride, 1)) {
+    const int32_t first = mesh.vertex_triangle[v];
+    if (first < 0) continue;
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();  // of z = c0 + c1 dx + c2 dy
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    int32_t t = first;
+    int neighbours = 0;
+    do {  // around v: across the edge from v to its successor's successor
+      int i = 0;
+      while (mesh.triangles[3 * t + i] != static_cast<int32_t>(v)) ++i;
+      const Eigen::Vector3d d = points[mesh.triangles[3 * t + (i + 1) % 3]] - points[v];
+      const Eigen::Vector3d row(1.0, d.x(), d.y());
+      normal += row * row.transpose();
+      rhs += row * d.z();
+      ++neighbours;
+      t = mesh.neighbors[3 * t + (i + 1) % 3];
+    } while (t >= 0 && t != first && neighbours < 64);
+    if (t != first || neighbours < 3) continue;
+    const Eigen::Vector3d plane = normal.ldlt().solve(rhs);
+    if (std::isfinite(plane[0])) gap[v] = std::fabs(plane[0]);
+  }
+  return gap;
+}
+
+void ApplyGapWeight(double floor_fraction, ReferenceSide* reference) {
+  if (floor_fraction == 0) return;
+  ReferenceSide& a = *reference;
+  std::vector<Eigen::Vector3d> points(a.xy.size());
+  for (std::size_t v = 0; v < a.xy.size(); ++v) points[v] = {a.xy[v].x, a.xy[v].y, a.z[v]};
+  const std::vector<double> own = PlaneGaps(points, a.mesh);
+  // The node's local gap: the mean, over the triangles around it, of their
+  // corners' own gaps. An average, not the largest: on a noisy surface the
+  // largest of a ring picks the noise's extremes, and weights correlated
+  // with the noise draw cost accuracy there (measured: docs/registration.md).
+  std::vector<double> sum(points.size(), 0.0);
+  std::vector<int32_t> count(points.size(), 0);
+  for (int32_t t = 0; t < a.mesh.num_triangles(); ++t) {
+    const int32_t* v = &a.mesh.triangles[3 * t];
+    for (int j = 0; j < 3; ++j) {
+      if (own[v[j]] < 0) continue;
+      for (int i = 0; i < 3; ++i) {
+        sum[v[i]] += own[v[j]];
+        ++count[v[i]];
+      }
+    }
+  }
+  std::vector<double> local(points.size(), -1.0);
+  for (std::size_t v = 0; v < points.size(); ++v)
+    if (count[v] > 0) local[v] = sum[v] / count[v];
+  std::vector<double> known;
+  for (double g : local)
+    if (g >= 0) known.push_back(g);
+  if (known.empty()) return;  // no node with a closed ring: nothing to go by
+  std::nth_element(known.begin(), known.begin() + known.size() / 2, known.end());
+  const double median = known[known.size() / 2];
+  // Gaps at rounding level (a plane, a flat region) carry no scale: the
+  // floor is at least 1e-9 of the data's extent.
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : points) box.extend(p);
+  const double floor = std::max(floor_fraction * median, 1e-9 * box.diagonal().norm());
+  if (a.weight.empty()) a.weight.assign(points.size(), 1.0);
+  for (std::size_t v = 0; v < points.size(); ++v)
+    a.weight[v] *= floor / (floor + (local[v] >= 0 ? local[v] : median));
+}
+
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
                          double keep_fraction, const DomainRule& rule) {
   ValidateSurface(surface);

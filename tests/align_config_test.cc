@@ -135,6 +135,7 @@ known_matrix: [1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7]
 mask_raster: stable.tif
 normal_distance: false
 slope_weight: 1.5
+gap_weight: 0.7
 weights: per_point
 domain: hull
 domain_max_edge_spacings: 4.5
@@ -157,6 +158,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(o.trim_fraction, 0.1);
   EXPECT_FALSE(o.normal_distance);
   EXPECT_EQ(o.slope_weight, 1.5);
+  EXPECT_EQ(o.gap_weight, 0.7);
   EXPECT_TRUE(c.per_point_weights);
   EXPECT_EQ(o.domain.kind, DomainKind::kHull);
   EXPECT_EQ(o.domain.max_edge_spacings, 4.5);

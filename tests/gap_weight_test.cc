@@ -1,0 +1,167 @@
+// The local interpolation gap (PlaneGaps) and the gap weight
+// (ApplyGapWeight) against closed forms on an equilateral lattice.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "measure/surface.h"
+#include "registration/pair_state.h"
+#include "testing/registration_sides.h"
+
+namespace surfreg {
+namespace {
+
+// An equilateral lattice of spacing h (i, j in [0, n)): every inner node has
+// six neighbours at distance h, so the least-squares plane through them has
+// the neighbours' mean height at the node. (Its slanted outline is straight
+// only up to rounding, so the nodes near it may see slivers; the tests look
+// at the nodes two or more rows inside.)
+struct Lattice {
+  int n;
+  double h;
+  std::vector<std::array<double, 3>> points;
+  Lattice(int n_in, double h_in, const std::function<double(double, double)>& z) : n(n_in), h(h_in) {
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double x = h * (i + 0.5 * j), y = h * j * std::sqrt(3.0) / 2;
+        points.push_back({x, y, z(x, y)});
+      }
+  }
+  // The lattice index (i, j) of a node of `side`, prepared from Surface `s`.
+  std::array<int, 2> IndexOf(const ReferenceSide& side, const Surface& s, std::size_t v) const {
+    const double y = side.xy[v].y + s.origin[1], x = side.xy[v].x + s.origin[0];
+    const int j = static_cast<int>(std::lround(y / (h * std::sqrt(3.0) / 2)));
+    return {static_cast<int>(std::lround(x / h - 0.5 * j)), j};
+  }
+  bool Inner(const std::array<int, 2>& ij, int rows) const {
+    return std::min(ij[0], ij[1]) >= rows && std::max(ij[0], ij[1]) < n - rows;
+  }
+};
+
+std::vector<Eigen::Vector3d> PointsOf(const ReferenceSide& side) {
+  std::vector<Eigen::Vector3d> p(side.xy.size());
+  for (std::size_t v = 0; v < p.size(); ++v) p[v] = {side.xy[v].x, side.xy[v].y, side.z[v]};
+  return p;
+}
+
+// A flat lattice with one node raised by 3: the gap is 3 there, 3/6 at its
+// six neighbours, 0 at the other inner nodes; −1 only on the outline. On
+// z = x² it is h²/2 (the mean of h² cos²(60° k)) at every inner node.
+TEST(GapWeightTest, PlaneGapsOfABumpAndOfAParabola) {
+  const double h = 2.0;
+  Lattice flat(12, h, [](double, double) { return 0.0; });
+  flat.points[5 * 12 + 4][2] = 3.0;  // (i, j) = (4, 5)
+  const Surface bumped = MakeSurface(flat.points, {}, "bump");
+  ReferenceSide side = PrepareReference(bumped);
+  std::vector<double> gap = PlaneGaps(PointsOf(side), side.mesh);
+  int checked = 0, outline = 0;
+  for (std::size_t v = 0; v < gap.size(); ++v) {
+    const std::array<int, 2> ij = flat.IndexOf(side, bumped, v);
+    if (!flat.Inner(ij, 1)) {  // the outline: a ring closed only by slivers, if at all
+      outline += gap[v] < 0;
+      continue;
+    }
+    EXPECT_GE(gap[v], 0.0);
+    if (!flat.Inner(ij, 2)) continue;
+    const int di = ij[0] - 4, dj = ij[1] - 5;
+    const bool top = di == 0 && dj == 0;
+    const bool ring = std::max({std::abs(di), std::abs(dj), std::abs(di + dj)}) == 1;
+    EXPECT_NEAR(gap[v], top ? 3.0 : (ring ? 0.5 : 0.0), 1e-9) << "node " << ij[0] << ", " << ij[1];
+    ++checked;
+  }
+  EXPECT_EQ(checked, 8 * 8);
+  EXPECT_GE(outline, 4);  // at least the corners
+  Lattice parabola(12, h, [](double x, double) { return x * x; });
+  const Surface curved = MakeSurface(parabola.points, {}, "p");
+  side = PrepareReference(curved);
+  gap = PlaneGaps(PointsOf(side), side.mesh, 7);
+  for (std::size_t v = 0; v < gap.size(); ++v) {
+    if (v % 7 != 0) {
+      EXPECT_EQ(gap[v], -1.0);
+    } else if (parabola.Inner(parabola.IndexOf(side, curved, v), 2)) {
+      EXPECT_NEAR(gap[v], h * h / 2, 1e-9);
+    }
+  }
+}
+
+// On z = x² the inner nodes' local gaps are all h²/2, so their weights are
+// f / (f + g) = 0.3 / 1.3, times a user's μ; on a plane (all gaps 0) and
+// with 0 the weights are left alone. On z = max(y − y0, 0)², the flat part's
+// inner nodes keep weight 1 and the curved part's have f / (f + h²/2).
+TEST(GapWeightTest, GapWeightIsTheInverseLocalGap) {
+  const double h = 1.5;
+  Lattice parabola(10, h, [](double x, double) { return x * x; });
+  std::vector<double> mu;
+  for (const auto& p : parabola.points) mu.push_back(SmoothWeight(p[0], p[1]));
+  for (bool weighted : {false, true}) {
+    const Surface s = MakeSurface(parabola.points, weighted ? mu : std::vector<double>(), "p");
+    ReferenceSide side = PrepareReference(s);
+    const std::vector<double> before = weighted ? side.weight : std::vector<double>(side.xy.size(), 1.0);
+    ApplyGapWeight(0.3, &side);
+    ASSERT_EQ(side.weight.size(), side.xy.size());
+    for (std::size_t v = 0; v < side.xy.size(); ++v) {
+      if (parabola.Inner(parabola.IndexOf(side, s, v), 3)) {
+        EXPECT_NEAR(side.weight[v], before[v] * 0.3 / 1.3, 1e-9);
+      }
+    }
+  }
+  ReferenceSide off = PrepareReference(MakeSurface(parabola.points, {}, "p"));
+  ApplyGapWeight(0.0, &off);
+  EXPECT_TRUE(off.weight.empty());
+  Lattice tilted(10, h, [](double x, double y) { return x - 2 * y; });
+  ReferenceSide plane = PrepareReference(MakeSurface(tilted.points, {}, "q"));
+  ApplyGapWeight(0.3, &plane);
+  for (double w : plane.weight) EXPECT_NEAR(w, 1.0, 1e-5);  // gaps of rounding only
+
+  const double y0 = 5 * h * std::sqrt(3.0) / 2;  // row 5 of 12
+  Lattice half(12, h, [&](double, double y) { return y > y0 ? (y - y0) * (y - y0) : 0.0; });
+  const Surface s = MakeSurface(half.points, {}, "half");
+  ReferenceSide mixed = PrepareReference(s);
+  ApplyGapWeight(0.3, &mixed);
+  // f from the median local gap, each node's computed here by brute force:
+  // over every triangle having the node as a corner, the corners' gaps.
+  const ReferenceSide bare = PrepareReference(s);
+  const std::vector<double> own = PlaneGaps(PointsOf(bare), bare.mesh);
+  std::vector<double> local;
+  for (std::size_t v = 0; v < bare.xy.size(); ++v) {
+    double sum = 0;
+    int count = 0;
+    for (int32_t t = 0; t < bare.mesh.num_triangles(); ++t) {
+      const int32_t* c = &bare.mesh.triangles[3 * t];
+      if (c[0] != static_cast<int32_t>(v) && c[1] != static_cast<int32_t>(v) && c[2] != static_cast<int32_t>(v)) continue;
+      for (int i = 0; i < 3; ++i)
+        if (own[c[i]] >= 0) {
+          sum += own[c[i]];
+          ++count;
+        }
+    }
+    if (count > 0) local.push_back(sum / count);
+  }
+  std::nth_element(local.begin(), local.begin() + local.size() / 2, local.end());
+  const double f = 0.3 * local[local.size() / 2];
+  ASSERT_GT(f, 0.0);
+  int flat = 0, curved = 0;
+  for (std::size_t v = 0; v < mixed.xy.size(); ++v) {
+    const std::array<int, 2> ij = half.IndexOf(mixed, s, v);
+    if (!half.Inner(ij, 2)) continue;
+    if (ij[1] <= 3) {  // no gap on the ring of any corner around it
+      EXPECT_EQ(mixed.weight[v], 1.0);
+      ++flat;
+    }
+    if (ij[1] >= 7) {  // z = (y − y0)² on the ring of every corner around it
+      EXPECT_NEAR(mixed.weight[v], f / (f + h * h / 2), 1e-9);
+      ++curved;
+    }
+  }
+  EXPECT_EQ(flat, 2 * 8);
+  EXPECT_EQ(curved, 3 * 8);
+}
+
+}  // namespace
+}  // namespace surfreg
