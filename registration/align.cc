@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <memory>
+#include <optional>
 #include <random>
 
 #include <Eigen/Cholesky>
@@ -27,6 +27,9 @@ double Seconds(Clock::time_point from) {
 // sampling gaps (AlignResult::sampling_gap): the right pose leaves 0.13-0.42
 // of it on the benchmark's 36 pairs, about 0.6 where noise dominates.
 constexpr double kWideSearchGapFactor = 1.0;
+// The axial prealignment runs on at most about this many points of each
+// surface (AlignOptions::prealign).
+constexpr double kPrealignPoints = 5000.0;
 
 struct Level {
   ReferenceSide reference;
@@ -262,6 +265,21 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   }
   const double spacing = std::sqrt(finest.moving.hull_area / static_cast<double>(finest.moving.points.size()));
   const double start_shift = options.multi_start_shift > 0 ? options.multi_start_shift : 5.0 * spacing;
+  // The axial prealignment only has to land in the volume cost's basin: on
+  // large clouds it runs on a fixed subsample of at most kPrealignPoints of
+  // each (its time otherwise rivals the volume solve's).
+  std::optional<Level> prealign_sides;
+  const Level& coarsest = *levels.front();
+  const double keep_a = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.reference.xy.size()));
+  const double keep_b = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.moving.points.size()));
+  if (options.cost == CostKind::kVolume && options.prealign && std::min(keep_a, keep_b) < 1) {
+    const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
+    prealign_sides.emplace();
+    prealign_sides->reference = PrepareReference(reference, level_keep * keep_a, options.domain);
+    if (options.weight != WeightMode::kPerPoint) prealign_sides->reference.weight.clear();
+    prealign_sides->moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain);
+    prealign_sides->moving.centroid = finest.moving.centroid;
+  }
   SolveResult best;
   bool have_best = false;
   int iterations = 0;
@@ -277,13 +295,17 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
       context.log = &result.log;
       if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
         context.cost = "axial";
-        const SolveResult rough = SolveAxial(state, context, theta);
+        std::optional<PairState> subsampled;  // each start from the sides' own meshes
+        if (prealign_sides) {
+          subsampled.emplace(prealign_sides->reference, prealign_sides->moving, options.max_fold_fraction);
+        }
+        const SolveResult rough = SolveAxial(subsampled ? *subsampled : state, context, theta);
         iterations += std::max(0, rough.iterations);
         if (rough.usable) theta = rough.theta;
       }
       context.cost = options.cost == CostKind::kAxial ? "axial" : "volume";
       context.seconds_offset = Seconds(start);
-      solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
+          solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
                                                 : SolveVolume(state, context, theta);
       iterations += std::max(0, solved.iterations);
       result.remeshes += state.remeshes();

@@ -44,7 +44,9 @@ struct AlignOptions {
   // cost's (measured: tests/align_test.cc, README).
   CostKind cost = CostKind::kVolume;
   // Volume cost: first solve with the axial cost (trust region, fast and
-  // with a wide basin) on the coarsest level, then refine with the volume cost.
+  // with a wide basin) on the coarsest level, subsampled to at most about
+  // 5000 points of each surface (it only has to land in the volume cost's
+  // basin), then refine with the volume cost.
   bool prealign = true;
   LossKind loss = LossKind::kNone;
   // Scale of the robust loss in data units (residuals beyond it are
