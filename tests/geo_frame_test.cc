@@ -154,7 +154,7 @@ TEST(ToCommonMetricFrameTest, UtmMatchesAPublishedExampleAndProj) {
   EXPECT_EQ(frame.kind, GeoFrame::kUtm);
   EXPECT_EQ(frame.zone, 38);
   EXPECT_TRUE(frame.northp);
-  EXPECT_EQ(frame.Describe(), "UTM zone 38N (WGS 84)");
+  EXPECT_EQ(frame.Describe(), "UTM zone 38N (WGS 84; EPSG:32638)");
   EXPECT_NEAR(At(a, 0)[0], 444140.54, 0.005);
   EXPECT_NEAR(At(a, 0)[1], 3684706.36, 0.005);
   ProjTransform("EPSG:32638", &ll);
@@ -174,7 +174,7 @@ TEST(ToCommonMetricFrameTest, SouthernHemisphereUtmMatchesProjAndKeepsWeights) {
   Surface a = MakeSurface(ll, std::vector<double>(25, 0.5), "a.tif");
   Surface b = Points(ll, "b.tif");
   const GeoFrame frame = ToCommonMetricFrame(&a, LonLat(), &b, LonLat(), FrameChoice::kUtm);
-  EXPECT_EQ(frame.Describe(), "UTM zone 60S (WGS 84)");
+  EXPECT_EQ(frame.Describe(), "UTM zone 60S (WGS 84; EPSG:32760)");
   ProjTransform("EPSG:32760", &ll);
   for (size_t i = 0; i < ll.size(); ++i) {
     EXPECT_NEAR(At(a, i)[0], ll[i][0], 1e-6);
@@ -192,7 +192,7 @@ TEST(ToCommonMetricFrameTest, UtmUsesTheEllipsoidOfTheCrs) {
   const Crs nad27 = ParseCrs("EPSG:4267", "k");
   Surface a = Points(ll, "a"), b = Points(ll, "b");
   const GeoFrame frame = ToCommonMetricFrame(&a, nad27, &b, nad27, FrameChoice::kAuto);
-  EXPECT_EQ(frame.Describe(), "UTM zone 10N (NAD27)");
+  EXPECT_EQ(frame.Describe(), "UTM zone 10N (NAD27; EPSG:26710)");
   ProjTransform("EPSG:26710", &ll, "EPSG:4267");
   for (size_t i = 0; i < ll.size(); ++i) {
     EXPECT_NEAR(At(a, i)[0], ll[i][0], 1e-6);
@@ -213,7 +213,11 @@ TEST(ToCommonMetricFrameTest, EnuMatchesTheClosedFormAboutTheOverlapCentre) {
   EXPECT_NEAR(frame.lat0, 45.015, 1e-12);
   EXPECT_NEAR(frame.lon0, 7.03, 1e-12);
   EXPECT_EQ(frame.h0, 0.0);
-  EXPECT_EQ(frame.Describe(), "local ENU about 45.0150N 7.0300E (WGS 84)");
+  // The origin to the last bit (7.03 is not the double nearest 7.03 here).
+  EXPECT_EQ(frame.Describe(),
+            "local ENU about 45.015N 7.029999999999999E, h 0 m (WGS 84; +proj=pipeline +step "
+            "+proj=unitconvert +xy_in=deg +xy_out=rad +step +proj=cart +ellps=WGS84 +step "
+            "+proj=topocentric +ellps=WGS84 +lat_0=45.015 +lon_0=7.029999999999999 +h_0=0)");
   for (size_t i = 0; i < 4; ++i) {
     const auto ea = Enu(frame.lat0, frame.lon0, pa[i][1], pa[i][0], pa[i][2]);
     const auto eb = Enu(frame.lat0, frame.lon0, pb[i][1], pb[i][0], pb[i][2]);
@@ -222,6 +226,42 @@ TEST(ToCommonMetricFrameTest, EnuMatchesTheClosedFormAboutTheOverlapCentre) {
       EXPECT_NEAR(At(b, i)[k], eb[k], 1e-6) << i << " " << k;
     }
   }
+}
+
+// The frame's definition rebuilds it outside surfreg: the ENU pipeline run
+// by PROJ gives our coordinates, and Describe() gives the origin exactly.
+TEST(ToCommonMetricFrameTest, EnuDefinitionIsAProjPipelineOfTheFrame) {
+  for (const char* text : {"EPSG:4326", "EPSG:4267"}) {  // WGS 84; NAD27 (Clarke 1866: +a +rf)
+    const Crs crs = ParseCrs(text, "k");
+    std::vector<std::array<double, 3>> p = {{-122.412345678901, 37.70123456789, 10},
+                                            {-122.301, 37.8, 250},
+                                            {-122.4, 37.8123456789, -20}};
+    Surface a = Points(p, "a"), b = Points(p, "b");
+    const GeoFrame frame = ToCommonMetricFrame(&a, crs, &b, crs, FrameChoice::kEnu);
+    ASSERT_EQ(frame.kind, GeoFrame::kEnu);
+    const std::string text_of_frame = frame.Describe();
+    double lat = 0, lon = 0;
+    char ns = 0, ew = 0;
+    ASSERT_EQ(std::sscanf(text_of_frame.c_str(), "local ENU about %lf%c %lf%c", &lat, &ns, &lon, &ew),
+              4)
+        << text_of_frame;
+    EXPECT_EQ(ns == 'S' ? -lat : lat, frame.lat0) << text_of_frame;
+    EXPECT_EQ(ew == 'W' ? -lon : lon, frame.lon0) << text_of_frame;
+    EXPECT_TRUE(Contains(text_of_frame, frame.definition));
+    OGRCoordinateTransformationOptions options;
+    ASSERT_TRUE(options.SetCoordinateOperation(frame.definition.c_str(), false));
+    std::unique_ptr<OGRCoordinateTransformation> t(
+        OGRCreateCoordinateTransformation(nullptr, nullptr, options));
+    ASSERT_TRUE(t) << frame.definition;
+    for (size_t i = 0; i < p.size(); ++i) {
+      ASSERT_TRUE(t->Transform(1, &p[i][0], &p[i][1], &p[i][2]));
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(At(a, i)[k], p[i][k], 1e-6) << text << " " << i;
+    }
+  }
+  EXPECT_EQ(DescribeCrs(ParseCrs("lonlat", "k")), "WGS 84 (EPSG:4326)");
+  EXPECT_EQ(DescribeCrs(ParseCrs("EPSG:2193", "k")),
+            "NZGD2000 / New Zealand Transverse Mercator 2000 (EPSG:2193)");
+  EXPECT_EQ(DescribeCrs(ParseCrs("none", "k")), "none");
 }
 
 TEST(ToCommonMetricFrameTest, AutoChoosesEnuAcrossZonesAboutTheUnionOfDisjointBoxes) {
@@ -268,7 +308,7 @@ TEST(ToCommonMetricFrameTest, AsGivenForNoCrsAndForOneProjectedCrs) {
   Surface a = Points(p, "a"), b = Points(p, "b");
   const Crs utm = ParseCrs("EPSG:32760", "k");
   EXPECT_EQ(ToCommonMetricFrame(&a, utm, &b, utm, FrameChoice::kAuto).Describe(),
-            "coordinates as given (WGS 84 / UTM zone 60S)");
+            "coordinates as given (WGS 84 / UTM zone 60S; EPSG:32760)");
   EXPECT_EQ(GeoFrame().Describe(), "coordinates as given (no CRS)");
 }
 
@@ -334,7 +374,7 @@ TEST(ToCommonMetricFrameTest, LonLatRasterPairMeasuresLikeItsProjReprojection) {
   Surface a = RasterToSurface(ra, nullptr), b = RasterToSurface(rb, nullptr);
   const GeoFrame frame =
       ToCommonMetricFrame(&a, crs, &b, ParseCrs(rb.crs_wkt, "b"), FrameChoice::kAuto);
-  EXPECT_EQ(frame.Describe(), "UTM zone 60S (WGS 84)");
+  EXPECT_EQ(frame.Describe(), "UTM zone 60S (WGS 84; EPSG:32760)");
   const double rho_utm = Measure(a, b).rho_d;
 
   // (ii) the same cell centres reprojected by PROJ, the same grid cells.

@@ -212,7 +212,7 @@ TEST_F(RasterGridTest, BlockChangeOnALonLatGridIsEightTimesItsMetricCells) {
   const std::string a = Write("a.tif", before);
   const std::string b = Write("b.tif", Dem(kLonLat, "EPSG:4326", 0, 0, columns, rows, block, 8.0));
   const TerrainInputs inputs = Read(a, b);
-  ASSERT_EQ(inputs.frame.Describe(), "UTM zone 60S (WGS 84)");
+  ASSERT_EQ(inputs.frame.Describe(), "UTM zone 60S (WGS 84; EPSG:32760)");
   double cells = 0;
   for (int r = block.row; r < block.row + block.rows; ++r) {
     for (int c = block.column; c < block.column + block.columns; ++c) {
@@ -233,7 +233,7 @@ TEST_F(RasterGridTest, TwoLonLatWindowsOfOneDemAgreeBetweenTheNodes) {
   const std::string a = Write("a.tif", Dem(kLonLat, "EPSG:4326", 0, 0, 40, 30, none, 0.0));
   const std::string b = Write("b.tif", Dem(kLonLat, "EPSG:4326", 7, 5, 40, 30, none, 0.0));
   const TerrainInputs inputs = Read(a, b);
-  ASSERT_EQ(inputs.frame.Describe(), "UTM zone 60S (WGS 84)");
+  ASSERT_EQ(inputs.frame.Describe(), "UTM zone 60S (WGS 84; EPSG:32760)");
   const MeasureSummary s = Measure(inputs.reference, inputs.moving);
   std::printf("two windows: rho_d %.3g m^3 over %.6g m^2, mean |dz| %.3g m, rho'_d %.3g m\n",
               s.rho_d, s.overlap_area, s.mean_abs_dz, s.rho_d_axial);

@@ -14,6 +14,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -71,6 +72,33 @@ std::string Shown(const std::string& text) {
     if (c == '\n' || c == '\r') c = ' ';
   }
   return "'" + one_line + "'";
+}
+
+// The shortest text that reads back as `value`: full precision, no noise digits.
+std::string Exact(double value) {
+  char text[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value) break;
+  }
+  return text;
+}
+
+// "EPSG:nnnn" when the CRS has (or GDAL can find) an EPSG code, else its
+// PROJ string, else "". May add the code to *srs.
+std::string Identify(OGRSpatialReference* srs) {
+  QuietGdal quiet;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const char* authority = srs->GetAuthorityName(nullptr);
+    const char* code = srs->GetAuthorityCode(nullptr);
+    if (authority != nullptr && code != nullptr) return std::string(authority) + ":" + code;
+    if (attempt == 0 && srs->AutoIdentifyEPSG() != OGRERR_NONE) break;
+  }
+  char* proj = nullptr;
+  std::string text;
+  if (srs->exportToProj4(&proj) == OGRERR_NONE && proj != nullptr) text = Trim(proj);
+  CPLFree(proj);
+  return text;
 }
 
 // The Crs's spatial reference with x = easting/longitude, y = northing/latitude.
@@ -150,6 +178,22 @@ int Zone(double lat, double lon) {
 }
 
 double CentralMeridian(int zone) { return 6.0 * zone - 183.0; }
+
+// The ENU frame as a PROJ pipeline: lon, lat (degrees, the CRS's prime
+// meridian), ellipsoidal height -> geocentric -> east, north, up about the
+// origin (lat0, lon0 Greenwich, h0), on the datum's ellipsoid.
+std::string EnuDefinition(const GeoFrame& frame, const Datum& datum) {
+  const bool wgs84 = datum.a == GeographicLib::Constants::WGS84_a() &&
+                     datum.f == GeographicLib::Constants::WGS84_f();
+  const std::string ellipsoid = wgs84          ? "+ellps=WGS84"
+                                : datum.f == 0 ? "+R=" + Exact(datum.a)
+                                               : "+a=" + Exact(datum.a) + " +rf=" + Exact(1 / datum.f);
+  const std::string pm =
+      datum.prime_meridian_deg != 0 ? " +pm=" + Exact(datum.prime_meridian_deg) : "";
+  return "+proj=pipeline +step +proj=unitconvert +xy_in=deg +xy_out=rad +step +proj=cart " +
+         ellipsoid + pm + " +step +proj=topocentric " + ellipsoid + " +lat_0=" +
+         Exact(frame.lat0) + " +lon_0=" + Exact(frame.lon0) + " +h_0=" + Exact(frame.h0);
+}
 
 // Forward and inverse maps between (lat, lon, h) and the frame's x, y, z.
 class FrameMap {
@@ -239,6 +283,7 @@ GeoFrame GeographicFrame(Surface* reference, Surface* moving, const Datum& datum
   } else {
     frame.kind = GeoFrame::kEnu;
     frame.lat0 = lat, frame.lon0 = lon, frame.h0 = 0.0;
+    frame.definition = EnuDefinition(frame, datum);
   }
   const FrameMap map(frame, datum);
   Convert(map, datum.prime_meridian_deg, reference);
@@ -292,20 +337,27 @@ Crs ParseCrs(const std::string& text, const std::string& label) {
 }
 
 std::string GeoFrame::Describe() const {
-  char text[160];
+  const std::string defined = definition.empty() ? "" : "; " + definition;
   switch (kind) {
     case kUtm:
-      std::snprintf(text, sizeof(text), "UTM zone %d%c (%s)", zone, northp ? 'N' : 'S',
-                    datum.c_str());
-      return text;
+      return "UTM zone " + std::to_string(zone) + (northp ? "N" : "S") + " (" + datum + defined +
+             ")";
     case kEnu:
-      std::snprintf(text, sizeof(text), "local ENU about %.4f%c %.4f%c (%s)", std::fabs(lat0),
-                    lat0 < 0 ? 'S' : 'N', std::fabs(lon0), lon0 < 0 ? 'W' : 'E', datum.c_str());
-      return text;
+      return "local ENU about " + Exact(std::fabs(lat0)) + (lat0 < 0 ? "S " : "N ") +
+             Exact(std::fabs(lon0)) + (lon0 < 0 ? "W" : "E") + ", h " + Exact(h0) + " m (" +
+             datum + defined + ")";
     case kAsGiven:
       break;
   }
-  return "coordinates as given (" + (datum.empty() ? std::string("no CRS") : datum) + ")";
+  return "coordinates as given (" + (datum.empty() ? std::string("no CRS") : datum) + defined +
+         ")";
+}
+
+std::string DescribeCrs(const Crs& crs) {
+  if (crs.kind == CrsKind::kNone) return "none";
+  const auto srs = Import(crs);
+  const std::string id = srs ? Identify(srs.get()) : "";
+  return id.empty() ? crs.name : crs.name + " (" + id + ")";
 }
 
 GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surface* moving,
@@ -333,12 +385,22 @@ GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surfa
                (metres ? "" : " (and not both in metres)") + "; reproject one onto the other");
     }
     frame.datum = reference_crs.name;
+    frame.definition = Identify(ref_srs.get());
     return frame;
   }
   if (!ref_srs->IsSameGeogCS(mov_srs.get())) {
     mismatch("different geographic datums; transform one onto the other's datum");
   }
-  return GeographicFrame(reference, moving, DatumOf(reference_crs), choice);
+  frame = GeographicFrame(reference, moving, DatumOf(reference_crs), choice);
+  if (frame.kind == GeoFrame::kUtm) {
+    OGRSpatialReference utm;
+    QuietGdal quiet;
+    if (utm.CopyGeogCSFrom(ref_srs.get()) == OGRERR_NONE &&
+        utm.SetUTM(frame.zone, frame.northp ? TRUE : FALSE) == OGRERR_NONE) {
+      frame.definition = Identify(&utm);
+    }
+  }
+  return frame;
 }
 
 namespace {

@@ -54,10 +54,21 @@ struct GeoFrame {
   int zone = 0;                       // UTM zone 1..60
   bool northp = true;                 // UTM hemisphere (false northing 10000 km if false)
   std::string datum;  // name of the geographic CRS for kEnu/kUtm ("WGS 84"), else the CRS name
+  // The frame as others can rebuild it: an EPSG code ("EPSG:32760" for UTM
+  // or a projected CRS that has one), else a PROJ string (ENU: the
+  // geodetic-to-topocentric pipeline from lon, lat in degrees and
+  // ellipsoidal height); "" without a CRS. Set by ToCommonMetricFrame.
+  std::string definition;
 
-  // One line, e.g. "UTM zone 60S (WGS 84)" or "local ENU about 36.8500S 174.7600E (WGS 84)".
+  // One line, e.g. "UTM zone 60S (WGS 84; EPSG:32760)" or "local ENU about
+  // 36.85S 174.76E, h 0 m (WGS 84; +proj=pipeline ...)", numbers in the
+  // shortest text that reads back as the same double.
   std::string Describe() const;
 };
+
+// "WGS 84 (EPSG:4326)": the CRS's name and its EPSG code (or PROJ string)
+// when known; "none" for kNone.
+std::string DescribeCrs(const Crs& crs);
 
 // Brings both surfaces into one metric frame, in place (rebuilt with
 // MakeSurface, origin rounded to 1 m; weights and source kept), and returns
