@@ -299,7 +299,9 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
         if (prealign_sides) {
           subsampled.emplace(prealign_sides->reference, prealign_sides->moving, options.max_fold_fraction);
         }
+        context.prealignment = true;
         const SolveResult rough = SolveAxial(subsampled ? *subsampled : state, context, theta);
+        context.prealignment = false;
         iterations += std::max(0, rough.iterations);
         if (rough.usable) theta = rough.theta;
       }

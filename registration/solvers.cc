@@ -233,6 +233,10 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
   // Steps of 1e-10 of the parameters' size are far below any accuracy the
   // data support (a trim or a mask still makes the cost jump).
   solver.parameter_tolerance = 1e-10;
+  if (context.prealignment) {
+    solver.function_tolerance = std::max(solver.function_tolerance, kPrealignTolerance);
+    solver.parameter_tolerance = kPrealignTolerance;
+  }
   solver.num_threads = std::max(1, options.num_threads);
   solver.logging_type = ceres::SILENT;
   LogCallback log(context);

@@ -29,7 +29,14 @@ struct SolveContext {
   const char* cost = "axial";  // for the log
   double seconds_offset = 0;    // time already spent, for the log
   std::vector<AlignOptions::Iteration>* log = nullptr;
+  // SolveAxial as the volume cost's prealignment: it only has to land in the
+  // volume cost's basin, so it stops at a coarser tolerance
+  // (kPrealignTolerance) than the final solve's.
+  bool prealignment = false;
 };
+
+// Relative cost decrease and relative step below which the prealignment stops.
+inline constexpr double kPrealignTolerance = 1e-7;
 
 struct SolveResult {
   std::array<double, 6> theta{};
