@@ -12,6 +12,7 @@
 #include "measure/grid_mesh.h"
 #include "measure/input_error.h"
 #include "measure/locator.h"
+#include "measure/predicates.h"
 #include "measure/overlay.h"
 #include "measure/spanning_tree.h"
 #include "measure/spatial_sort.h"
@@ -304,6 +305,17 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
     for (std::size_t k = 0; k < pa.xy.size(); ++k) {
       if (omega_a[k]) summary.dz_a[order_a[k]] = gaps.a[k];
     }
+    // Mesh corners are sorted indices (duplicates point at the kept one).
+    std::vector<double> area(pa.xy.size(), 0.0);
+    for (int32_t t = 0; t < pa.mesh.num_triangles(); ++t) {
+      if (!pa.domain.whole && !pa.domain.triangles[t]) continue;
+      const int32_t* v = &pa.mesh.triangles[3 * t];
+      if (!omega_a[v[0]] || !omega_a[v[1]] || !omega_a[v[2]]) continue;
+      const double third = Orient2D(pa.xy[v[0]], pa.xy[v[1]], pa.xy[v[2]]) / 6.0;
+      for (int i = 0; i < 3; ++i) area[v[i]] += third;
+    }
+    summary.node_area_a.assign(pa.xy.size(), 0.0);
+    for (std::size_t k = 0; k < pa.xy.size(); ++k) summary.node_area_a[order_a[k]] = area[k];
   }
   summary.timings.total = Seconds(start);
   return summary;

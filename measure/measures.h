@@ -71,7 +71,8 @@ struct MeasureOptions {
   bool detect_change = false;
   double level_of_detection = 0.0;
   // Keep d at every sample of A (MeasureSummary::dz_a): the DoD on A's
-  // nodes, e.g. on a reference raster's cells.
+  // nodes, e.g. on a reference raster's cells; and each node's share of
+  // the overlap's area (MeasureSummary::node_area_a).
   bool keep_node_gaps = false;
 
   bool IsValid(std::string* error) const;
@@ -110,6 +111,13 @@ struct MeasureSummary {
   // nodes not in Ω, by the rule of ρ'd above);
   // filled only with MeasureOptions::keep_node_gaps.
   std::vector<double> dz_a;
+  // The area each sample of A stands for, in A's input order (with
+  // keep_node_gaps): a third of each of A's domain triangles whose three
+  // corners are nodes in Ω (0 elsewhere, and at a repeated xy's other
+  // samples). On a raster's cells away from Ω's outline it is the cell's
+  // area exactly; its sum is |Ω| less the part along Ω's outline. The
+  // cellwise change budgets (measure/change_budget.h) weight dz_a by it.
+  std::vector<double> node_area_a;
   int64_t n_points_a = 0, n_points_b = 0;          // input samples
   int64_t n_duplicates_a = 0, n_duplicates_b = 0;  // merged (heights averaged)
   int64_t n_overlap_nodes = 0;  // nodes of G1 ∪ G2 (as a set of xy) inside Ω
