@@ -133,6 +133,11 @@ histogram_png: histogram.png
 change_csv: change.csv
 known_matrix: [1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7]
 mask_raster: stable.tif
+sigma_reference: 0.25
+sigma_moving: sigma.tif
+lod_confidence: 0.9
+dod_sigma: sigma_dod.tif
+dod_thresholded: dod_detected.tif
 normal_distance: false
 slope_weight: 1.5
 gap_weight: 0.7
@@ -198,6 +203,11 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.change_csv, "change.csv");
   EXPECT_EQ(t.known_matrix, (std::vector<double>{1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1}));
   EXPECT_EQ(t.mask_raster, "stable.tif");
+  EXPECT_EQ(t.sigma_reference, "0.25");
+  EXPECT_EQ(t.sigma_moving, "sigma.tif");
+  EXPECT_EQ(t.lod_confidence, 0.9);
+  EXPECT_EQ(t.dod_sigma, "sigma_dod.tif");
+  EXPECT_EQ(t.dod_thresholded, "dod_detected.tif");
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
   EXPECT_EQ(c.Where("progress"), "t.yaml:29: key 'progress'");

@@ -155,7 +155,7 @@ keys='["rho_d", "rho_d_axial", "rho_s", "overlap_area", "mean_abs_dz", "signed_v
        "volume_above", "volume_below", "n_points_a", "n_points_b", "n_overlap_nodes", "timings",
        "file_a", "file_b", "volume_mode", "weight_mode", "n_duplicates_a", "n_duplicates_b",
        "n_cells", "weight_integral", "domain", "domain_area_a", "domain_area_b",
-       "excluded_area_a", "excluded_area_b"]'
+       "excluded_area_a", "excluded_area_b", "frame", "crs_a", "crs_b", "length_unit", "change"]'
 stages='["read", "triangulate", "domain", "spanning_tree", "locate", "interpolate", "volume",
          "total"]'
 
@@ -294,6 +294,191 @@ assert close(w['mean_abs_dz'], w['rho_d'] / w['weight_integral'], 1e-9), w
 "
 fi
 
+# --- lon/lat DEMs: one metric frame, areas in m², cut/fill -------------------
+
+# Two ESRI ASCII grids with a .prj (GDAL reads the CRS from it): 40 x 30
+# cells of 0.001 deg near Auckland (UTM zone 60S, about 200 km west of its
+# central meridian), B = A + 5 m; the truths are computed here, not by
+# surfreg: the ellipsoidal area of the lon/lat rectangle spanned by the
+# cell centres (closed form on WGS 84, checked against a quadrature of
+# M N cos(lat)), and UTM's point scale k at its centre (series in the
+# longitude difference), since UTM areas are the ellipsoid's times k²;
+# ENU places each sample by its height, so its areas are those at the
+# data's height h, the ellipsoid's times (1 + h / R)².
+python3 - "$tmp" <<'EOF' || { echo "FAIL: cannot make the lon/lat test inputs"; exit 1; }
+import json, math, sys
+tmp = sys.argv[1]
+ncols, nrows, cell, west, south = 40, 30, 0.001, 174.75, -36.88
+wgs84 = ('GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",SPHEROID["WGS_1984",6378137.0,'
+         '298.257223563]],PRIMEM["Greenwich",0.0],UNIT["Degree",0.0174532925199433]]')
+utm60s = ('PROJCS["WGS_1984_UTM_Zone_60S",GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",'
+          'SPHEROID["WGS_1984",6378137.0,298.257223563]],PRIMEM["Greenwich",0.0],'
+          'UNIT["Degree",0.0174532925199433]],PROJECTION["Transverse_Mercator"],'
+          'PARAMETER["False_Easting",500000.0],PARAMETER["False_Northing",10000000.0],'
+          'PARAMETER["Central_Meridian",177.0],PARAMETER["Scale_Factor",0.9996],'
+          'PARAMETER["Latitude_Of_Origin",0.0],UNIT["Meter",1.0]]')
+def grid(name, prj, xll, yll, size, dz, columns=ncols):
+    with open(f"{tmp}/{name}.asc", "w") as f:
+        f.write(f"ncols {columns}\nnrows {nrows}\nxllcorner {xll!r}\nyllcorner {yll!r}\n"
+                f"cellsize {size!r}\nNODATA_value -9999\n")
+        for r in range(nrows):  # heights in quarter metres: exact in any float
+            f.write(" ".join(repr(100 + ((r * 7 + c * 3) % 11) * 0.25 + dz)
+                             for c in range(columns)) + "\n")
+    with open(f"{tmp}/{name}.prj", "w") as f:
+        f.write(prj)
+for name, dz in (("ll_a", 0), ("ll_b", 5), ("ll_up2", 2), ("ll_down", -0.5)):
+    grid(name, wgs84, west, south, cell, dz)
+grid("utm_b", utm60s, 300000.0, 5915000.0, 90.0, 5)  # the same place, in UTM
+# The same samples as a point file with no CRS (lon lat h): for --*_crs.
+with open(f"{tmp}/ll_b.xyz", "w") as f:
+    for r in range(nrows):
+        for c in range(ncols):
+            f.write(f"{west + (c + 0.5) * cell!r} {south + (nrows - r - 0.5) * cell!r} "
+                    f"{100 + ((r * 7 + c * 3) % 11) * 0.25 + 5!r}\n")
+
+a, f = 6378137.0, 1 / 298.257223563
+e2 = f * (2 - f)
+e, b2 = math.sqrt(e2), (a * (1 - f)) ** 2
+def zone(lat):  # area from the equator to lat, per radian of longitude
+    s = math.sin(math.radians(lat))
+    return b2 * (s / (2 * (1 - e2 * s * s)) + math.log((1 + e * s) / (1 - e * s)) / (4 * e))
+def area(lon0, lon1, lat0, lat1):
+    return math.radians(lon1 - lon0) * (zone(lat1) - zone(lat0))
+def area_by_quadrature(lon0, lon1, lat0, lat1, n=2000):  # Simpson on M N cos(lat)
+    def g(lat):
+        s = math.sin(math.radians(lat))
+        w = 1 - e2 * s * s
+        return a * (1 - e2) / w ** 1.5 * a / math.sqrt(w) * math.cos(math.radians(lat))
+    h = (lat1 - lat0) / n
+    total = g(lat0) + g(lat1) + sum((4 if i % 2 else 2) * g(lat0 + i * h) for i in range(1, n))
+    return math.radians(lon1 - lon0) * math.radians(h) / 3 * total
+lon0, lon1 = west + 0.5 * cell, west + (ncols - 0.5) * cell  # first and last cell centres
+lat0, lat1 = south + 0.5 * cell, south + (nrows - 0.5) * cell
+whole = area(lon0, lon1, lat0, lat1)
+assert abs(area_by_quadrature(lon0, lon1, lat0, lat1) / whole - 1) < 1e-12
+mid = west + 20 * cell  # the mask's east edge: halfway between centres 19 and 20
+lat_c, dlon = math.radians((lat0 + lat1) / 2), math.radians((lon0 + lon1) / 2 - 177.0)
+c2 = math.cos(lat_c) ** 2
+k = 0.9996 * (1 + c2 * dlon ** 2 * (1 + e2 / (1 - e2) * c2) / 2)
+w = 1 - e2 * math.sin(lat_c) ** 2
+radius = a * math.sqrt(1 - e2) / w  # Gaussian radius sqrt(M N)
+height = sum(100 + ((r * 7 + c * 3) % 11) * 0.25 for r in range(nrows) for c in range(ncols)) / (nrows * ncols)
+with open(f"{tmp}/geo.json", "w") as out:
+    json.dump({"area": whole, "west_area": area(lon0, mid, lat0, lat1),
+               "window_area": area(lon0, west + 19.5 * cell, lat0, lat1), "k2": k * k,
+               "height_scale": (1 + height / radius) ** 2,
+               "lat_centre": (lat0 + lat1) / 2, "lon_centre": (lon0 + lon1) / 2}, out)
+with open(f"{tmp}/ll_west.txt", "w") as out:  # lon lat: the west half, edges beyond the data
+    out.write(f"{west - 0.01!r} {south - 0.01!r}\n{mid!r} {south - 0.01!r}\n"
+              f"{mid!r} {south + 0.04!r}\n{west - 0.01!r} {south + 0.04!r}\n")
+EOF
+
+if measure_json ll "$tmp/ll_a.asc" "$tmp/ll_b.asc"; then
+  check "lon/lat DEM against itself + 5 m: UTM frame, area in m² of the ellipsoid's" "
+m, g = r('ll'), r('geo')
+print('  overlap %.3f m², ellipsoid %.3f m² (%+.4f%%), ellipsoid x k² %.3f m² (%+.2e)' % (
+    m['overlap_area'], g['area'], 100 * (m['overlap_area'] / g['area'] - 1),
+    g['area'] * g['k2'], m['overlap_area'] / (g['area'] * g['k2']) - 1))
+assert m['frame'] == 'UTM zone 60S (WGS 84; EPSG:32760)', m['frame']
+assert m['crs_a'] == m['crs_b'] == 'WGS 84 (EPSG:4326)', (m['crs_a'], m['crs_b'])
+assert m['length_unit'] == 'm', m
+assert abs(m['overlap_area'] / g['area'] - 1) < 1e-3, (m['overlap_area'], g['area'])
+assert abs(m['overlap_area'] / (g['area'] * g['k2']) - 1) < 2e-5, (m['overlap_area'], g)
+assert abs(m['mean_abs_dz'] - 5) < 1e-9 and abs(m['rho_d_axial'] - 5) < 1e-9, m
+assert close(m['rho_d'], 5 * m['overlap_area'], 1e-9) and m['volume_below'] == 0, m
+c = m['change']
+assert c['level_of_detection'] == 0 and close(c['fill'], m['volume_above'], 1e-9), c
+"
+fi
+
+run measure "$tmp/ll_a.asc" "$tmp/ll_b.asc"
+if [[ $rc -ne 0 ]] || ! grep -q '^frame: *UTM zone 60S (WGS 84; EPSG:32760)$' "$tmp/stdout" ||
+   ! grep -Eq '^overlap area: *[0-9.e+]+ m² ' "$tmp/stdout" ||
+   ! grep -Eq '^rho_d .* m³ ' "$tmp/stdout" || ! grep -Eq '^fill: .* m³ ' "$tmp/stdout" ||
+   ! grep -q 'CRS WGS 84 (EPSG:4326))$' "$tmp/stdout" || grep -q 'units' "$tmp/stdout"; then
+  fail "measure lon/lat (text): expected the frame, the CRSs, m² and m³, no 'units'"
+fi
+
+if measure_json ll_enu "$tmp/ll_a.asc" "$tmp/ll_b.asc" --frame=enu; then
+  check "--frame=enu: areas at the data's height, the origin at full precision" "
+m, g = r('ll_enu'), r('geo')
+at_height = g['area'] * g['height_scale']
+print('  ENU overlap %.3f m² (%+.2e of the ellipsoid\'s, %+.2e of it at the mean height)' % (
+    m['overlap_area'], m['overlap_area'] / g['area'] - 1, m['overlap_area'] / at_height - 1))
+assert abs(m['overlap_area'] / at_height - 1) < 2e-6, (m['overlap_area'], at_height)
+assert abs(m['mean_abs_dz'] - 5) < 1e-6, m
+lat, lon = m['frame'].split('local ENU about ')[1].split(', h 0 m')[0].split()
+assert lat[-1] == 'S' and lon[-1] == 'E', m['frame']
+assert abs(-float(lat[:-1]) - g['lat_centre']) < 1e-12 and abs(float(lon[:-1]) - g['lon_centre']) < 1e-12, (m['frame'], g)
+assert '+proj=topocentric +ellps=WGS84 +lat_0=-%s +lon_0=%s +h_0=0)' % (lat[:-1], lon[:-1]) in m['frame'], m['frame']
+"
+fi
+
+# A lon/lat mask polygon follows A into the frame; a window of A; a point
+# file given its CRS by flag.
+if measure_json ll_mask "$tmp/ll_a.asc" "$tmp/ll_b.asc" --weights=mask:"$tmp/ll_west.txt" &&
+   measure_json ll_window "$tmp/ll_a.asc" "$tmp/ll_b.asc" --window=0,0,20,0 &&
+   measure_json ll_xyz "$tmp/ll_a.asc" "$tmp/ll_b.xyz" --moving_crs=EPSG:4326; then
+  check "mask (lon/lat polygon), --window, --moving_crs on a point file" "
+g, k2 = r('geo'), r('geo')['k2']
+w = r('ll_mask')
+assert abs(w['weight_integral'] / (g['west_area'] * k2) - 1) < 2e-5, (w['weight_integral'], g['west_area'] * k2)
+assert close(w['rho_d'], 5 * w['weight_integral'], 1e-9), w
+v = r('ll_window')
+assert v['n_points_a'] == 20 * 30 and abs(v['overlap_area'] / (g['window_area'] * k2) - 1) < 2e-5, v
+x = r('ll_xyz')
+assert x['frame'] == r('ll')['frame'] and x['crs_b'] == 'WGS 84 (EPSG:4326)', x
+# B's own Delaunay diagonals, not A's cell split: 5 m at the nodes, near 5 between.
+assert abs(x['rho_d_axial'] - 5) < 1e-9 and abs(x['mean_abs_dz'] - 5) < 0.01, x
+assert abs(x['overlap_area'] / (g['area'] * k2) - 1) < 2e-5, x
+"
+fi
+
+# Cut/fill beyond a level of detection, against hand-computed figures: a
+# uniform +2 m (all fill), a uniform -0.5 m under L = 1 (no change), and
+# on a no-CRS square a gap linear in x (dz = x - 5 on [0, 10]², exact on
+# any triangulation): fill = cut = ∫_6^10 (x - 5) dx · 10 = 120 over 40.
+python3 - "$tmp" <<'EOF'
+import sys
+with open(sys.argv[1] + "/flat.xyz", "w") as a, open(sys.argv[1] + "/ramp.xyz", "w") as b:
+    for i in range(11):
+        for j in range(11):
+            a.write(f"{i} {j} 0\n")
+            b.write(f"{i} {j} {i - 5}\n")
+EOF
+if measure_json lod2 "$tmp/ll_a.asc" "$tmp/ll_up2.asc" --lod=1 &&
+   measure_json lod_none "$tmp/ll_a.asc" "$tmp/ll_down.asc" --lod=1 &&
+   measure_json ramp "$tmp/flat.xyz" "$tmp/ramp.xyz" --lod=1; then
+  check "--lod: change keys against hand-computed cut/fill" "
+m, g = r('lod2'), r('geo')
+c, area = m['change'], m['overlap_area']
+keys = ['level_of_detection', 'fill', 'cut', 'net', 'fill_area', 'cut_area', 'fill_uncertainty',
+        'cut_uncertainty', 'net_uncertainty']
+assert sorted(c) == sorted(keys), c
+assert abs(area / (g['area'] * g['k2']) - 1) < 2e-5, area
+assert c['level_of_detection'] == 1 and close(c['fill'], 2 * area, 1e-9) and c['cut'] == 0, c
+assert close(c['net'], 2 * area, 1e-9) and close(c['fill_area'], area, 1e-9) and c['cut_area'] == 0, c
+assert close(c['fill_uncertainty'], area, 1e-9) and c['cut_uncertainty'] == 0, c
+assert close(c['net_uncertainty'], area, 1e-9), c
+n = r('lod_none')['change']
+assert n['fill'] == n['cut'] == n['net'] == n['fill_area'] == n['cut_area'] == 0, n
+assert r('lod_none')['volume_below'] > 0, r('lod_none')
+p = r('ramp')
+c = p['change']
+print('  ramp: fill %.12g cut %.12g over %.12g / %.12g %s²' % (c['fill'], c['cut'], c['fill_area'], c['cut_area'], p['length_unit']))
+assert p['length_unit'] == 'units' and p['frame'] == 'coordinates as given (no CRS)', p
+assert abs(c['fill'] - 120) < 1e-9 and abs(c['cut'] - 120) < 1e-9 and abs(c['net']) < 1e-9, c
+assert abs(c['fill_area'] - 40) < 1e-9 and abs(c['cut_area'] - 40) < 1e-9, c
+assert abs(c['fill_uncertainty'] - 40) < 1e-9 and abs(c['net_uncertainty'] - 80) < 1e-9, c
+assert abs(p['volume_above'] - 125) < 1e-9, p  # ∫_5^10 (x - 5) dx · 10 at L = 0
+"
+fi
+if measure_json ll_union "$tmp/ll_a.asc" "$tmp/ll_b.asc" --volume=union; then
+  check "--volume=union: no change object (cut/fill is the overlay's)" "
+assert 'change' not in r('ll_union'), r('ll_union')
+"
+fi
+
 # --- bad input: exit 2, one line naming what is wrong ------------------------
 
 expect_input_error "configs/data/no_such_b.xyz: cannot open" measure "$a" configs/data/no_such_b.xyz
@@ -315,6 +500,24 @@ expect_input_error "$tmp/no_such_mask.txt: cannot open" \
   measure "$a" "$b" --weights=mask:"$tmp/no_such_mask.txt"
 expect_input_error "" measure "$a" "$tmp/b_far.xyz"
 expect_input_error "" measure "$a" "$tmp/b_far.xyz" --json
+# CRSs: a flag that disagrees with the raster's own, two DEMs in different
+# CRSs, a CRS on one surface only, unreadable CRS and frame values.
+expect_input_error "flag '--reference_crs': 'WGS 84 / UTM zone 60S' disagrees with the CRS of $tmp/ll_a.asc ('WGS 84')" \
+  measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --reference_crs=EPSG:32760
+expect_input_error "flag '--moving_crs': 'NAD27' disagrees with the CRS of $tmp/ll_b.asc ('WGS 84')" \
+  measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --moving_crs=EPSG:4267
+expect_input_error "reference $tmp/ll_a.asc (CRS WGS 84) and moving $tmp/utm_b.asc (CRS WGS 84 / UTM zone 60S): one is geographic, the other projected" \
+  measure "$tmp/ll_a.asc" "$tmp/utm_b.asc"
+expect_input_error "and moving $tmp/ll_b.xyz (CRS none): one is geographic, the other no CRS" \
+  measure "$tmp/ll_a.asc" "$tmp/ll_b.xyz"
+expect_input_error "flag '--reference_crs': unreadable CRS 'EPSG:999999'" \
+  measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --reference_crs=EPSG:999999
+expect_input_error "flag '--frame' expects one of auto, enu, utm, got 'mercator'" \
+  measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --frame=mercator
+expect_input_error "flag '--lod' expects" measure "$a" "$b" --lod=-1
+expect_input_error "flag '--lod': cut/fill beyond a level of detection needs --volume=overlay" \
+  measure "$a" "$b" --lod=1 --volume=union
+expect_input_error "argument A: $tmp/ll_a.asc: band 2 of 1" measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --band=2
 
 # --- bad usage -----------------------------------------------------------------
 

@@ -157,6 +157,128 @@ expect_error "no sample of the reference" align "${dem[@]}" --mask_raster="$tmp/
   --output="$out/t.json"
 expect_error "mask_raster" align "${dem[@]}" --mask_raster="$tmp/missing.asc" --output="$out/t.json"
 
+# --- the shipped change study with sigma per DEM runs and writes its outputs ---
+sed "s#out/#$out/#" configs/terrain_change_uncertainty.yaml >"$tmp/change.yaml"
+run align --config "$tmp/change.yaml"
+if [[ $rc -ne 0 ]]; then
+  fail "change study example"
+else
+  for f in terrain_change_transform.json terrain_change_dod.tif terrain_change_dod_sigma.tif \
+           terrain_change_dod_thresholded.tif terrain_change_dod.png terrain_change_histogram.png; do
+    [[ -s $out/$f ]] || fail "change study example: no $f"
+  done
+  python3 - "$out/terrain_change_transform.json" <<'PY' || fail "change study example: the budget"
+import json, math, sys
+b = json.load(open(sys.argv[1]))["terrain"]["change"]["uncertainty"]
+# Every node has sigma_DoD = sqrt(0.3^2 + 0.5^2); the surveys differ by noise
+# only, so detected change is a few percent of the nodes and the net is
+# within its independent error of 0.
+ok = (abs(b["sigma_dod_median"] - math.sqrt(0.34)) < 1e-12 and 0 < b["fill_nodes"] + b["cut_nodes"] < 0.05 * b["nodes"]
+      and abs(b["net"]) < 3 * b["net_sigma_independent"] and b["net_sigma_correlated"] > b["net_sigma_independent"])
+print("change study: %d + %d of %d nodes, net %.1f +/- %.1f / %.1f" % (b["fill_nodes"], b["cut_nodes"], b["nodes"],
+      b["net"], b["net_sigma_independent"], b["net_sigma_correlated"]))
+sys.exit(0 if ok else 1)
+PY
+fi
+rm -rf "${out:?}"/*
+
+# --- uncertainty of change: sigma per DEM, a confidence, closed forms ---
+# grid NAME XLL VALUE...: 20 x 15 cells of 10 m (EPSG:2193 by flag), z = 100 + column,
+# minus 3 on the block of columns 4-8, rows 3-6 (20 nodes) and plus 2 on
+# columns 12-14, rows 8-10 (9 nodes) when CHANGE=1; a sigma grid when KIND=sigma
+# (0.4 everywhere, VALUE on columns 4-5 of the -3 block: 8 nodes).
+grid() {
+  python3 - "$tmp/$1.asc" "$2" "$3" "$4" <<'PY'
+import sys
+path, xll, kind, value = sys.argv[1], float(sys.argv[2]), sys.argv[3], float(sys.argv[4])
+rows = []
+for r in range(15):
+    row = []
+    for c in range(20):
+        if kind == "sigma":
+            v = value if (4 <= c <= 5 and 3 <= r <= 6) else 0.4
+        else:
+            v = 100.0 + c
+            if kind == "change" and 4 <= c <= 8 and 3 <= r <= 6: v -= 3
+            if kind == "change" and 12 <= c <= 14 and 8 <= r <= 10: v += 2
+        row.append("%g" % v)
+    rows.append(" ".join(row))
+open(path, "w").write("ncols 20\nnrows 15\nxllcorner %.3f\nyllcorner 5916500\ncellsize 10\n"
+                      "NODATA_value -9999\n" % xll + "\n".join(rows) + "\n")
+PY
+}
+grid before 1756000 plain 0
+grid after 1756000 change 0
+grid sigma_ok 1756000 sigma 2.0
+grid sigma_shifted 1756005 sigma 0.4
+grid sigma_negative 1756000 sigma -1
+change=("$tmp/before.asc" "$tmp/after.asc" --reference_crs=EPSG:2193 --moving_crs=EPSG:2193
+        --free=tz --covariance=false --sigma_reference=0.3 --lod_confidence=0.95)
+run align "${change[@]}" --sigma_moving=0.4 --output="$out/u.json" --dod_sigma="$out/s.tif" \
+  --dod_thresholded="$out/t.tif" --histogram_png="$out/h.png" --dod_png="$out/d.png"
+[[ $rc -eq 0 ]] || fail "uncertainty: constant sigmas"
+run align "${change[@]}" --sigma_moving="$tmp/sigma_ok.asc" --output="$out/r.json"
+[[ $rc -eq 0 ]] || fail "uncertainty: a sigma raster"
+python3 - "$out" <<'PY' || fail "uncertainty: closed forms"
+import json, math, sys
+out = sys.argv[1]
+t = 1.959963984540054  # the two-sided 95% normal quantile
+a = 100.0              # every changed node is an inner node: its cell, 10 m x 10 m
+bad = []
+def close(name, got, want, relative=1e-9):
+    if not abs(got - want) <= relative * max(1.0, abs(want)):
+        bad.append("%s: %r, expected %r" % (name, got, want))
+u = json.load(open(out + "/u.json"))
+b = u["terrain"]["change"]["uncertainty"]
+s = 0.5  # sqrt(0.3^2 + 0.4^2)
+close("t", b["t"], t)
+close("sigma_dod_median", b["sigma_dod_median"], s)
+close("fill", b["fill"], 2 * a * 9)
+close("cut", b["cut"], 3 * a * 20)
+close("net", b["net"], 2 * a * 9 - 3 * a * 20)
+close("fill_area", b["fill_area"], a * 9)
+close("cut_area", b["cut_area"], a * 20)
+close("fill_sigma_independent", b["fill_sigma_independent"], s * a * 3)
+close("cut_sigma_independent", b["cut_sigma_independent"], s * a * math.sqrt(20))
+close("net_sigma_independent", b["net_sigma_independent"], s * a * math.sqrt(29))
+close("fill_sigma_correlated", b["fill_sigma_correlated"], s * a * 9)
+close("net_sigma_correlated", b["net_sigma_correlated"], s * a * 29)
+if u["terrain"]["change"]["fill"] <= 0: bad.append("no exact fill")
+# Per-cell sigma: 8 of the -3 nodes have sigma_moving 2, so 1.96 sqrt(0.09 + 4) > 3.
+r = json.load(open(out + "/r.json"))["terrain"]["change"]["uncertainty"]
+s2 = math.sqrt(0.09 + 4.0)
+close("raster cut", r["cut"], 3 * a * 12)
+if r["cut_nodes"] != 12: bad.append("raster cut_nodes %r" % r["cut_nodes"])
+close("raster fill", r["fill"], 2 * a * 9)
+close("raster cut_sigma_correlated", r["cut_sigma_correlated"], s * a * 12, 1e-7)  # Float32 0.4
+# The sigma GeoTIFF and the thresholded DoD are written.
+for f in ("s.tif", "t.tif", "h.png", "d.png"):
+    head = open(out + "/" + f, "rb").read(4)
+    if head[:2] not in (b"II", b"MM", b"\x89P"):
+        bad.append(f + " missing or not an image")
+print("uncertainty: fill %g +/- %g / %g, cut %g +/- %g / %g; raster cut %g over %d nodes"
+      % (b["fill"], b["fill_sigma_independent"], b["fill_sigma_correlated"], b["cut"],
+         b["cut_sigma_independent"], b["cut_sigma_correlated"], r["cut"], r["cut_nodes"]))
+if bad:
+    print("FAIL:", bad)
+    sys.exit(1)
+PY
+rm -rf "${out:?}"/*
+expect_error "not on the grid" align "${change[@]}" --sigma_moving="$tmp/sigma_shifted.asc" \
+  --output="$out/t.json"
+expect_error "negative" align "${change[@]}" --sigma_moving="$tmp/sigma_negative.asc" \
+  --output="$out/t.json"
+expect_error "sigma_reference" align "${change[@]/--sigma_reference=0.3/--sigma_reference=-0.3}" \
+  --output="$out/t.json"
+expect_error "lod_confidence" align "${change[@]/--lod_confidence=0.95/--lod_confidence=1.5}" \
+  --output="$out/t.json"
+expect_error "needs the DEMs' vertical errors" align "$tmp/before.asc" "$tmp/after.asc" \
+  --reference_crs=EPSG:2193 --moving_crs=EPSG:2193 --lod_confidence=0.9 --output="$out/t.json"
+expect_error "point cloud" align configs/data/volcano_a.xyz configs/data/volcano_b.xyz \
+  --sigma_reference="$tmp/sigma_ok.asc" --output="$out/t.json"
+expect_error "dod_sigma" align configs/data/volcano_a.xyz configs/data/volcano_b.xyz \
+  --sigma_reference=0.2 --dod_sigma="$out/s.tif" --output="$out/t.json"
+
 if [[ $failures -ne 0 ]]; then
   echo "$failures check(s) failed"
   exit 1

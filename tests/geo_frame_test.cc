@@ -262,6 +262,19 @@ TEST(ToCommonMetricFrameTest, EnuDefinitionIsAProjPipelineOfTheFrame) {
   EXPECT_EQ(DescribeCrs(ParseCrs("EPSG:2193", "k")),
             "NZGD2000 / New Zealand Transverse Mercator 2000 (EPSG:2193)");
   EXPECT_EQ(DescribeCrs(ParseCrs("none", "k")), "none");
+  // An ESRI .prj's WKT: the EPSG CRS it is, but for the names.
+  const Crs esri = ParseCrs(
+      "GEOGCS[\"GCS_WGS_1984\",DATUM[\"D_WGS_1984\",SPHEROID[\"WGS_1984\",6378137.0,"
+      "298.257223563]],PRIMEM[\"Greenwich\",0.0],UNIT[\"Degree\",0.0174532925199433]]",
+      "k");
+  EXPECT_TRUE(Contains(DescribeCrs(esri), "(EPSG:4326)")) << DescribeCrs(esri);
+  Surface a = Points({{174.7, -36.9, 0}, {174.71, -36.9, 0}, {174.7, -36.89, 1}}, "a");
+  Surface b = a;
+  EXPECT_EQ(ToCommonMetricFrame(&a, esri, &b, esri, FrameChoice::kAuto).definition, "EPSG:32760");
+  // No EPSG code: the PROJ string.
+  const Crs custom = ParseCrs("+proj=tmerc +lon_0=173.3 +k=0.9996 +x_0=1600000 +ellps=GRS80", "k");
+  EXPECT_TRUE(Contains(DescribeCrs(custom), "(+proj=tmerc +lat_0=0 +lon_0=173.3 +k=0.9996"))
+      << DescribeCrs(custom);
 }
 
 TEST(ToCommonMetricFrameTest, AutoChoosesEnuAcrossZonesAboutTheUnionOfDisjointBoxes) {

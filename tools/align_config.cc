@@ -14,6 +14,7 @@
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
 #include "tools/config_value.h"
+#include "tools/io/raster_io.h"
 #include "tools/yaml_value.h"
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader.h"
@@ -426,8 +427,22 @@ void FinishAlignConfig(AlignConfig* config) {
   if (!config->terrain.mask_raster.empty()) {
     files.emplace_back("mask_raster", config->terrain.mask_raster);
   }
+  for (const char* key : {"sigma_reference", "sigma_moving"}) {  // σ rasters are inputs too
+    const std::string& text = std::string(key) == "sigma_reference" ? config->terrain.sigma_reference
+                                                                     : config->terrain.sigma_moving;
+    if (IsRasterPath(text)) files.emplace_back(key, text);
+  }
+  const bool has_sigma = !config->terrain.sigma_reference.empty() || !config->terrain.sigma_moving.empty();
+  for (const char* key : {"lod_confidence", "dod_sigma"}) {
+    if (!has_sigma && config->origin.count(key) != 0 && !AlignConfigValue(*config, key).empty() &&
+        AlignConfigValue(*config, key) != "0") {
+      throw InputError(config->Where(key) +
+                       " needs the DEMs' vertical errors: give sigma_reference and/or sigma_moving");
+    }
+  }
   for (const char* key :
-       {"output", "aligned", "log", "dod", "dod_png", "histogram_png", "change_csv"}) {
+       {"output", "aligned", "log", "dod", "dod_png", "histogram_png", "change_csv", "dod_sigma",
+        "dod_thresholded"}) {
     const std::string path = AlignConfigValue(*config, key);
     if (path.empty()) continue;
     const std::string where = config->Where(key);

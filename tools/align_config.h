@@ -32,6 +32,11 @@ struct TerrainSettings {
   std::string change_csv;                 // dz at every reference sample before/after
   std::vector<double> known_matrix;       // 16 numbers (moving -> reference) or empty
   std::string mask_raster;                // stable terrain raster (non-zero cells) as μ; "" = none
+  // Each DEM's vertical standard error: a number >= 0 (data units) or a σ
+  // raster on that DEM's grid; "" = none (measure/change_budget.h).
+  std::string sigma_reference, sigma_moving;
+  double lod_confidence = 0;              // (0, 1): threshold t(confidence) · σ_DoD; 0 = none
+  std::string dod_sigma, dod_thresholded;  // GeoTIFFs on the reference raster's grid
   // Whether any terrain output or setting is asked for (or an input is a
   // raster): then `align` also reports change and dz statistics.
   bool Active(const std::string& reference, const std::string& moving) const;

@@ -3,6 +3,7 @@
 // outputs. Parsed like every other key (tools/config_value.h).
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "tools/config_value.h"
 #include "tools/io/raster_io.h"
@@ -13,7 +14,8 @@ bool TerrainSettings::Active(const std::string& reference, const std::string& mo
   return IsRasterPath(reference) || IsRasterPath(moving) || !reference_crs.empty() ||
          !moving_crs.empty() || lod > 0 || !dod.empty() || !dod_png.empty() ||
          !histogram_png.empty() || !change_csv.empty() || !known_matrix.empty() ||
-         !mask_raster.empty();
+         !mask_raster.empty() || !sigma_reference.empty() || !sigma_moving.empty() ||
+         lod_confidence > 0 || !dod_sigma.empty() || !dod_thresholded.empty();
 }
 
 bool IsTerrainKey(const std::string& key) {
@@ -58,15 +60,27 @@ std::string MatrixText(const std::vector<double>& m) {
 
 const char* const kFrames[] = {"auto", "enu", "utm"};
 
+// A vertical standard error: a number >= 0, or the name of a σ raster.
+std::string Sigma(const Value& v) {
+  const std::string text = Path(v, false);
+  double value = 0;
+  if (io_internal::ParseNumber(text, &value) == io_internal::NumberStatus::kOk) {
+    if (!(std::isfinite(value) && value >= 0)) Reject(v);
+    return text;
+  }
+  if (!text.empty() && !IsRasterPath(text)) Reject(v);
+  return text;
+}
+
 }  // namespace
 
 void CheckTerrainOutput(const std::string& key, const std::string& path, const std::string& where) {
   std::string extension = path.substr(std::min(path.size(), path.find_last_of('.')));
   for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   const bool png = key == "dod_png" || key == "histogram_png";
-  if (key == "dod" && extension != ".tif" && extension != ".tiff") {
-    throw InputError(where + ": the DoD is written as GeoTIFF; expected a name ending in .tif, got '" +
-                     path + "'");
+  const bool tif = key == "dod" || key == "dod_sigma" || key == "dod_thresholded";
+  if (tif && extension != ".tif" && extension != ".tiff") {
+    throw InputError(where + ": written as GeoTIFF; expected a name ending in .tif, got '" + path + "'");
   }
   if (png && extension != ".png") {
     throw InputError(where + ": expected a name ending in .png, got '" + path + "'");
@@ -107,6 +121,30 @@ const std::vector<KeyEntry>& TerrainKeyTable() {
         "level of detection (data units): |dz| below it counts as no change in cut/fill"},
        [](const Value& v, C* c) { c->terrain.lod = Number(v, 0, HUGE_VAL); },
        [](const C& c) { return Text(c.terrain.lod); }},
+      {{"sigma_reference", "a number >= 0 or a raster file name (on the reference's grid), or nothing",
+        "the reference DEM's vertical standard error (data units): one value, or one per cell"},
+       [](const Value& v, C* c) { c->terrain.sigma_reference = Sigma(v); },
+       [](const C& c) { return c.terrain.sigma_reference; }},
+      {{"sigma_moving", "a number >= 0 or a raster file name (on the moving DEM's grid), or nothing",
+        "the moving DEM's vertical standard error (data units): one value, or one per cell"},
+       [](const Value& v, C* c) { c->terrain.sigma_moving = Sigma(v); },
+       [](const C& c) { return c.terrain.sigma_moving; }},
+      {{"lod_confidence", "a number in (0, 1), or 0 for none",
+        "change only where |dz| > t sigma_DoD, t the two-sided normal quantile (0.95: 1.96); "
+        "needs sigma_reference or sigma_moving"},
+       [](const Value& v, C* c) {
+         const double value = Number(v, 0, 1, "[)");
+         c->terrain.lod_confidence = value;
+       },
+       [](const C& c) { return Text(c.terrain.lod_confidence); }},
+      {{"dod_sigma", "a .tif file name, or nothing",
+        "the DoD's propagated standard error on the reference raster's grid"},
+       [](const Value& v, C* c) { c->terrain.dod_sigma = Path(v, false); },
+       [](const C& c) { return c.terrain.dod_sigma; }},
+      {{"dod_thresholded", "a .tif file name, or nothing",
+        "the DoD with |dz| at or below its threshold set to 0 (reference raster's grid)"},
+       [](const Value& v, C* c) { c->terrain.dod_thresholded = Path(v, false); },
+       [](const C& c) { return c.terrain.dod_thresholded; }},
       {{"dod", "a .tif file name, or nothing",
         "difference of the aligned surfaces (moving - reference) on the reference raster's grid"},
        [](const Value& v, C* c) { c->terrain.dod = Path(v, false); },

@@ -20,10 +20,13 @@ class UsageError : public std::runtime_error {
 int RunTriangulate(const std::vector<std::string>& args);
 
 // measure A B [--volume=overlay|union] [--weights=uniform|per_point|
-// mask:POLYGON_FILE] [--json]: reads two surfaces, compares B with A
+// mask:POLYGON_FILE] [--lod=L] [--reference_crs, --moving_crs, --frame,
+// --band, --window] [--json]: reads two surfaces as align does (rasters,
+// CRSs, one metric frame: tools/terrain.h), compares B with A
 // (measure/measures.h: ρd, ρ'd, ρs, signed and cut/fill volumes over the
-// overlap of their hulls), reports the measures, counts and timings. Bad
-// --volume/--weights values and bad polygon files are InputErrors (one line).
+// overlap of their data domains), reports the measures, the frame, counts
+// and timings. Bad flag values, bad polygon files and CRSs that disagree
+// are InputErrors (one line).
 int RunMeasure(const std::vector<std::string>& args);
 
 // align --config FILE.yaml | REFERENCE MOVING [--key=value ...] [--json]:

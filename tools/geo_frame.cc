@@ -84,21 +84,38 @@ std::string Exact(double value) {
   return text;
 }
 
-// "EPSG:nnnn" when the CRS has (or GDAL can find) an EPSG code, else its
-// PROJ string, else "". May add the code to *srs.
-std::string Identify(OGRSpatialReference* srs) {
+// "EPSG:nnnn" when the CRS has an EPSG code, or is one of the EPSG
+// catalogue but for its names or axis order (an ESRI .prj's "GCS_WGS_1984",
+// our longitude-first WGS 84), else its PROJ string, else "".
+std::string Identify(const OGRSpatialReference& srs) {
   QuietGdal quiet;
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    const char* authority = srs->GetAuthorityName(nullptr);
-    const char* code = srs->GetAuthorityCode(nullptr);
-    if (authority != nullptr && code != nullptr) return std::string(authority) + ":" + code;
-    if (attempt == 0 && srs->AutoIdentifyEPSG() != OGRERR_NONE) break;
+  const auto code_of = [](const OGRSpatialReference& s) {
+    const char* authority = s.GetAuthorityName(nullptr);
+    const char* code = s.GetAuthorityCode(nullptr);
+    return authority != nullptr && code != nullptr ? std::string(authority) + ":" + code
+                                                   : std::string();
+  };
+  std::string id = code_of(srs);
+  if (!id.empty()) return id;
+  int n = 0;
+  int* confidence = nullptr;
+  OGRSpatialReferenceH* matches = srs.FindMatches(nullptr, &n, &confidence);
+  const char* const same[] = {"CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS",
+                              "IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", nullptr};
+  for (int i = 0; i < n && id.empty(); ++i) {
+    const OGRSpatialReference* match = OGRSpatialReference::FromHandle(matches[i]);
+    const char* authority = match->GetAuthorityName(nullptr);
+    if (authority != nullptr && std::string(authority) == "EPSG" && srs.IsSame(match, same)) {
+      id = code_of(*match);
+    }
   }
+  if (matches != nullptr) OSRFreeSRSArray(matches);
+  CPLFree(confidence);
+  if (!id.empty()) return id;
   char* proj = nullptr;
-  std::string text;
-  if (srs->exportToProj4(&proj) == OGRERR_NONE && proj != nullptr) text = Trim(proj);
+  if (srs.exportToProj4(&proj) == OGRERR_NONE && proj != nullptr) id = Trim(proj);
   CPLFree(proj);
-  return text;
+  return id;
 }
 
 // The Crs's spatial reference with x = easting/longitude, y = northing/latitude.
@@ -356,7 +373,7 @@ std::string GeoFrame::Describe() const {
 std::string DescribeCrs(const Crs& crs) {
   if (crs.kind == CrsKind::kNone) return "none";
   const auto srs = Import(crs);
-  const std::string id = srs ? Identify(srs.get()) : "";
+  const std::string id = srs ? Identify(*srs) : "";
   return id.empty() ? crs.name : crs.name + " (" + id + ")";
 }
 
@@ -385,7 +402,7 @@ GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surfa
                (metres ? "" : " (and not both in metres)") + "; reproject one onto the other");
     }
     frame.datum = reference_crs.name;
-    frame.definition = Identify(ref_srs.get());
+    frame.definition = Identify(*ref_srs);
     return frame;
   }
   if (!ref_srs->IsSameGeogCS(mov_srs.get())) {
@@ -397,10 +414,21 @@ GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surfa
     QuietGdal quiet;
     if (utm.CopyGeogCSFrom(ref_srs.get()) == OGRERR_NONE &&
         utm.SetUTM(frame.zone, frame.northp ? TRUE : FALSE) == OGRERR_NONE) {
-      frame.definition = Identify(&utm);
+      frame.definition = Identify(utm);
     }
   }
   return frame;
+}
+
+void PointsToFrame(const GeoFrame& frame, const Crs& crs,
+                   std::vector<std::array<double, 3>>* points) {
+  if (frame.kind == GeoFrame::kAsGiven) return;
+  const Datum datum = DatumOf(crs);
+  const FrameMap map(frame, datum);
+  for (std::array<double, 3>& p : *points) {
+    const double lon = p[0] + datum.prime_meridian_deg, lat = p[1], h = p[2];
+    map.Forward(lat, lon, h, &p[0], &p[1], &p[2]);
+  }
 }
 
 namespace {

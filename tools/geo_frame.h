@@ -11,6 +11,7 @@
 // within a file (a surface crossing the antimeridian uses e.g. 179..181).
 #include <array>
 #include <string>
+#include <vector>
 
 #include "measure/surface.h"
 
@@ -25,7 +26,7 @@ enum class CrsKind {
 struct Crs {
   CrsKind kind = CrsKind::kNone;
   std::string wkt;             // WKT2 of the CRS; "" for kNone
-  std::string name;            // e.g. "WGS 84 / UTM zone 60S"; "none" for kNone
+  std::string name = "none";   // e.g. "WGS 84 / UTM zone 60S"; "none" for kNone
   double metres_per_unit = 1;  // linear unit of a projected CRS (0.3048 for ft); 1 otherwise
 };
 
@@ -86,6 +87,12 @@ std::string DescribeCrs(const Crs& crs);
 // geographic). kUtm near the poles (where UTM is undefined) is an error.
 GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surface* moving,
                              const Crs& moving_crs, FrameChoice choice);
+
+// Points of `crs` (input coordinates: lon, lat, h for geographic) into
+// `frame`, in place, as ToCommonMetricFrame moves surfaces; kAsGiven
+// leaves them as they are. E.g. a mask polygon drawn in input coordinates.
+void PointsToFrame(const GeoFrame& frame, const Crs& crs,
+                   std::vector<std::array<double, 3>>* points);
 
 // A translation as seen on the ground.
 struct GeographicOffset {

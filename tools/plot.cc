@@ -496,6 +496,18 @@ void WriteHistogramPng(const std::string& path, const std::vector<Series>& serie
                 cairo_set_line_width(cr, 2);
                 cairo_stroke(cr);
               }
+              const double dashes[] = {6.0, 4.0};
+              cairo_set_dash(cr, dashes, 2, 0.0);
+              cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+              cairo_set_line_width(cr, 1.5);
+              for (double mark : style.x_marks) {
+                if (!std::isfinite(mark) || mark < lo || mark > hi || (log && mark <= 0)) continue;
+                const double px = XPixel(plot, ax, mark);
+                cairo_move_to(cr, px, plot.top);
+                cairo_line_to(cr, px, base);
+                cairo_stroke(cr);
+              }
+              cairo_set_dash(cr, nullptr, 0, 0.0);
             });
 }
 

@@ -65,6 +65,9 @@ struct ChartStyle {
   // or to decades on a log axis). Data outside the range are clipped.
   double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
   int width = 900, height = 600;  // figure size in pixels, 200..8000
+  // Histograms: dashed grey vertical lines at these x (e.g. ± a detection
+  // threshold); those outside the x range are not drawn.
+  std::vector<double> x_marks;
 };
 
 // Lines and/or markers, one colour (Okabe-Ito) and marker shape per series,

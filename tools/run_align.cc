@@ -68,13 +68,18 @@ DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, 
 DEFINE_string(log, "", "align: write a per-iteration CSV here");
 DEFINE_bool(progress, false, "align: print a line per solver iteration on stderr");
 // Terrain keys (tools/align_config_terrain.cc).
-DEFINE_string(reference_crs, "", "align: CRS of the reference (EPSG:..., WKT, lonlat) if its file has none");
-DEFINE_string(moving_crs, "", "align: CRS of the moving surface if its file has none");
-DEFINE_string(frame, "", "align: auto | enu | utm: metric frame for lon/lat inputs");
-DEFINE_string(band, "", "align: raster band of raster inputs");
-DEFINE_string(window, "", "align: column,row,columns,rows read from raster inputs");
-DEFINE_string(lod, "", "align: level of detection for cut/fill (data units)");
+DEFINE_string(reference_crs, "", "measure (of A), align: CRS of the reference (EPSG:..., WKT, lonlat) if its file has none");
+DEFINE_string(moving_crs, "", "measure (of B), align: CRS of the moving surface if its file has none");
+DEFINE_string(frame, "", "measure, align: auto | enu | utm: metric frame for lon/lat inputs");
+DEFINE_string(band, "", "measure, align: raster band of raster inputs");
+DEFINE_string(window, "", "measure, align: column,row,columns,rows read from raster inputs");
+DEFINE_string(lod, "", "measure, align: level of detection for cut/fill (data units)");
 DEFINE_string(dod, "", "align: write the difference after alignment as GeoTIFF (reference grid)");
+DEFINE_string(sigma_reference, "", "align: the reference DEM's vertical standard error: a number or a sigma raster on its grid");
+DEFINE_string(sigma_moving, "", "align: the moving DEM's vertical standard error: a number or a sigma raster on its grid");
+DEFINE_string(lod_confidence, "", "align: threshold change at t(confidence) x sigma_DoD, e.g. 0.95 (needs a sigma)");
+DEFINE_string(dod_sigma, "", "align: write the DoD's propagated standard error as GeoTIFF (reference grid)");
+DEFINE_string(dod_thresholded, "", "align: write the DoD with undetected change set to 0 as GeoTIFF");
 DEFINE_string(dod_png, "", "align: write a map of the difference after alignment (.png)");
 DEFINE_string(histogram_png, "", "align: write dz histograms before/after on stable terrain (.png)");
 DEFINE_string(change_csv, "", "align: write x,y,z,dz_before,dz_after,stable per reference sample");

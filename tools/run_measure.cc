@@ -1,10 +1,13 @@
 // surfreg measure A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE]
-// [--domain=data|hull] [--json]: the volume between two surfaces and the
-// measures derived from it (measure/measures.h), with counts and per-stage
-// timings.
+// [--domain=data|hull] [--lod=L] [--reference_crs=CRS] [--moving_crs=CRS] [--frame=auto|enu|utm]
+// [--band=N] [--window=C,R,W,H] [--json]: the volume between two surfaces and the measures
+// derived from it (measure/measures.h), cut/fill beyond a level of detection, with counts and
+// per-stage timings. Both surfaces are read as `align` reads them (tools/terrain.h: rasters with
+// their band, window and CRS) and measured in one metric frame.
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <chrono>
@@ -21,9 +24,9 @@
 #include "tools/align_config.h"
 #include "tools/commands.h"
 #include "tools/io/polygon_reader.h"
-#include "tools/io/surface_reader.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/json_writer.h"
+#include "tools/terrain.h"
 
 DEFINE_string(volume, "overlay",
               "measure: how the volume between the surfaces is integrated: overlay (exact, on "
@@ -37,15 +40,29 @@ DEFINE_string(weights, "uniform",
 DECLARE_string(domain);  // tools/run_align.cc: a key of align's too
 DECLARE_string(domain_max_edge_spacings);
 DECLARE_string(domain_min_thinness);
+DECLARE_string(reference_crs);  // the terrain keys of align that measure reads too
+DECLARE_string(moving_crs);
+DECLARE_string(frame);
+DECLARE_string(band);
+DECLARE_string(window);
+DECLARE_string(lod);
 
 namespace surfreg {
 namespace {
+
+// The align keys that measure takes as flags: how A and B are read and
+// which frame they are measured in, and the level of detection.
+constexpr const char* kTerrainFlags[] = {"reference_crs", "moving_crs", "frame",
+                                         "band",          "window",     "lod"};
 
 struct MeasureReport {
   std::string file_a, file_b;
   std::string mask_file;  // for WeightMode::kMask
   MeasureOptions options;
   MeasureSummary summary;
+  GeoFrame frame;
+  Crs crs_a, crs_b;
+  bool metric = false;  // lengths in metres: a geographic pair's frame, or a projected CRS in m
   double read_s = 0.0;
   double total_s = 0.0;  // the whole command: read + Measure
 };
@@ -79,10 +96,33 @@ void ParseWeights(const std::string& value, MeasureReport* report) {
   }
 }
 
+// A and B as align's reference and moving surfaces (messages say "argument
+// A"), with the terrain flags given. Nothing is read yet.
+AlignConfig MeasureConfig(const std::string& a, const std::string& b) {
+  AlignConfig config;
+  ApplyAlignArguments(a, b, &config);
+  config.origin["reference"] = "argument A";
+  config.origin["moving"] = "argument B";
+  for (const char* key : kTerrainFlags) {
+    gflags::CommandLineFlagInfo info;
+    CHECK(gflags::GetCommandLineFlagInfo(key, &info)) << "no flag --" << key;
+    if (!info.is_default) ApplyAlignFlag(key, info.current_value, &config);
+  }
+  return config;
+}
+
+// "m²", or "units²" when the frame's length unit is not known to be the metre.
+std::string Unit(const MeasureReport& r, int power) {
+  static const char* const kPowers[] = {"", "²", "³"};
+  return (r.metric ? "m" : "units") + std::string(kPowers[std::clamp(power, 1, 3) - 1]);
+}
+
 // Volumes carry the weight's unit too when the weights are the samples'.
 std::string VolumeUnit(const MeasureReport& r) {
-  return r.options.weight == WeightMode::kPerPoint ? "units³ × weight" : "units³";
+  return Unit(r, 3) + (r.options.weight == WeightMode::kPerPoint ? " × weight" : "");
 }
+
+bool HasChange(const MeasureReport& r) { return r.options.detect_change; }
 
 void PrintJson(const MeasureReport& r) {
   const MeasureSummary& s = r.summary;
@@ -100,6 +140,10 @@ void PrintJson(const MeasureReport& r) {
   JsonObject json;
   json.String("file_a", r.file_a)
       .String("file_b", r.file_b)
+      .String("frame", r.frame.Describe())
+      .String("crs_a", DescribeCrs(r.crs_a))
+      .String("crs_b", DescribeCrs(r.crs_b))
+      .String("length_unit", r.metric ? "m" : "units")
       .String("volume_mode", VolumeModeName(s.volume_mode))
       .String("weight_mode", WeightModeName(r.options.weight))
       .String("domain", DomainKindName(s.domain_kind));
@@ -126,19 +170,37 @@ void PrintJson(const MeasureReport& r) {
       .Int("n_duplicates_b", s.n_duplicates_b)
       .Int("n_overlap_nodes", s.n_overlap_nodes)
       .Int("n_cells", s.n_cells)
-      .Int("walk_steps", s.walk_steps)
-      .Object("timings", timings);
+      .Int("walk_steps", s.walk_steps);
+  if (HasChange(r)) {  // the keys of align's terrain.change
+    const double lod = s.level_of_detection;
+    JsonObject change;
+    change.Number("level_of_detection", lod)
+        .Number("fill", s.fill_detected)
+        .Number("cut", s.cut_detected)
+        .Number("net", s.fill_detected - s.cut_detected)
+        .Number("fill_area", s.fill_area)
+        .Number("cut_area", s.cut_area)
+        .Number("fill_uncertainty", lod * s.fill_area)
+        .Number("cut_uncertainty", lod * s.cut_area)
+        .Number("net_uncertainty", lod * (s.fill_area + s.cut_area));
+    json.Object("change", change);
+  }
+  json.Object("timings", timings);
   std::printf("%s\n", json.str().c_str());
 }
 
 void PrintText(const MeasureReport& r) {
   const MeasureSummary& s = r.summary;
   const std::string volume = VolumeUnit(r);
+  const std::string length = Unit(r, 1), area = Unit(r, 2);
   const bool union_mode = s.volume_mode == VolumeMode::kUnion;
-  std::printf("surface A:          %s  (%lld points, %lld duplicates merged)\n", r.file_a.c_str(),
-              static_cast<long long>(s.n_points_a), static_cast<long long>(s.n_duplicates_a));
-  std::printf("surface B:          %s  (%lld points, %lld duplicates merged)\n", r.file_b.c_str(),
-              static_cast<long long>(s.n_points_b), static_cast<long long>(s.n_duplicates_b));
+  std::printf("surface A:          %s  (%lld points, %lld duplicates merged; CRS %s)\n",
+              r.file_a.c_str(), static_cast<long long>(s.n_points_a),
+              static_cast<long long>(s.n_duplicates_a), DescribeCrs(r.crs_a).c_str());
+  std::printf("surface B:          %s  (%lld points, %lld duplicates merged; CRS %s)\n",
+              r.file_b.c_str(), static_cast<long long>(s.n_points_b),
+              static_cast<long long>(s.n_duplicates_b), DescribeCrs(r.crs_b).c_str());
+  std::printf("frame:              %s\n", r.frame.Describe().c_str());
   std::printf("volume mode:        %s  (%s)\n", VolumeModeName(s.volume_mode),
               union_mode ? "the paper's: on the triangulation of A and B together"
                          : "exact: on the common refinement of both triangulations");
@@ -151,29 +213,43 @@ void PrintText(const MeasureReport& r) {
   std::printf("rho_d   (ρd):       %.10g %s  (volume between the surfaces over the overlap)\n",
               s.rho_d, volume.c_str());
   std::printf(
-      "rho'_d  (ρ'd):      %.10g units  (mean |dz| at the %lld sample nodes in the "
-      "overlap)\n",
-      s.rho_d_axial, static_cast<long long>(s.n_overlap_nodes));
+      "rho'_d  (ρ'd):      %.10g %s  (mean |dz| at the %lld sample nodes in the overlap)\n",
+      s.rho_d_axial, length.c_str(), static_cast<long long>(s.n_overlap_nodes));
   std::printf("rho_s   (ρs):       %.10g  (1 / ρd; 1 when ρd = 0)\n", s.rho_s);
   const bool hull = s.domain_kind == DomainKind::kHull;
   std::printf("domain:             %s  (%s)\n", DomainKindName(s.domain_kind),
               hull ? "the whole convex hulls"
                    : "without the triangles that bridge voids, holes and concave outlines");
-  std::printf("overlap area:       %.10g units²  (common part of the two %s)\n", s.overlap_area,
-              hull ? "convex hulls" : "data domains");
-  std::printf("domain area A / B:  %.10g / %.10g units²  (excluded from the hulls: %.10g / "
-              "%.10g)\n",
-              s.domain_area_a, s.domain_area_b, s.excluded_area_a, s.excluded_area_b);
+  std::printf("overlap area:       %.10g %s  (common part of the two %s)\n", s.overlap_area,
+              area.c_str(), hull ? "convex hulls" : "data domains");
+  std::printf("domain area A / B:  %.10g / %.10g %s  (excluded from the hulls: %.10g / %.10g)\n",
+              s.domain_area_a, s.domain_area_b, area.c_str(), s.excluded_area_a,
+              s.excluded_area_b);
   if (r.options.weight != WeightMode::kUniform) {
-    std::printf("weight integral:    %.10g %s\n", s.weight_integral,
-                r.options.weight == WeightMode::kPerPoint ? "units² × weight" : "units²");
+    std::printf("weight integral:    %.10g %s%s\n", s.weight_integral, area.c_str(),
+                r.options.weight == WeightMode::kPerPoint ? " × weight" : "");
   }
-  std::printf("mean |dz|:          %.10g units  (ρd / weight integral)\n", s.mean_abs_dz);
+  std::printf("mean |dz|:          %.10g %s  (ρd / weight integral)\n", s.mean_abs_dz,
+              length.c_str());
   std::printf("signed volume:      %.10g %s  (B − A)\n", s.signed_volume + 0.0, volume.c_str());
   std::printf("volume above:       %.10g %s  (B above A, \"fill\")\n", s.volume_above,
               volume.c_str());
   std::printf("volume below:       %.10g %s  (B below A, \"cut\")\n", s.volume_below,
               volume.c_str());
+  if (HasChange(r)) {
+    const double lod = s.level_of_detection;
+    std::printf("level of detection: %.10g %s  (|dz| <= L counts as no change)\n", lod,
+                length.c_str());
+    std::printf("fill:               %.10g %s  ± %.10g  (B above A by more than L; ± L × area)\n",
+                s.fill_detected, volume.c_str(), lod * s.fill_area);
+    std::printf("cut:                %.10g %s  ± %.10g  (B below A by more than L)\n",
+                s.cut_detected, volume.c_str(), lod * s.cut_area);
+    std::printf("net:                %.10g %s  ± %.10g  (fill − cut)\n",
+                s.fill_detected - s.cut_detected + 0.0, volume.c_str(),
+                lod * (s.fill_area + s.cut_area));
+    std::printf("fill / cut area:    %.10g / %.10g %s  (where |dz| > L)\n", s.fill_area,
+                s.cut_area, area.c_str());
+  }
   std::printf("%s %lld\n", union_mode ? "union triangles:   " : "overlay cells:     ",
               static_cast<long long>(s.n_cells));
   std::printf("walk steps:         %lld\n", static_cast<long long>(s.walk_steps));
@@ -203,12 +279,37 @@ int RunMeasure(const std::vector<std::string>& args) {
   report.file_a = args[0];
   report.file_b = args[1];
   // Flags first: a bad flag value is reported before any file is read.
-  report.options.volume = ParseVolumeMode(FLAGS_volume);
-  report.options.domain = DomainRuleFromFlags(FLAGS_domain, FLAGS_domain_max_edge_spacings,
-                                              FLAGS_domain_min_thinness);
+  MeasureOptions& options = report.options;
+  options.volume = ParseVolumeMode(FLAGS_volume);
+  options.domain = DomainRuleFromFlags(FLAGS_domain, FLAGS_domain_max_edge_spacings,
+                                       FLAGS_domain_min_thinness);
   ParseWeights(FLAGS_weights, &report);
-  const Surface a = ReadSurface(report.file_a);
-  const Surface b = ReadSurface(report.file_b);
+  const AlignConfig config = MeasureConfig(report.file_a, report.file_b);
+  // Cut/fill is integrated on the overlay's cells: always there, absent from union.
+  options.detect_change = options.volume == VolumeMode::kOverlay;
+  options.level_of_detection = config.terrain.lod;
+  if (!options.detect_change && config.origin.count("lod") != 0) {
+    throw InputError(config.Where("lod") +
+                     ": cut/fill beyond a level of detection needs --volume=overlay");
+  }
+  TerrainInputs inputs = ReadTerrainInputs(config);
+  report.frame = inputs.frame;
+  report.crs_a = inputs.reference_crs;
+  report.crs_b = inputs.moving_crs;
+  report.metric = inputs.frame.kind != GeoFrame::kAsGiven ||
+                  (inputs.reference_crs.kind == CrsKind::kProjected &&
+                   inputs.reference_crs.metres_per_unit == 1.0);
+  if (options.weight == WeightMode::kMask && inputs.frame.kind != GeoFrame::kAsGiven) {
+    // The polygon is drawn in A's lon/lat: its vertices go where A went.
+    std::vector<std::array<double, 3>> vertices;
+    for (const auto& p : options.mask_polygon) vertices.push_back({p[0], p[1], 0.0});
+    PointsToFrame(inputs.frame, inputs.reference_crs, &vertices);
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+      options.mask_polygon[i] = {vertices[i][0], vertices[i][1]};
+    }
+  }
+  const Surface& a = inputs.reference;
+  const Surface& b = inputs.moving;
   const Clock::time_point read = Clock::now();
   report.summary = Measure(a, b, report.options);
   const Clock::time_point done = Clock::now();

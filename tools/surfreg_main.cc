@@ -50,9 +50,13 @@ const Command kCommands[] = {
      "json domain domain_max_edge_spacings domain_min_thinness", nullptr},
     {"measure", RunMeasure,
      "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE] "
-     "[--domain=data|hull] [--json]",
-     "compare surface B with A: volume between them (rho_d), mean gap, cut/fill, timings",
-     "json volume weights domain domain_max_edge_spacings domain_min_thinness", nullptr},
+     "[--domain=data|hull] [--lod=L] [--reference_crs=CRS] [--moving_crs=CRS] "
+     "[--frame=auto|enu|utm] [--band=N] [--window=C,R,W,H] [--json]",
+     "compare surface B with A in one metric frame: volume between them (rho_d), mean gap, "
+     "cut/fill, timings",
+     "json volume weights domain domain_max_edge_spacings domain_min_thinness reference_crs "
+     "moving_crs frame band window lod",
+     nullptr},
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json]",
      "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary",

@@ -159,6 +159,16 @@ TerrainInputs ReadTerrainInputs(const AlignConfig& config) {
     reference.surface.weight = MaskRasterWeights(config, reference.surface, reference.crs);
   }
   OneInput moving = ReadOne(config, "moving");
+  std::vector<double> sigma_reference =
+      SigmaPerSample(config, "reference", reference.surface.size(), reference.grid, reference.cells);
+  std::vector<double> sigma_moving =
+      SigmaPerSample(config, "moving", moving.surface.size(), moving.grid, moving.cells);
+  const bool sigma_grids = !config.terrain.dod_sigma.empty() || !config.terrain.dod_thresholded.empty();
+  if (sigma_grids && !reference.is_raster) {
+    const char* key = config.terrain.dod_sigma.empty() ? "dod_thresholded" : "dod_sigma";
+    throw InputError(config.Where(key) + ": written on the reference raster's grid, but the reference (" +
+                     config.reference + ") is not a raster");
+  }
   const bool wants_grid = !config.terrain.dod.empty() || !config.terrain.dod_png.empty();
   if (wants_grid && !reference.is_raster) {
     throw InputError(config.Where(config.terrain.dod.empty() ? "dod_png" : "dod") +
@@ -180,6 +190,8 @@ TerrainInputs ReadTerrainInputs(const AlignConfig& config) {
   in.reference_is_raster = reference.is_raster;
   in.reference_grid = std::move(reference.grid);
   in.reference_cells = std::move(reference.cells);
+  in.sigma_reference = std::move(sigma_reference);
+  in.sigma_moving = std::move(sigma_moving);
   if (in.reference_is_raster) in.cell_size = CellSize(in.reference_grid, in.reference_crs);
   return in;
 }
@@ -196,6 +208,8 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
   report.before = Measure(in.reference, in.moving, options);
   const Surface moved = TransformSurface(in.moving, result.matrix);  // keeps a raster's cells
   report.after = Measure(in.reference, moved, options);
+  report.uncertainty = AnalyseChangeUncertainty(config, in.reference, moved, in.sigma_reference,
+                                                in.sigma_moving, report.after, options);
 
   // Stable terrain: the mask of the registration (frame coordinates), or all.
   const auto& mask = config.options.mask_polygon;
@@ -253,18 +267,40 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
     }
   }
   if (!t.dod.empty()) WriteGeoTiff(t.dod, dod, config.Where("dod"));
+  const ChangeUncertainty& u = report.uncertainty;
+  if (!t.dod_sigma.empty() || !t.dod_thresholded.empty()) {
+    Raster sigma = dod, thresholded = dod;
+    for (std::size_t i = 0; i < in.reference_cells.size(); ++i) {
+      const double dz = report.after.dz_a[i];
+      const double limit = u.active ? u.threshold[i] : config.terrain.lod;
+      sigma.values[in.reference_cells[i]] = u.active ? u.sigma_dod[i] : std::nan("");
+      thresholded.values[in.reference_cells[i]] = std::isfinite(dz) && std::fabs(dz) <= limit ? 0.0 : dz;
+    }
+    if (!t.dod_sigma.empty()) WriteGeoTiff(t.dod_sigma, sigma, config.Where("dod_sigma"));
+    if (!t.dod_thresholded.empty()) {
+      WriteGeoTiff(t.dod_thresholded, thresholded, config.Where("dod_thresholded"));
+    }
+  }
   if (!t.dod_png.empty()) {
     GridField field;
     field.columns = dod.columns;
     field.rows = dod.rows;
     field.values = dod.values;
+    // With a detection threshold, change within it is drawn as none (white).
+    const bool thresholded = u.active || config.terrain.lod > 0;
+    for (std::size_t i = 0; thresholded && i < in.reference_cells.size(); ++i) {
+      const double dz = report.after.dz_a[i];
+      const double limit = u.active ? u.threshold[i] : config.terrain.lod;
+      if (std::isfinite(dz) && std::fabs(dz) <= limit) field.values[in.reference_cells[i]] = 0.0;
+    }
     const auto& g = dod.geotransform;
     field.x_min = std::min(g[0], g[0] + dod.columns * g[1]);
     field.x_max = std::max(g[0], g[0] + dod.columns * g[1]);
     field.y_min = std::min(g[3], g[3] + dod.rows * g[5]);
     field.y_max = std::max(g[3], g[3] + dod.rows * g[5]);
     const bool degrees = in.reference_crs.kind == CrsKind::kGeographic;
-    FigureText text{"Difference after alignment (moving - reference)",
+    FigureText text{thresholded ? "Detected change after alignment (moving - reference; white: within the threshold)"
+                                : "Difference after alignment (moving - reference)",
                     degrees ? "longitude (deg)" : "easting (" + Units(in) + ")",
                     degrees ? "latitude (deg)" : "northing (" + Units(in) + ")"};
     MapStyle style;
@@ -282,8 +318,14 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
     }
     FigureText text{"dz on stable terrain (moving - reference)", "dz (" + Units(in) + ")",
                     "reference samples"};
-    WriteHistogramPng(t.histogram_png, series, 60, text, ChartStyle(),
-                      config.Where("histogram_png"));
+    ChartStyle style;
+    // The detection threshold (its median where it varies), dashed.
+    const double limit = u.active ? u.budget.threshold_median : t.lod;
+    if (limit > 0) {
+      style.x_marks = {-limit, limit};
+      text.title += ", change beyond the dashed threshold";
+    }
+    WriteHistogramPng(t.histogram_png, series, 60, text, style, config.Where("histogram_png"));
   }
   if (!t.change_csv.empty()) {
     std::string csv = "x,y,z,dz_before,dz_after,stable\n";
@@ -303,6 +345,7 @@ std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& in,
                            const TerrainReport& r) {
   const MeasureSummary& a = r.after;
   const double lod = config.terrain.lod;
+  const std::string cube = Units(in) == "m" ? "m^3" : "units^3", square = Units(in) == "m" ? "m^2" : "units^2";
   std::string text = "frame:        " + in.frame.Describe() + "\n";
   const GeographicOffset& o = r.offset;
   text += "shift:        east " + Number(o.east_m) + ", north " + Number(o.north_m) + ", up " +
@@ -321,16 +364,17 @@ std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& in,
   text += "dz stable:    before " + DzStatisticsLine(r.stable_before, "") + "\n";
   text += "              after  " + DzStatisticsLine(r.stable_after, "") + "\n";
   text += "cut/fill:     fill " + Number(a.fill_detected) + ", cut " + Number(a.cut_detected) +
-          ", net " + Number(a.fill_detected - a.cut_detected) + " units^3";
+          ", net " + Number(a.fill_detected - a.cut_detected) + " " + cube;
   if (lod > 0) {
     text += " (|dz| > " + Number(lod) + ": +/- " + Number(lod * a.fill_area) + " / " +
             Number(lod * a.cut_area) + ")";
   }
   text += "\n              over areas of gain " + Number(a.fill_area) + " and loss " +
-          Number(a.cut_area) + " units^2 (overlap " + Number(a.overlap_area) + ")";
+          Number(a.cut_area) + " " + square + " (overlap " + Number(a.overlap_area) + ")";
+  if (r.uncertainty.active) text += "\n" + ChangeUncertaintySummary(config, r.uncertainty, Units(in));
   text += std::string("\ndomain:       ") + DomainKindName(a.domain_kind) +
           " (left out of the hulls: reference " + Number(a.excluded_area_a) + ", moving " +
-          Number(a.excluded_area_b) + " units^2)";
+          Number(a.excluded_area_b) + " " + square + ")";
   return text;
 }
 

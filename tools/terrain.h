@@ -15,6 +15,7 @@
 #include "tools/align_config.h"
 #include "tools/geo_frame.h"
 #include "tools/io/raster_io.h"
+#include "tools/terrain_uncertainty.h"
 
 namespace surfreg {
 
@@ -29,6 +30,9 @@ struct TerrainInputs {
   std::vector<int64_t> reference_cells;
   double cell_size = 0;                      // reference raster's (mean) cell size, or 0
   std::array<double, 3> moving_centroid_input = {0, 0, 0};  // in the moving CRS (lon/lat/h if geographic)
+  // Each DEM's vertical standard error per sample (keys sigma_reference,
+  // sigma_moving; tools/terrain_uncertainty.h); empty = not given.
+  std::vector<double> sigma_reference, sigma_moving;
 };
 
 // Reads both inputs of `config` (rasters with the band and window of
@@ -47,6 +51,7 @@ struct TerrainReport {
   bool known = false;               // errors against config.terrain.known_matrix
   double rotation_error_deg = 0, translation_error = 0;  // at the moving centroid
   std::array<double, 3> known_translation = {0, 0, 0};   // the truth's shift of the centroid
+  ChangeUncertainty uncertainty;    // with sigma_reference / sigma_moving
 };
 
 // The change before and after `result` (measures with config.terrain.lod,
