@@ -279,6 +279,58 @@ expect_error "point cloud" align configs/data/volcano_a.xyz configs/data/volcano
 expect_error "dod_sigma" align configs/data/volcano_a.xyz configs/data/volcano_b.xyz \
   --sigma_reference=0.2 --dod_sigma="$out/s.tif" --output="$out/t.json"
 
+# --- lon/lat DEMs in --manifest and sweep: the metric frame, as a single align ---
+# Two 40 x 30 grids of 0.001 deg near Auckland (UTM 60S), B = A + 3 m.
+python3 - "$tmp" <<'PY'
+import math, sys
+tmp = sys.argv[1]
+wgs84 = ('GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",SPHEROID["WGS_1984",6378137.0,'
+         '298.257223563]],PRIMEM["Greenwich",0.0],UNIT["Degree",0.0174532925199433]]')
+for name, dz in (("ll_a", 0.0), ("ll_b", 3.0)):
+    with open(f"{tmp}/{name}.asc", "w") as f:
+        f.write("ncols 40\nnrows 30\nxllcorner 174.75\nyllcorner -36.88\ncellsize 0.001\n"
+                "NODATA_value -9999\n")
+        for r in range(30):
+            f.write(" ".join(repr(100 + 20 * math.sin(c / 4) * math.cos(r / 5) + 0.5 * c + dz)
+                             for c in range(40)) + "\n")
+    open(f"{tmp}/{name}.prj", "w").write(wgs84)
+open(f"{tmp}/ll.csv", "w").write(f"reference,moving,output\n{tmp}/ll_a.asc,{tmp}/ll_b.asc,{tmp}/out/ll.json\n")
+open(f"{tmp}/ll_sweep.yaml", "w").write(
+    f"pairs:\n  - name: ll\n    reference: {tmp}/ll_a.asc\n    moving: {tmp}/ll_b.asc\n"
+    "    truth: {rotation_deg: [0, 0, 0], translation: [0, 0, -3]}\n"
+    f"settings:\n  covariance: false\nsweep:\n  cost: [volume]\noutput: {tmp}/out/ll_sweep.csv\n"
+    "perturbations:\n  rotation_deg: [1]\n  shift_spacings: [3]\n  directions: 2\n  seed: 1\n")
+PY
+run align --manifest="$tmp/ll.csv" --covariance=false --output="$out/ll_summary.csv"
+if [[ $rc -ne 0 ]]; then
+  fail "lon/lat manifest"
+else
+  python3 - "$out/ll.json" <<'PY' || fail "lon/lat manifest: frame and translation in metres"
+import json, sys
+j = json.load(open(sys.argv[1]))
+frame, t = j["terrain"]["frame"], j["translation"]
+print("lon/lat manifest: %s; translation %s" % (frame, t))
+ok = frame.startswith("UTM zone 60S") and abs(t[2] + 3) < 1e-3 and abs(t[0]) < 0.5 and abs(t[1]) < 0.5
+sys.exit(0 if ok else 1)
+PY
+fi
+run sweep --config "$tmp/ll_sweep.yaml"
+if [[ $rc -ne 0 ]]; then
+  fail "lon/lat sweep"
+else
+  python3 - "$out/ll_sweep.csv" <<'PY' || fail "lon/lat sweep: errors in metres"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+worst = max(float(r["translation_error"]) for r in rows)
+start = [float(r["perturbation_spacings"]) for r in rows]
+print("lon/lat sweep: %d runs from %s spacings away, worst translation error %.3g m" % (len(rows), start, worst))
+# Spacings and errors in metres: a 0.001 deg cell is about 89 x 111 m here.
+ok = len(rows) == 2 and all(r["success"] == "true" for r in rows) and worst < 0.5
+sys.exit(0 if ok else 1)
+PY
+fi
+rm -rf "${out:?}"/*
+
 if [[ $failures -ne 0 ]]; then
   echo "$failures check(s) failed"
   exit 1

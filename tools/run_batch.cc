@@ -26,7 +26,9 @@
 #include "tools/commands.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/io/surface_writer.h"
+#include "tools/json_writer.h"
 #include "tools/sweep.h"
+#include "tools/terrain.h"
 #include "tools/transform_json.h"
 
 DECLARE_string(config);  // tools/run_align.cc
@@ -191,10 +193,28 @@ int RunAlignManifest(const std::vector<std::string>& args) {
     const Row& row = rows[k];
     const AlignConfig& c = row.config;
     try {
-      const Surface reference = ReadAlignSurface(c, "reference");
-      const Surface moving = ReadAlignSurface(c, "moving");
+      // Rasters and CRSs as a single align reads them: lon/lat DEMs are
+      // aligned in the same metric frame, which the JSON then names.
+      const bool terrain = c.terrain.Active(c.reference, c.moving);
+      TerrainInputs inputs;
+      if (terrain) {
+        inputs = ReadTerrainInputs(c);
+      } else {
+        inputs.reference = ReadAlignSurface(c, "reference");
+        inputs.moving = ReadAlignSurface(c, "moving");
+      }
+      const Surface& reference = inputs.reference;
+      const Surface& moving = inputs.moving;
       const AlignResult result = Align(reference, moving, c.options);
-      WriteFileAtomically(c.output, TransformJson(c, result), c.Where("output"));
+      std::string frame;
+      if (terrain) {
+        JsonObject member;
+        member.String("frame", inputs.frame.Describe())
+            .String("reference_crs", inputs.reference_crs.name)
+            .String("moving_crs", inputs.moving_crs.name);
+        frame = "\"terrain\": " + member.str();
+      }
+      WriteFileAtomically(c.output, TransformJson(c, result, frame), c.Where("output"));
       if (!c.aligned.empty()) {
         WriteSurface(c.aligned, TransformSurface(moving, result.matrix), c.Where("aligned"),
                      {"aligned: " + c.moving + " moved onto " + c.reference +

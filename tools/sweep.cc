@@ -14,6 +14,7 @@
 #include "measure/input_error.h"
 #include "registration/align.h"
 #include "tools/io/surface_reader.h"
+#include "tools/terrain.h"
 
 namespace surfreg {
 namespace {
@@ -339,13 +340,22 @@ void LoadSweepPairs(SweepPlan* plan) {
   plan->pairs.clear();
   for (const SweepPair& pair : plan->config.pairs) {
     SweepPairData data;
-    for (const auto& [path, surface] : {std::make_pair(pair.reference, &data.reference),
-                                        std::make_pair(pair.moving, &data.moving)}) {
-      try {
-        *surface = ReadSurface(path);
-      } catch (const InputError& e) {
-        throw InputError(pair.where + ": " + e.what());
+    try {
+      // Rasters as a single align reads them: lon/lat DEMs in one metric frame.
+      AlignConfig paths;
+      ApplyAlignArguments(pair.reference, pair.moving, &paths);
+      paths.origin["reference"] = "reference";  // messages: "<pair>: reference: <file>: ..."
+      paths.origin["moving"] = "moving";
+      if (paths.terrain.Active(pair.reference, pair.moving)) {
+        TerrainInputs inputs = ReadTerrainInputs(paths);
+        data.reference = std::move(inputs.reference);
+        data.moving = std::move(inputs.moving);
+      } else {
+        data.reference = ReadSurface(pair.reference);
+        data.moving = ReadSurface(pair.moving);
       }
+    } catch (const InputError& e) {
+      throw InputError(pair.where + ": " + e.what());
     }
     data.centroid = SurfaceCentroid(data.moving);
     data.spacing = MeanSampleSpacing(data.reference);
