@@ -264,6 +264,25 @@ if bad:
     sys.exit(1)
 PY
 rm -rf "${out:?}"/*
+# measure: the same budget for two DEMs already co-registered (no motion).
+run measure "$tmp/before.asc" "$tmp/after.asc" --reference_crs=EPSG:2193 --moving_crs=EPSG:2193 \
+  --sigma_reference=0.3 --sigma_moving=0.4 --lod_confidence=0.95 --json
+if [[ $rc -ne 0 ]]; then
+  fail "measure with sigma"
+else
+  python3 - "$tmp/stdout" <<'PY' || fail "measure with sigma: closed forms"
+import json, math, sys
+b = json.load(open(sys.argv[1]))["change"]["uncertainty"]
+want = {"fill": 1800, "cut": 6000, "net": -4200, "fill_area": 900, "cut_area": 2000,
+        "fill_sigma_independent": 150, "cut_sigma_independent": 50 * math.sqrt(20),
+        "net_sigma_independent": 50 * math.sqrt(29), "net_sigma_correlated": 1450, "sigma_dod_median": 0.5}
+bad = [k for k, v in want.items() if not abs(b[k] - v) <= 1e-9 * max(1, abs(v))]
+print("measure with sigma: fill %g +/- %g, cut %g +/- %g%s" % (b["fill"], b["fill_sigma_independent"], b["cut"],
+      b["cut_sigma_independent"], "; wrong: %s" % bad if bad else ""))
+sys.exit(1 if bad else 0)
+PY
+fi
+expect_error "lod_confidence" measure "$tmp/before.asc" "$tmp/after.asc" --lod_confidence=0.95
 expect_error "not on the grid" align "${change[@]}" --sigma_moving="$tmp/sigma_shifted.asc" \
   --output="$out/t.json"
 expect_error "negative" align "${change[@]}" --sigma_moving="$tmp/sigma_negative.asc" \

@@ -45,33 +45,8 @@ std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in
       .String("domain", DomainKindName(a.domain_kind))
       .Number("excluded_area_reference", a.excluded_area_a)
       .Number("excluded_area_moving", a.excluded_area_b);
-  const ChangeUncertainty& u = r.uncertainty;
-  if (u.active) {
-    // Cellwise over the reference's nodes (measure/change_budget.h).
-    const ChangeBudget& b = u.budget;
-    JsonObject budget;
-    budget.String("sigma_reference", config.terrain.sigma_reference)
-        .String("sigma_moving", config.terrain.sigma_moving)
-        .Number("lod_confidence", config.terrain.lod_confidence)
-        .Number("t", b.t)
-        .Number("sigma_dod_median", b.sigma_median)
-        .Number("threshold_median", b.threshold_median)
-        .Int("nodes", b.nodes)
-        .Int("fill_nodes", b.fill_nodes)
-        .Int("cut_nodes", b.cut_nodes)
-        .Number("fill", b.fill)
-        .Number("cut", b.cut)
-        .Number("net", b.net)
-        .Number("fill_area", b.fill_area)
-        .Number("cut_area", b.cut_area)
-        .Number("fill_sigma_independent", b.fill_sigma_independent)
-        .Number("cut_sigma_independent", b.cut_sigma_independent)
-        .Number("net_sigma_independent", b.net_sigma_independent)
-        .Number("fill_sigma_correlated", b.fill_sigma_correlated)
-        .Number("cut_sigma_correlated", b.cut_sigma_correlated)
-        .Number("net_sigma_correlated", b.net_sigma_correlated);
-    change.Object("uncertainty", budget);
-  }
+  // Cellwise over the reference's nodes (measure/change_budget.h).
+  if (r.uncertainty.active) change.Object("uncertainty", ChangeUncertaintyJson(config, r.uncertainty));
   JsonObject terrain;
   terrain.String("frame", in.frame.Describe())
       .String("reference_crs", in.reference_crs.name)

@@ -26,6 +26,7 @@
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/json_writer.h"
+#include "tools/terrain_uncertainty.h"
 #include "tools/terrain.h"
 
 DEFINE_string(volume, "overlay",
@@ -46,20 +47,26 @@ DECLARE_string(frame);
 DECLARE_string(band);
 DECLARE_string(window);
 DECLARE_string(lod);
+DECLARE_string(sigma_reference);
+DECLARE_string(sigma_moving);
+DECLARE_string(lod_confidence);
 
 namespace surfreg {
 namespace {
 
 // The align keys that measure takes as flags: how A and B are read and
 // which frame they are measured in, and the level of detection.
-constexpr const char* kTerrainFlags[] = {"reference_crs", "moving_crs", "frame",
-                                         "band",          "window",     "lod"};
+constexpr const char* kTerrainFlags[] = {"reference_crs", "moving_crs",      "frame",
+                                         "band",          "window",          "lod",
+                                         "sigma_reference", "sigma_moving", "lod_confidence"};
 
 struct MeasureReport {
   std::string file_a, file_b;
   std::string mask_file;  // for WeightMode::kMask
   MeasureOptions options;
   MeasureSummary summary;
+  AlignConfig config;              // the files and the terrain flags
+  ChangeUncertainty uncertainty;   // with --sigma_reference / --sigma_moving
   GeoFrame frame;
   Crs crs_a, crs_b;
   bool metric = false;  // lengths in metres: a geographic pair's frame, or a projected CRS in m
@@ -183,6 +190,7 @@ void PrintJson(const MeasureReport& r) {
         .Number("fill_uncertainty", lod * s.fill_area)
         .Number("cut_uncertainty", lod * s.cut_area)
         .Number("net_uncertainty", lod * (s.fill_area + s.cut_area));
+    if (r.uncertainty.active) change.Object("uncertainty", ChangeUncertaintyJson(r.config, r.uncertainty));
     json.Object("change", change);
   }
   json.Object("timings", timings);
@@ -250,6 +258,9 @@ void PrintText(const MeasureReport& r) {
     std::printf("fill / cut area:    %.10g / %.10g %s  (where |dz| > L)\n", s.fill_area,
                 s.cut_area, area.c_str());
   }
+  if (r.uncertainty.active) {
+    std::printf("%s\n", ChangeUncertaintySummary(r.config, r.uncertainty, r.metric ? "m" : "data units").c_str());
+  }
   std::printf("%s %lld\n", union_mode ? "union triangles:   " : "overlay cells:     ",
               static_cast<long long>(s.n_cells));
   std::printf("walk steps:         %lld\n", static_cast<long long>(s.walk_steps));
@@ -292,6 +303,16 @@ int RunMeasure(const std::vector<std::string>& args) {
     throw InputError(config.Where("lod") +
                      ": cut/fill beyond a level of detection needs --volume=overlay");
   }
+  const bool sigma = !config.terrain.sigma_reference.empty() || !config.terrain.sigma_moving.empty();
+  if (config.terrain.lod_confidence > 0 && !sigma) {
+    throw InputError(config.Where("lod_confidence") +
+                     " needs the DEMs' vertical errors: give --sigma_reference and/or --sigma_moving");
+  }
+  if (sigma && !options.detect_change) {
+    const char* key = config.terrain.sigma_reference.empty() ? "sigma_moving" : "sigma_reference";
+    throw InputError(config.Where(key) + ": the change budget needs --volume=overlay");
+  }
+  options.keep_node_gaps = sigma;  // the budget weights dz at A's nodes by their areas
   TerrainInputs inputs = ReadTerrainInputs(config);
   report.frame = inputs.frame;
   report.crs_a = inputs.reference_crs;
@@ -312,6 +333,9 @@ int RunMeasure(const std::vector<std::string>& args) {
   const Surface& b = inputs.moving;
   const Clock::time_point read = Clock::now();
   report.summary = Measure(a, b, report.options);
+  report.config = config;
+  report.uncertainty = AnalyseChangeUncertainty(config, a, b, inputs.sigma_reference,
+                                                inputs.sigma_moving, report.summary, report.options);
   const Clock::time_point done = Clock::now();
   report.read_s = Seconds(read - start);
   report.total_s = Seconds(done - start);

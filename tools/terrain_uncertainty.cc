@@ -126,6 +126,32 @@ ChangeUncertainty AnalyseChangeUncertainty(const AlignConfig& config, const Surf
   return u;
 }
 
+JsonObject ChangeUncertaintyJson(const AlignConfig& config, const ChangeUncertainty& u) {
+  const ChangeBudget& b = u.budget;
+  JsonObject json;
+  json.String("sigma_reference", config.terrain.sigma_reference)
+      .String("sigma_moving", config.terrain.sigma_moving)
+      .Number("lod_confidence", config.terrain.lod_confidence)
+      .Number("t", b.t)
+      .Number("sigma_dod_median", b.sigma_median)
+      .Number("threshold_median", b.threshold_median)
+      .Int("nodes", b.nodes)
+      .Int("fill_nodes", b.fill_nodes)
+      .Int("cut_nodes", b.cut_nodes)
+      .Number("fill", b.fill)
+      .Number("cut", b.cut)
+      .Number("net", b.net)
+      .Number("fill_area", b.fill_area)
+      .Number("cut_area", b.cut_area)
+      .Number("fill_sigma_independent", b.fill_sigma_independent)
+      .Number("cut_sigma_independent", b.cut_sigma_independent)
+      .Number("net_sigma_independent", b.net_sigma_independent)
+      .Number("fill_sigma_correlated", b.fill_sigma_correlated)
+      .Number("cut_sigma_correlated", b.cut_sigma_correlated)
+      .Number("net_sigma_correlated", b.net_sigma_correlated);
+  return json;
+}
+
 std::string ChangeUncertaintySummary(const AlignConfig& config, const ChangeUncertainty& u,
                                      const std::string& units) {
   const ChangeBudget& b = u.budget;

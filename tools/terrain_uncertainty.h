@@ -13,6 +13,7 @@
 #include "measure/surface.h"
 #include "tools/align_config.h"
 #include "tools/io/raster_io.h"
+#include "tools/json_writer.h"
 
 namespace surfreg {
 
@@ -44,6 +45,9 @@ ChangeUncertainty AnalyseChangeUncertainty(const AlignConfig& config, const Surf
                                            const Surface& moved, const std::vector<double>& sigma_reference,
                                            const std::vector<double>& sigma_moving,
                                            const MeasureSummary& after, const MeasureOptions& options);
+
+// The budget as JSON (the member `uncertainty` of a `change` object).
+JsonObject ChangeUncertaintyJson(const AlignConfig& config, const ChangeUncertainty& u);
 
 // Summary lines for people (no trailing newline), `units` "m" or "data units".
 std::string ChangeUncertaintySummary(const AlignConfig& config, const ChangeUncertainty& u,
