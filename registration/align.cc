@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <optional>
 #include <random>
@@ -140,6 +141,7 @@ bool AlignOptions::IsValid(std::string* error) const {
   if (num_threads < 1) return fail("threads must be >= 1");
   if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");
   if (!(gap_weight >= 0 && gap_weight <= 100)) return fail("gap_weight must be in [0, 100]");
+  if (!(holdout_fraction >= 0 && holdout_fraction < 0.9)) return fail("holdout must be in [0, 0.9)");
   MeasureOptions m;
   m.weight = weight;
   m.mask_polygon = mask_polygon;
@@ -410,7 +412,10 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
 
 }  // namespace
 
-AlignResult Align(const Surface& reference, const Surface& moving, const AlignOptions& options) {
+namespace {
+
+// Align, and the wide search when the verdict asks for it.
+AlignResult AlignWithSearch(const Surface& reference, const Surface& moving, const AlignOptions& options) {
   AlignResult result = AlignFrom(reference, moving, options);
   // A wrong minimum: the solver failed or did not improve, or the surfaces
   // still lie apart by far more than two samplings of one surface do at the
@@ -429,6 +434,48 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
                       (poor || MeasureOfCost(options, second.after) < MeasureOfCost(options, result.after));
   if (better) return second;
   result.seconds = second.seconds;
+  return result;
+}
+
+}  // namespace
+
+AlignResult Align(const Surface& reference, const Surface& moving, const AlignOptions& options) {
+  if (!(options.holdout_fraction > 0)) return AlignWithSearch(reference, moving, options);
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("align options: " + error);
+  const std::vector<uint8_t> held = HeldOutSamples(reference, options.holdout_fraction, options.holdout_seed);
+  AlignOptions fit = options;
+  fit.holdout_fraction = 0;
+  AlignResult result = AlignWithSearch(WithoutSamples(reference, held), moving, fit);
+  const Clock::time_point start = Clock::now();
+  HoldoutCheck& check = result.holdout;
+  check.fraction = options.holdout_fraction;
+  std::vector<bool> keep(held.begin(), held.end());
+  check.samples = std::count(held.begin(), held.end(), uint8_t{1});
+  // dz on the whole reference, kept where held out.
+  MeasureOptions m = MeasureOptionsFor(options);
+  m.keep_node_gaps = true;
+  const Eigen::Vector3d centre_local(result.centre[0] - reference.origin[0], result.centre[1] - reference.origin[1],
+                                     result.centre[2] - reference.origin[2]);
+  const std::array<double, 6> theta0 = {options.initial_rotation[0], options.initial_rotation[1],
+                                        options.initial_rotation[2], options.initial_translation[0],
+                                        options.initial_translation[1], options.initial_translation[2]};
+  const Eigen::Matrix4d initial = MatrixOf(theta0, centre_local, reference.origin);
+  check.before = ComputeDzStatistics(Measure(reference, TransformSurface(moving, initial), m).dz_a, keep);
+  check.after = ComputeDzStatistics(Measure(reference, TransformSurface(moving, result.matrix), m).dz_a, keep);
+  check.robust_before = RobustRmse(check.before);
+  check.robust_after = RobustRmse(check.after);
+  check.improved = check.robust_after < check.robust_before;
+  check.done = true;
+  if (options.holdout_verdict && result.verdict == Verdict::kConvergedImproved && !check.improved) {
+    char reason[200];
+    std::snprintf(reason, sizeof reason,
+                  "the held-out %.0f%% of the reference did not improve (robust RMSE of dz %.4g -> %.4g)",
+                  100 * options.holdout_fraction, check.robust_before, check.robust_after);
+    result.verdict = Verdict::kConvergedNotImproved;
+    result.verdict_reason = reason;
+  }
+  result.seconds += Seconds(start);
   return result;
 }
 

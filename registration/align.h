@@ -14,6 +14,7 @@
 // data, standard deviations, and a verdict that is never "improved" when
 // the measure got worse.
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -22,6 +23,7 @@
 
 #include "measure/measures.h"
 #include "measure/surface.h"
+#include "registration/holdout.h"
 #include "registration/rigid_motion.h"
 
 namespace surfreg {
@@ -131,6 +133,14 @@ struct AlignOptions {
   // Which triangles of each surface are data (measure/domain.h); the cost
   // and the reported measures integrate over the two domains' intersection.
   DomainRule domain;
+  // A held-out check (registration/holdout.h): fit on the reference less a
+  // seeded random share `holdout_fraction` of its tiles, then report dz on
+  // those tiles before and after (AlignResult::holdout). 0 = off: the fit
+  // uses everything. With `holdout_verdict`, an alignment that does not
+  // improve the held-out part (its robust RMSE) is not converged_improved.
+  double holdout_fraction = 0.0;
+  uint64_t holdout_seed = 1;
+  bool holdout_verdict = false;
   bool compute_covariance = true;
   int num_threads = 2;
   // Called after every solver iteration (progress, logs).
@@ -151,7 +161,10 @@ struct AlignOptions {
 
 enum class Verdict {
   kConvergedImproved,     // the solver converged and the measure decreased
-  kConvergedNotImproved,  // converged, but the measure did not decrease: the initial motion is kept
+  // Converged, but the measure did not decrease: the initial motion is
+  // kept. Or (holdout_verdict) the held-out check saw no improvement: the
+  // fitted motion is reported, for inspection.
+  kConvergedNotImproved,
   kIllConditioned,        // a free parameter is not determined by the data (flat or featureless surface)
   kFailed,                // the solver failed, hit its iteration limit, or the moving surface folded
 };
@@ -196,6 +209,9 @@ struct AlignResult {
   // noise dominates); more than it (what wide_search auto looks at) means
   // the surfaces do not lie on each other there, or have changed.
   double sampling_gap = 0;
+  // With AlignOptions::holdout_fraction > 0: the check on the held-out
+  // tiles. `before` / `after` above are then the fitted part's measures.
+  HoldoutCheck holdout;
   double seconds = 0;
   double covariance_seconds = 0;  // of `seconds`: observability and standard deviations
   std::vector<AlignOptions::Iteration> log;

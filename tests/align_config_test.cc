@@ -133,6 +133,9 @@ histogram_png: histogram.png
 change_csv: change.csv
 known_matrix: [1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7]
 mask_raster: stable.tif
+holdout: 0.2
+holdout_seed: 9
+holdout_verdict: true
 sigma_reference: 0.25
 sigma_moving: sigma.tif
 lod_confidence: 0.9
@@ -203,6 +206,9 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.change_csv, "change.csv");
   EXPECT_EQ(t.known_matrix, (std::vector<double>{1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1}));
   EXPECT_EQ(t.mask_raster, "stable.tif");
+  EXPECT_EQ(o.holdout_fraction, 0.2);
+  EXPECT_EQ(o.holdout_seed, 9u);
+  EXPECT_TRUE(o.holdout_verdict);
   EXPECT_EQ(t.sigma_reference, "0.25");
   EXPECT_EQ(t.sigma_moving, "sigma.tif");
   EXPECT_EQ(t.lod_confidence, 0.9);

@@ -167,6 +167,18 @@ const std::vector<KeyEntry>& Table() {
         "shift of the extra starts (data units); 0 = 5 mean sample spacings"},
        [](const Value& v, C* c) { c->options.multi_start_shift = Number(v, 0, HUGE_VAL); },
        [](const C& c) { return Text(c.options.multi_start_shift); }},
+      {{"holdout", "a number in [0, 0.9)",
+        "held-out check: fit on the reference less this share of its 8 x 8 tiles (seeded), then "
+        "report dz there before and after; 0 = off"},
+       [](const Value& v, C* c) { c->options.holdout_fraction = Number(v, 0, 0.9, "[)"); },
+       [](const C& c) { return Text(c.options.holdout_fraction); }},
+      {{"holdout_seed", "an integer >= 0", "which tiles are held out"},
+       [](const Value& v, C* c) { c->options.holdout_seed = static_cast<uint64_t>(Integer(v, 0)); },
+       [](const C& c) { return std::to_string(c.options.holdout_seed); }},
+      {{"holdout_verdict", "true or false",
+        "the verdict is converged_improved only if the held-out tiles improved too"},
+       [](const Value& v, C* c) { c->options.holdout_verdict = Boolean(v); },
+       [](const C& c) { return std::string(c.options.holdout_verdict ? "true" : "false"); }},
       {{"wide_search", "one of auto, always, never",
         "try 50 starts (12° and 24° about 12 axes, and the centroids matched) on a coarse "
         "subsample and solve from the best: always, or (auto) when the alignment from the initial "

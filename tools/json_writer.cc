@@ -55,4 +55,16 @@ JsonObject& JsonObject::Raw(const std::string& key, const std::string& json) {
   return *this;
 }
 
+JsonObject DzStatisticsJson(const DzStatistics& s) {
+  JsonObject json;
+  json.Int("count", s.count)
+      .Number("mean", s.mean)
+      .Number("median", s.median)
+      .Number("nmad", s.nmad)
+      .Number("stddev", s.stddev)
+      .Number("rmse", s.rmse)
+      .Number("le90", s.le90);
+  return json;
+}
+
 }  // namespace surfreg

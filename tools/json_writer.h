@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "measure/dz_statistics.h"
+
 DECLARE_bool(json);  // every subcommand: print one JSON object instead of text
 
 namespace surfreg {
@@ -49,5 +51,8 @@ class JsonObject {
  private:
   std::string body_;
 };
+
+// count, mean, median, nmad, stddev, rmse, le90 of dz statistics.
+JsonObject DzStatisticsJson(const DzStatistics& s);
 
 }  // namespace surfreg

@@ -62,6 +62,9 @@ DEFINE_string(domain_max_edge_spacings, "",
 DEFINE_string(domain_min_thinness, "",
               "measure, align, triangulate: data domain: outline slivers thinner are peeled (0.1)");
 DEFINE_bool(covariance, true, "align: compute the parameters' standard deviations");
+DEFINE_string(holdout, "", "align: fit on the reference less this share of its tiles; report dz there before/after");
+DEFINE_string(holdout_seed, "", "align: which tiles are held out (integer seed)");
+DEFINE_string(holdout_verdict, "", "align: converged_improved only if the held-out tiles improved too (true | false)");
 DEFINE_string(threads, "", "align: threads");
 DEFINE_string(output, "", "align: write the transform JSON here");
 DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, .xyz, .txt)");
@@ -193,6 +196,14 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
               r.before.mean_abs_dz, r.after.mean_abs_dz, r.sampling_gap);
   std::printf("overlap:      %.2f%% -> %.2f%% of the smaller data domain\n",
               100 * r.overlap_fraction_before, 100 * r.overlap_fraction_after);
+  if (r.holdout.done) {
+    const HoldoutCheck& h = r.holdout;
+    std::printf("held out:     %.0f%% of the reference's tiles (%lld samples): robust RMSE of dz %.6g -> %.6g (%s)\n",
+                100 * h.fraction, static_cast<long long>(h.samples), h.robust_before, h.robust_after,
+                h.improved ? "improved" : "NOT improved");
+    std::printf("              before %s\n", DzStatisticsLine(h.before, "").c_str());
+    std::printf("              after  %s\n", DzStatisticsLine(h.after, "").c_str());
+  }
   std::printf("iterations:   %d  (%s)\n", r.iterations, r.termination.c_str());
   std::printf("time:         %.3f s\n", r.seconds);
   for (const char* key : {"output", "aligned", "log"}) {

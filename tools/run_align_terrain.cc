@@ -3,21 +3,6 @@
 #include "tools/json_writer.h"
 
 namespace surfreg {
-namespace {
-
-JsonObject StatisticsJson(const DzStatistics& s) {
-  JsonObject json;
-  json.Int("count", s.count)
-      .Number("mean", s.mean)
-      .Number("median", s.median)
-      .Number("nmad", s.nmad)
-      .Number("stddev", s.stddev)
-      .Number("rmse", s.rmse)
-      .Number("le90", s.le90);
-  return json;
-}
-
-}  // namespace
 
 std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in,
                               const TerrainReport& r) {
@@ -53,8 +38,8 @@ std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in
       .String("moving_crs", in.moving_crs.name)
       .Number("cell_size", r.spacing)
       .Object("offset", offset)
-      .Object("stable_before", StatisticsJson(r.stable_before))
-      .Object("stable_after", StatisticsJson(r.stable_after))
+      .Object("stable_before", DzStatisticsJson(r.stable_before))
+      .Object("stable_after", DzStatisticsJson(r.stable_after))
       .Object("change", change);
   if (r.known) {
     JsonObject known;

@@ -74,6 +74,18 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r,
       .Raw("free", JsonArray(free))
       .String("reference", config.reference)
       .String("moving", config.moving);
+  if (r.holdout.done) {
+    const HoldoutCheck& h = r.holdout;
+    JsonObject holdout;
+    holdout.Number("fraction", h.fraction)
+        .Int("samples", h.samples)
+        .Object("before", DzStatisticsJson(h.before))
+        .Object("after", DzStatisticsJson(h.after))
+        .Number("robust_rmse_before", h.robust_before)
+        .Number("robust_rmse_after", h.robust_after)
+        .Raw("improved", h.improved ? "true" : "false");
+    json.Object("holdout", holdout);
+  }
   std::string text = json.str();
   if (!extra_members.empty()) text.insert(text.size() - 1, ", " + extra_members);
   return text + "\n";
