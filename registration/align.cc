@@ -142,6 +142,7 @@ bool AlignOptions::IsValid(std::string* error) const {
   if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");
   if (!(gap_weight >= 0 && gap_weight <= 100)) return fail("gap_weight must be in [0, 100]");
   if (!(holdout_fraction >= 0 && holdout_fraction < 0.9)) return fail("holdout must be in [0, 0.9)");
+  if (stddev_subsamples < 0 || stddev_subsamples > 1000) return fail("stddev_subsamples must be in [0, 1000]");
   MeasureOptions m;
   m.weight = weight;
   m.mask_polygon = mask_polygon;
@@ -437,9 +438,56 @@ AlignResult AlignWithSearch(const Surface& reference, const Surface& moving, con
   return result;
 }
 
+// σ from alignments on block half-samples of the reference (AlignOptions::
+// stddev_subsamples), started at `result`'s motion.
+void SubsampleStddev(const Surface& reference, const Surface& moving, const AlignOptions& options,
+                     AlignResult* result) {
+  AlignOptions sub = options;
+  sub.stddev_subsamples = 0;
+  sub.holdout_fraction = 0;
+  sub.wide_search = AlignOptions::WideSearch::kNever;
+  sub.compute_covariance = false;
+  sub.prealign = false;
+  sub.multi_start = 0;
+  sub.levels = 1;
+  sub.on_iteration = nullptr;
+  sub.initial_rotation = result->rotation_vector;
+  sub.initial_translation = result->translation;
+  std::array<double, 6> sum{};
+  int used = 0;
+  for (int k = 0; k < options.stddev_subsamples; ++k) {
+    const std::vector<uint8_t> half = HeldOutSamples(reference, 0.5, 7919u * static_cast<uint64_t>(k + 1));
+    AlignResult r;
+    try {
+      r = AlignFrom(WithoutSamples(reference, half), moving, sub);
+    } catch (const InputError&) {
+      continue;  // a half without overlap: no estimate
+    }
+    if (r.verdict == Verdict::kFailed) continue;
+    for (int i = 0; i < 3; ++i) {
+      sum[i] += std::pow(r.rotation_vector[i] - result->rotation_vector[i], 2);
+      sum[3 + i] += std::pow(r.translation[i] - result->translation[i], 2);
+    }
+    ++used;
+  }
+  for (int i = 0; i < 6; ++i) {
+    result->stddev[i] = !options.free[i] ? 0.0 : used > 0 ? std::sqrt(sum[i] / used) : std::nan("");
+  }
+}
+
 }  // namespace
 
 AlignResult Align(const Surface& reference, const Surface& moving, const AlignOptions& options) {
+  if (options.stddev_subsamples > 0) {
+    AlignOptions main = options;
+    main.stddev_subsamples = 0;
+    AlignResult result = Align(reference, moving, main);
+    const Clock::time_point start = Clock::now();
+    SubsampleStddev(reference, moving, options, &result);
+    result.covariance_seconds += Seconds(start);
+    result.seconds += Seconds(start);
+    return result;
+  }
   if (!(options.holdout_fraction > 0)) return AlignWithSearch(reference, moving, options);
   std::string error;
   if (!options.IsValid(&error)) throw InputError("align options: " + error);

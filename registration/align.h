@@ -141,6 +141,14 @@ struct AlignOptions {
   double holdout_fraction = 0.0;
   uint64_t holdout_seed = 1;
   bool holdout_verdict = false;
+  // Standard deviations from subsamples: this many alignments, each on the
+  // reference less a seeded random half of its 8 × 8 tiles, started at the
+  // full solution; σ² of each parameter is the mean squared difference of
+  // their motions from the full one (for half samples that difference has
+  // about the full estimate's variance). Blocks of the surface, not points,
+  // so that spatially correlated errors count as they do. 0 = the
+  // information estimate (the axial residuals' σ² (JᵀJ)⁻¹).
+  int stddev_subsamples = 0;
   bool compute_covariance = true;
   int num_threads = 2;
   // Called after every solver iteration (progress, logs).

@@ -167,6 +167,11 @@ const std::vector<KeyEntry>& Table() {
         "shift of the extra starts (data units); 0 = 5 mean sample spacings"},
        [](const Value& v, C* c) { c->options.multi_start_shift = Number(v, 0, HUGE_VAL); },
        [](const C& c) { return Text(c.options.multi_start_shift); }},
+      {{"stddev_subsamples", "an integer in [0, 1000]",
+        "standard deviations from this many alignments on block half-samples of the reference "
+        "(0: from the axial residuals' information)"},
+       [](const Value& v, C* c) { c->options.stddev_subsamples = Integer(v, 0, 1000); },
+       [](const C& c) { return std::to_string(c.options.stddev_subsamples); }},
       {{"holdout", "a number in [0, 0.9)",
         "held-out check: fit on the reference less this share of its 8 x 8 tiles (seeded), then "
         "report dz there before and after; 0 = off"},

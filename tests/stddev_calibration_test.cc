@@ -1,0 +1,78 @@
+// Standard deviations of the motion against the empirical spread of the
+// estimates under a known noise model: two samplings of one smooth terrain,
+// Gaussian z-noise on both, many seeds, a known translation. Calibrated σ
+// makes error / σ a standard normal: its RMS over all seeds and parameters
+// is 1.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "registration/align.h"
+#include "tests/testing/surface_pairs.h"
+
+namespace surfreg {
+namespace {
+
+using Points = std::vector<std::array<double, 3>>;
+
+Points Noisy(Points points, double sigma, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma);
+  for (auto& p : points) p[2] += noise(rng);
+  return points;
+}
+
+// RMS of error / σ over `seeds` alignments and the six parameters, with
+// σ from `options`; also each parameter's ratio of the empirical RMS error
+// to the RMS σ.
+struct Calibration {
+  double rms_z = 0;
+  std::array<double, 6> ratio{};
+};
+
+Calibration Calibrate(const AlignOptions& options, int seeds) {
+  const std::array<double, 3> shift = {1.5, -1.0, 0.4};
+  std::array<double, 6> error2{}, sigma2{};
+  double z2 = 0;
+  for (int s = 0; s < seeds; ++s) {
+    const Points a = Noisy(testing::SampleUniform(testing::SmoothTerrain, 2500, 0, 100, 0, 100, 100 + s), 0.1, 500 + s);
+    Points b = Noisy(testing::SampleUniform(testing::SmoothTerrain, 2500, 0, 100, 0, 100, 300 + s), 0.1, 700 + s);
+    for (auto& p : b) {
+      for (int k = 0; k < 3; ++k) p[k] -= shift[k];
+    }
+    const AlignResult r = Align(MakeSurface(a, {}, "a"), MakeSurface(b, {}, "b"), options);
+    EXPECT_EQ(r.verdict, Verdict::kConvergedImproved) << r.verdict_reason;
+    for (int k = 0; k < 6; ++k) {
+      const double error = k < 3 ? r.rotation_vector[k] : r.translation[k - 3] - shift[k - 3];
+      error2[k] += error * error;
+      sigma2[k] += r.stddev[k] * r.stddev[k];
+      z2 += error * error / (r.stddev[k] * r.stddev[k]);
+    }
+  }
+  Calibration c;
+  c.rms_z = std::sqrt(z2 / (6.0 * seeds));
+  for (int k = 0; k < 6; ++k) c.ratio[k] = std::sqrt(error2[k] / sigma2[k]);
+  return c;
+}
+
+TEST(StddevCalibrationTest, SubsampleSigmaMatchesTheSpreadUnderGaussianNoise) {
+  AlignOptions options;
+  options.stddev_subsamples = 8;
+  const Calibration sub = Calibrate(options, 24);
+  options.stddev_subsamples = 0;
+  const Calibration info = Calibrate(options, 24);
+  std::printf("RMS error / sigma over 24 seeds x 6 parameters: subsamples %.3f, information %.3f\n",
+              sub.rms_z, info.rms_z);
+  std::printf("per parameter (empirical RMS error / RMS sigma), subsamples:");
+  for (double r : sub.ratio) std::printf(" %.2f", r);
+  std::printf("\n");
+  EXPECT_GT(sub.rms_z, 0.75);
+  EXPECT_LT(sub.rms_z, 1.25);
+}
+
+}  // namespace
+}  // namespace surfreg
