@@ -184,7 +184,11 @@ Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix) 
 
 namespace {
 
-AlignResult AlignFrom(const Surface& reference, const Surface& moving, const AlignOptions& options_in) {
+// `motion_only`: only the solved motion (rotation_vector, translation) and
+// a verdict from the solver alone (converged or failed): no measures, no
+// information; for the subsample σ's many small alignments.
+AlignResult AlignFrom(const Surface& reference, const Surface& moving, const AlignOptions& options_in,
+                      bool motion_only = false) {
   const Clock::time_point start = Clock::now();
   std::string error;
   if (!options_in.IsValid(&error)) throw InputError("align options: " + error);
@@ -254,8 +258,10 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   }
   const Eigen::Vector3d centre = finest.moving.centroid;
   const MeasureOptions measure_options = MeasureOptionsFor(options);
-  result.before = Measure(reference, TransformSurface(moving, MatrixOf(theta0, centre, reference.origin)),
-                          measure_options);
+  if (!motion_only) {
+    result.before = Measure(reference, TransformSurface(moving, MatrixOf(theta0, centre, reference.origin)),
+                            measure_options);
+  }
 
   std::array<double, 6> start_theta = theta0;
   if (options.wide_search == AlignOptions::WideSearch::kAlways) {
@@ -323,6 +329,15 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
     }
   }
   result.iterations = iterations;
+  if (motion_only) {
+    const std::array<double, 6> solved = have_best ? best.theta : theta0;
+    for (int k = 0; k < 3; ++k) {
+      result.rotation_vector[k] = solved[k];
+      result.translation[k] = solved[3 + k];
+    }
+    result.verdict = have_best && best.converged ? Verdict::kConvergedImproved : Verdict::kFailed;
+    return result;
+  }
 
   std::array<double, 6> theta = have_best ? best.theta : theta0;
   result.termination = have_best ? best.message : "no usable solution";
@@ -459,7 +474,7 @@ void SubsampleStddev(const Surface& reference, const Surface& moving, const Alig
     const std::vector<uint8_t> half = HeldOutSamples(reference, 0.5, 7919u * static_cast<uint64_t>(k + 1));
     AlignResult r;
     try {
-      r = AlignFrom(WithoutSamples(reference, half), moving, sub);
+      r = AlignFrom(WithoutSamples(reference, half), moving, sub, /*motion_only=*/true);
     } catch (const InputError&) {
       continue;  // a half without overlap: no estimate
     }
