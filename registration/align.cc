@@ -385,6 +385,12 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   result.observability = info.observability;
   result.constrained = info.constrained;
   result.condition_number = info.condition_number;
+  if (info.covariance_ok) {
+    result.covariance = info.covariance;
+    for (int k = 0; k < 6; ++k) {
+      if (!options.free[k]) result.covariance.row(k).setZero(), result.covariance.col(k).setZero();
+    }
+  }
   for (int k = 0; k < 6; ++k) {
     result.stddev[k] = !options.free[k] ? 0.0
                        : info.covariance_ok ? std::sqrt(std::max(0.0, info.covariance(k, k)))
@@ -468,7 +474,7 @@ void SubsampleStddev(const Surface& reference, const Surface& moving, const Alig
   sub.on_iteration = nullptr;
   sub.initial_rotation = result->rotation_vector;
   sub.initial_translation = result->translation;
-  std::array<double, 6> sum{};
+  Eigen::Matrix<double, 6, 6> sum = Eigen::Matrix<double, 6, 6>::Zero();
   int used = 0;
   for (int k = 0; k < options.stddev_subsamples; ++k) {
     const std::vector<uint8_t> half = HeldOutSamples(reference, 0.5, 7919u * static_cast<uint64_t>(k + 1));
@@ -479,14 +485,21 @@ void SubsampleStddev(const Surface& reference, const Surface& moving, const Alig
       continue;  // a half without overlap: no estimate
     }
     if (r.verdict == Verdict::kFailed) continue;
+    Eigen::Matrix<double, 6, 1> d;
     for (int i = 0; i < 3; ++i) {
-      sum[i] += std::pow(r.rotation_vector[i] - result->rotation_vector[i], 2);
-      sum[3 + i] += std::pow(r.translation[i] - result->translation[i], 2);
+      d[i] = r.rotation_vector[i] - result->rotation_vector[i];
+      d[3 + i] = r.translation[i] - result->translation[i];
     }
+    for (int i = 0; i < 6; ++i) {
+      if (!options.free[i]) d[i] = 0;
+    }
+    sum += d * d.transpose();
     ++used;
   }
+  result->covariance = used > 0 ? Eigen::Matrix<double, 6, 6>(sum / used)
+                                : Eigen::Matrix<double, 6, 6>::Constant(std::nan(""));
   for (int i = 0; i < 6; ++i) {
-    result->stddev[i] = !options.free[i] ? 0.0 : used > 0 ? std::sqrt(sum[i] / used) : std::nan("");
+    result->stddev[i] = !options.free[i] ? 0.0 : used > 0 ? std::sqrt(result->covariance(i, i)) : std::nan("");
   }
 }
 

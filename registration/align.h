@@ -14,6 +14,7 @@
 // data, standard deviations, and a verdict that is never "improved" when
 // the measure got worse.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -190,6 +191,11 @@ struct AlignResult {
   // the axial residuals at the solution; 0 for locked parameters, NaN when
   // the covariance is not defined (rank deficient).
   std::array<double, 6> stddev{};
+  // The full covariance of (rx, ry, rz, tx, ty, tz) (radians, data units),
+  // its diagonal the stddev²; zero rows and columns for locked parameters,
+  // NaN when not defined. From the information or from the subsamples, as
+  // the stddev.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Constant(std::nan(""));
   // In [0, 1]: how much of each parameter's information is not shared with
   // other directions (1 = fully determined); `constrained` is false for a
   // free parameter the data do not determine.

@@ -74,5 +74,27 @@ TEST(StddevCalibrationTest, SubsampleSigmaMatchesTheSpreadUnderGaussianNoise) {
   EXPECT_LT(sub.rms_z, 1.25);
 }
 
+// The covariance's diagonal is the stddev², it is symmetric, and a locked
+// parameter has a zero row and column; for both estimates.
+TEST(StddevCalibrationTest, CovarianceMatchesTheStddev) {
+  const Points a = Noisy(testing::SampleUniform(testing::SmoothTerrain, 2000, 0, 100, 0, 100, 1), 0.1, 2);
+  Points b = Noisy(testing::SampleUniform(testing::SmoothTerrain, 2000, 0, 100, 0, 100, 3), 0.1, 4);
+  for (auto& p : b) p[0] -= 1.0;
+  for (int subsamples : {0, 6}) {
+    AlignOptions options;
+    options.stddev_subsamples = subsamples;
+    options.free = {true, true, true, true, true, false};  // tz locked
+    const AlignResult r = Align(MakeSurface(a, {}, "a"), MakeSurface(b, {}, "b"), options);
+    ASSERT_TRUE(r.covariance.allFinite()) << subsamples;
+    EXPECT_LT((r.covariance - r.covariance.transpose()).norm(), 1e-12 * r.covariance.norm());
+    for (int k = 0; k < 6; ++k) {
+      EXPECT_NEAR(std::sqrt(r.covariance(k, k)), r.stddev[k], 1e-12 * (1 + r.stddev[k])) << subsamples << " " << k;
+    }
+    EXPECT_EQ(r.stddev[5], 0.0);
+    EXPECT_EQ(r.covariance.row(5).norm() + r.covariance.col(5).norm(), 0.0);
+    EXPECT_GT(r.stddev[3], 0.0);
+  }
+}
+
 }  // namespace
 }  // namespace surfreg

@@ -189,8 +189,13 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
               r.euler_deg[1], r.euler_deg[2]);
   std::printf("translation:  tx %.6g ty %.6g tz %.6g units  (shift of the moving centroid)\n",
               r.translation[0], r.translation[1], r.translation[2]);
-  std::printf("stddev:       rx %.3g ry %.3g rz %.3g deg, tx %.3g ty %.3g tz %.3g units\n",
-              sd[0] * kDegrees, sd[1] * kDegrees, sd[2] * kDegrees, sd[3], sd[4], sd[5]);
+  std::printf("stddev:       rx %.3g ry %.3g rz %.3g deg, tx %.3g ty %.3g tz %.3g units  (%s)\n",
+              sd[0] * kDegrees, sd[1] * kDegrees, sd[2] * kDegrees, sd[3], sd[4], sd[5],
+              config.options.stddev_subsamples > 0 ? "from block half-samples" : "from the information");
+  const double z = 1.959963984540054;  // 95%, two-sided
+  std::printf("95%% interval: rx +/-%.3g ry +/-%.3g rz +/-%.3g deg, tx +/-%.3g ty +/-%.3g tz +/-%.3g units\n",
+              z * sd[0] * kDegrees, z * sd[1] * kDegrees, z * sd[2] * kDegrees, z * sd[3], z * sd[4],
+              z * sd[5]);
   std::printf("rho'_d:       %.6g -> %.6g units  (mean |dz| at the nodes)\n", r.before.rho_d_axial,
               r.after.rho_d_axial);
   std::printf("mean |dz|:    %.6g -> %.6g units  (rho_d / overlap area; sampling gap %.3g)\n",

@@ -1,5 +1,6 @@
 #include "tools/transform_json.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,17 @@ JsonObject PerParameter(const std::array<T, 6>& values, Write write) {
   return json;
 }
 
+// Rows rx, ry, rz, tx, ty, tz (radians, data units); null where undefined.
+std::string CovarianceJson(const Eigen::Matrix<double, 6, 6>& c) {
+  std::vector<std::string> rows;
+  for (int i = 0; i < 6; ++i) {
+    std::vector<std::string> row;
+    for (int j = 0; j < 6; ++j) row.push_back(std::isfinite(c(i, j)) ? JsonNumber(c(i, j)) : "null");
+    rows.push_back(JsonArray(row));
+  }
+  return JsonArray(rows);
+}
+
 }  // namespace
 
 std::string TransformJson(const AlignConfig& config, const AlignResult& r,
@@ -57,6 +69,7 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r,
       .Raw("translation", Numbers(r.translation.data(), 3))
       .Raw("centre", Numbers(r.centre.data(), 3))
       .Object("stddev", PerParameter(r.stddev, number))
+      .Raw("covariance", CovarianceJson(r.covariance))
       .Object("before", MeasuresJson(r.before, r.overlap_fraction_before))
       .Object("after", MeasuresJson(r.after, r.overlap_fraction_after))
       .Number("sampling_gap", r.sampling_gap)
