@@ -214,7 +214,7 @@ grid sigma_shifted 1756005 sigma 0.4
 grid sigma_negative 1756000 sigma -1
 change=("$tmp/before.asc" "$tmp/after.asc" --reference_crs=EPSG:2193 --moving_crs=EPSG:2193
         --free=tz --covariance=false --sigma_reference=0.3 --lod_confidence=0.95)
-run align "${change[@]}" --sigma_moving=0.4 --output="$out/u.json" --dod_sigma="$out/s.tif" \
+run align "${change[@]}" --covariance=true --sigma_moving=0.4 --output="$out/u.json" --dod_sigma="$out/s.tif" \
   --dod_thresholded="$out/t.tif" --histogram_png="$out/h.png" --dod_png="$out/d.png"
 [[ $rc -eq 0 ]] || fail "uncertainty: constant sigmas"
 run align "${change[@]}" --sigma_moving="$tmp/sigma_ok.asc" --output="$out/r.json"
@@ -244,6 +244,14 @@ close("net_sigma_independent", b["net_sigma_independent"], s * a * math.sqrt(29)
 close("fill_sigma_correlated", b["fill_sigma_correlated"], s * a * 9)
 close("net_sigma_correlated", b["net_sigma_correlated"], s * a * 29)
 if u["terrain"]["change"]["fill"] <= 0: bad.append("no exact fill")
+# The motion's own uncertainty: only tz is free and dz grows by exactly tz
+# at every node, so the registration's share is sigma_tz times the areas.
+stz = u["stddev"]["tz"]
+if not stz > 0: bad.append("no sigma of tz")
+close("fill_sigma_registration", b["fill_sigma_registration"], stz * a * 9)
+close("cut_sigma_registration", b["cut_sigma_registration"], stz * a * 20)
+close("net_sigma_registration", b["net_sigma_registration"], stz * a * 29)
+close("net_sigma_total", b["net_sigma_total"], math.hypot(s * a * math.sqrt(29), stz * a * 29))
 # Per-cell sigma: 8 of the -3 nodes have sigma_moving 2, so 1.96 sqrt(0.09 + 4) > 3.
 r = json.load(open(out + "/r.json"))["terrain"]["change"]["uncertainty"]
 s2 = math.sqrt(0.09 + 4.0)

@@ -210,6 +210,8 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
   report.after = Measure(in.reference, moved, options);
   report.uncertainty = AnalyseChangeUncertainty(config, in.reference, moved, in.sigma_reference,
                                                 in.sigma_moving, report.after, options);
+  AddRegistrationUncertainty(in.reference, in.moving, result.rotation_vector, result.translation, result.centre,
+                             result.covariance, report.after, options, &report.uncertainty);
 
   // Stable terrain: the mask of the registration (frame coordinates), or all.
   const auto& mask = config.options.mask_polygon;

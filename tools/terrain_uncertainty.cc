@@ -4,7 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include <Eigen/Geometry>
+
 #include "measure/input_error.h"
+#include "registration/align.h"
 #include "tools/io/surface_reader_internal.h"
 
 namespace surfreg {
@@ -126,6 +129,68 @@ ChangeUncertainty AnalyseChangeUncertainty(const AlignConfig& config, const Surf
   return u;
 }
 
+void AddRegistrationUncertainty(const Surface& reference, const Surface& moving,
+                                const std::array<double, 3>& rotation_vector,
+                                const std::array<double, 3>& translation, const std::array<double, 3>& centre,
+                                const Eigen::Matrix<double, 6, 6>& covariance, const MeasureSummary& after,
+                                const MeasureOptions& options, ChangeUncertainty* u) {
+  if (!u->active) return;
+  const std::size_t n = reference.size();
+  // Which nodes the budget counted, as gain or loss.
+  std::vector<int8_t> side(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double dz = after.dz_a[i];
+    if (!std::isfinite(dz) || !std::isfinite(u->sigma_dod[i])) continue;
+    side[i] = dz > u->threshold[i] ? 1 : dz < -u->threshold[i] ? -1 : 0;
+  }
+  const Eigen::Vector3d c(centre[0], centre[1], centre[2]);
+  auto matrix_of = [&](const Eigen::Matrix<double, 6, 1>& theta) {
+    const Eigen::Vector3d w = theta.head<3>();
+    const double angle = w.norm();
+    const Eigen::Matrix3d r =
+        angle > 0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m.topLeftCorner<3, 3>() = r;
+    m.topRightCorner<3, 1>() = c + theta.tail<3>() - r * c;
+    return m;
+  };
+  Eigen::Matrix<double, 6, 1> theta;
+  theta << rotation_vector[0], rotation_vector[1], rotation_vector[2], translation[0], translation[1], translation[2];
+  MeasureOptions at_nodes = options;
+  at_nodes.keep_node_gaps = true;
+  at_nodes.detect_change = false;
+  Eigen::Matrix<double, 6, 1> fill = Eigen::Matrix<double, 6, 1>::Zero(), cut = fill;
+  for (int k = 0; k < 6; ++k) {
+    const double variance = covariance(k, k);
+    if (!(std::isfinite(variance) && variance > 0)) continue;
+    const double h = std::sqrt(variance);
+    Eigen::Matrix<double, 6, 1> step = Eigen::Matrix<double, 6, 1>::Zero();
+    step[k] = h;
+    const std::vector<double> up = Measure(reference, TransformSurface(moving, matrix_of(theta + step)), at_nodes).dz_a;
+    const std::vector<double> down = Measure(reference, TransformSurface(moving, matrix_of(theta - step)), at_nodes).dz_a;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (side[i] == 0 || !std::isfinite(up[i]) || !std::isfinite(down[i])) continue;
+      const double derivative = (up[i] - down[i]) / (2 * h) * after.node_area_a[i];
+      (side[i] > 0 ? fill : cut)[k] += side[i] > 0 ? derivative : -derivative;  // cut counts |dz|
+    }
+  }
+  Eigen::Matrix<double, 6, 6> cov = covariance;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      if (!std::isfinite(cov(i, j))) cov(i, j) = 0;
+    }
+  }
+  const Eigen::Matrix<double, 6, 1> net = fill - cut;
+  u->registration = true;
+  u->fill_sigma_registration = std::sqrt(std::max(0.0, fill.dot(cov * fill)));
+  u->cut_sigma_registration = std::sqrt(std::max(0.0, cut.dot(cov * cut)));
+  u->net_sigma_registration = std::sqrt(std::max(0.0, net.dot(cov * net)));
+  const ChangeBudget& b = u->budget;
+  u->fill_sigma_total = std::hypot(b.fill_sigma_independent, u->fill_sigma_registration);
+  u->cut_sigma_total = std::hypot(b.cut_sigma_independent, u->cut_sigma_registration);
+  u->net_sigma_total = std::hypot(b.net_sigma_independent, u->net_sigma_registration);
+}
+
 JsonObject ChangeUncertaintyJson(const AlignConfig& config, const ChangeUncertainty& u) {
   const ChangeBudget& b = u.budget;
   JsonObject json;
@@ -149,6 +214,14 @@ JsonObject ChangeUncertaintyJson(const AlignConfig& config, const ChangeUncertai
       .Number("fill_sigma_correlated", b.fill_sigma_correlated)
       .Number("cut_sigma_correlated", b.cut_sigma_correlated)
       .Number("net_sigma_correlated", b.net_sigma_correlated);
+  if (u.registration) {
+    json.Number("fill_sigma_registration", u.fill_sigma_registration)
+        .Number("cut_sigma_registration", u.cut_sigma_registration)
+        .Number("net_sigma_registration", u.net_sigma_registration)
+        .Number("fill_sigma_total", u.fill_sigma_total)
+        .Number("cut_sigma_total", u.cut_sigma_total)
+        .Number("net_sigma_total", u.net_sigma_total);
+  }
   return json;
 }
 
@@ -178,6 +251,12 @@ std::string ChangeUncertaintySummary(const AlignConfig& config, const ChangeUnce
   text += "              cellwise over " + std::to_string(b.fill_nodes) + " + " + std::to_string(b.cut_nodes) +
           " of " + std::to_string(b.nodes) + " nodes; areas of detected gain " + Number(b.fill_area) +
           " and loss " + Number(b.cut_area) + " " + (units == "m" ? "m^2" : "units^2");
+  if (u.registration) {
+    text += "\n              registration +/- fill " + Number(u.fill_sigma_registration) + ", cut " +
+            Number(u.cut_sigma_registration) + ", net " + Number(u.net_sigma_registration) +
+            " (from the motion's covariance); with the independent: fill +/- " + Number(u.fill_sigma_total) +
+            ", cut +/- " + Number(u.cut_sigma_total) + ", net +/- " + Number(u.net_sigma_total);
+  }
   return text;
 }
 

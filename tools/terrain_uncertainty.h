@@ -4,9 +4,12 @@
 // sigma_moving (one number, or a σ raster on that DEM's grid), propagated to
 // the DoD at the reference's nodes, thresholded at lod / lod_confidence, and
 // the cellwise change budget of measure/change_budget.h.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "measure/change_budget.h"
 #include "measure/measures.h"
@@ -33,6 +36,13 @@ struct ChangeUncertainty {
   std::vector<double> sigma_dod;    // per reference sample; NaN outside Ω
   std::vector<double> threshold;    // per reference sample: max(lod, t σ_DoD); NaN outside Ω
   ChangeBudget budget;
+  // The motion's own uncertainty carried to the budget (AddRegistrationUncertainty):
+  // ± one standard error of fill, cut and net from the motion's covariance
+  // alone (a registration error shifts every node alike: fully correlated),
+  // and combined with the independent DEM errors in quadrature.
+  bool registration = false;
+  double fill_sigma_registration = 0, cut_sigma_registration = 0, net_sigma_registration = 0;
+  double fill_sigma_total = 0, cut_sigma_total = 0, net_sigma_total = 0;
 };
 
 // σ_DoD at the reference's samples after the motion: the reference's own σ
@@ -45,6 +55,19 @@ ChangeUncertainty AnalyseChangeUncertainty(const AlignConfig& config, const Surf
                                            const Surface& moved, const std::vector<double>& sigma_reference,
                                            const std::vector<double>& sigma_moving,
                                            const MeasureSummary& after, const MeasureOptions& options);
+
+// Adds the registration's share: the derivative of dz at every reference
+// node in each of the six motion parameters (central differences of two
+// measures each, a step of one standard deviation), summed over the budget's
+// gain and loss nodes with their areas into g, and σ² = gᵀ C g for the
+// motion's covariance C (AlignResult::covariance, parameters about the
+// centroid `centre`, input coordinates). Parameters with zero or undefined
+// variance add nothing.
+void AddRegistrationUncertainty(const Surface& reference, const Surface& moving,
+                                const std::array<double, 3>& rotation_vector,
+                                const std::array<double, 3>& translation, const std::array<double, 3>& centre,
+                                const Eigen::Matrix<double, 6, 6>& covariance, const MeasureSummary& after,
+                                const MeasureOptions& options, ChangeUncertainty* u);
 
 // The budget as JSON (the member `uncertainty` of a `change` object).
 JsonObject ChangeUncertaintyJson(const AlignConfig& config, const ChangeUncertainty& u);
