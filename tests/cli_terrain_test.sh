@@ -293,6 +293,18 @@ fi
 expect_error "lod_confidence" measure "$tmp/before.asc" "$tmp/after.asc" --lod_confidence=0.95
 expect_error "not on the grid" align "${change[@]}" --sigma_moving="$tmp/sigma_shifted.asc" \
   --output="$out/t.json"
+python3 - "$tmp/sigma_holes.asc" <<'PY'
+import sys  # sigma nodata on the first 3 columns of every row
+rows = [" ".join("-9999" if c < 3 else "0.2" for c in range(20)) for r in range(15)]
+open(sys.argv[1], "w").write("ncols 20\nnrows 15\nxllcorner 1756000.000\nyllcorner 5916500\ncellsize 10\n"
+                             "NODATA_value -9999\n" + "\n".join(rows) + "\n")
+PY
+expect_error "has no value at 45 of the 300 valid cells" align "${change[@]}" \
+  --sigma_moving="$tmp/sigma_holes.asc" --output="$out/t.json"
+expect_error "sigma_moving" align "${change[@]}" --sigma_moving=nan --output="$out/t.json"
+: >"$tmp/sigma_empty.asc"
+expect_error "cannot open as a raster" align "${change[@]}" --sigma_moving="$tmp/sigma_empty.asc" \
+  --output="$out/t.json"
 expect_error "negative" align "${change[@]}" --sigma_moving="$tmp/sigma_negative.asc" \
   --output="$out/t.json"
 expect_error "sigma_reference" align "${change[@]/--sigma_reference=0.3/--sigma_reference=-0.3}" \

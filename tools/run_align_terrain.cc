@@ -15,18 +15,8 @@ std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in
       .Number("dlon_deg", o.dlon_deg)
       .Number("dh_m", o.dh_m);
   const MeasureSummary& a = r.after;
-  const double lod = config.terrain.lod;
-  JsonObject change;
-  change.Number("level_of_detection", lod)
-      .Number("fill", a.fill_detected)
-      .Number("cut", a.cut_detected)
-      .Number("net", a.fill_detected - a.cut_detected)
-      .Number("fill_area", a.fill_area)
-      .Number("cut_area", a.cut_area)
-      .Number("fill_uncertainty", lod * a.fill_area)
-      .Number("cut_uncertainty", lod * a.cut_area)
-      .Number("net_uncertainty", lod * (a.fill_area + a.cut_area))
-      .Number("overlap_area", a.overlap_area)
+  JsonObject change = DetectedChangeJson(a);
+  change.Number("overlap_area", a.overlap_area)
       .String("domain", DomainKindName(a.domain_kind))
       .Number("excluded_area_reference", a.excluded_area_a)
       .Number("excluded_area_moving", a.excluded_area_b);

@@ -179,17 +179,7 @@ void PrintJson(const MeasureReport& r) {
       .Int("n_cells", s.n_cells)
       .Int("walk_steps", s.walk_steps);
   if (HasChange(r)) {  // the keys of align's terrain.change
-    const double lod = s.level_of_detection;
-    JsonObject change;
-    change.Number("level_of_detection", lod)
-        .Number("fill", s.fill_detected)
-        .Number("cut", s.cut_detected)
-        .Number("net", s.fill_detected - s.cut_detected)
-        .Number("fill_area", s.fill_area)
-        .Number("cut_area", s.cut_area)
-        .Number("fill_uncertainty", lod * s.fill_area)
-        .Number("cut_uncertainty", lod * s.cut_area)
-        .Number("net_uncertainty", lod * (s.fill_area + s.cut_area));
+    JsonObject change = DetectedChangeJson(s);
     if (r.uncertainty.active) change.Object("uncertainty", ChangeUncertaintyJson(r.config, r.uncertainty));
     json.Object("change", change);
   }

@@ -191,6 +191,21 @@ void AddRegistrationUncertainty(const Surface& reference, const Surface& moving,
   u->net_sigma_total = std::hypot(b.net_sigma_independent, u->net_sigma_registration);
 }
 
+JsonObject DetectedChangeJson(const MeasureSummary& s) {
+  const double lod = s.level_of_detection;
+  JsonObject change;
+  change.Number("level_of_detection", lod)
+      .Number("fill", s.fill_detected)
+      .Number("cut", s.cut_detected)
+      .Number("net", s.fill_detected - s.cut_detected)
+      .Number("fill_area", s.fill_area)
+      .Number("cut_area", s.cut_area)
+      .Number("fill_uncertainty", lod * s.fill_area)
+      .Number("cut_uncertainty", lod * s.cut_area)
+      .Number("net_uncertainty", lod * (s.fill_area + s.cut_area));
+  return change;
+}
+
 JsonObject ChangeUncertaintyJson(const AlignConfig& config, const ChangeUncertainty& u) {
   const ChangeBudget& b = u.budget;
   JsonObject json;

@@ -69,6 +69,12 @@ void AddRegistrationUncertainty(const Surface& reference, const Surface& moving,
                                 const Eigen::Matrix<double, 6, 6>& covariance, const MeasureSummary& after,
                                 const MeasureOptions& options, ChangeUncertainty* u);
 
+// Cut/fill beyond the level of detection of `s` (MeasureSummary's detected
+// change, exact on the overlay) with their ± L × area, as the keys of a
+// `change` object: level_of_detection, fill, cut, net, fill_area, cut_area,
+// fill_uncertainty, cut_uncertainty, net_uncertainty.
+JsonObject DetectedChangeJson(const MeasureSummary& s);
+
 // The budget as JSON (the member `uncertainty` of a `change` object).
 JsonObject ChangeUncertaintyJson(const AlignConfig& config, const ChangeUncertainty& u);
 
