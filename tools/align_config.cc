@@ -361,14 +361,19 @@ std::string AlignConfigValue(const AlignConfig& config, const std::string& key) 
 }
 
 std::string NearestAlignKey(const std::string& name) {
+  std::vector<std::string> keys;
+  for (const KeyEntry& entry : Table()) keys.push_back(entry.key.name);
+  return NearestKey(name, keys);
+}
+
+std::string NearestKey(const std::string& name, const std::vector<std::string>& keys) {
   std::string wanted = name;
   for (char& c : wanted) {
     c = c == '-' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
   std::string best;
   std::size_t best_distance = std::max<std::size_t>(2, wanted.size() / 3) + 1;
-  for (const KeyEntry& entry : Table()) {
-    const std::string key = entry.key.name;
+  for (const std::string& key : keys) {
     std::size_t distance = EditDistance(wanted, key);
     // "iterations" for "max_iterations": a part of a key is close enough.
     const bool part = wanted.size() >= 3 && (key.find(wanted) != std::string::npos ||
@@ -412,7 +417,11 @@ void ApplyAlignConfigFile(const std::string& path, AlignConfig* config) {
 }
 
 void ApplyAlignFlag(const std::string& key, const std::string& value, AlignConfig* config) {
-  const std::string where = "flag '--" + key + "'";
+  ApplyAlignSetting(key, value, "flag '--" + key + "'", config);
+}
+
+void ApplyAlignSetting(const std::string& key, const std::string& value, const std::string& where,
+                       AlignConfig* config) {
   const KeyEntry* entry = FindEntry(key);
   if (entry == nullptr) throw InputError(where + ": " + UnknownKeyMessage(key));
   Value v;

@@ -86,6 +86,9 @@ std::string AlignConfigValue(const AlignConfig& config, const std::string& key);
 // other), or "" when none is close.
 std::string NearestAlignKey(const std::string& name);
 
+// The same among `keys` (e.g. the keys `measure` takes).
+std::string NearestKey(const std::string& name, const std::vector<std::string>& keys);
+
 // Applies the YAML mapping `yaml_text` on top of *config; `file` names it in
 // messages. Rejects text that is not a mapping, unknown and repeated keys,
 // and values of the wrong type.
@@ -98,6 +101,11 @@ void ApplyAlignConfigFile(const std::string& path, AlignConfig* config);
 // booleans "true"/"false"; lists as "1,2,3" or "[1, 2, 3]"; "" for a file
 // key means no file).
 void ApplyAlignFlag(const std::string& key, const std::string& value, AlignConfig* config);
+
+// The same value text given elsewhere: `where` starts the messages (the
+// Python module's "keyword 'cost'"; ApplyAlignFlag's is "flag '--cost'").
+void ApplyAlignSetting(const std::string& key, const std::string& value, const std::string& where,
+                       AlignConfig* config);
 
 // The positional form: surfreg align REFERENCE MOVING.
 void ApplyAlignArguments(const std::string& reference, const std::string& moving,

@@ -14,13 +14,10 @@
 #include "measure/input_error.h"
 #include "registration/align.h"
 #include "tools/align_config.h"
-#include "tools/atomic_file.h"
+#include "tools/align_run.h"
 #include "tools/commands.h"
-#include "tools/io/surface_writer.h"
 #include "tools/json_writer.h"
-#include "tools/run_align_terrain.h"
 #include "tools/terrain.h"
-#include "tools/transform_json.h"
 
 // Every config key is a flag. Non-boolean flags are strings, so that
 // tools/align_config.cc parses values from files and flags alike (same
@@ -136,37 +133,7 @@ AlignConfig LoadConfig(const std::vector<std::string>& args) {
 void PrintProgress(const AlignOptions::Iteration& it, const AlignConfig& config,
                    Clock::time_point start) {
   if (!config.progress && Since(start) < 1.0) return;
-  std::fprintf(stderr,
-               "align: level %d/%d start %d %s iteration %3d  cost %.9g  step %.3g  gradient %.3g  "
-               "%.2f s\n",
-               it.level + 1, config.options.levels, it.start, it.cost_name, it.iteration, it.cost, it.step_norm,
-               it.gradient_norm, it.seconds);
-}
-
-std::string LogCsv(const std::vector<AlignOptions::Iteration>& log) {
-  std::string csv = "level,start,cost_kind,iteration,cost,step_norm,gradient_norm,seconds\n";
-  char line[256];
-  for (const AlignOptions::Iteration& it : log) {
-    std::snprintf(line, sizeof(line), "%d,%d,%s,%d,%.17g,%.17g,%.17g,%.6f\n", it.level, it.start,
-                  it.cost_name, it.iteration, it.cost, it.step_norm, it.gradient_norm, it.seconds);
-    csv += line;
-  }
-  return csv;
-}
-
-// Comment lines of the aligned surface file: where it came from, the matrix.
-std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignResult& r) {
-  std::vector<std::string> lines = {
-      "aligned: " + config.moving + " moved onto " + config.reference + " by surfreg align",
-      std::string("verdict: ") + VerdictName(r.verdict) +
-          "; matrix (moving -> reference, input coordinates, row-major):"};
-  for (int i = 0; i < 4; ++i) {
-    char row[160];
-    std::snprintf(row, sizeof(row), "  %.17g %.17g %.17g %.17g", r.matrix(i, 0), r.matrix(i, 1),
-                  r.matrix(i, 2), r.matrix(i, 3));
-    lines.push_back(row);
-  }
-  return lines;
+  std::fputs(AlignProgressLine(it, config.options.levels).c_str(), stderr);
 }
 
 void PrintSummary(const AlignConfig& config, const Surface& reference, const Surface& moving,
@@ -223,51 +190,21 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
 int RunAlign(const std::vector<std::string>& args) {
   if (!FLAGS_manifest.empty()) return RunAlignManifest(args);  // tools/run_batch.cc
   const Clock::time_point start = Clock::now();
-  AlignConfig config = LoadConfig(args);
-  // Terrain inputs (rasters, CRSs, change outputs) go through tools/terrain.h.
-  const bool terrain = config.terrain.Active(config.reference, config.moving);
-  TerrainInputs inputs;
-  if (terrain) {
-    inputs = ReadTerrainInputs(config);
-    // A mask raster became the reference's per-sample weights: μ for Align.
-    if (!config.terrain.mask_raster.empty()) config.options.weight = WeightMode::kPerPoint;
-  } else {
-    inputs.reference = ReadAlignSurface(config, "reference");
-    inputs.moving = ReadAlignSurface(config, "moving");
-  }
-  const Surface& reference = inputs.reference;
-  const Surface& moving = inputs.moving;
-  std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
-  config.options.on_iteration = [&config, &seen, start](const AlignOptions::Iteration& it) {
-    seen.push_back(it);
-    PrintProgress(it, config, start);
-  };
-  const AlignResult result = Align(reference, moving, config.options);
+  const AlignConfig config = LoadConfig(args);
+  const AlignRun run = AlignSurfaces(
+      config, std::nullopt, std::nullopt,
+      [&config, start](const AlignOptions::Iteration& it) { PrintProgress(it, config, start); });
+  const AlignResult& result = run.result;
   LOG(INFO) << "aligned " << config.moving << " onto " << config.reference << ": "
             << VerdictName(result.verdict) << " in " << Since(start) << " s";
   if (result.verdict == Verdict::kFailed || result.verdict == Verdict::kIllConditioned) {
     LOG(WARNING) << "align: " << VerdictName(result.verdict) << ": " << result.verdict_reason;
   }
-
-  TerrainReport report;
-  if (terrain) report = AnalyseTerrain(config, inputs, result);
-  const std::string json =
-      TransformJson(config, result, terrain ? TerrainJsonMember(config, inputs, report) : "");
-  if (terrain) WriteTerrainOutputs(config, inputs, report);
-  if (!config.output.empty()) WriteFileAtomically(config.output, json, config.Where("output"));
-  if (!config.aligned.empty()) {
-    WriteSurface(config.aligned, TransformSurface(moving, result.matrix), config.Where("aligned"),
-                 AlignedComments(config, result));
-  }
-  if (!config.log.empty()) {
-    WriteFileAtomically(config.log, LogCsv(result.log.empty() ? seen : result.log),
-                        config.Where("log"));
-  }
   if (FLAGS_json) {
-    std::printf("%s", json.c_str());
+    std::printf("%s", run.json.c_str());
   } else {
-    PrintSummary(config, reference, moving, result);
-    if (terrain) std::printf("%s\n", TerrainSummary(config, inputs, report).c_str());
+    PrintSummary(run.config, run.inputs.reference, run.inputs.moving, result);
+    if (run.terrain) std::printf("%s\n", TerrainSummary(run.config, run.inputs, run.report).c_str());
   }
   return 0;
 }

@@ -38,13 +38,15 @@ Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::str
   return from_file.kind != CrsKind::kNone ? from_file : from_key;
 }
 
-OneInput ReadOne(const AlignConfig& config, const std::string& key) {
+OneInput ReadOne(const AlignConfig& config, const std::string& key, const Surface* given) {
   const std::string path = AlignConfigValue(config, key);
   const std::string crs_key = key + "_crs";
   OneInput in;
   Crs file_crs;
   try {
-    if (IsRasterPath(path)) {
+    if (given != nullptr) {
+      in.surface = *given;
+    } else if (IsRasterPath(path)) {
       RasterReadOptions options;
       options.band = config.terrain.band;
       const auto& w = config.terrain.window;
@@ -153,12 +155,13 @@ std::vector<double> MaskRasterWeights(const AlignConfig& config, const Surface& 
 
 }  // namespace
 
-TerrainInputs ReadTerrainInputs(const AlignConfig& config) {
-  OneInput reference = ReadOne(config, "reference");
+TerrainInputs ReadTerrainInputs(const AlignConfig& config, const Surface* given_reference,
+                                const Surface* given_moving) {
+  OneInput reference = ReadOne(config, "reference", given_reference);
   if (!config.terrain.mask_raster.empty()) {
     reference.surface.weight = MaskRasterWeights(config, reference.surface, reference.crs);
   }
-  OneInput moving = ReadOne(config, "moving");
+  OneInput moving = ReadOne(config, "moving", given_moving);
   std::vector<double> sigma_reference =
       SigmaPerSample(config, "reference", reference.surface.size(), reference.grid, reference.cells);
   std::vector<double> sigma_moving =

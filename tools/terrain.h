@@ -39,8 +39,11 @@ struct TerrainInputs {
 // config.terrain, point files as ReadSurface does), resolves their CRSs
 // (the raster's own, or reference_crs / moving_crs; a key overrides a file
 // that has none, and must agree with one that has) and brings both into one
-// metric frame. Errors name the key or file.
-TerrainInputs ReadTerrainInputs(const AlignConfig& config);
+// metric frame. Errors name the key or file. A non-null `reference` or
+// `moving` is used instead of reading that file (samples already in memory,
+// e.g. the Python module's arrays: no CRS of their own, the keys' apply).
+TerrainInputs ReadTerrainInputs(const AlignConfig& config, const Surface* reference = nullptr,
+                                const Surface* moving = nullptr);
 
 struct TerrainReport {
   MeasureSummary before, after;     // with change detection and node gaps

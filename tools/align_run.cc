@@ -1,0 +1,94 @@
+#include "tools/align_run.h"
+
+#include <cstdio>
+#include <utility>
+
+#include "tools/atomic_file.h"
+#include "tools/io/surface_writer.h"
+#include "tools/run_align_terrain.h"
+#include "tools/transform_json.h"
+
+namespace surfreg {
+namespace {
+
+std::string LogCsv(const std::vector<AlignOptions::Iteration>& log) {
+  std::string csv = "level,start,cost_kind,iteration,cost,step_norm,gradient_norm,seconds\n";
+  char line[256];
+  for (const AlignOptions::Iteration& it : log) {
+    std::snprintf(line, sizeof(line), "%d,%d,%s,%d,%.17g,%.17g,%.17g,%.6f\n", it.level, it.start,
+                  it.cost_name, it.iteration, it.cost, it.step_norm, it.gradient_norm, it.seconds);
+    csv += line;
+  }
+  return csv;
+}
+
+// Comment lines of the aligned surface file: where it came from, the matrix.
+std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignResult& r) {
+  std::vector<std::string> lines = {
+      "aligned: " + config.moving + " moved onto " + config.reference + " by surfreg align",
+      std::string("verdict: ") + VerdictName(r.verdict) +
+          "; matrix (moving -> reference, input coordinates, row-major):"};
+  for (int i = 0; i < 4; ++i) {
+    char row[160];
+    std::snprintf(row, sizeof(row), "  %.17g %.17g %.17g %.17g", r.matrix(i, 0), r.matrix(i, 1),
+                  r.matrix(i, 2), r.matrix(i, 3));
+    lines.push_back(row);
+  }
+  return lines;
+}
+
+}  // namespace
+
+std::string AlignProgressLine(const AlignOptions::Iteration& it, int levels) {
+  char line[320];
+  std::snprintf(line, sizeof(line),
+                "align: level %d/%d start %d %s iteration %3d  cost %.9g  step %.3g  gradient %.3g  "
+                "%.2f s\n",
+                it.level + 1, levels, it.start, it.cost_name, it.iteration, it.cost, it.step_norm,
+                it.gradient_norm, it.seconds);
+  return line;
+}
+
+AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
+                       std::optional<Surface> moving,
+                       const std::function<void(const AlignOptions::Iteration&)>& on_iteration) {
+  AlignRun run;
+  // Terrain inputs (rasters, CRSs, change outputs) go through tools/terrain.h.
+  run.terrain = config.terrain.Active(config.reference, config.moving);
+  TerrainInputs& inputs = run.inputs;
+  if (run.terrain) {
+    inputs = ReadTerrainInputs(config, reference ? &*reference : nullptr,
+                               moving ? &*moving : nullptr);
+    // A mask raster became the reference's per-sample weights: μ for Align.
+    if (!config.terrain.mask_raster.empty()) config.options.weight = WeightMode::kPerPoint;
+  } else {
+    inputs.reference = reference ? std::move(*reference) : ReadAlignSurface(config, "reference");
+    inputs.moving = moving ? std::move(*moving) : ReadAlignSurface(config, "moving");
+  }
+  std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
+  config.options.on_iteration = [&seen, &on_iteration](const AlignOptions::Iteration& it) {
+    seen.push_back(it);
+    if (on_iteration) on_iteration(it);
+  };
+  run.result = Align(inputs.reference, inputs.moving, config.options);
+  config.options.on_iteration = nullptr;  // it refers to this frame's locals
+  const AlignResult& result = run.result;
+
+  if (run.terrain) run.report = AnalyseTerrain(config, inputs, result);
+  run.json = TransformJson(config, result,
+                           run.terrain ? TerrainJsonMember(config, inputs, run.report) : "");
+  if (run.terrain) WriteTerrainOutputs(config, inputs, run.report);
+  if (!config.output.empty()) WriteFileAtomically(config.output, run.json, config.Where("output"));
+  if (!config.aligned.empty()) {
+    WriteSurface(config.aligned, TransformSurface(inputs.moving, result.matrix),
+                 config.Where("aligned"), AlignedComments(config, result));
+  }
+  if (!config.log.empty()) {
+    WriteFileAtomically(config.log, LogCsv(result.log.empty() ? seen : result.log),
+                        config.Where("log"));
+  }
+  run.config = std::move(config);
+  return run;
+}
+
+}  // namespace surfreg

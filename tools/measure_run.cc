@@ -1,0 +1,228 @@
+#include "tools/measure_run.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <utility>
+
+#include "measure/input_error.h"
+#include "tools/io/polygon_reader.h"
+#include "tools/io/surface_reader_internal.h"
+#include "tools/json_writer.h"
+#include "tools/terrain.h"
+
+namespace surfreg {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The align keys that measure takes: how A and B are read and which frame
+// they are measured in, and the level of detection.
+constexpr const char* kTerrainKeys[] = {"reference_crs", "moving_crs",      "frame",
+                                        "band",          "window",          "lod",
+                                        "sigma_reference", "sigma_moving", "lod_confidence"};
+constexpr const char* kDomainKeys[] = {"domain", "domain_max_edge_spacings", "domain_min_thinness"};
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+VolumeMode ParseVolumeMode(const std::string& value, const std::string& where) {
+  if (value == "overlay") return VolumeMode::kOverlay;
+  if (value == "union") return VolumeMode::kUnion;
+  throw InputError("bad value " + io_internal::Quote(value) + " for " + where +
+                   " (expected overlay or union)");
+}
+
+// weights = uniform | per_point | mask:POLYGON_FILE
+void ParseWeights(const std::string& value, const std::string& where, MeasureReport* report) {
+  MeasureOptions& options = report->options;
+  const std::string mask = "mask:";
+  if (value == "uniform") {
+    options.weight = WeightMode::kUniform;
+  } else if (value == "per_point") {
+    options.weight = WeightMode::kPerPoint;
+  } else if (value.compare(0, mask.size(), mask) == 0 && value.size() > mask.size()) {
+    options.weight = WeightMode::kMask;
+    report->mask_file = value.substr(mask.size());
+    options.mask_polygon = ReadPolygon(report->mask_file);
+  } else {
+    throw InputError("bad value " + io_internal::Quote(value) + " for " + where +
+                     " (expected uniform, per_point or mask:POLYGON_FILE)");
+  }
+  std::string error;
+  if (!options.IsValid(&error)) {
+    throw InputError((options.weight == WeightMode::kMask ? report->mask_file + ": " : "") + error);
+  }
+}
+
+// The last setting of `key`, or nullptr.
+const Setting* Find(const std::vector<Setting>& settings, const std::string& key) {
+  const auto found = std::find_if(settings.rbegin(), settings.rend(),
+                                  [&key](const Setting& s) { return s.key == key; });
+  return found == settings.rend() ? nullptr : &*found;
+}
+
+void CheckKeys(const std::vector<Setting>& settings) {
+  const std::vector<std::string>& keys = MeasureKeys();
+  for (const Setting& s : settings) {
+    if (std::find(keys.begin(), keys.end(), s.key) != keys.end()) continue;
+    const std::string nearest = NearestKey(s.key, keys);
+    std::string known;
+    for (const std::string& key : keys) known += (known.empty() ? "" : ", ") + key;
+    throw InputError(s.where + ": unknown key " + io_internal::Quote(s.key) + " for measure (" +
+                     (nearest.empty() ? "known keys: " + known : "did you mean '" + nearest + "'?") +
+                     ")");
+  }
+}
+
+// A and B as align's reference and moving surfaces (messages say "argument
+// A"), with the terrain settings given. Nothing is read yet.
+AlignConfig MeasureConfig(const std::string& a, const std::string& b,
+                          const std::vector<Setting>& settings) {
+  AlignConfig config;
+  ApplyAlignArguments(a, b, &config);
+  config.origin["reference"] = "argument A";
+  config.origin["moving"] = "argument B";
+  for (const char* key : kTerrainKeys) {
+    if (const Setting* s = Find(settings, key)) ApplyAlignSetting(key, s->value, s->where, &config);
+  }
+  return config;
+}
+
+}  // namespace
+
+const std::vector<std::string>& MeasureKeys() {
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> out = {"volume", "weights"};
+    out.insert(out.end(), std::begin(kDomainKeys), std::end(kDomainKeys));
+    out.insert(out.end(), std::begin(kTerrainKeys), std::end(kTerrainKeys));
+    return out;
+  }();
+  return keys;
+}
+
+MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<Setting>& settings) {
+  const Clock::time_point start = Clock::now();
+  CheckKeys(settings);
+  MeasureReport report;
+  report.file_a = a.name;
+  report.file_b = b.name;
+  // Settings first: a bad value is reported before any file is read.
+  MeasureOptions& options = report.options;
+  const Setting* volume = Find(settings, "volume");
+  options.volume = volume ? ParseVolumeMode(volume->value, volume->where) : VolumeMode::kOverlay;
+  AlignConfig domain;  // align's domain keys: the same values, defaults and messages
+  for (const char* key : kDomainKeys) {
+    const Setting* s = Find(settings, key);
+    if (s != nullptr && !s->value.empty()) ApplyAlignSetting(key, s->value, s->where, &domain);
+  }
+  options.domain = domain.options.domain;
+  const Setting* weights = Find(settings, "weights");
+  ParseWeights(weights ? weights->value : "uniform", weights ? weights->where : "", &report);
+  const AlignConfig config = MeasureConfig(report.file_a, report.file_b, settings);
+  // Cut/fill is integrated on the overlay's cells: always there, absent from union.
+  options.detect_change = options.volume == VolumeMode::kOverlay;
+  options.level_of_detection = config.terrain.lod;
+  if (!options.detect_change && config.origin.count("lod") != 0) {
+    throw InputError(config.Where("lod") +
+                     ": cut/fill beyond a level of detection needs --volume=overlay");
+  }
+  const bool sigma = !config.terrain.sigma_reference.empty() || !config.terrain.sigma_moving.empty();
+  if (config.terrain.lod_confidence > 0 && !sigma) {
+    throw InputError(config.Where("lod_confidence") +
+                     " needs the DEMs' vertical errors: give --sigma_reference and/or --sigma_moving");
+  }
+  if (sigma && !options.detect_change) {
+    const char* key = config.terrain.sigma_reference.empty() ? "sigma_moving" : "sigma_reference";
+    throw InputError(config.Where(key) + ": the change budget needs --volume=overlay");
+  }
+  options.keep_node_gaps = sigma;  // the budget weights dz at A's nodes by their areas
+  TerrainInputs inputs = ReadTerrainInputs(config, a.samples ? &*a.samples : nullptr,
+                                           b.samples ? &*b.samples : nullptr);
+  a.samples.reset();  // copied into `inputs`
+  b.samples.reset();
+  report.frame = inputs.frame;
+  report.crs_a = inputs.reference_crs;
+  report.crs_b = inputs.moving_crs;
+  report.metric = inputs.frame.kind != GeoFrame::kAsGiven ||
+                  (inputs.reference_crs.kind == CrsKind::kProjected &&
+                   inputs.reference_crs.metres_per_unit == 1.0);
+  if (options.weight == WeightMode::kMask && inputs.frame.kind != GeoFrame::kAsGiven) {
+    // The polygon is drawn in A's lon/lat: its vertices go where A went.
+    std::vector<std::array<double, 3>> vertices;
+    for (const auto& p : options.mask_polygon) vertices.push_back({p[0], p[1], 0.0});
+    PointsToFrame(inputs.frame, inputs.reference_crs, &vertices);
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+      options.mask_polygon[i] = {vertices[i][0], vertices[i][1]};
+    }
+  }
+  const Surface& sa = inputs.reference;
+  const Surface& sb = inputs.moving;
+  const Clock::time_point read = Clock::now();
+  report.summary = Measure(sa, sb, report.options);
+  report.config = config;
+  report.uncertainty = AnalyseChangeUncertainty(config, sa, sb, inputs.sigma_reference,
+                                                inputs.sigma_moving, report.summary, report.options);
+  const Clock::time_point done = Clock::now();
+  report.read_s = Seconds(read - start);
+  report.total_s = Seconds(done - start);
+  return report;
+}
+
+std::string MeasureJson(const MeasureReport& r) {
+  const MeasureSummary& s = r.summary;
+  JsonObject timings;
+  // Seconds to the nanosecond (the clock's resolution); the measures above in full.
+  timings.Fixed("read", r.read_s, 9)
+      .Fixed("triangulate", s.timings.triangulate, 9)
+      .Fixed("domain", s.timings.domain, 9)
+      .Fixed("spanning_tree", s.timings.spanning_tree, 9)
+      .Fixed("locate", s.timings.locate, 9)
+      .Fixed("interpolate", s.timings.interpolate, 9)
+      .Fixed("volume", s.timings.volume, 9)
+      .Fixed("measure", s.timings.total, 9)  // Measure() alone
+      .Fixed("total", r.total_s, 9);         // the whole command: read + measure
+  JsonObject json;
+  json.String("file_a", r.file_a)
+      .String("file_b", r.file_b)
+      .String("frame", r.frame.Describe())
+      .String("crs_a", DescribeCrs(r.crs_a))
+      .String("crs_b", DescribeCrs(r.crs_b))
+      .String("length_unit", r.metric ? "m" : "units")
+      .String("volume_mode", VolumeModeName(s.volume_mode))
+      .String("weight_mode", WeightModeName(r.options.weight))
+      .String("domain", DomainKindName(s.domain_kind));
+  if (r.options.weight == WeightMode::kMask) {
+    json.String("mask_file", r.mask_file)
+        .Int("mask_vertices", static_cast<int64_t>(r.options.mask_polygon.size()));
+  }
+  json.Number("rho_d", s.rho_d)
+      .Number("rho_d_axial", s.rho_d_axial)
+      .Number("rho_s", s.rho_s)
+      .Number("overlap_area", s.overlap_area)
+      .Number("domain_area_a", s.domain_area_a)
+      .Number("domain_area_b", s.domain_area_b)
+      .Number("excluded_area_a", s.excluded_area_a)
+      .Number("excluded_area_b", s.excluded_area_b)
+      .Number("weight_integral", s.weight_integral)
+      .Number("mean_abs_dz", s.mean_abs_dz)
+      .Number("signed_volume", s.signed_volume)
+      .Number("volume_above", s.volume_above)
+      .Number("volume_below", s.volume_below)
+      .Int("n_points_a", s.n_points_a)
+      .Int("n_points_b", s.n_points_b)
+      .Int("n_duplicates_a", s.n_duplicates_a)
+      .Int("n_duplicates_b", s.n_duplicates_b)
+      .Int("n_overlap_nodes", s.n_overlap_nodes)
+      .Int("n_cells", s.n_cells)
+      .Int("walk_steps", s.walk_steps);
+  if (r.options.detect_change) {  // the keys of align's terrain.change
+    JsonObject change = DetectedChangeJson(s);
+    if (r.uncertainty.active) change.Object("uncertainty", ChangeUncertaintyJson(r.config, r.uncertainty));
+    json.Object("change", change);
+  }
+  json.Object("timings", timings);
+  return json.str();
+}
+
+}  // namespace surfreg
