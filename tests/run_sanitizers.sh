@@ -33,7 +33,8 @@ cmake -S . -B "$build_dir" \
   -DCMAKE_EXE_LINKER_FLAGS_SANITIZE="$sanitize" \
   -DCMAKE_SHARED_LINKER_FLAGS_SANITIZE="$sanitize" \
   -DCMAKE_GTEST_DISCOVER_TESTS_DISCOVERY_MODE=PRE_TEST \
-  -DSURFREG_BUILD_BENCHMARKS=OFF -DSURFREG_FUZZ=OFF >/dev/null
+  -DSURFREG_BUILD_BENCHMARKS=OFF -DSURFREG_FUZZ=OFF \
+  -DSURFREG_PYTHON=OFF >/dev/null  # an ASan module cannot load into an uninstrumented python3
 echo "== building"
 cmake --build "$build_dir" -j "$jobs"
 

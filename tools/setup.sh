@@ -20,9 +20,12 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 # (the build works without it), python3 checks the CLI's JSON in the tests,
 # clang and libclang-rt-14-dev (the libFuzzer and sanitizer runtimes, only
 # recommended by clang, so named here) build tests/fuzz/run_fuzz.sh's fuzzers.
+# pybind11-dev, python3-dev and python3-numpy build and run the Python module
+# (tools/python), python3-pytest tests it.
 packages=(cmake make g++ pkg-config libceres-dev libeigen3-dev libgoogle-glog-dev libgflags-dev
-          libgeographiclib-dev libyaml-cpp-dev libgdal-dev libcairo2-dev libgtest-dev libbenchmark-dev)
-if [ "$mode" = test ]; then packages+=(libcgal-dev python3 parallel clang libclang-rt-14-dev); fi
+          libgeographiclib-dev libyaml-cpp-dev libgdal-dev libcairo2-dev libgtest-dev libbenchmark-dev
+          pybind11-dev python3-dev python3-numpy)
+if [ "$mode" = test ]; then packages+=(libcgal-dev python3 parallel clang libclang-rt-14-dev python3-pytest); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,346 @@
+"""The Python module surfreg (tools/python): measure() and align() against
+known answers, against the CLI's --json output, bad input, and the GIL.
+
+Run by ctest (tests/CMakeLists.txt) with PYTHONPATH holding the built module
+and SURFREG_CLI naming the built `surfreg` program.
+"""
+import json
+import os
+import pathlib
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import surfreg
+
+# Keys that differ between two runs of the same work: wall-clock times.
+TIMING_KEYS = {"timings", "seconds"}
+
+
+def field(x, y):
+    """A smooth height field with structure in every direction (no symmetry
+    that would leave a motion unobservable)."""
+    return 2.0 * np.sin(x / 9.0) * np.cos(y / 7.0) + 0.5 * np.sin((x + y) / 5.0) + 0.01 * x
+
+
+def sample(n, lo, hi, seed):
+    rng = np.random.default_rng(seed)
+    xy = rng.uniform(lo, hi, (n, 2))
+    return np.column_stack([xy, field(xy[:, 0], xy[:, 1])])
+
+
+def rotation(axis, degrees):
+    """Rodrigues: the rotation by `degrees` about `axis`."""
+    a = np.radians(degrees)
+    k = np.asarray(axis, float) / np.linalg.norm(axis)
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
+
+
+def known_pair(n=3000, seed=7):
+    """A reference and a moving surface with the moving -> reference motion
+    `truth`: the moving samples are other points of the same field, carried
+    by the inverse motion (1.5 degrees about a tilted axis, and a shift)."""
+    reference = sample(n, 0.0, 60.0, seed)
+    on_field = sample(n, 6.0, 54.0, seed + 1)
+    R = rotation([0.3, 0.2, 1.0], 1.5)
+    t = np.array([0.8, -0.5, 0.3])
+    truth = np.eye(4)
+    truth[:3, :3], truth[:3, 3] = R, t
+    moving = (on_field - t) @ R  # R^T (p - t), row by row
+    return reference, moving, truth
+
+
+def write_xyz(path, points):
+    # %.17g reads back as the same double: the file holds exactly the array.
+    np.savetxt(path, points, fmt="%.17g")
+    return str(path)
+
+
+def without(result, keys):
+    return {k: v for k, v in result.items() if k not in keys}
+
+
+def same(a, b):
+    """Exact equality of two results (numpy matrices compared elementwise)."""
+    assert a.keys() == b.keys()
+    for key in a:
+        if isinstance(a[key], np.ndarray) or isinstance(b[key], np.ndarray):
+            np.testing.assert_array_equal(np.asarray(a[key]), np.asarray(b[key]), err_msg=key)
+        else:
+            assert a[key] == b[key], key
+
+
+def cli():
+    program = os.environ.get("SURFREG_CLI")
+    if not program:
+        pytest.skip("SURFREG_CLI (the surfreg program) not set; ctest sets it")
+    return program
+
+
+def run_cli(*args):
+    done = subprocess.run([cli(), *args], capture_output=True, text=True)
+    return done.returncode, done.stdout, done.stderr
+
+
+def cli_json(*args):
+    code, out, err = run_cli(*args, "--json")
+    assert code == 0, err
+    return json.loads(out)
+
+
+def cli_error(*args):
+    """The CLI's one-line message for bad input, without 'surfreg: error: '."""
+    code, _, err = run_cli(*args)
+    assert code == 2, err
+    prefix = "surfreg: error: "
+    assert err.startswith(prefix), err
+    return err[len(prefix):].strip()
+
+
+# --- measure --------------------------------------------------------------
+
+
+def test_measure_of_a_surface_and_itself_shifted_gives_the_shift():
+    a = sample(2000, 0.0, 50.0, seed=1)
+    dz = 0.37
+    b = a + [0.0, 0.0, dz]
+    r = surfreg.measure(a, b)
+    assert r["rho_d_axial"] == pytest.approx(dz, abs=1e-9)
+    assert r["mean_abs_dz"] == pytest.approx(dz, abs=1e-9)
+    assert r["signed_volume"] / r["overlap_area"] == pytest.approx(dz, abs=1e-9)
+    assert r["rho_d"] == pytest.approx(dz * r["overlap_area"], rel=1e-12)
+    assert r["volume_below"] == 0.0
+    assert r["n_points_a"] == r["n_points_b"] == 2000
+    assert r["file_a"] == "array A" and r["file_b"] == "array B"
+
+
+def test_measure_options_are_the_cli_keys():
+    a = sample(1500, 0.0, 50.0, seed=2)
+    b = a + [0.0, 0.0, -0.2]
+    r = surfreg.measure(a, b, volume="union", domain="hull")
+    assert r["volume_mode"] == "union" and r["domain"] == "hull"
+    assert "change" not in r  # cut/fill is the overlay's
+    assert r["rho_d_axial"] == pytest.approx(0.2, abs=1e-9)
+
+
+# --- align ----------------------------------------------------------------
+
+
+def motion_errors(matrix, truth, points):
+    """Rotation error (degrees) and the displacement error at the moving
+    points' centroid (data units) of `matrix` against `truth`."""
+    d = matrix[:3, :3] @ truth[:3, :3].T
+    angle = np.degrees(np.arccos(np.clip((np.trace(d) - 1) / 2, -1, 1)))
+    c = points[:, :3].mean(axis=0)
+    shift = np.linalg.norm(matrix[:3, :3] @ c + matrix[:3, 3] - (truth[:3, :3] @ c + truth[:3, 3]))
+    return angle, shift
+
+
+@pytest.mark.parametrize("cost", ["volume", "axial"])
+def test_align_recovers_a_known_motion(cost):
+    reference, moving, truth = known_pair()
+    r = surfreg.align(reference, moving, cost=cost)
+    assert isinstance(r["matrix"], np.ndarray)
+    assert r["matrix"].shape == (4, 4) and r["matrix"].dtype == np.float64
+    assert r["verdict"] == "converged_improved"
+    angle, shift = motion_errors(r["matrix"], truth, moving)
+    # Measured: 0.002-0.004 degrees and 0.0005-0.003 units (the two
+    # samplings' linear interpolation error; spacing about 1.1 units). The
+    # bounds leave 5-10x for that, and are 1% of the motion's 1.5 degrees
+    # and 1% of the spacing.
+    assert angle < 0.02, angle
+    assert shift < 0.02, shift
+    assert r["after"]["rho_d_axial"] < 0.05 * r["before"]["rho_d_axial"]
+
+
+def test_align_with_locked_parameters_keeps_them():
+    reference, moving, truth = known_pair()
+    r = surfreg.align(reference, moving, cost="axial", free=["tx", "ty", "tz"], max_iterations=50)
+    assert r["free"] == ["tx", "ty", "tz"]
+    np.testing.assert_allclose(r["matrix"][:3, :3], np.eye(3), atol=1e-12)
+
+
+# --- arrays, files and the CLI agree -----------------------------------------
+
+
+def test_array_and_file_inputs_give_the_same_result(tmp_path):
+    reference, moving, _ = known_pair(n=1500)
+    files = (write_xyz(tmp_path / "ref.xyz", reference), write_xyz(tmp_path / "mov.xyz", moving))
+    from_arrays = surfreg.measure(reference, moving)
+    from_files = surfreg.measure(*files)
+    from_paths = surfreg.measure(*(pathlib.Path(f) for f in files))  # os.PathLike
+    names = TIMING_KEYS | {"file_a", "file_b"}
+    same(without(from_arrays, names), without(from_files, names))
+    same(without(from_paths, {"timings"}), without(from_files, {"timings"}))
+
+    from_arrays = surfreg.align(reference, moving, cost="axial")
+    from_files = surfreg.align(*files, cost="axial")
+    same(without(from_arrays, TIMING_KEYS | {"reference", "moving"}),
+         without(from_files, TIMING_KEYS | {"reference", "moving"}))
+    assert from_files["reference"] == files[0] and from_arrays["reference"] == "array reference"
+
+
+def test_per_point_weights_from_a_fourth_column(tmp_path):
+    a = sample(1500, 0.0, 50.0, seed=3)
+    weights = np.where(a[:, 0] < 25.0, 1.0, 0.0)
+    a4 = np.column_stack([a, weights])
+    b = a + [0.0, 0.0, 0.5]
+    r = surfreg.measure(a4, b, weights="per_point")
+    assert r["weight_mode"] == "per_point"
+    assert r["weight_integral"] < 0.6 * r["overlap_area"]
+    from_file = surfreg.measure(write_xyz(tmp_path / "a4.xyz", a4), b, weights="per_point")
+    names = TIMING_KEYS | {"file_a", "file_b"}
+    same(without(r, names), without(from_file, names))
+
+
+def test_measure_equals_the_cli_json(tmp_path):
+    a = write_xyz(tmp_path / "a.xyz", sample(1500, 0.0, 50.0, seed=4))
+    b = write_xyz(tmp_path / "b.xyz", sample(1200, 3.0, 47.0, seed=5) + [0.0, 0.0, 0.1])
+    for flags, options in [([], {}),
+                           (["--volume=union", "--domain=hull"], {"volume": "union", "domain": "hull"}),
+                           (["--lod=0.05"], {"lod": 0.05})]:
+        expected = cli_json("measure", a, b, *flags)
+        got = surfreg.measure(a, b, **options)
+        same(without(got, TIMING_KEYS), without(expected, TIMING_KEYS))
+
+
+def test_align_equals_the_cli_json(tmp_path):
+    reference, moving, _ = known_pair(n=1500)
+    ref = write_xyz(tmp_path / "ref.xyz", reference)
+    mov = write_xyz(tmp_path / "mov.xyz", moving)
+    for flags, options in [
+        ([], {}),
+        (["--cost=axial", "--max_iterations=50", "--free=rx,ry,rz,tz", "--loss=huber"],
+         {"cost": "axial", "max_iterations": 50, "free": ["rx", "ry", "rz", "tz"], "loss": "huber"}),
+        (["--initial_rotation_deg=0,0,1.5", "--initial_translation=0.5,-0.5,0.25"],
+         {"initial_rotation_deg": np.array([0.0, 0.0, 1.5]), "initial_translation": (0.5, -0.5, 0.25)}),
+    ]:
+        expected = cli_json("align", ref, mov, *flags)
+        got = surfreg.align(ref, mov, **options)
+        assert isinstance(got["matrix"], np.ndarray)
+        same(without(got, TIMING_KEYS), without(expected, TIMING_KEYS))
+
+
+def test_align_writes_the_files_its_keys_name(tmp_path):
+    reference, moving, _ = known_pair(n=1500)
+    output = tmp_path / "t.json"
+    r = surfreg.align(reference, moving, cost="axial", output=output)
+    written = json.loads(output.read_text())
+    same(without(r, TIMING_KEYS), without(written, TIMING_KEYS))
+
+
+# --- bad input ------------------------------------------------------------
+
+
+def test_too_few_points():
+    a = sample(100, 0.0, 10.0, seed=6)
+    with pytest.raises(ValueError, match=r"^array reference: 2 points; a surface needs at least 3"):
+        surfreg.align(a[:2], a)
+
+
+def test_nan_coordinates():
+    a = sample(100, 0.0, 10.0, seed=6)
+    b = a.copy()
+    b[3, 2] = np.nan
+    with pytest.raises(ValueError, match=r"^array B: point 4 is not finite$"):
+        surfreg.measure(a, b)
+
+
+def test_wrong_array_shape():
+    a = sample(100, 0.0, 10.0, seed=6)
+    with pytest.raises(ValueError, match=r"^array A: expected an \(N, 3\) or \(N, 4\) array .*shape \(100, 2\)"):
+        surfreg.measure(a[:, :2], a)
+    with pytest.raises(ValueError, match=r"array moving: expected a file path or an \(N, 3\)"):
+        surfreg.align(a, {"x": 1})
+
+
+def test_unknown_keys_say_what_was_meant():
+    a = sample(100, 0.0, 10.0, seed=6)
+    with pytest.raises(ValueError, match=r"^keyword 'max_iteration': unknown key 'max_iteration' "
+                                         r"\(did you mean 'max_iterations'\?\)"):
+        surfreg.align(a, a, max_iteration=5)
+    with pytest.raises(ValueError, match=r"^keyword 'volum': unknown key 'volum' for measure "
+                                         r"\(did you mean 'volume'\?\)"):
+        surfreg.measure(a, a, volum="union")
+
+
+def test_bad_values_carry_the_cli_message(tmp_path):
+    a = write_xyz(tmp_path / "a.xyz", sample(100, 0.0, 10.0, seed=6))
+    # The CLI says where with "flag '--KEY'", the module with "keyword 'KEY'";
+    # the rest of the message is the same text.
+    for key, value, flag_value in [("cost", "fast", "fast"), ("max_iterations", 0, "0"),
+                                   ("free", ["rx", "up"], "[rx, up]"), ("trim_fraction", 0.75, "0.75")]:
+        message = cli_error("align", a, a, f"--{key}={flag_value}")
+        assert message.startswith(f"flag '--{key}'"), message
+        with pytest.raises(ValueError) as raised:
+            surfreg.align(a, a, **{key: value})
+        assert str(raised.value) == f"keyword '{key}'" + message[len(f"flag '--{key}'"):]
+    message = cli_error("measure", a, a, "--volume=fast")
+    with pytest.raises(ValueError) as raised:
+        surfreg.measure(a, a, volume="fast")
+    assert str(raised.value) == message.replace("flag '--volume'", "keyword 'volume'")
+
+
+def test_file_errors_are_the_cli_message(tmp_path):
+    missing = str(tmp_path / "missing.xyz")
+    a = write_xyz(tmp_path / "a.xyz", sample(100, 0.0, 10.0, seed=6))
+    with pytest.raises(ValueError) as raised:
+        surfreg.measure(a, missing)
+    assert str(raised.value) == cli_error("measure", a, missing)
+    with pytest.raises(ValueError) as raised:
+        surfreg.align(missing, a)
+    assert str(raised.value) == cli_error("align", missing, a)
+    assert issubclass(surfreg.InputError, ValueError)
+
+
+# --- installed -------------------------------------------------------------
+
+
+def test_installed_module_imports(tmp_path):
+    cmake, build = os.environ.get("SURFREG_CMAKE"), os.environ.get("SURFREG_BUILD_DIR")
+    if not cmake or not build:
+        pytest.skip("SURFREG_CMAKE and SURFREG_BUILD_DIR not set; ctest sets them")
+    prefix = tmp_path / "prefix"
+    done = subprocess.run([cmake, "--install", build, "--component", "python", "--prefix", str(prefix)],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    site = prefix / "lib" / "python3" / "dist-packages"  # README "Use from Python"
+    environment = dict(os.environ, PYTHONPATH=str(site))
+    done = subprocess.run([sys.executable, "-c", "import surfreg; print(surfreg.__file__)"],
+                          capture_output=True, text=True, env=environment, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert pathlib.Path(done.stdout.strip()).parent == site
+
+
+# --- the GIL ----------------------------------------------------------------
+
+
+def test_other_threads_run_while_align_runs():
+    # If align held the GIL, this thread could not record a single tick
+    # between the worker's two timestamps (only around them, while the
+    # worker is in Python code); the middle half of the call has none then.
+    reference, moving, _ = known_pair(n=20000)
+    span = {}
+
+    def work():
+        span["start"] = time.perf_counter()
+        span["result"] = surfreg.align(reference, moving, cost="axial")
+        span["end"] = time.perf_counter()
+
+    worker = threading.Thread(target=work)
+    ticks = []
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.perf_counter())
+        time.sleep(0.002)
+    worker.join()
+    assert span["result"]["verdict"] == "converged_improved"
+    length = span["end"] - span["start"]
+    assert length > 0.05, "the alignment was too short to tell"
+    middle = [t for t in ticks if span["start"] + 0.25 * length < t < span["end"] - 0.25 * length]
+    assert len(middle) >= 3, (len(middle), length)
