@@ -1,0 +1,56 @@
+# The installed package (issue 21): `cmake --install BUILD --prefix P` puts
+# the libraries, the public headers and the `surfreg` program under P, and
+# find_package(surfreg CONFIG) then gives
+#   surfreg::measure       geometry and measures          (surfreg_measure)
+#   surfreg::registration  Ceres costs and aligners       (surfreg_registration)
+#   surfreg::io            surface, mesh and raster files (surfreg_io)
+# In-tree the same names are ALIASes, so code built here or against the
+# install links the same way.
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+foreach(layer measure registration io)
+  add_library(surfreg::${layer} ALIAS surfreg_${layer})
+  set_target_properties(surfreg_${layer} PROPERTIES EXPORT_NAME ${layer})
+endforeach()
+# Our headers need C++17: a client gets it from the targets.
+target_compile_features(surfreg_measure PUBLIC cxx_std_17)
+
+# Public headers: what a client of Measure, Align and the readers includes,
+# plus exactly the headers those include (tests/cli_install_test.sh compiles
+# each installed header on its own against the install, and checks that no
+# internal one is there). Internal headers (overlay_clip.h, the volume
+# kernels, the solver set-up, the CLI's config code) stay in the source tree.
+# They keep the source layout under include/surfreg/, because they include
+# each other as "measure/x.h"; the io headers go to include/surfreg/io/.
+set(SURFREG_PUBLIC_MEASURE_HEADERS
+  change_budget.h delaunay.h domain.h dz_statistics.h face_frame.h grid_mesh.h
+  input_error.h measures.h surface.h volume.h)
+set(SURFREG_PUBLIC_REGISTRATION_HEADERS
+  align.h holdout.h jaw.h rigid_motion.h symmetry.h)
+set(SURFREG_PUBLIC_IO_HEADERS
+  mesh_reader.h polygon_reader.h raster_io.h surface_reader.h surface_writer.h)
+list(TRANSFORM SURFREG_PUBLIC_MEASURE_HEADERS PREPEND ${PROJECT_SOURCE_DIR}/measure/)
+list(TRANSFORM SURFREG_PUBLIC_REGISTRATION_HEADERS PREPEND ${PROJECT_SOURCE_DIR}/registration/)
+list(TRANSFORM SURFREG_PUBLIC_IO_HEADERS PREPEND ${PROJECT_SOURCE_DIR}/tools/io/)
+set(surfreg_include_dir ${CMAKE_INSTALL_INCLUDEDIR}/surfreg)
+install(FILES ${SURFREG_PUBLIC_MEASURE_HEADERS} DESTINATION ${surfreg_include_dir}/measure)
+install(FILES ${SURFREG_PUBLIC_REGISTRATION_HEADERS} DESTINATION ${surfreg_include_dir}/registration)
+install(FILES ${SURFREG_PUBLIC_IO_HEADERS} DESTINATION ${surfreg_include_dir}/io)
+
+install(TARGETS surfreg_measure surfreg_registration surfreg_io EXPORT surfregTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS surfreg RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+
+set(surfreg_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/surfreg)
+install(EXPORT surfregTargets NAMESPACE surfreg:: DESTINATION ${surfreg_cmake_dir})
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/surfregConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/surfregConfig.cmake INSTALL_DESTINATION ${surfreg_cmake_dir})
+# 0.x: a minor release may change the API, so only the same minor version matches.
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/surfregConfigVersion.cmake
+  COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/surfregConfig.cmake
+              ${PROJECT_BINARY_DIR}/surfregConfigVersion.cmake
+        DESTINATION ${surfreg_cmake_dir})
