@@ -13,6 +13,7 @@
 #include "measure/input_error.h"
 #include "measure/weights.h"
 #include "registration/pair_state.h"
+#include "registration/sandwich.h"
 #include "registration/solvers.h"
 #include "registration/wide_search.h"
 
@@ -31,6 +32,7 @@ constexpr double kWideSearchGapFactor = 1.0;
 // The axial prealignment runs on at most about this many points of each
 // surface (AlignOptions::prealign).
 constexpr double kPrealignPoints = 5000.0;
+
 
 struct Level {
   ReferenceSide reference;
@@ -380,7 +382,23 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   }
 
   const Clock::time_point information_start = Clock::now();
-  const Information info = AnalyseInformation(final_state, context, options.compute_covariance);
+  Information info = AnalyseInformation(final_state, context, options.compute_covariance);
+  result.stddev_source = "information";
+  if (options.stddev_method == AlignOptions::StddevMethod::kSandwich && options.cost == CostKind::kVolume &&
+      options.compute_covariance && options.stddev_subsamples == 0 && info.covariance_ok) {
+    // Steps of the information σ: on noisy terrain the sandwich's σ hardly
+    // depends on them (1 × or 3 × gave the same calibration on the 120
+    // peer pairs); on clean faces, where the L1 cost is nearly a cone at
+    // the solution, a second pass with the sandwich's own σ as the step
+    // moved the median |error| / σ only from 0.03 to 0.06.
+    std::array<double, 6> step{};
+    for (int i = 0; i < 6; ++i) step[i] = std::sqrt(std::max(0.0, info.covariance(i, i)));
+    const SandwichEstimate sandwich = SandwichCovariance(final_state, context, step);
+    if (sandwich.ok) {
+      info.covariance = sandwich.covariance;
+      result.stddev_source = "sandwich over " + std::to_string(sandwich.tiles) + " tiles";
+    }
+  }
   result.covariance_seconds = Seconds(information_start);
   result.observability = info.observability;
   result.constrained = info.constrained;
@@ -496,6 +514,7 @@ void SubsampleStddev(const Surface& reference, const Surface& moving, const Alig
     sum += d * d.transpose();
     ++used;
   }
+  result->stddev_source = "block half-samples";
   result->covariance = used > 0 ? Eigen::Matrix<double, 6, 6>(sum / used)
                                 : Eigen::Matrix<double, 6, 6>::Constant(std::nan(""));
   for (int i = 0; i < 6; ++i) {
@@ -509,6 +528,7 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   if (options.stddev_subsamples > 0) {
     AlignOptions main = options;
     main.stddev_subsamples = 0;
+    main.stddev_method = AlignOptions::StddevMethod::kInformation;  // replaced below
     AlignResult result = Align(reference, moving, main);
     const Clock::time_point start = Clock::now();
     SubsampleStddev(reference, moving, options, &result);

@@ -150,6 +150,14 @@ struct AlignOptions {
   // so that spatially correlated errors count as they do. 0 = the
   // information estimate (the axial residuals' σ² (JᵀJ)⁻¹).
   int stddev_subsamples = 0;
+  // Without subsamples: the volume cost's σ from a sandwich estimate
+  // (registration/sandwich.h: the cost's Hessian around the motion's own
+  // uncertainty, and the spread of the gradient over ~64 tiles of the
+  // overlap); or, and always for the axial cost, from the information (the
+  // axial residuals' σ² (JᵀJ)⁻¹), which sees neither the L1 cost nor
+  // spatially correlated residuals.
+  enum class StddevMethod { kSandwich, kInformation };
+  StddevMethod stddev_method = StddevMethod::kSandwich;
   bool compute_covariance = true;
   int num_threads = 2;
   // Called after every solver iteration (progress, logs).
@@ -227,6 +235,7 @@ struct AlignResult {
   // tiles. `before` / `after` above are then the fitted part's measures.
   HoldoutCheck holdout;
   double seconds = 0;
+  std::string stddev_source;  // how `stddev` was estimated (e.g. "sandwich over 64 tiles")
   double covariance_seconds = 0;  // of `seconds`: observability and standard deviations
   std::vector<AlignOptions::Iteration> log;
 };

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -362,6 +363,21 @@ class VolumeAccumulator {
   MovedTriangle tb_;
   bool has_hull_edge_ = false;
 };
+
+// Every cell of the overlay of A and the state's moved B, to `first` (and,
+// with `parallel`, those of the second half of A's triangles to `second`,
+// on another thread; see ForEachOverlayCellInTwo).
+template <class Visitor>
+void ForEachCellOfState(const PairState& state, bool parallel, Visitor& first, Visitor& second) {
+  const ReferenceSide& a = state.reference();
+  if (parallel) {
+    ForEachOverlayCellInTwo(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
+                            std::ref(first), std::ref(second));
+  } else {
+    ForEachOverlayCell(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
+                       std::ref(first));
+  }
+}
 
 }  // namespace volume_internal
 }  // namespace surfreg

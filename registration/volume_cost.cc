@@ -22,6 +22,7 @@ using volume_internal::SumFan;
 using volume_internal::TwiceArea;
 using volume_internal::VolumeAccumulator;
 using volume_internal::CellKernel;
+using volume_internal::ForEachCellOfState;
 using volume_internal::Gradient2;
 using volume_internal::Moment;
 using volume_internal::TriangleExtra;
@@ -29,15 +30,8 @@ using volume_internal::TriangleRecord;
 
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
                                    const std::vector<std::array<Point2, 3>>* mask) {
-  const ReferenceSide& a = state.reference();
   VolumeAccumulator first(state, gradient, mask), second(state, gradient, mask);
-  if (parallel) {
-    ForEachOverlayCellInTwo(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
-                            std::ref(first), std::ref(second));
-  } else {
-    ForEachOverlayCell(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
-                       std::ref(first));
-  }
+  ForEachCellOfState(state, parallel, first, second);
   VolumeCostValue total = first.value;
   total.abs += second.value.abs;
   total.area += second.value.area;

@@ -133,6 +133,7 @@ histogram_png: histogram.png
 change_csv: change.csv
 known_matrix: [1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7]
 mask_raster: stable.tif
+stddev: information
 stddev_subsamples: 6
 holdout: 0.2
 holdout_seed: 9
@@ -207,6 +208,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.change_csv, "change.csv");
   EXPECT_EQ(t.known_matrix, (std::vector<double>{1, 0, 0, 5, 0, 1, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1}));
   EXPECT_EQ(t.mask_raster, "stable.tif");
+  EXPECT_EQ(o.stddev_method, AlignOptions::StddevMethod::kInformation);
   EXPECT_EQ(o.stddev_subsamples, 6);
   EXPECT_EQ(o.holdout_fraction, 0.2);
   EXPECT_EQ(o.holdout_seed, 9u);

@@ -230,6 +230,7 @@ assert not missing, missing
 assert r['verdict'] == 'converged_improved', (r['verdict'], r['verdict_reason'])
 assert r['after']['mean_abs_dz'] < r['before']['mean_abs_dz'], (r['before'], r['after'])
 assert r['moving'] == '$moving', r['moving']
+assert r['stddev_source'].startswith('sandwich over '), r['stddev_source']  # the volume cost's default
 points = [tuple(map(float, l.split()[:3])) for l in open('$moving') if l.strip() and not l.startswith('#')]
 xs, ys = [p[0] for p in points], [p[1] for p in points]
 spacing = math.sqrt((max(xs) - min(xs)) * (max(ys) - min(ys)) / len(points))
@@ -276,6 +277,7 @@ else
   check "--json: strict JSON, the flag's cost" "
 r = load('$tmp/stdout.json')
 assert r['cost'] == 'axial' and r['free'] == ['rx', 'ry', 'rz', 'tx', 'ty', 'tz'], r['cost']
+assert r['stddev_source'] == 'information', r['stddev_source']  # the axial cost's only estimate
 "
 fi
 [[ "$(stamp out/volcano_aligned.ply out/volcano_iterations.csv)" == "$stamps" ]] ||

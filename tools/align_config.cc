@@ -36,6 +36,9 @@ const Names<LossKind> kLosses = {{"none", LossKind::kNone},
                                  {"huber", LossKind::kHuber},
                                  {"soft_l1", LossKind::kSoftL1},
                                  {"cauchy", LossKind::kCauchy}};
+const Names<AlignOptions::StddevMethod> kStddevMethods = {
+    {"sandwich", AlignOptions::StddevMethod::kSandwich},
+    {"information", AlignOptions::StddevMethod::kInformation}};
 const Names<TrustRegionKind> kTrustRegions = {
     {"levenberg_marquardt", TrustRegionKind::kLevenbergMarquardt},
     {"dogleg", TrustRegionKind::kDogleg}};
@@ -167,9 +170,14 @@ const std::vector<KeyEntry>& Table() {
         "shift of the extra starts (data units); 0 = 5 mean sample spacings"},
        [](const Value& v, C* c) { c->options.multi_start_shift = Number(v, 0, HUGE_VAL); },
        [](const C& c) { return Text(c.options.multi_start_shift); }},
+      {{"stddev", "one of sandwich, information",
+        "standard deviations of the volume cost's motion: sandwich (the cost's curvature and the spread "
+        "of its gradient over ~64 tiles) or information (the axial residuals'; always for the axial cost)"},
+       [](const Value& v, C* c) { c->options.stddev_method = Choice(v, kStddevMethods); },
+       [](const C& c) { return NameOf(c.options.stddev_method, kStddevMethods); }},
       {{"stddev_subsamples", "an integer in [0, 1000]",
         "standard deviations from this many alignments on block half-samples of the reference "
-        "(0: from the axial residuals' information)"},
+        "(0: as `stddev` says)"},
        [](const Value& v, C* c) { c->options.stddev_subsamples = Integer(v, 0, 1000); },
        [](const C& c) { return std::to_string(c.options.stddev_subsamples); }},
       {{"holdout", "a number in [0, 0.9)",

@@ -59,7 +59,8 @@ DEFINE_string(domain_max_edge_spacings, "",
 DEFINE_string(domain_min_thinness, "",
               "measure, align, triangulate: data domain: outline slivers thinner are peeled (0.1)");
 DEFINE_bool(covariance, true, "align: compute the parameters' standard deviations");
-DEFINE_string(stddev_subsamples, "", "align: standard deviations from this many block half-sample alignments (0: information)");
+DEFINE_string(stddev, "", "align: standard deviations of the volume cost's motion: sandwich | information");
+DEFINE_string(stddev_subsamples, "", "align: standard deviations from this many block half-sample alignments (0: as --stddev says)");
 DEFINE_string(holdout, "", "align: fit on the reference less this share of its tiles; report dz there before/after");
 DEFINE_string(holdout_seed, "", "align: which tiles are held out (integer seed)");
 DEFINE_string(holdout_verdict, "", "align: converged_improved only if the held-out tiles improved too (true | false)");
@@ -158,7 +159,7 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
               r.translation[0], r.translation[1], r.translation[2]);
   std::printf("stddev:       rx %.3g ry %.3g rz %.3g deg, tx %.3g ty %.3g tz %.3g units  (%s)\n",
               sd[0] * kDegrees, sd[1] * kDegrees, sd[2] * kDegrees, sd[3], sd[4], sd[5],
-              config.options.stddev_subsamples > 0 ? "from block half-samples" : "from the information");
+              r.stddev_source.c_str());
   const double z = 1.959963984540054;  // 95%, two-sided
   std::printf("95%% interval: rx +/-%.3g ry +/-%.3g rz +/-%.3g deg, tx +/-%.3g ty +/-%.3g tz +/-%.3g units\n",
               z * sd[0] * kDegrees, z * sd[1] * kDegrees, z * sd[2] * kDegrees, z * sd[3], z * sd[4],

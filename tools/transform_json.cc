@@ -69,6 +69,7 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r,
       .Raw("translation", Numbers(r.translation.data(), 3))
       .Raw("centre", Numbers(r.centre.data(), 3))
       .Object("stddev", PerParameter(r.stddev, number))
+      .String("stddev_source", r.stddev_source)
       .Raw("covariance", CovarianceJson(r.covariance))
       .Object("before", MeasuresJson(r.before, r.overlap_fraction_before))
       .Object("after", MeasuresJson(r.after, r.overlap_fraction_after))

@@ -1,0 +1,197 @@
+#include "registration/sandwich.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+
+#include "measure/overlay.h"
+#include "registration/volume_accumulator.h"
+#include "registration/volume_cost.h"
+
+namespace surfreg {
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+// Fine tiles over A's bounding box, merged k × k into the tiles used: fine
+// enough that some k gives about kSandwichTiles non-empty tiles on any
+// overlap shape, coarse enough to stay cheap.
+constexpr int kFineTiles = 64;
+
+struct TileSums {
+  double abs = 0, area = 0;
+  Vector6 d_abs = Vector6::Zero(), d_area = Vector6::Zero();
+  bool used = false;
+};
+
+// Bins the cells an accumulator takes into fine tiles by their centroid.
+struct TileBinner {
+  TileBinner(const PairState& state, const std::vector<std::array<Point2, 3>>* mask, double left,
+             double bottom, double tile_side)
+      : accumulator(state, /*gradient=*/true, mask), x0(left), y0(bottom), side(tile_side),
+        tiles(kFineTiles * kFineTiles) {}
+  void operator()(const OverlayCell& cell) {
+    const VolumeCostValue before = accumulator.value;
+    accumulator(cell);
+    const VolumeCostValue& after = accumulator.value;
+    if (after.cells == before.cells) return;  // not on both surfaces
+    double cx = 0, cy = 0;
+    for (int k = 0; k < cell.num_vertices; ++k) cx += cell.vertices[k].x, cy += cell.vertices[k].y;
+    cx /= cell.num_vertices, cy /= cell.num_vertices;
+    const int i = std::clamp(static_cast<int>((cx - x0) / side), 0, kFineTiles - 1);
+    const int j = std::clamp(static_cast<int>((cy - y0) / side), 0, kFineTiles - 1);
+    TileSums& t = tiles[j * kFineTiles + i];
+    t.abs += after.abs - before.abs;
+    t.area += after.area - before.area;
+    t.d_abs += after.d_abs - before.d_abs;
+    t.d_area += after.d_area - before.d_area;
+    t.used = true;
+  }
+  volume_internal::VolumeAccumulator accumulator;
+  double x0, y0, side;
+  std::vector<TileSums> tiles;
+};
+
+// Per fine tile over A's bounding box, the parts of ∫μ|d|, ∫μ and their
+// gradients from the cells whose centroid lies in it (the integrals of
+// EvaluateVolumeCost, split), on two threads when `parallel`.
+std::vector<TileSums> FineTileSums(const PairState& state, const std::vector<std::array<Point2, 3>>* mask,
+                                   bool parallel) {
+  const ReferenceSide& a = state.reference();
+  double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x, hi_x = -lo_x, hi_y = -lo_x;
+  for (const Point2& p : a.xy) {
+    lo_x = std::min(lo_x, p.x), hi_x = std::max(hi_x, p.x);
+    lo_y = std::min(lo_y, p.y), hi_y = std::max(hi_y, p.y);
+  }
+  double side = std::max(hi_x - lo_x, hi_y - lo_y) / kFineTiles;
+  if (!(side > 0)) side = 1;
+  TileBinner first(state, mask, lo_x, lo_y, side), second(state, mask, lo_x, lo_y, side);
+  volume_internal::ForEachCellOfState(state, parallel, first, second);
+  for (std::size_t t = 0; t < first.tiles.size(); ++t) {
+    const TileSums& o = second.tiles[t];
+    if (!o.used) continue;
+    TileSums& m = first.tiles[t];
+    m.abs += o.abs, m.area += o.area, m.d_abs += o.d_abs, m.d_area += o.d_area;
+    m.used = true;
+  }
+  return std::move(first.tiles);
+}
+
+// The fine tiles merged k × k, for the k that gives closest to
+// kSandwichTiles non-empty tiles (in ratio).
+std::vector<TileSums> MergedTiles(const std::vector<TileSums>& fine) {
+  std::vector<TileSums> best;
+  double best_misfit = std::numeric_limits<double>::infinity();
+  for (int k = 1; k <= kFineTiles; ++k) {
+    const int n = (kFineTiles + k - 1) / k;
+    std::vector<TileSums> merged(n * n);
+    for (int j = 0; j < kFineTiles; ++j) {
+      for (int i = 0; i < kFineTiles; ++i) {
+        const TileSums& f = fine[j * kFineTiles + i];
+        if (!f.used) continue;
+        TileSums& m = merged[(j / k) * n + i / k];
+        m.abs += f.abs, m.area += f.area, m.d_abs += f.d_abs, m.d_area += f.d_area;
+        m.used = true;
+      }
+    }
+    merged.erase(std::remove_if(merged.begin(), merged.end(), [](const TileSums& t) { return !t.used; }),
+                 merged.end());
+    const double misfit = std::fabs(std::log(std::max<double>(1, merged.size()) / kSandwichTiles));
+    if (misfit < best_misfit) best_misfit = misfit, best = std::move(merged);
+  }
+  return best;
+}
+
+}  // namespace
+
+SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& context,
+                                    const std::array<double, 6>& step) {
+  SandwichEstimate out;
+  const AlignOptions& options = *context.options;
+  const std::vector<std::array<Point2, 3>>* mask =
+      context.mask_triangles.empty() ? nullptr : &context.mask_triangles;
+  const std::array<double, 6> theta = state.theta();
+  std::vector<int> free;
+  for (int k = 0; k < 6; ++k) {
+    if (options.free[k]) free.push_back(k);
+  }
+  const int n = static_cast<int>(free.size());
+  if (n == 0) return out;
+
+  // The meat: the spread of the tiles' shares of ∇f.
+  const bool parallel = options.num_threads > 1;
+  const std::vector<TileSums> tiles = MergedTiles(FineTileSums(state, mask, parallel));
+  out.tiles = static_cast<int>(tiles.size());
+  if (out.tiles < 2 * n) return out;
+  double abs = 0, area = 0;
+  for (const TileSums& t : tiles) abs += t.abs, area += t.area;
+  if (!(area > 0)) return out;
+  const double f = abs / area;
+  std::vector<Vector6> scores;
+  Vector6 mean = Vector6::Zero();
+  for (const TileSums& t : tiles) {
+    scores.push_back((t.d_abs - f * t.d_area) / area);
+    mean += scores.back();
+  }
+  mean /= static_cast<double>(scores.size());
+  Matrix6 meat = Matrix6::Zero();
+  for (const Vector6& s : scores) meat += (s - mean) * (s - mean).transpose();
+  meat *= static_cast<double>(scores.size()) / (scores.size() - 1.0);
+
+  // The bread: central differences of the exact gradient (forward ones
+  // from the solution are not symmetric enough on a kinked cost: on a face
+  // they gave an H with a negative eigenvalue).
+  Matrix6 hessian = Matrix6::Zero();
+  VolumeCostCache cache;  // the steps are small: the overlay is repaired, not rebuilt
+  for (int k : free) {
+    bool done = false;
+    for (double h = step[k]; !done && h > 0 && std::isfinite(h) && h > 1e-6 * step[k]; h *= 0.25) {
+      Vector6 g[2];
+      done = true;
+      for (int side = 0; side < 2 && done; ++side) {
+        std::array<double, 6> at = theta;
+        at[k] += side == 0 ? h : -h;
+        const VolumeCostValue value = state.Update(at) ? cache.Evaluate(state, true, parallel, mask)
+                                                       : VolumeCostValue{};  // folds B: a shorter step
+        done = value.area > 0;
+        g[side] = value.PerAreaGradient();
+      }
+      if (done) hessian.col(k) = (g[0] - g[1]) / (2 * h);
+    }
+    if (!done) {
+      state.Update(theta);
+      return out;
+    }
+  }
+  state.Update(theta);
+
+  // On the free parameters, in units where rotation and translation weigh
+  // alike (the PD check and the inverse are then well conditioned).
+  Eigen::MatrixXd h(n, n), m(n, n);
+  Eigen::VectorXd scale(n);
+  for (int i = 0; i < n; ++i) scale[i] = free[i] < 3 ? context.rotation_scale : 1.0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      h(i, j) = 0.5 * (hessian(free[i], free[j]) + hessian(free[j], free[i])) / (scale[i] * scale[j]);
+      m(i, j) = meat(free[i], free[j]) / (scale[i] * scale[j]);
+    }
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(h);
+  const Eigen::VectorXd lambda = eigen.eigenvalues();
+  if (!(lambda.minCoeff() > 1e-12 * lambda.maxCoeff())) return out;
+  const Eigen::MatrixXd inverse = eigen.eigenvectors() * lambda.cwiseInverse().asDiagonal() *
+                                  eigen.eigenvectors().transpose();
+  const Eigen::MatrixXd c = inverse * m * inverse;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) out.covariance(free[i], free[j]) = c(i, j) / (scale[i] * scale[j]);
+  }
+  out.ok = out.covariance.allFinite();
+  return out;
+}
+
+}  // namespace surfreg

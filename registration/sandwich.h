@@ -1,0 +1,40 @@
+#pragma once
+// The motion's covariance for the volume cost actually minimized: a
+// sandwich (Huber–White) estimate clustered over tiles of the overlap,
+//   C = H⁻¹ M H⁻¹,
+// with H the Hessian of the per-area cost f(θ) at the solution (central
+// differences of its exact gradient, over steps of about the motion's own
+// uncertainty: the L1 cost has a kink at every cell whose gap changes sign,
+// so only a step that spans many of them sees the curvature that governs
+// the estimate), and M the spread of the gradient's contributions of the
+// tiles, Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − 1). Whole tiles, not cells,
+// so that residuals correlated within a tile (a shared triangle's error,
+// a sampling pattern) count as they do; the information estimate sees
+// neither the L1 cost nor that correlation.
+#include <array>
+
+#include <Eigen/Core>
+
+#include "registration/pair_state.h"
+#include "registration/solvers.h"
+
+namespace surfreg {
+
+// About this many tiles hold overlap (squares of side √(|Ω| / kSandwichTiles)).
+inline constexpr int kSandwichTiles = 64;
+
+struct SandwichEstimate {
+  bool ok = false;
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // θ order; locked rows 0
+  int tiles = 0;  // tiles that held overlap
+};
+
+// At the state's θ (state.Update must have succeeded; the state is left at
+// θ). `step`: the central-difference step per parameter (θ units; e.g. the
+// information σ), shrunk where a step folds the moving surface. Not ok with
+// fewer tiles than 2 × free parameters, or an H that is not positive
+// definite (then the caller keeps the information estimate).
+SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& context,
+                                    const std::array<double, 6>& step);
+
+}  // namespace surfreg
