@@ -38,14 +38,19 @@ install(FILES ${SURFREG_PUBLIC_MEASURE_HEADERS} DESTINATION ${surfreg_include_di
 install(FILES ${SURFREG_PUBLIC_REGISTRATION_HEADERS} DESTINATION ${surfreg_include_dir}/registration)
 install(FILES ${SURFREG_PUBLIC_IO_HEADERS} DESTINATION ${surfreg_include_dir}/io)
 
-install(TARGETS surfreg_measure surfreg_registration surfreg_io EXPORT surfregTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# Two export sets, so that a client of the core (measure, registration)
+# needs neither GDAL nor surfreg::io: the config file loads io only when
+# GDAL is found (or fails when COMPONENTS io asks for it).
+set(surfreg_library_destinations ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS surfreg_measure surfreg_registration EXPORT surfregTargets
+        ${surfreg_library_destinations})
+install(TARGETS surfreg_io EXPORT surfregIoTargets ${surfreg_library_destinations})
 install(TARGETS surfreg RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 
 set(surfreg_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/surfreg)
 install(EXPORT surfregTargets NAMESPACE surfreg:: DESTINATION ${surfreg_cmake_dir})
+install(EXPORT surfregIoTargets NAMESPACE surfreg:: DESTINATION ${surfreg_cmake_dir})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/surfregConfig.cmake.in
   ${PROJECT_BINARY_DIR}/surfregConfig.cmake INSTALL_DESTINATION ${surfreg_cmake_dir})
 # 0.x: a minor release may change the API, so only the same minor version matches.

@@ -5,22 +5,29 @@
 # find_package(surfreg CONFIG), and runs the examples: align_two_surfaces must
 # recover the known motion of configs/data/volcano_moved.xyz, and
 # measure_two_surfaces must print the installed `surfreg measure`'s measures.
-# Usage: cli_install_test.sh CMAKE BUILD_DIR CXX_COMPILER
+# Usage: cli_install_test.sh CMAKE BUILD_DIR CXX_COMPILER BUILD_TYPE CXX_FLAGS LINKER_FLAGS
+# (the build's type and its flags for that type: the projects built against
+# the install use them too, so that e.g. the sanitizer build's instrumented
+# libraries link, and the examples run instrumented).
 # Paths are relative to the project root (this script's parent folder).
 set -u
 source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
-if [[ $# -ne 3 ]]; then
-  echo "usage: $0 CMAKE BUILD_DIR CXX_COMPILER" >&2
+if [[ $# -ne 6 ]]; then
+  echo "usage: $0 CMAKE BUILD_DIR CXX_COMPILER BUILD_TYPE CXX_FLAGS LINKER_FLAGS" >&2
   exit 2
 fi
 cmake=$1
 build=$(realpath -- "$2") || exit 2
 cxx=$3
+config=${4:-Release}
 cd "$(dirname -- "$(realpath -- "$0")")/.." || exit 2
 root=$PWD
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 prefix=$tmp/prefix
+# -D settings shared by both projects built against the install.
+client=(-DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE="$config"
+        -DCMAKE_CXX_FLAGS_"${config^^}"="$5" -DCMAKE_EXE_LINKER_FLAGS_"${config^^}"="$6")
 failures=0
 checks=0
 jobs=$(nproc 2>/dev/null || echo 2)
@@ -83,13 +90,71 @@ done < <(cd "$inc" && find . -name '*.h' | sed 's|^\./||' | sort)
 } >>"$tmp/headers/CMakeLists.txt"
 echo "  $n_headers installed headers"
 step "configure the header check" "$cmake" -S "$tmp/headers" -B "$tmp/headers/build" \
-  -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_COMPILER="$cxx"
+  "${client[@]}"
 step "every installed header compiles on its own" "$cmake" --build "$tmp/headers/build" -j "$jobs"
 
 # --- examples/ against the install ---------------------------------------------
 step "configure examples/" "$cmake" -S "$root/examples" -B "$tmp/examples" \
-  -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Release
+  "${client[@]}"
 step "build examples/" "$cmake" --build "$tmp/examples" -j "$jobs"
+
+# The core alone: without GDAL (find_package(GDAL) disabled) a client of
+# surfreg::registration still configures, links and runs (an in-memory pair
+# 0.3 apart in z, aligned back), surfreg::io is not defined, and asking for
+# it with COMPONENTS io fails at configure time with one clear message.
+mkdir -p "$tmp/core"
+cat >"$tmp/core/CMakeLists.txt" <<'END'
+cmake_minimum_required(VERSION 3.16)
+project(surfreg_core_check LANGUAGES CXX)
+find_package(surfreg CONFIG REQUIRED COMPONENTS ${COMPONENTS})
+if(TARGET surfreg::io)
+  message(FATAL_ERROR "surfreg::io is defined without GDAL")
+endif()
+add_executable(core_check core_check.cc)
+target_link_libraries(core_check PRIVATE surfreg::registration)
+END
+cat >"$tmp/core/core_check.cc" <<'END'
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <surfreg/registration/align.h>
+
+int main() {
+  std::vector<std::array<double, 3>> reference, moving;
+  for (int i = 0; i < 30; ++i) {
+    for (int j = 0; j < 30; ++j) {
+      const double z = 3 * std::sin(i / 5.0) * std::cos(j / 7.0) + 0.01 * i * j;
+      reference.push_back({double(i), double(j), z});
+      moving.push_back({double(i), double(j), z + 0.3});
+    }
+  }
+  const surfreg::AlignResult result =
+      surfreg::Align(surfreg::MakeSurface(reference), surfreg::MakeSurface(moving));
+  std::printf("%.9f\n", result.matrix(2, 3));
+}
+END
+step "configure a core-only client without GDAL" "$cmake" -S "$tmp/core" -B "$tmp/core/build" \
+  "${client[@]}" -DCMAKE_DISABLE_FIND_PACKAGE_GDAL=ON -DCOMPONENTS="measure;registration"
+step "build it" "$cmake" --build "$tmp/core/build"
+bin=$tmp/core/build/core_check
+run
+checks=$((checks + 1))
+if [[ $rc -ne 0 ]] || ! awk '{ exit !($1 + 0.3 < 1e-3 && $1 + 0.3 > -1e-3) }' "$tmp/stdout"; then
+  fail "core_check: expected the z shift -0.3 back"
+else
+  echo "  core_check (no GDAL): z shift found $(cat "$tmp/stdout")"
+fi
+checks=$((checks + 1))
+if "$cmake" -S "$tmp/core" -B "$tmp/core/build-io" "${client[@]}" \
+     -DCMAKE_DISABLE_FIND_PACKAGE_GDAL=ON -DCOMPONENTS=io >"$tmp/stdout" 2>"$tmp/stderr"; then
+  rc=0
+  fail "COMPONENTS io without GDAL: expected configure to fail"
+elif ! grep -q "surfreg::io needs GDAL" "$tmp/stderr"; then
+  rc=1
+  fail "COMPONENTS io without GDAL: expected the message 'surfreg::io needs GDAL'"
+fi
 
 # align_two_surfaces: the printed matrix against the known motion (the
 # moved file's header line "# reference_from_moving: [[...], ...]"), as the
