@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One test per row of the README's "Bad input" table: every class of bad
+# One test per row of the "Bad input" table (docs/formats.md): every class of bad
 # input gives exit code 2, exactly one line on stderr naming the file (and
 # line) or the config key, and no output file; the two classes surfreg
 # accepts (duplicate xy samples, coordinates near 1e7) give the right numbers.
