@@ -1,6 +1,8 @@
 #include "measure/surface.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "measure/input_error.h"
@@ -84,10 +86,38 @@ void ValidateSurface(const Surface& surface) {
   while (j < n && surface.xy[j].x == a.x && surface.xy[j].y == a.y) ++j;
   if (j == n) throw InputError(where + ": all points have the same x and y");
   const Point2& b = surface.xy[j];
-  for (std::size_t k = j + 1; k < n; ++k) {
-    if (Orient2D(a, b, surface.xy[k]) != 0.0) return;
+  std::size_t k = j + 1;
+  while (k < n && Orient2D(a, b, surface.xy[k]) == 0.0) ++k;
+  if (k == n) throw InputError(where + ": all points lie on one line in xy; no surface to triangulate");
+  // Exactly not collinear, but perhaps only by rounding (e.g. (0.01 i, 0.02 i)):
+  // the exact predicates would see a valid sliver triangulation and the
+  // measures would be nonsense (an overlap of 1e-16). The band's width
+  // across the points' main direction, against their extent along it.
+  double mx = 0, my = 0;
+  for (const Point2& p : surface.xy) mx += p.x, my += p.y;
+  mx /= static_cast<double>(n), my /= static_cast<double>(n);
+  double sxx = 0, sxy = 0, syy = 0;
+  for (const Point2& p : surface.xy) {
+    const double dx = p.x - mx, dy = p.y - my;
+    sxx += dx * dx, sxy += dx * dy, syy += dy * dy;
   }
-  throw InputError(where + ": all points lie on one line in xy; no surface to triangulate");
+  // The main axis of [[sxx, sxy], [sxy, syy]] (well determined when the
+  // points are nearly on a line: the eigenvalues are then far apart).
+  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  const double ux = std::cos(angle), uy = std::sin(angle);
+  double along_lo = HUGE_VAL, along_hi = -HUGE_VAL, across_lo = HUGE_VAL, across_hi = -HUGE_VAL;
+  for (const Point2& p : surface.xy) {
+    const double dx = p.x - mx, dy = p.y - my;
+    const double along = ux * dx + uy * dy, across = -uy * dx + ux * dy;
+    along_lo = std::min(along_lo, along), along_hi = std::max(along_hi, along);
+    across_lo = std::min(across_lo, across), across_hi = std::max(across_hi, across);
+  }
+  if (across_hi - across_lo < kMinBandWidthRatio * (along_hi - along_lo)) {
+    char extent[160];
+    std::snprintf(extent, sizeof extent, " (%.3g wide across %.3g)", across_hi - across_lo, along_hi - along_lo);
+    throw InputError(where + ": all points lie on one line in xy within rounding" + extent +
+                     "; no surface to triangulate");
+  }
 }
 
 }  // namespace surfreg

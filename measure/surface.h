@@ -51,7 +51,10 @@ Surface MakeSurface(const std::vector<std::array<double, 3>>& points,
 // Checks what every algorithm downstream assumes and throws InputError
 // naming `surface.source` if it does not hold: at least 3 samples, all
 // coordinates finite, weights finite and >= 0, one raster cell per sample
-// if any, and the xy positions not all on one line (exact test).
+// if any, and the xy positions not all on one line: not exactly (exact
+// test), nor within rounding (the points' spread across their main
+// direction at least kMinBandWidthRatio of their extent along it).
+inline constexpr double kMinBandWidthRatio = 1e-9;
 void ValidateSurface(const Surface& surface);
 
 }  // namespace surfreg

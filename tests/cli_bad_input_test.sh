@@ -54,6 +54,8 @@ open("empty.xyz", "w").close()
 xyz("one.xyz", pts[:1])
 xyz("two.xyz", pts[:2])
 xyz("collinear.xyz", [(t, 2 * t + 1, t * t) for t in range(50)])
+# On y = 2x only up to the decimal rounding of 0.01 i (issue 23's case).
+xyz("rounded_line.xyz", [(0.01 * i, 0.02 * i, 1.0) for i in range(100)], "%.17g %.17g %.17g\n")
 with open("nan_x.xyz", "w") as f: f.write("0 0 0\nnan 0 1\n0 1 0\n1 1 1\n")
 with open("nan_y.xyz", "w") as f: f.write("0 0 0\n1 NaN 1\n0 1 0\n1 1 1\n")
 with open("inf_z.xyz", "w") as f: f.write("0 0 0\n1 0 1\n0 1 -inf\n1 1 1\n")
@@ -85,6 +87,7 @@ expect_error "empty.xyz: no points" measure empty.xyz good.xyz
 expect_error "one.xyz: 1 point" measure one.xyz good.xyz
 expect_error "two.xyz: 2 points" measure good.xyz two.xyz
 expect_error "collinear.xyz: all points lie on one line" measure collinear.xyz good.xyz
+expect_error "rounded_line.xyz: all points lie on one line in xy" measure good.xyz rounded_line.xyz
 expect_error "nan_x.xyz:2: x is NaN" measure nan_x.xyz good.xyz
 expect_error "nan_y.xyz:2: y is NaN" measure nan_y.xyz good.xyz
 expect_error "inf_z.xyz:3: z is infinite" measure inf_z.xyz good.xyz

@@ -179,15 +179,28 @@ TEST(ValidateSurfaceTest, RejectsTooFewIdenticalOrCollinear) {
   ExpectAccepted(MakeSurface(line, {}, src), "UTM line with one point 1 mm off");
 }
 
-TEST(ValidateSurfaceTest, CollinearityIsExact) {
-  // Built directly (no origin shift): the third point is one ulp off y = x.
+TEST(ValidateSurfaceTest, CollinearityIsExactAndWithinRounding) {
+  // Built directly (no origin shift): the third point is one ulp off y = x,
+  // a sliver the exact predicates would triangulate, but no surface.
   Surface s;
   s.source = "ulp";
   s.xy = {{0, 0}, {1, 1}, {2, std::nextafter(2.0, 3.0)}};
   s.z = {0, 0, 0};
-  ExpectAccepted(s, "one ulp off the line");
+  ExpectRejected(s, "one ulp off the line");
+  EXPECT_NE(ValidationError(s).find("on one line in xy within rounding"), std::string::npos) << ValidationError(s);
   s.xy[2] = {2, 2};
   ExpectRejected(s, "exactly on the line");
+  // A band just wider than kMinBandWidthRatio of its length is a surface
+  // (a thin strip), one just narrower is not.
+  s.xy = {{0, 0}, {1, 0}, {2, 0}, {1, 3e-9}};  // width 3e-9 across 2: 1.5e-9
+  s.z = {0, 0, 0, 0};
+  ExpectAccepted(s, "a band 1.5e-9 of its length wide");
+  s.xy[3] = {1, 1e-9};  // 0.5e-9
+  ExpectRejected(s, "a band 0.5e-9 of its length wide");
+  // The case: 100 points (0.01 i, 0.02 i), on y = 2x up to rounding.
+  Points3 rounded;
+  for (int i = 0; i < 100; ++i) rounded.push_back({0.01 * i, 0.02 * i, 1.0});
+  ExpectRejected(MakeSurface(rounded, {}, "rounded_line.xyz"), "(0.01 i, 0.02 i)");
   // Leading duplicates must not hide a non-collinear point.
   s.xy = {{0, 0}, {0, 0}, {0, 0}, {1, 0}, {0, 1}};
   s.z = {0, 0, 0, 0, 0};
