@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "tools/atomic_file.h"
+#include "tools/interrupt.h"
 #include "tools/io/surface_writer.h"
 #include "tools/run_align_terrain.h"
 #include "tools/transform_json.h"
@@ -69,8 +70,15 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
   config.options.on_iteration = [&seen, &on_iteration](const AlignOptions::Iteration& it) {
     seen.push_back(it);
     if (on_iteration) on_iteration(it);
+    ThrowIfInterrupted();  // the solver's iterations are the long loop
   };
-  run.result = Align(inputs.reference, inputs.moving, config.options);
+  try {
+    run.result = Align(inputs.reference, inputs.moving, config.options);
+  } catch (const Interrupted&) {
+    // The iterations so far are complete rows: worth keeping.
+    if (!config.log.empty()) WriteFileAtomically(config.log, LogCsv(seen), config.Where("log"));
+    throw;
+  }
   config.options.on_iteration = nullptr;  // it refers to this frame's locals
   const AlignResult& result = run.result;
 

@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "measure/input_error.h"
+#include "tools/interrupt.h"
 
 namespace surfreg {
 namespace {
@@ -76,14 +77,14 @@ void WriteFileAtomically(const std::string& path, std::string_view data, const s
   if (fd < 0) {
     Fail(label, "cannot create a temporary file next to '" + path + "': " + std::strerror(errno));
   }
+  const int slot = RegisterTemporary(temporary);  // an interrupted run removes it
   const bool written = WriteAll(fd, data);
   int error = written ? 0 : errno;
   if (::close(fd) != 0 && error == 0) error = errno;  // NFS reports write errors at close
   if (error == 0 && std::rename(temporary.c_str(), path.c_str()) != 0) error = errno;
-  if (error != 0) {
-    std::remove(temporary.c_str());
-    Fail(label, "cannot write '" + path + "': " + std::strerror(error));
-  }
+  if (error != 0) std::remove(temporary.c_str());
+  UnregisterTemporary(slot);
+  if (error != 0) Fail(label, "cannot write '" + path + "': " + std::strerror(error));
 }
 
 }  // namespace surfreg

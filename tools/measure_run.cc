@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "measure/input_error.h"
+#include "tools/interrupt.h"
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/json_writer.h"
@@ -158,6 +159,7 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   }
   const Surface& sa = inputs.reference;
   const Surface& sb = inputs.moving;
+  ThrowIfInterrupted();  // between the stages: reading done, measuring next
   const Clock::time_point read = Clock::now();
   report.summary = Measure(sa, sb, report.options);
   report.config = config;

@@ -24,6 +24,7 @@
 #include "tools/align_config.h"
 #include "tools/atomic_file.h"
 #include "tools/commands.h"
+#include "tools/interrupt.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/io/surface_writer.h"
 #include "tools/json_writer.h"
@@ -205,7 +206,9 @@ int RunAlignManifest(const std::vector<std::string>& args) {
       }
       const Surface& reference = inputs.reference;
       const Surface& moving = inputs.moving;
-      const AlignResult result = Align(reference, moving, c.options);
+      AlignOptions options = c.options;
+      options.on_iteration = [](const AlignOptions::Iteration&) { ThrowIfInterrupted(); };
+      const AlignResult result = Align(reference, moving, options);
       std::string frame;
       if (terrain) {
         JsonObject member;

@@ -18,6 +18,7 @@
 #include "registration/jaw.h"
 #include "tools/atomic_file.h"
 #include "tools/commands.h"
+#include "tools/interrupt.h"
 #include "tools/io/mesh_reader.h"
 #include "tools/io/surface_reader.h"
 #include "tools/jaw_config.h"
@@ -200,7 +201,11 @@ int RunJaw(const std::vector<std::string>& args) {
   config.options.on_frame = [&config](const JawFrame& f) { PrintFrame(config, f); };
   const JawSummary summary = TrackJaw(
       static_cast<int>(config.frame_files.size()),
-      [&](int k) { return LoadFrame(config.frame_files[k], normalization); }, config.options);
+      [&](int k) {
+        ThrowIfInterrupted();  // between frames
+        return LoadFrame(config.frame_files[k], normalization);
+      },
+      config.options);
   if (summary.failed_frames > 0) {
     LOG(WARNING) << "jaw: " << summary.failed_frames << " frames with a failed registration (see the CSV verdicts)";
   }

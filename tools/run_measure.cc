@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tools/commands.h"
+#include "tools/interrupt.h"
 #include "tools/json_writer.h"
 #include "tools/measure_run.h"
 #include "tools/terrain_uncertainty.h"
@@ -137,6 +138,7 @@ int RunMeasure(const std::vector<std::string>& args) {
     if (!info.is_default) settings.push_back({key, info.current_value, "flag '--" + key + "'"});
   }
   const MeasureReport report = MeasureSurfaces({args[0], {}}, {args[1], {}}, settings);
+  ThrowIfInterrupted();  // no report of an interrupted run
   // A height field has one z per xy: repeated xy samples are merged with
   // their heights averaged, which users should know about.
   const std::pair<const std::string*, int64_t> merged[] = {

@@ -1,7 +1,8 @@
 // The `surfreg` program: a thin dispatcher over subcommands (tools/commands.h).
 //
 // Exit codes: 0 ok; 2 bad input or bad usage (one "surfreg: error: ..." line
-// on stderr, plus a usage line for usage errors); 1 internal error.
+// on stderr, plus a usage line for usage errors); 1 internal error; 130 / 143
+// interrupted by SIGINT / SIGTERM ("surfreg: interrupted"; tools/interrupt.h).
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
@@ -13,6 +14,7 @@
 #include "measure/input_error.h"
 #include "tools/align_config.h"
 #include "tools/commands.h"
+#include "tools/interrupt.h"
 #include "tools/jaw_config.h"
 
 namespace surfreg {
@@ -243,8 +245,18 @@ int main(int argc, char** argv) {
   gflags::SetVersionString(SURFREG_VERSION);
   gflags::SetUsageMessage("<command> [arguments] [flags]; run 'surfreg help' for the commands");
   google::InitGoogleLogging(argv[0]);
+  surfreg::InstallInterruptHandlers();
   try {
-    return surfreg::Dispatch(argc, argv);
+    const int code = surfreg::Dispatch(argc, argv);
+    surfreg::ThrowIfInterrupted();  // a signal during a stage that does not check
+    return code;
+  } catch (const surfreg::Interrupted& e) {
+    // What is complete stays (outputs written, a sweep's partial file, the
+    // --log rows); only the temporaries go. tools/interrupt.h.
+    surfreg::RemoveTemporaries();
+    std::fflush(stdout);
+    std::fputs("surfreg: interrupted\n", stderr);
+    return surfreg::InterruptExitCode(e.signal());
   } catch (const surfreg::InputError& e) {
     std::fprintf(stderr, "surfreg: error: %s\n", surfreg::OneLine(e.what()).c_str());
     return 2;

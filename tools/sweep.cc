@@ -13,6 +13,7 @@
 
 #include "measure/input_error.h"
 #include "registration/align.h"
+#include "tools/interrupt.h"
 #include "tools/io/surface_reader.h"
 #include "tools/terrain.h"
 
@@ -406,6 +407,8 @@ std::vector<std::string> RunOne(const SweepPlan& plan, const SweepRun& run) {
                                   DrawDirections(seed)),
                    pair.centroid, &options);
 
+  // An interrupted run is not a row: the signal ends it between iterations.
+  options.on_iteration = [](const AlignOptions::Iteration&) { ThrowIfInterrupted(); };
   std::vector<std::string> row = SweepRunFields(plan, run);
   AlignResult result;
   std::string rejected;
@@ -450,6 +453,7 @@ void RunSweepRuns(const SweepPlan& plan, const std::vector<SweepRun>& runs, int 
   const auto work = [&] {
     for (std::size_t i; !stop && (i = next++) < runs.size();) {
       try {
+        ThrowIfInterrupted();
         std::vector<std::string> row = RunOne(plan, runs[i]);
         std::lock_guard<std::mutex> lock(mutex);
         if (stop) break;

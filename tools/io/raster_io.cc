@@ -20,6 +20,7 @@
 
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
+#include "tools/interrupt.h"
 #include "tools/io/surface_reader_internal.h"
 
 namespace surfreg {
@@ -313,6 +314,7 @@ void WriteGeoTiff(const std::string& path, const Raster& raster, const std::stri
   const std::string temporary = TemporaryName(path);
   // No .aux.xml side file: what GeoTIFF tags cannot hold is not kept.
   const ScopedConfigOption no_side_file("GDAL_PAM_ENABLED", "NO");
+  const int slot = RegisterTemporary(temporary);  // an interrupted run removes it
   try {
     WriteGeoTiffFile(temporary, raster, where);
     if (std::rename(temporary.c_str(), path.c_str()) != 0) {
@@ -320,8 +322,10 @@ void WriteGeoTiff(const std::string& path, const Raster& raster, const std::stri
     }
   } catch (...) {
     std::remove(temporary.c_str());
+    UnregisterTemporary(slot);
     throw;
   }
+  UnregisterTemporary(slot);
 }
 
 bool IsRasterPath(const std::string& path) {
