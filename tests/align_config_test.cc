@@ -150,6 +150,8 @@ weights: per_point
 domain: hull
 domain_max_edge_spacings: 4.5
 domain_min_thinness: 0.2
+classes: [2, 9]
+columns: [E, N, H, 5]
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -218,6 +220,8 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.lod_confidence, 0.9);
   EXPECT_EQ(t.dod_sigma, "sigma_dod.tif");
   EXPECT_EQ(t.dod_thresholded, "dod_detected.tif");
+  EXPECT_EQ(c.classes, (std::vector<int>{2, 9}));
+  EXPECT_EQ(c.columns, (std::vector<std::string>{"E", "N", "H", "5"}));
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
   EXPECT_EQ(c.Where("progress"), "t.yaml:29: key 'progress'");
@@ -380,6 +384,18 @@ TEST(AlignConfig, LinearSolverAndSubsample) {
   EXPECT_TRUE(Contains(YamlError("subsample: 0"), "key 'subsample' expects a number in (0, 1], got '0'"));
   EXPECT_TRUE(Contains(FlagError("subsample", "1.01"), "flag '--subsample' expects a number in (0, 1]"));
   EXPECT_TRUE(Contains(FlagError("subsampel", "0.5"), "did you mean 'subsample'?"));
+}
+
+TEST(AlignConfigErrors, ClassesAndColumns) {
+  EXPECT_TRUE(Contains(YamlError("classes: [2, 256]"),
+                       "key 'classes' expects a list of LAS classifications (integers 0 to 255)"));
+  EXPECT_TRUE(Contains(FlagError("classes", "ground"), "flag '--classes' expects"));
+  EXPECT_TRUE(Contains(YamlError("columns: [1, 2]"), "key 'columns' expects a list of 3 or 4"));
+  EXPECT_TRUE(Contains(YamlError("columns: [0, 1, 2]"), "got '[0, 1, 2]'"));
+  EXPECT_TRUE(Contains(YamlError("columns: [1.5, 2, 3]"), "key 'columns' expects"));
+  EXPECT_TRUE(Contains(FlagError("columns", "X;Y;Z"), "flag '--columns' expects"));
+  EXPECT_EQ(FromYaml("columns: X,Y,Z").columns, (std::vector<std::string>{"X", "Y", "Z"}));
+  EXPECT_TRUE(FromYaml("classes:").classes.empty());
 }
 
 TEST(AlignConfigErrors, TerrainKeys) {

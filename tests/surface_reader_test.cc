@@ -321,8 +321,8 @@ TEST_F(ReadSurfaceTest, ChoosesTheFormatByExtension) {
 TEST_F(ReadSurfaceTest, FileErrors) {
   EXPECT_EQ(ErrorOf("c.stl"),
             "c.stl: unknown surface format '.stl' (expected .xyz .txt .csv "
-            ".ply .off .obj, or a GDAL raster: .tif .tiff .vrt .asc .img .bil .hgt .dem .nc "
-            ".gpkg .flt)");
+            ".ply .off .obj .las, or a GDAL raster: .tif .tiff .vrt .asc .img .bil .hgt .dem "
+            ".nc .gpkg .flt)");
   EXPECT_TRUE(Contains(ErrorOf("dir.d/noext"), "dir.d/noext: no file extension"));
   const std::string missing = ::testing::TempDir() + "surface_reader_test_missing.xyz";
   EXPECT_EQ(ErrorOf(missing), missing + ": cannot open: No such file or directory");

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 #include "measure/input_error.h"
@@ -86,14 +87,62 @@ std::string FreeText(const std::array<bool, 6>& free) {
   return "[" + out + "]";
 }
 
+// classes: LAS classifications 0-255; an empty list (or nothing) keeps all.
+std::vector<int> Classes(const Value& v) {
+  if (v.kind == Value::kNull) return {};
+  std::vector<int> classes;
+  for (const std::string& item : Items(v)) {
+    Value one = v;
+    one.kind = Value::kScalar;
+    one.text = item;
+    classes.push_back(Integer(one, 0, 255));
+  }
+  return classes;
+}
+
+// columns: 3 or 4 non-empty names or positions >= 1; nothing = the default.
+std::vector<std::string> Columns(const Value& v) {
+  if (v.kind == Value::kNull) return {};
+  const std::vector<std::string> items = Items(v);
+  if (items.empty()) return {};
+  if (items.size() != 3 && items.size() != 4) Reject(v);
+  for (const std::string& item : items) {
+    // A name is one header token: no blanks, separators or comment; a
+    // number must be a position.
+    unsigned long long position = 0;
+    double number = 0;
+    const bool is_position = io_internal::ParseCount(item, &position);
+    if (item.empty() || item.find_first_of(" \t,;#[]") != std::string::npos ||
+        (is_position && position == 0) ||
+        (!is_position && io_internal::ParseNumber(item, &number) == io_internal::NumberStatus::kOk)) {
+      Reject(v);
+    }
+  }
+  return items;
+}
+
+template <typename T>
+std::string ListText(const std::vector<T>& items) {
+  if (items.empty()) return "";
+  std::string out;
+  for (const T& item : items) {
+    if constexpr (std::is_same_v<T, std::string>) {
+      out += (out.empty() ? "" : ", ") + item;
+    } else {
+      out += (out.empty() ? "" : ", ") + std::to_string(item);
+    }
+  }
+  return "[" + out + "]";
+}
+
 using C = AlignConfig;
 const std::vector<KeyEntry>& Table() {
   static const std::vector<KeyEntry> table = {
-      {{"reference", "a surface file (.xyz .txt .csv .ply .off .obj, or a GDAL raster)",
+      {{"reference", "a surface file (.xyz .txt .csv .ply .off .obj .las, or a GDAL raster)",
         "the fixed surface"},
        [](const Value& v, C* c) { c->reference = Path(v, true); },
        [](const C& c) { return c.reference; }},
-      {{"moving", "a surface file (.xyz .txt .csv .ply .off .obj, or a GDAL raster)",
+      {{"moving", "a surface file (.xyz .txt .csv .ply .off .obj .las, or a GDAL raster)",
         "the surface moved onto the reference"},
        [](const Value& v, C* c) { c->moving = Path(v, true); },
        [](const C& c) { return c.moving; }},
@@ -209,6 +258,15 @@ const std::vector<KeyEntry>& Table() {
         "initial shift of the moving centroid (data units)"},
        [](const Value& v, C* c) { c->options.initial_translation = Vector3(v); },
        [](const C& c) { return Text(c.options.initial_translation); }},
+      {{"classes", "a list of LAS classifications (integers 0 to 255), or nothing",
+        "LAS inputs: keep only the points of these classes (e.g. [2] for ground); nothing = all"},
+       [](const Value& v, C* c) { c->classes = Classes(v); },
+       [](const C& c) { return ListText(c.classes); }},
+      {{"columns", "a list of 3 or 4 column names or 1-based positions, or nothing",
+        "text clouds: the columns of x, y, z and optionally the weight; other columns are "
+        "ignored; nothing = 3 columns (x y z) or 4 (x y z weight)"},
+       [](const Value& v, C* c) { c->columns = Columns(v); },
+       [](const C& c) { return ListText(c.columns); }},
       {{"mask", "a polygon file, or nothing",
         "weight 1 inside the polygon ('x y' per line, input coordinates), 0 outside"},
        [](const Value& v, C* c) { c->mask = Path(v, false); },
@@ -535,11 +593,37 @@ DomainRule DomainRuleFromFlags(const std::string& domain, const std::string& max
   return config.options.domain;
 }
 
-Surface ReadAlignSurface(const AlignConfig& config, const std::string& key) {
+ReadOptions AlignReadOptions(const AlignConfig& config, const std::string& key) {
+  const std::string path = AlignConfigValue(config, key);
+  const std::string other = AlignConfigValue(config, key == "reference" ? "moving" : "reference");
+  const auto las = [](const std::string& p) { return io_internal::Extension(p) == ".las"; };
+  const auto text = [](const std::string& p) {
+    const std::string ext = io_internal::Extension(p);
+    return ext == ".xyz" || ext == ".txt" || ext == ".csv";
+  };
+  // A key meant for the other input's format is not this one's business
+  // (a LAS file's ground against a DEM); one that fits neither is refused
+  // by the reader of each.
+  ReadOptions options;
+  if (las(path) || !las(other)) options.classes = config.classes;
+  if (text(path) || !text(other)) options.columns = config.columns;
+  return options;
+}
+
+Surface ReadAlignSurface(const AlignConfig& config, const std::string& key, std::string* crs) {
+  const ReadOptions options = AlignReadOptions(config, key);
   try {
-    return ReadSurface(AlignConfigValue(config, key));
+    return ReadSurface(AlignConfigValue(config, key), options, crs);
   } catch (const InputError& e) {
-    throw InputError(config.Where(key) + ": " + e.what());
+    // A refusal of `classes` or `columns` names that key too.
+    const std::string what = e.what();
+    for (const char* option : {"classes", "columns"}) {
+      if (config.origin.count(option) != 0 &&
+          what.find(std::string("`") + option + "`") != std::string::npos) {
+        throw InputError(config.Where(key) + ": " + what + " (" + config.Where(option) + ")");
+      }
+    }
+    throw InputError(config.Where(key) + ": " + what);
   }
 }
 

@@ -17,6 +17,7 @@
 
 #include "measure/surface.h"
 #include "registration/align.h"
+#include "tools/io/surface_reader.h"
 
 namespace surfreg {
 
@@ -38,7 +39,7 @@ struct TerrainSettings {
   double lod_confidence = 0;              // (0, 1): threshold t(confidence) · σ_DoD; 0 = none
   std::string dod_sigma, dod_thresholded;  // GeoTIFFs on the reference raster's grid
   // Whether any terrain output or setting is asked for (or an input is a
-  // raster): then `align` also reports change and dz statistics.
+  // raster or LAS): then `align` also reports change and dz statistics.
   bool Active(const std::string& reference, const std::string& moving) const;
 };
 
@@ -55,6 +56,9 @@ struct AlignConfig {
   std::string aligned;      // the moved `moving` surface (.ply, .xyz, .txt); "" = none
   std::string log;          // per-iteration CSV; "" = none
   bool progress = false;    // one line per solver iteration on stderr
+  // How both inputs are read (ReadOptions, tools/io/surface_reader.h).
+  std::vector<int> classes;          // LAS classifications kept; empty = all
+  std::vector<std::string> columns;  // text clouds: x, y, z [, weight] columns; empty = 3 or 4
   TerrainSettings terrain;
   std::string config_file;  // "" when the run has no config file
   // Where each key was last set: "t.yaml:3: key 'cost'", "flag '--cost'",
@@ -125,8 +129,16 @@ void FinishAlignConfig(AlignConfig* config);
 DomainRule DomainRuleFromFlags(const std::string& domain, const std::string& max_edge_spacings,
                                const std::string& min_thinness);
 
+// How config.reference or config.moving (`key`) is read: `classes` if it is
+// LAS or the other input is not, `columns` if it is a text cloud or the
+// other is not (so a key that fits neither input is refused, by the reader).
+ReadOptions AlignReadOptions(const AlignConfig& config, const std::string& key);
+
 // Reads config.reference or config.moving (`key` is "reference" or
-// "moving"); a read error is prefixed with where the key was set.
-Surface ReadAlignSurface(const AlignConfig& config, const std::string& key);
+// "moving") with its classes and columns; a read error is prefixed with
+// where the key was set. A non-null `crs` gets the file's CRS text (see
+// ReadSurface).
+Surface ReadAlignSurface(const AlignConfig& config, const std::string& key,
+                         std::string* crs = nullptr);
 
 }  // namespace surfreg

@@ -11,7 +11,10 @@
 namespace surfreg {
 
 bool TerrainSettings::Active(const std::string& reference, const std::string& moving) const {
-  return IsRasterPath(reference) || IsRasterPath(moving) || !reference_crs.empty() ||
+  // A LAS file may carry a CRS, which only the terrain reading resolves.
+  const auto las = [](const std::string& path) { return io_internal::Extension(path) == ".las"; };
+  return IsRasterPath(reference) || IsRasterPath(moving) || las(reference) || las(moving) ||
+         !reference_crs.empty() ||
          !moving_crs.empty() || lod > 0 || !dod.empty() || !dod_png.empty() ||
          !histogram_png.empty() || !change_csv.empty() || !known_matrix.empty() ||
          !mask_raster.empty() || !sigma_reference.empty() || !sigma_moving.empty() ||

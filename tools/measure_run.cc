@@ -22,7 +22,8 @@ using Clock = std::chrono::steady_clock;
 // they are measured in, and the level of detection.
 constexpr const char* kTerrainKeys[] = {"reference_crs", "moving_crs",      "frame",
                                         "band",          "window",          "lod",
-                                        "sigma_reference", "sigma_moving", "lod_confidence"};
+                                        "sigma_reference", "sigma_moving", "lod_confidence",
+                                        "classes",       "columns"};
 constexpr const char* kDomainKeys[] = {"domain", "domain_max_edge_spacings", "domain_min_thinness"};
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }

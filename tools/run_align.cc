@@ -50,6 +50,8 @@ DEFINE_string(wide_search, "", "align: try many coarse starts first (auto | alwa
 DEFINE_string(initial_rotation_deg, "", "align: initial rotation vector rx,ry,rz in degrees");
 DEFINE_string(initial_translation, "", "align: initial shift tx,ty,tz of the moving centroid");
 DEFINE_string(mask, "", "align: polygon file: weight 1 inside, 0 outside");
+DEFINE_string(classes, "", "measure, align: LAS inputs: keep only these classifications, e.g. 2 or 2,9");
+DEFINE_string(columns, "", "measure, align: text clouds: the x,y,z[,weight] columns by name or 1-based position");
 DEFINE_string(max_fold_fraction, "", "align: area share of moving triangles that may fold");
 DEFINE_string(domain, "",
               "measure, align, triangulate: data (default: without the triangles that bridge "

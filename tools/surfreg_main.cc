@@ -54,11 +54,11 @@ const Command kCommands[] = {
      "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE] "
      "[--domain=data|hull] [--lod=L] [--reference_crs=CRS] [--moving_crs=CRS] "
      "[--frame=auto|enu|utm] [--band=N] [--window=C,R,W,H] [--sigma_reference=S|RASTER] "
-     "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--json]",
+     "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--classes=C,...] [--columns=X,Y,Z] [--json]",
      "compare surface B with A in one metric frame: volume between them (rho_d), mean gap, "
      "cut/fill (with propagated uncertainty when each DEM's sigma is given), timings",
      "json volume weights domain domain_max_edge_spacings domain_min_thinness reference_crs "
-     "moving_crs frame band window lod sigma_reference sigma_moving lod_confidence",
+     "moving_crs frame band window lod sigma_reference sigma_moving lod_confidence classes columns",
      nullptr},
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json]",
@@ -94,7 +94,7 @@ std::string Usage() {
   std::string text =
       "usage: surfreg <command> [arguments] [flags]\n\n"
       "Compares and aligns height-field surfaces z = F(x, y).\n"
-      "Surface files: .xyz .txt .csv .ply .off .obj, and GDAL rasters (.tif .asc ...)\n\n"
+      "Surface files: .xyz .txt .csv .ply .off .obj .las, and GDAL rasters (.tif .asc ...)\n\n"
       "commands:\n";
   for (const Command& command : kCommands) {
     text += "  " + std::string(command.name) + " " + command.synopsis + "\n      " + command.help +

@@ -10,6 +10,7 @@
 #include "measure/weights.h"
 #include "tools/atomic_file.h"
 #include "tools/io/surface_reader.h"
+#include "tools/io/surface_reader_internal.h"
 #include "tools/plot.h"
 
 namespace surfreg {
@@ -38,6 +39,11 @@ Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::str
   return from_file.kind != CrsKind::kNone ? from_file : from_key;
 }
 
+// An InputError whose message already says where.
+struct Named : InputError {
+  using InputError::InputError;
+};
+
 OneInput ReadOne(const AlignConfig& config, const std::string& key, const Surface* given) {
   const std::string path = AlignConfigValue(config, key);
   const std::string crs_key = key + "_crs";
@@ -47,6 +53,9 @@ OneInput ReadOne(const AlignConfig& config, const std::string& key, const Surfac
     if (given != nullptr) {
       in.surface = *given;
     } else if (IsRasterPath(path)) {
+      // A raster has no classes or columns to pick.
+      io_internal::CheckOptionsFit(AlignReadOptions(config, key), io_internal::OptionFit::kOther,
+                                   "raster", path);
       RasterReadOptions options;
       options.band = config.terrain.band;
       const auto& w = config.terrain.window;
@@ -58,8 +67,16 @@ OneInput ReadOne(const AlignConfig& config, const std::string& key, const Surfac
       in.grid.values.clear();
       in.grid.values.shrink_to_fit();
     } else {
-      in.surface = ReadSurface(path);
+      std::string crs;  // a LAS file's own; its errors name the key already
+      try {
+        in.surface = ReadAlignSurface(config, key, &crs);
+      } catch (const InputError& e) {
+        throw Named(e.what());
+      }
+      if (!crs.empty()) file_crs = ParseCrs(crs, path);
     }
+  } catch (const Named& e) {
+    throw InputError(e.what());
   } catch (const InputError& e) {
     throw InputError(config.Where(key) + ": " + e.what());
   }

@@ -237,6 +237,18 @@ void FuzzPly(std::string_view data) { RunReader(ReadPly, data, "fuzz.ply"); }
 void FuzzOff(std::string_view data) { RunReader(ReadOff, data, "fuzz.off"); }
 void FuzzObj(std::string_view data) { RunReader(ReadObj, data, "fuzz.obj"); }
 
+void FuzzLas(std::string_view data) {
+  std::string crs;
+  RunReader([&crs](std::istream& in, const std::string& name,
+                   const ReadOptions& options) { return ReadLas(in, name, options, &crs); },
+            data, "fuzz.las");
+  RunReader([](std::istream& in, const std::string& name, ReadOptions options) {
+              options.classes = {2};
+              return ReadLas(in, name, options);
+            },
+            data, "fuzz.las");
+}
+
 void FuzzPolygon(std::string_view data) {
   try {
     const auto polygon = ParsePolygon(data, "fuzz.txt");
@@ -356,6 +368,7 @@ const std::vector<FuzzTarget>& FuzzTargets() {
   static const std::vector<FuzzTarget> kTargets = {
       {"xyz", FuzzXyz},         {"ply", FuzzPly},
       {"off", FuzzOff},         {"obj", FuzzObj},
+      {"las", FuzzLas},
       {"polygon", FuzzPolygon}, {"align_config", FuzzAlignConfig},
       {"measure", FuzzMeasure}, {"mesh", FuzzMesh},
       {"jaw_config", FuzzJawConfig}, {"sweep_config", FuzzSweepConfig},

@@ -29,6 +29,8 @@ void FuzzXyz(std::string_view data);
 void FuzzPly(std::string_view data);
 void FuzzOff(std::string_view data);
 void FuzzObj(std::string_view data);
+// The LAS reader (ReadLas): all points with their CRS, then class 2 only.
+void FuzzLas(std::string_view data);
 // The mask polygon reader (tools/io/polygon_reader.h).
 void FuzzPolygon(std::string_view data);
 // The align YAML config: ApplyAlignYaml, then the option checks

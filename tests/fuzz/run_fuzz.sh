@@ -22,7 +22,7 @@ root="$(pwd)"
 seconds="${1:-60}"
 build_dir="${SURFREG_FUZZ_BUILD_DIR:-build-fuzz}"
 jobs="${SURFREG_FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}"
-targets="${SURFREG_FUZZ_TARGETS:-xyz ply off obj polygon align_config measure mesh jaw_config sweep_config}"
+targets="${SURFREG_FUZZ_TARGETS:-xyz ply off obj las polygon align_config measure mesh jaw_config sweep_config}"
 
 case "$build_dir" in /*) ;; *) build_dir="$root/$build_dir" ;; esac
 if ! command -v clang++ >/dev/null; then

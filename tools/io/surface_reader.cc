@@ -159,6 +159,19 @@ std::string ReadFile(const std::string& path) {
   return data;
 }
 
+void CheckOptionsFit(const ReadOptions& options, OptionFit kind, const std::string& format,
+                     const std::string& name) {
+  const std::string file = format.empty() ? "this file" : "a " + format + " file";
+  if (!options.classes.empty() && kind != OptionFit::kLas) {
+    Fail(name, 0, "`classes` keeps LAS classifications, but " + file + " has no classes");
+  }
+  if (!options.columns.empty() && kind != OptionFit::kText) {
+    Fail(name, 0,
+         "`columns` picks the columns of a text cloud (.xyz .txt .csv), but " + file +
+             " has no columns");
+  }
+}
+
 // The lower-case extension of the file name in `path`, with its dot; empty if none.
 std::string Extension(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
@@ -252,24 +265,40 @@ void CheckPointCount(uint64_t points, const std::string& name, const ReadOptions
            Size(static_cast<double>(limit)) + " available");
 }
 
-Surface ReadSurface(const std::string& path, const ReadOptions& options) {
+Surface ReadSurface(const std::string& path, const ReadOptions& options, std::string* crs) {
+  using io_internal::OptionFit;
+  if (crs != nullptr) crs->clear();
+  const std::string ext = io_internal::Extension(path);
   if (IsRasterPath(path)) {
-    return RasterToSurface(ReadRaster(path), nullptr, options.origin_step);
+    io_internal::CheckOptionsFit(options, OptionFit::kOther, ext, path);
+    const Raster raster = ReadRaster(path);
+    if (crs != nullptr) *crs = raster.crs_wkt;
+    return RasterToSurface(raster, nullptr, options.origin_step);
+  }
+  if (ext == ".laz") {
+    Fail(path, 0,
+         "LAZ (compressed LAS) is not supported: decompress it first, e.g. `laszip -i x.laz -o "
+         "x.las` or `pdal translate x.laz x.las`");
   }
   using Parser = Surface (*)(std::string_view, const std::string&, const ReadOptions&);
-  const std::string ext = io_internal::Extension(path);
   Parser parse = nullptr;
-  if (ext == ".xyz" || ext == ".txt" || ext == ".csv") parse = io_internal::ParseXyz;
+  OptionFit kind = OptionFit::kOther;
+  if (ext == ".xyz" || ext == ".txt" || ext == ".csv") {
+    parse = io_internal::ParseXyz;
+    kind = OptionFit::kText;
+  }
   if (ext == ".ply") parse = io_internal::ParsePly;
   if (ext == ".off") parse = io_internal::ParseOff;
   if (ext == ".obj") parse = io_internal::ParseObj;
-  if (parse == nullptr) {
+  if (ext == ".las") kind = OptionFit::kLas;
+  if (parse == nullptr && kind != OptionFit::kLas) {
     const std::string what = ext.empty() ? std::string("no file extension to tell the format")
                                          : "unknown surface format " + io_internal::Quote(ext);
     Fail(path, 0,
-         what + " (expected .xyz .txt .csv .ply .off .obj, or a GDAL raster: .tif .tiff .vrt .asc "
-                ".img .bil .hgt .dem .nc .gpkg .flt)");
+         what + " (expected .xyz .txt .csv .ply .off .obj .las, or a GDAL raster: .tif .tiff .vrt "
+                ".asc .img .bil .hgt .dem .nc .gpkg .flt)");
   }
+  io_internal::CheckOptionsFit(options, kind, ext, path);
   // The file is held in memory while it is parsed: refuse it before reading
   // if that alone is too much (the point count is checked as it is known).
   struct stat status;
@@ -281,23 +310,34 @@ Surface ReadSurface(const std::string& path, const ReadOptions& options) {
              Size(static_cast<double>(limit)) + " available");
   }
   const std::string data = io_internal::ReadFile(path);
+  if (kind == OptionFit::kLas) return io_internal::ParseLas(data, path, options, crs);
   return parse(data, path, options);
 }
 
 Surface ReadXyz(std::istream& in, const std::string& name, const ReadOptions& options) {
+  io_internal::CheckOptionsFit(options, io_internal::OptionFit::kText, ".xyz", name);
   return io_internal::ParseXyz(io_internal::ReadAll(in, name), name, options);
 }
 
 Surface ReadPly(std::istream& in, const std::string& name, const ReadOptions& options) {
+  io_internal::CheckOptionsFit(options, io_internal::OptionFit::kOther, ".ply", name);
   return io_internal::ParsePly(io_internal::ReadAll(in, name), name, options);
 }
 
 Surface ReadOff(std::istream& in, const std::string& name, const ReadOptions& options) {
+  io_internal::CheckOptionsFit(options, io_internal::OptionFit::kOther, ".off", name);
   return io_internal::ParseOff(io_internal::ReadAll(in, name), name, options);
 }
 
 Surface ReadObj(std::istream& in, const std::string& name, const ReadOptions& options) {
+  io_internal::CheckOptionsFit(options, io_internal::OptionFit::kOther, ".obj", name);
   return io_internal::ParseObj(io_internal::ReadAll(in, name), name, options);
+}
+
+Surface ReadLas(std::istream& in, const std::string& name, const ReadOptions& options,
+                std::string* crs) {
+  io_internal::CheckOptionsFit(options, io_internal::OptionFit::kLas, ".las", name);
+  return io_internal::ParseLas(io_internal::ReadAll(in, name), name, options, crs);
 }
 
 }  // namespace surfreg

@@ -3,12 +3,19 @@
 //
 // Formats (chosen by file extension, case-insensitive):
 //   .xyz .txt .csv  One point per line: "x y z" or "x y z weight", separated
-//                   by whitespace and/or commas. '#' starts a comment (whole
-//                   line or trailing); blank lines are skipped. The first
-//                   non-comment line is skipped as a header if its first
-//                   token is not a number (e.g. "x,y,z" or "X Y Z weight").
-//                   Every data line must have the same count (3 or 4); the
-//                   weight must be >= 0. Empty fields ("1,,2") are errors.
+//                   by whitespace and/or one ',' or ';'. '#' starts a comment
+//                   (whole line or trailing); blank lines are skipped. The
+//                   first non-comment line is skipped as a header if its
+//                   first token is not a number (e.g. "x,y,z" or "X Y Z
+//                   weight"). Every data line must have the same count (3 or
+//                   4, or any with ReadOptions::columns, which picks x, y, z
+//                   [, weight] by header name or position); the weight must
+//                   be >= 0. Empty fields ("1,,2") are errors.
+//   .las            LAS 1.0-1.4, point data record formats 0-10: x, y, z
+//                   with the header's scale and offset; ReadOptions::classes
+//                   filters by classification; the CRS comes from the OGC
+//                   WKT VLR or the GeoTIFF keys' EPSG code. LAZ (.laz, or
+//                   compressed points) is refused: decompress it first.
 //   .ply            ascii or binary_little_endian 1.0 (binary_big_endian is
 //                   rejected). Any elements and properties, including list
 //                   properties and elements before "vertex", are skipped
@@ -39,6 +46,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "measure/surface.h"
 
@@ -49,6 +57,14 @@ struct ReadOptions {
   // The memory a run may use, bytes, against which the number of points is
   // checked (CheckPointCount); 0 = what the system has (AvailableMemoryBytes).
   uint64_t memory_limit_bytes = 0;
+  // LAS: keep only the points of these classifications (0-255); empty = all.
+  // Any other format with a non-empty list is an InputError (no classes).
+  std::vector<int> classes;
+  // Text clouds: the columns of x, y, z and optionally the weight, each a
+  // 1-based position ("3") or a name in the header line (case-insensitive);
+  // other columns are ignored. Empty = 3 columns (x y z) or 4 (x y z weight).
+  // Any other format with a non-empty list is an InputError.
+  std::vector<std::string> columns;
 };
 
 // Peak memory of a whole run per input point, bytes, with margin: reading,
@@ -69,8 +85,12 @@ uint64_t AvailableMemoryBytes();
 void CheckPointCount(uint64_t points, const std::string& name, const ReadOptions& options);
 
 // Reads `path`, choosing the format by its extension (see above). `path` is
-// used as the name in messages and as Surface::source.
-Surface ReadSurface(const std::string& path, const ReadOptions& options = {});
+// used as the name in messages and as Surface::source. A non-null `crs` is
+// set to the file's CRS as text ParseCrs (tools/geo_frame.h) reads: a LAS
+// file's WKT or "EPSG:n", a raster's WKT; "" when the file has none (the
+// other point formats never have one).
+Surface ReadSurface(const std::string& path, const ReadOptions& options = {},
+                    std::string* crs = nullptr);
 
 // One reader per format, reading `in` to its end. `name` is used in messages
 // and as Surface::source. Binary PLY needs a stream opened in binary mode.
@@ -78,5 +98,7 @@ Surface ReadXyz(std::istream& in, const std::string& name, const ReadOptions& op
 Surface ReadPly(std::istream& in, const std::string& name, const ReadOptions& options = {});
 Surface ReadOff(std::istream& in, const std::string& name, const ReadOptions& options = {});
 Surface ReadObj(std::istream& in, const std::string& name, const ReadOptions& options = {});
+Surface ReadLas(std::istream& in, const std::string& name, const ReadOptions& options = {},
+                std::string* crs = nullptr);
 
 }  // namespace surfreg

@@ -81,6 +81,18 @@ Surface ParseXyz(std::string_view data, const std::string& name, const ReadOptio
 Surface ParsePly(std::string_view data, const std::string& name, const ReadOptions& options);
 Surface ParseOff(std::string_view data, const std::string& name, const ReadOptions& options);
 Surface ParseObj(std::string_view data, const std::string& name, const ReadOptions& options);
+// LAS (surface_reader_las.cc); a non-null `crs` gets the file's CRS text or "".
+Surface ParseLas(std::string_view data, const std::string& name, const ReadOptions& options,
+                 std::string* crs);
+
+// What a format can be asked for: ReadOptions::classes needs LAS,
+// ReadOptions::columns a text cloud.
+enum class OptionFit { kText, kLas, kOther };
+
+// Throws InputError "<name>: ..." if `options` asks for classes or columns
+// that a file of this kind (`format` names it, e.g. ".ply") does not have.
+void CheckOptionsFit(const ReadOptions& options, OptionFit kind, const std::string& format,
+                     const std::string& name);
 
 // The lower-case extension of the file name in `path`, with its dot; empty if none.
 std::string Extension(const std::string& path);

@@ -1,0 +1,105 @@
+// Text clouds with ReadOptions::columns (x, y, z [, weight] by header name
+// or 1-based position, other columns ignored), ';' as a separator, and the
+// message for more than 4 columns without `columns`.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "tests/surface_reader_test_util.h"
+#include "tools/io/surface_reader.h"
+
+namespace surfreg {
+namespace {
+
+using reader_test::Contains;
+using reader_test::ExpectPoint;
+
+ReadOptions Columns(std::vector<std::string> columns) {
+  ReadOptions options;
+  options.columns = std::move(columns);
+  return options;
+}
+
+Surface Xyz(const std::string& text, const ReadOptions& options = {}) {
+  return reader_test::Read(ReadXyz, text, "data/a.xyz", options);
+}
+
+std::string XyzError(const std::string& text, const ReadOptions& options) {
+  try {
+    Xyz(text, options);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// x y z intensity r g b, as many LIDAR exports write them.
+const char* const kSeven =
+    "X Y Z Intensity R G B\n"
+    "1 2 3 100 255 0 0\n"
+    "4.5 -5 6 120 0 255 0\n"
+    "7 8.25 -9 90 0 0 255\n";
+
+void ExpectTriangle(const Surface& s) {
+  ASSERT_EQ(s.size(), 3u);
+  ExpectPoint(s, 0, 1.0, 2.0, 3.0);
+  ExpectPoint(s, 1, 4.5, -5.0, 6.0);
+  ExpectPoint(s, 2, 7.0, 8.25, -9.0);
+}
+
+TEST(XyzColumns, SevenColumnsNeedColumns) {
+  EXPECT_EQ(XyzError(kSeven, {}),
+            "data/a.xyz:2: expected 3 numbers (x y z) or 4 (x y z weight), found 7 columns; give "
+            "`columns` (e.g. columns: 1,2,3) to pick x, y, z");
+}
+
+TEST(XyzColumns, ByName) {
+  ExpectTriangle(Xyz(kSeven, Columns({"X", "Y", "Z"})));
+  ExpectTriangle(Xyz(kSeven, Columns({"x", "y", "z"})));  // names match in any case
+  const Surface s = Xyz(kSeven, Columns({"x", "y", "z", "intensity"}));
+  EXPECT_EQ(s.weight, (std::vector<double>{100, 120, 90}));
+}
+
+TEST(XyzColumns, ByPosition) {
+  ExpectTriangle(Xyz(kSeven, Columns({"1", "2", "3"})));
+  const Surface s = Xyz(kSeven, Columns({"1", "2", "3", "5"}));
+  EXPECT_EQ(s.weight, (std::vector<double>{255, 0, 0}));
+  // Reordered columns, no header; the unpicked column may hold anything.
+  ExpectTriangle(
+      Xyz("class h e n\nground 3 1 2\nground 6 4.5 -5\nwater -9 7 8.25\n", Columns({"3", "4", "2"})));
+  // 3 columns picked from 4: the 4th is not read as a weight.
+  EXPECT_TRUE(Xyz("1 2 3 7\n4.5 -5 6 7\n7 8.25 -9 7\n", Columns({"1", "2", "3"})).weight.empty());
+}
+
+TEST(XyzColumns, SemicolonSeparator) {
+  ExpectTriangle(Xyz("x;y;z\n1;2;3\n4.5;-5;6\n7;8.25;-9\n"));
+  ExpectTriangle(Xyz("1 ; 2; 3\n4.5 ;-5 ;6\n7;\t8.25;-9\n"));
+  ExpectTriangle(Xyz("id;X;Y;Z\n1;1;2;3\n2;4.5;-5;6\n3;7;8.25;-9\n", Columns({"X", "Y", "Z"})));
+  EXPECT_TRUE(Contains(XyzError("1;2;3\n1;;2;3\n", {}), "data/a.xyz:2: empty field"));
+}
+
+TEST(XyzColumns, Errors) {
+  EXPECT_EQ(XyzError(kSeven, Columns({"X", "Y", "H"})),
+            "data/a.xyz:1: columns: no column 'H' in the header line ('X, Y, Z, Intensity, R, G, "
+            "B')");
+  EXPECT_EQ(XyzError("1 2 3\n4 5 6\n7 8 0\n", Columns({"X", "Y", "Z"})),
+            "data/a.xyz:1: columns names a column ('X') but the file has no header line (its "
+            "first line is numbers); give positions, e.g. columns: 1,2,3");
+  EXPECT_EQ(XyzError("1 2 3\n4 5 6\n7 8 0\n", Columns({"1", "2", "4"})),
+            "data/a.xyz:1: columns picks column 4, but the line has 3");
+  EXPECT_EQ(XyzError("a b c d\n1 2 3 4\n4 5 6\n", Columns({"a", "b", "c"})),
+            "data/a.xyz:3: found 3 columns, the header line 1 names 4");
+  EXPECT_EQ(XyzError("1 2 3 4\n4 5 6\n", Columns({"1", "2", "3"})),
+            "data/a.xyz:2: found 3 columns, line 1 has 4");
+  EXPECT_EQ(XyzError("1 2 3 x\n", Columns({"1", "2", "4"})), "data/a.xyz:1: z is not a number: 'x'");
+  EXPECT_EQ(XyzError("1 2 3 -1\n", Columns({"1", "2", "3", "4"})),
+            "data/a.xyz:1: weight is negative: '-1'");
+  EXPECT_EQ(XyzError("1 2 3\n", Columns({"1", "2"})),
+            "data/a.xyz: columns: expected 3 or 4 columns (x, y, z and optionally weight), got 2");
+  EXPECT_EQ(XyzError("1 2 3\n", Columns({"0", "1", "2"})),
+            "data/a.xyz: columns: position '0' is not 1 to 100000 (1-based)");
+}
+
+}  // namespace
+}  // namespace surfreg
