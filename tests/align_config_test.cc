@@ -1,7 +1,7 @@
 // The `surfreg align` settings (tools/align_config.h): every key from YAML
 // and from flags, precedence, each class of error message, the shipped
-// configs and the README's table of defaults; and the writers it uses
-// (tools/io/surface_writer.h, tools/atomic_file.h).
+// configs and the key reference's defaults (docs/align.md); and the writers
+// it uses (tools/io/surface_writer.h, tools/atomic_file.h).
 #include "tools/align_config.h"
 
 #include <dirent.h>
@@ -73,7 +73,7 @@ TEST(AlignConfig, DefaultsAreAlignOptionsDefaults) {
 }
 
 // Writing each default back as a value changes nothing: the printed defaults
-// (used in the README) are exactly the struct's.
+// (used in docs/align.md) are exactly the struct's.
 TEST(AlignConfig, EveryDefaultReadsBackUnchanged) {
   const AlignConfig defaults;
   for (const AlignConfigKey& key : AlignConfigKeys()) {
@@ -501,7 +501,7 @@ TEST(AlignConfigErrors, FinishChecksRequiredKeysAndOutputs) {
                        "t.yaml:3: key 'weights' expects one of uniform, per_point"));
 }
 
-// --- the shipped configs and the README ------------------------------------
+// --- the shipped configs and the key reference (docs/align.md) --------------
 
 TEST(AlignConfig, ShippedConfigsParseAndNameExistingData) {
   for (const char* file : {"configs/terrain_volcano.yaml", "configs/face_mannequin.yaml"}) {
@@ -525,19 +525,27 @@ TEST(AlignConfig, ShippedConfigsParseAndNameExistingData) {
   }
 }
 
-TEST(AlignConfig, ReadmeTableListsEveryKeyWithItsDefault) {
-  std::ifstream in("README.md");
-  ASSERT_TRUE(in) << "run from the project root";
+std::string FileText(const char* path) {
+  std::ifstream in(path);
+  EXPECT_TRUE(in) << path << ": run from the project root";
   std::stringstream text;
   text << in.rdbuf();
+  return text.str();
+}
+
+// The full key reference (docs/align.md, linked from the README's key table)
+// has a row for every key of the code's table, with its default.
+TEST(AlignConfig, KeyReferenceListsEveryKeyWithItsDefault) {
+  const std::string text = FileText("docs/align.md");
   const AlignConfig defaults;
   for (const AlignConfigKey& key : AlignConfigKeys()) {
     const std::string name = key.name;
     std::string value = "`" + AlignConfigValue(defaults, name) + "`";
     if (value == "``") value = name == "reference" || name == "moving" ? "(required)" : "none";
     const std::string row = "| `" + name + "` | " + value + " |";
-    EXPECT_TRUE(Contains(text.str(), row));
+    EXPECT_TRUE(Contains(text, row)) << "docs/align.md has no row " << row;
   }
+  EXPECT_TRUE(Contains(FileText("README.md"), "(docs/align.md#keys)"));
 }
 
 }  // namespace

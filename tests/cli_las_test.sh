@@ -44,13 +44,17 @@ for i, (x, y, z) in enumerate(points):
     records.append((xyz, cls))
 def coords(xyz):
     return [v * s + o for v, s, o in zip(xyz, scale, offset)]
-def las(minor, fmt, length, name):
+def las(minor, fmt, length, name, epsg=0):
     header_size = 375 if minor == 4 else 227
+    vlr = b""
+    if epsg:  # GeoKeyDirectory: ProjectedCSTypeGeoKey (3072) = epsg
+        keys = struct.pack("<8H", 1, 1, 0, 1, 3072, 0, 1, epsg)
+        vlr = struct.pack("<H16sHH32s", 0, b"LASF_Projection", 34735, len(keys), b"") + keys
     h = bytearray(header_size)
     h[0:4] = b"LASF"
     h[24], h[25] = 1, minor
-    struct.pack_into("<HIIBHI", h, 94, header_size, header_size, 0, fmt, length,
-                     len(records) if fmt < 6 else 0)
+    struct.pack_into("<HIIBHI", h, 94, header_size, header_size + len(vlr), 1 if vlr else 0, fmt,
+                     length, len(records) if fmt < 6 else 0)
     struct.pack_into("<6d", h, 131, *scale, *offset)
     if minor == 4:
         struct.pack_into("<Q", h, 247, len(records))
@@ -64,10 +68,11 @@ def las(minor, fmt, length, name):
             r[16] = cls
         body += r
     with open(f"{out}/{name}", "wb") as f:
-        f.write(h + body)
-    return bytes(h + body)
+        f.write(h + vlr + body)
+    return bytes(h + vlr + body)
 data = las(2, 1, 28, "a.las")
 las(4, 6, 35, "a14.las")
+las(2, 1, 28, "nztm.las", epsg=2193)
 open(f"{out}/cut.las", "wb").write(data[:-10])
 with open(f"{out}/a.xyz", "w") as a, open(f"{out}/ground.xyz", "w") as g, \
         open(f"{out}/wide.csv", "w") as w:
@@ -137,6 +142,18 @@ checks=$((checks + 1))
 python3 -c 'import json,sys; r = json.load(sys.stdin); sys.exit(r["rho_d"] != 0)' \
   <"$tmp/stdout" || fail "a.las against a14.las: expected rho_d 0"
 
+# The CRS of the GeoTIFF keys: named in the JSON, measured as given (the
+# same measures), and a CRS on one input only is refused as for rasters.
+measures nztm "$tmp/nztm.las" "$tmp/b.xyz" --moving_crs=EPSG:2193
+checks=$((checks + 1))
+grep -q '"crs_a": "NZGD2000 / New Zealand Transverse Mercator 2000 (EPSG:2193)"' "$tmp/nztm.txt" ||
+  fail "nztm.las: expected crs_a EPSG:2193 in $(cat "$tmp/nztm.txt" | head -c 300)"
+python3 - "$tmp/nztm.txt" "$tmp/xyz.txt" <<'EOF2' || fail "nztm.las: measures differ from the xyz's"
+import json, sys
+a, b = (json.loads(open(p).read()) for p in sys.argv[1:])
+for key in ("rho_d", "rho_d_axial", "overlap_area", "n_points_a", "n_points_b"):
+    assert a[key] == b[key], (key, a[key], b[key])
+EOF2
 # align: the LAS pair of the same points as the text pair, the same motion.
 run align "$tmp/a.las" "$tmp/a14.las" --classes=2 --free=translation --json
 checks=$((checks + 1))
@@ -158,6 +175,8 @@ expect_error() {
     fail "$*: expected one line with: $expected"
   fi
 }
+
+expect_error "one is projected" measure "$tmp/nztm.las" "$tmp/b.xyz"
 
 cp "$tmp/a.las" "$tmp/x.laz"
 expect_error "x.laz: LAZ (compressed LAS) is not supported: decompress it first, e.g. \`laszip -i x.laz -o x.las\` or \`pdal translate x.laz x.las\`" \

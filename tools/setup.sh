@@ -51,8 +51,9 @@ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build "$build_dir" -j "$jobs"
 
 if [ "$mode" = run ]; then
-  echo "== default job: surfreg measure configs/data/volcano_a.xyz configs/data/volcano_b.xyz"
-  "$build_dir/tools/surfreg" measure configs/data/volcano_a.xyz configs/data/volcano_b.xyz
+  echo "== default job (README, quick start): surfreg align --config configs/terrain_volcano.yaml"
+  mkdir -p out
+  "$build_dir/tools/surfreg" align --config configs/terrain_volcano.yaml
 else
   echo "== running the test suite"
   ctest --test-dir "$build_dir" --output-on-failure -j "$jobs"
