@@ -21,7 +21,7 @@
 //   by one diagonal rule (grid_mesh.h); the domain is exactly those grid
 //   triangles. A cell with a nodata corner is not part of the surface.
 //
-// Thresholds (measured, README "The data domain"): on rectangular crops of
+// Thresholds (measured, docs/align.md, "The data domain"): on rectangular crops of
 // the benchmark's face and LIDAR clouds they keep 98.9% and 99.0% of the
 // hull's area, on scan lines 0.4 apart along and 2 across 99.7%; a void of
 // area 707 in 2500 random samples over 100 × 100 leaves out 923 (the void

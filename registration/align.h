@@ -44,7 +44,7 @@ inline constexpr std::array<const char*, 6> kParameterNames = {"rx", "ry", "rz",
 struct AlignOptions {
   // The volume cost is the default: on two different samplings of one
   // surface its minimum lies closer to the true motion than the axial
-  // cost's (measured: tests/align_test.cc, README).
+  // cost's (measured: tests/align_test.cc, docs/registration.md).
   CostKind cost = CostKind::kVolume;
   // Volume cost: first solve with the axial cost (trust region, fast and
   // with a wide basin) on the coarsest level, subsampled to at most about

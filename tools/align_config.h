@@ -21,7 +21,7 @@
 
 namespace surfreg {
 
-// Terrain: rasters, geographic frames, change detection (README "Terrain").
+// Terrain: rasters, geographic frames, change detection (docs/terrain.md).
 struct TerrainSettings {
   std::string reference_crs, moving_crs;  // "" = the raster's own, or none
   std::string frame = "auto";             // auto | enu | utm (geographic inputs)
@@ -75,7 +75,7 @@ struct AlignConfigKey {
   const char* help;  // one line
 };
 
-// Whether `key` is one of the terrain keys (README "Terrain"): settings that
+// Whether `key` is one of the terrain keys (docs/terrain.md): settings that
 // only a single `align` run uses (not sweeps or manifests).
 bool IsTerrainKey(const std::string& key);
 

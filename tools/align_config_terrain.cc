@@ -1,4 +1,4 @@
-// The terrain keys of `surfreg align` (README "Terrain"): how rasters are
+// The terrain keys of `surfreg align` (docs/terrain.md): how rasters are
 // read, which geographic frame both surfaces are brought into, and the change
 // outputs. Parsed like every other key (tools/config_value.h).
 #include <algorithm>

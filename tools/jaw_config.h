@@ -4,7 +4,7 @@
 // precedence JawOptions' defaults < the config file < flags. Relative paths
 // are used as given (relative to the current directory), as for `align`.
 //
-// Keys (defaults in brackets; README "Jaw motion"):
+// Keys (defaults in brackets; docs/faces.md, jaw):
 //   frames            a folder (its surface files sorted by name: .xyz .txt
 //                     .csv .ply .off .obj) or a list of files   [required]
 //   reference         index of the reference frame (0-based) or one of the

@@ -22,7 +22,7 @@
 // Every config key is a flag. Non-boolean flags are strings, so that
 // tools/align_config.cc parses values from files and flags alike (same
 // checks, same messages); "" (the default) means "not given". The defaults
-// are AlignOptions' (README.md, "Aligning surfaces"), not repeated here.
+// are AlignOptions' (docs/align.md), not repeated here.
 DEFINE_string(config, "", "align: the YAML config file (instead of REFERENCE MOVING)");
 DEFINE_string(reference, "", "align: the fixed surface file");
 DEFINE_string(moving, "", "align: the surface file moved onto the reference");

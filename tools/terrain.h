@@ -1,5 +1,5 @@
 #pragma once
-// Terrain co-registration around `surfreg align` (README "Terrain"): reading
+// Terrain co-registration around `surfreg align` (docs/terrain.md): reading
 // DEM rasters and point clouds into one metric frame, and after the
 // alignment the change between the surveys: the DoD on the reference grid,
 // cut/fill beyond a level of detection, dz statistics on stable terrain

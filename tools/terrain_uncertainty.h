@@ -1,5 +1,5 @@
 #pragma once
-// The uncertainty of terrain change for `surfreg align` (README "Terrain"):
+// The uncertainty of terrain change for `surfreg align` (docs/terrain.md):
 // each DEM's vertical standard error from the keys sigma_reference and
 // sigma_moving (one number, or a σ raster on that DEM's grid), propagated to
 // the DoD at the reference's nodes, thresholded at lod / lod_confidence, and

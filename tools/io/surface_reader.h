@@ -69,7 +69,7 @@ struct ReadOptions {
 
 // Peak memory of a whole run per input point, bytes, with margin: reading,
 // triangulation, location, overlay and the registration pyramid (measured:
-// 465 MiB for `measure` on two 1e6-point clouds, README "Performance").
+// 465 MiB for `measure` on two 1e6-point clouds).
 constexpr uint64_t kBytesPerPoint = 500;
 
 // The memory this process may use, bytes: the least of MemAvailable
