@@ -141,6 +141,19 @@ run triangulate --no_such_flag configs/data/volcano.xyz
 if [[ $rc -ne 2 ]] || ! grep -q "^surfreg: error: unknown flag '--no_such_flag'" "$tmp/err"; then
   fail "unknown flag: expected exit 2 and a clear message"
 fi
+# Mistakes get a suggestion (issue 23); help for no such command is an error.
+expect_suggestion() {
+  local text=$1
+  shift
+  run "$@"
+  if [[ $rc -ne 2 ]] || ! head -1 "$tmp/err" | grep -qF -- "surfreg: error: $text"; then
+    fail "surfreg $*: expected exit 2 and 'surfreg: error: $text'"
+  fi
+}
+expect_suggestion "unknown command 'aling' (did you mean 'align'?)" aling a.xyz b.xyz
+expect_suggestion "unknown flag '--max_iter=5' (did you mean '--max_iterations'?)" align a.xyz b.xyz --max_iter=5
+expect_suggestion "unknown flag '--wieghts=uniform' (did you mean '--weights'?)" measure a.xyz b.xyz --wieghts=uniform
+expect_suggestion "help: unknown command 'nothing' (commands: triangulate, measure, align, sweep" help nothing
 run triangulate --json=maybe configs/data/volcano.xyz
 if [[ $rc -ne 2 ]] || ! grep -q '^surfreg: error: bad value' "$tmp/err"; then
   fail "bad flag value: expected exit 2 and a clear message"

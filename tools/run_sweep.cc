@@ -26,6 +26,7 @@
 #include "tools/io/surface_reader_internal.h"
 #include "tools/plot.h"
 #include "tools/sweep.h"
+#include "tools/sweep_settings.h"
 
 DECLARE_string(config);  // tools/run_align.cc
 DECLARE_string(output);
@@ -109,15 +110,18 @@ class PartialFile {
 
 // Rows already done: from the partial file and the complete CSV, each
 // checked to have this sweep's header and, run by run, the fields that
-// follow from the config (so a changed config is not silently mixed in).
+// follow from the config (so a changed config is not silently mixed in);
+// a partial file also records the settings (tools/sweep_settings.h).
 CsvTable DoneRows(const SweepPlan& plan, const std::string& output, const std::string& partial) {
   CsvTable done;
   done.header = SweepCsvHeader(plan.config);
   const std::vector<std::string>& header = done.header;
   for (const std::string& path : {output, partial}) {
     if (!Exists(path)) continue;
-    const CsvTable table =
-        ParseCsv(io_internal::ReadFile(path), path, /*drop_torn_tail=*/path == partial);
+    std::map<std::string, std::string> recorded;  // only a partial file records them
+    const std::string csv = SplitSweepSettings(io_internal::ReadFile(path), &recorded);
+    CheckSweepSettings(recorded, plan.config, path);
+    const CsvTable table = ParseCsv(csv, path, /*drop_torn_tail=*/path == partial);
     if (table.header.empty()) continue;  // killed before the header was complete
     if (table.header != header) {
       throw InputError("flag '--resume': '" + path +
@@ -277,7 +281,10 @@ int RunSweep(const std::vector<std::string>& args) {
   }
   CheckOutputPath(output, where);
   const Shard shard = ParseShard(FLAGS_shard, "flag '--shard'");
-  if (FLAGS_jobs < 0) throw InputError("flag '--jobs' expects an integer >= 1");
+  // 0 is the default ("not given"), but given it is a mistake like -1.
+  if (FLAGS_jobs < 0 || (FLAGS_jobs == 0 && !gflags::GetCommandLineFlagInfoOrDie("jobs").is_default)) {
+    throw InputError("flag '--jobs' expects an integer >= 1, got " + std::to_string(FLAGS_jobs));
+  }
   const int jobs = FLAGS_jobs > 0 ? FLAGS_jobs
                    : config.jobs > 0
                        ? config.jobs
@@ -306,7 +313,7 @@ int RunSweep(const std::vector<std::string>& args) {
   if (!todo.empty()) {
     LoadSweepPairs(&plan);
     // The partial file restarts with the rows kept (dropping a torn line).
-    WriteFileAtomically(partial, FormatCsv(table), where);
+    WriteFileAtomically(partial, SweepSettingsComment(plan.config) + FormatCsv(table), where);
     PartialFile stream(partial, where);
     ProgressBar progress(in_shard, in_shard - todo.size());
     std::size_t finished = 0;
@@ -335,6 +342,16 @@ int RunSweep(const std::vector<std::string>& args) {
 int RunMerge(const std::vector<std::string>& args) {
   if (args.size() < 2) throw UsageError("merge: expected OUT.csv and at least one IN.csv");
   CheckOutputPath(args[0], "argument OUT");
+  struct stat out;
+  if (::stat(args[0].c_str(), &out) == 0) {
+    for (std::size_t i = 1; i < args.size(); ++i) {
+      struct stat in;
+      if (::stat(args[i].c_str(), &in) == 0 && in.st_dev == out.st_dev && in.st_ino == out.st_ino) {
+        throw InputError("argument OUT: '" + args[0] + "' is also input " + std::to_string(i) +
+                         " ('" + args[i] + "'); write the merge to another file");
+      }
+    }
+  }
   CsvTable merged;
   for (std::size_t i = 1; i < args.size(); ++i) {
     CsvTable table = ParseCsv(io_internal::ReadFile(args[i]), args[i], /*drop_torn_tail=*/false);

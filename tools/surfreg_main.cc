@@ -104,6 +104,37 @@ std::string Usage() {
   return text;
 }
 
+std::string CommandNames() {
+  std::string names;
+  for (const Command& command : kCommands) names += (names.empty() ? "" : ", ") + std::string(command.name);
+  return names;
+}
+
+// "unknown command 'aling' (did you mean 'align'?)", else the list.
+std::string UnknownCommand(const std::string& name) {
+  std::vector<std::string> names;
+  for (const Command& command : kCommands) names.push_back(command.name);
+  const std::string nearest = NearestKey(name, names);
+  return "unknown command '" + name + "' (" +
+         (nearest.empty() ? "commands: " + CommandNames() : "did you mean '" + nearest + "'?") + ")";
+}
+
+// The program's own flags (defined under tools/), for suggestions.
+bool OwnFlag(const gflags::CommandLineFlagInfo& info) {
+  return info.filename.rfind("tools/", 0) == 0 || info.filename.find("/tools/") != std::string::npos;
+}
+
+std::string UnknownFlag(const std::string& arg, const std::string& name) {
+  std::vector<gflags::CommandLineFlagInfo> flags;
+  gflags::GetAllFlags(&flags);
+  std::vector<std::string> names;
+  for (const gflags::CommandLineFlagInfo& info : flags) {
+    if (OwnFlag(info)) names.push_back(info.name);
+  }
+  const std::string nearest = NearestKey(name, names);
+  return "unknown flag '" + arg + "'" + (nearest.empty() ? "" : " (did you mean '--" + nearest + "'?)");
+}
+
 std::string CommandUsage(const Command& command) {
   return "usage: surfreg " + std::string(command.name) + " " + command.synopsis;
 }
@@ -143,7 +174,7 @@ std::vector<std::string> CheckFlags(int argc, char** argv) {
         given.push_back(name.substr(2));
         continue;
       }
-      throw UsageError("unknown flag '" + arg + "'");
+      throw UsageError(UnknownFlag(arg, name));
     }
     given.push_back(name);
     std::string value;
@@ -175,9 +206,7 @@ void CheckCommandFlags(const Command& command, const std::vector<std::string>& g
   for (const std::string& name : given) {
     gflags::CommandLineFlagInfo info;
     if (!gflags::GetCommandLineFlagInfo(name.c_str(), &info)) continue;
-    const bool ours = info.filename.rfind("tools/", 0) == 0 ||
-                      info.filename.find("/tools/") != std::string::npos;
-    if (!ours || ReadsFlag(command, name)) continue;
+    if (!OwnFlag(info) || ReadsFlag(command, name)) continue;
     std::string users;
     for (const Command& other : kCommands) {
       if (ReadsFlag(other, name)) users += std::string(users.empty() ? "" : ", ") + other.name;
@@ -190,6 +219,10 @@ void CheckCommandFlags(const Command& command, const std::vector<std::string>& g
 // `surfreg help [command]`, or a help flag anywhere.
 int PrintHelp(const std::vector<std::string>& positional) {
   const Command* command = positional.empty() ? nullptr : FindCommand(positional[0]);
+  if (command == nullptr && !positional.empty()) {
+    std::fprintf(stderr, "surfreg: error: help: %s\n", OneLine(UnknownCommand(positional[0])).c_str());
+    return 2;
+  }
   if (command != nullptr) {
     std::printf("%s\n  %s\n", CommandUsage(*command).c_str(), command->help);
   } else {
@@ -220,8 +253,8 @@ int Dispatch(int argc, char** argv) {
   if (name == "help") return PrintHelp(positional);
   const Command* command = FindCommand(name);
   if (command == nullptr) {
-    std::fprintf(stderr, "surfreg: error: unknown command '%s'\n%s", OneLine(name).c_str(),
-                 Usage().c_str());
+    std::fprintf(stderr, "surfreg: error: %s\nrun 'surfreg help' for usage\n",
+                 OneLine(UnknownCommand(name)).c_str());
     return 2;
   }
   try {
