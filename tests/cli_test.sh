@@ -108,6 +108,18 @@ for args in "help" "--help" "triangulate --help" "help triangulate"; do
   fi
 done
 
+# `help COMMAND` lists the command's keys and flags (issue 23).
+for spec in "align:--manifest: max_iterations: an integer" "measure:  volume: weights: lod:" \
+            "sweep:  pairs:   --resume:" "jaw:  frames:" "triangulate:--domain:"; do
+  command=${spec%%:*}
+  run help "$command"
+  for word in ${spec#*:}; do
+    if [[ $rc -ne 0 ]] || ! grep -qF -- "$word" "$tmp/out"; then
+      fail "surfreg help $command: expected '$word' in the help"
+    fi
+  done
+done
+
 # --- bad input: exit 2, one line naming the file (and line) ----------------
 
 expect_input_error "$data/does_not_exist.xyz: cannot open: No such file or directory" \

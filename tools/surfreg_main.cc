@@ -13,6 +13,7 @@
 
 #include "measure/input_error.h"
 #include "tools/align_config.h"
+#include "tools/cli_help.h"
 #include "tools/commands.h"
 #include "tools/interrupt.h"
 #include "tools/jaw_config.h"
@@ -224,7 +225,8 @@ int PrintHelp(const std::vector<std::string>& positional) {
     return 2;
   }
   if (command != nullptr) {
-    std::printf("%s\n  %s\n", CommandUsage(*command).c_str(), command->help);
+    std::printf("%s\n  %s\n%s", CommandUsage(*command).c_str(), command->help,
+                CommandKeysHelp(command->name, command->flags).c_str());
   } else {
     std::printf("%s", Usage().c_str());
   }
