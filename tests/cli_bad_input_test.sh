@@ -103,7 +103,8 @@ expect_error "missing.xyz: cannot open" measure missing.xyz good.xyz
 
 # Duplicate xy with different heights: accepted, heights averaged, counted and warned about.
 run measure duplicates.xyz good.xyz --json
-if [[ $rc -ne 0 ]] || [[ $(json_value n_duplicates_a) != 1 ]] || ! grep -q "duplicates.xyz: 1 sample" stderr; then
+if [[ $rc -ne 0 ]] || [[ $(json_value n_duplicates_a) != 1 ]] ||
+    ! grep -q "^surfreg: warning: duplicates.xyz: 1 sample" stderr; then
   fail "duplicates: expected exit 0, n_duplicates_a = 1 and a warning"
 fi
 
@@ -116,6 +117,18 @@ if ! python3 -c "import sys; b, s = map(float, sys.argv[1:]); sys.exit(not (s > 
     "$big" "$small"; then
   fail "coordinates near 1e7: rho_d $big differs from $small near 0"
 fi
+
+# A mask polygon outside the data: verdict failed, exit 3, the JSON still
+# written, warnings in the program's own format (not glog's; the solver's
+# own complaints come first).
+printf '100 100\n101 100\n101 101\n100 101\n' >far.poly
+run align good.xyz good.xyz --mask=far.poly --output=out/failed.json
+if [[ $rc -ne 3 ]] || ! grep -q '"verdict": "failed"' out/failed.json 2>/dev/null; then
+  fail "mask outside the data: expected exit 3 and the JSON with verdict failed"
+elif grep -qv '^surfreg: warning: ' stderr || ! grep -q '^surfreg: warning: align: failed: ' stderr; then
+  fail "mask outside the data: expected only 'surfreg: warning: ...' lines, one 'align: failed: ...'"
+fi
+rm -f out/failed.json
 
 # --- configs and options ---
 printf 'reference: good.xyz\nmoving: good.xyz\ncostt: axial\n' >unknown_key.yaml

@@ -209,7 +209,9 @@ int RunAlign(const std::vector<std::string>& args) {
     PrintSummary(run.config, run.inputs.reference, run.inputs.moving, result);
     if (run.terrain) std::printf("%s\n", TerrainSummary(run.config, run.inputs, run.report).c_str());
   }
-  return 0;
+  // A script must be able to tell a failed alignment (e.g. a mask outside
+  // the data) from a good one; the outputs above are written all the same.
+  return result.verdict == Verdict::kFailed ? 3 : 0;
 }
 
 }  // namespace surfreg

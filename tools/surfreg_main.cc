@@ -2,7 +2,8 @@
 //
 // Exit codes: 0 ok; 2 bad input or bad usage (one "surfreg: error: ..." line
 // on stderr, plus a usage line for usage errors); 1 internal error; 130 / 143
-// interrupted by SIGINT / SIGTERM ("surfreg: interrupted"; tools/interrupt.h).
+// interrupted by SIGINT / SIGTERM ("surfreg: interrupted"; tools/interrupt.h);
+// align: 3 when the verdict is "failed" (its outputs are still written).
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
@@ -17,6 +18,7 @@
 #include "tools/commands.h"
 #include "tools/interrupt.h"
 #include "tools/jaw_config.h"
+#include "tools/log_prefix.h"
 
 namespace surfreg {
 namespace {
@@ -279,7 +281,7 @@ int main(int argc, char** argv) {
   FLAGS_minloglevel = google::GLOG_WARNING;
   gflags::SetVersionString(SURFREG_VERSION);
   gflags::SetUsageMessage("<command> [arguments] [flags]; run 'surfreg help' for the commands");
-  google::InitGoogleLogging(argv[0]);
+  google::InitGoogleLogging(argv[0], &surfreg::LogPrefix);  // surfreg: warning: ...
   surfreg::InstallInterruptHandlers();
   try {
     const int code = surfreg::Dispatch(argc, argv);
