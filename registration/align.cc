@@ -384,8 +384,18 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   const Clock::time_point information_start = Clock::now();
   Information info = AnalyseInformation(final_state, context, options.compute_covariance);
   result.stddev_source = "information";
-  if (options.stddev_method == AlignOptions::StddevMethod::kSandwich && options.cost == CostKind::kVolume &&
-      options.compute_covariance && options.stddev_subsamples == 0 && info.covariance_ok) {
+  const bool sandwich_wanted = options.stddev_method == AlignOptions::StddevMethod::kSandwich &&
+                               options.compute_covariance && options.stddev_subsamples == 0 && info.covariance_ok;
+  if (sandwich_wanted && options.cost == CostKind::kAxial) {
+    std::array<double, 6> step{};
+    for (int i = 0; i < 6; ++i) step[i] = std::sqrt(std::max(0.0, info.covariance(i, i)));
+    const SandwichEstimate sandwich = AxialSandwichCovariance(final_state, context, step);
+    if (sandwich.ok) {
+      info.covariance = sandwich.covariance;
+      result.stddev_source = "sandwich over " + std::to_string(sandwich.tiles) + " tiles";
+    }
+  }
+  if (sandwich_wanted && options.cost == CostKind::kVolume) {
     // Steps of the information σ: on noisy terrain the sandwich's σ hardly
     // depends on them (1 × or 3 × gave the same calibration on the 120
     // peer pairs); on clean faces, where the L1 cost is nearly a cone at

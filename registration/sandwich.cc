@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "measure/overlay.h"
+#include "registration/axial_cost.h"
 #include "registration/volume_accumulator.h"
 #include "registration/volume_cost.h"
 
@@ -29,12 +30,33 @@ struct TileSums {
   bool used = false;
 };
 
+// The fine tiles: squares over the bounding box of A's nodes.
+struct FineGrid {
+  double x0 = 0, y0 = 0, side = 1;
+  int Index(double x, double y) const {
+    const int i = std::clamp(static_cast<int>((x - x0) / side), 0, kFineTiles - 1);
+    const int j = std::clamp(static_cast<int>((y - y0) / side), 0, kFineTiles - 1);
+    return j * kFineTiles + i;
+  }
+};
+
+FineGrid FineGridOf(const std::vector<Point2>& xy) {
+  double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x, hi_x = -lo_x, hi_y = -lo_x;
+  for (const Point2& p : xy) {
+    lo_x = std::min(lo_x, p.x), hi_x = std::max(hi_x, p.x);
+    lo_y = std::min(lo_y, p.y), hi_y = std::max(hi_y, p.y);
+  }
+  FineGrid grid;
+  grid.x0 = lo_x, grid.y0 = lo_y;
+  grid.side = std::max(hi_x - lo_x, hi_y - lo_y) / kFineTiles;
+  if (!(grid.side > 0)) grid.side = 1;
+  return grid;
+}
+
 // Bins the cells an accumulator takes into fine tiles by their centroid.
 struct TileBinner {
-  TileBinner(const PairState& state, const std::vector<std::array<Point2, 3>>* mask, double left,
-             double bottom, double tile_side)
-      : accumulator(state, /*gradient=*/true, mask), x0(left), y0(bottom), side(tile_side),
-        tiles(kFineTiles * kFineTiles) {}
+  TileBinner(const PairState& state, const std::vector<std::array<Point2, 3>>* mask, const FineGrid& fine_grid)
+      : accumulator(state, /*gradient=*/true, mask), grid(fine_grid), tiles(kFineTiles * kFineTiles) {}
   void operator()(const OverlayCell& cell) {
     const VolumeCostValue before = accumulator.value;
     accumulator(cell);
@@ -42,10 +64,7 @@ struct TileBinner {
     if (after.cells == before.cells) return;  // not on both surfaces
     double cx = 0, cy = 0;
     for (int k = 0; k < cell.num_vertices; ++k) cx += cell.vertices[k].x, cy += cell.vertices[k].y;
-    cx /= cell.num_vertices, cy /= cell.num_vertices;
-    const int i = std::clamp(static_cast<int>((cx - x0) / side), 0, kFineTiles - 1);
-    const int j = std::clamp(static_cast<int>((cy - y0) / side), 0, kFineTiles - 1);
-    TileSums& t = tiles[j * kFineTiles + i];
+    TileSums& t = tiles[grid.Index(cx / cell.num_vertices, cy / cell.num_vertices)];
     t.abs += after.abs - before.abs;
     t.area += after.area - before.area;
     t.d_abs += after.d_abs - before.d_abs;
@@ -53,24 +72,17 @@ struct TileBinner {
     t.used = true;
   }
   volume_internal::VolumeAccumulator accumulator;
-  double x0, y0, side;
+  FineGrid grid;
   std::vector<TileSums> tiles;
 };
 
-// Per fine tile over A's bounding box, the parts of ∫μ|d|, ∫μ and their
-// gradients from the cells whose centroid lies in it (the integrals of
-// EvaluateVolumeCost, split), on two threads when `parallel`.
+// Per fine tile, the parts of ∫μ|d|, ∫μ and their gradients from the cells
+// whose centroid lies in it (the integrals of EvaluateVolumeCost, split),
+// on two threads when `parallel`.
 std::vector<TileSums> FineTileSums(const PairState& state, const std::vector<std::array<Point2, 3>>* mask,
                                    bool parallel) {
-  const ReferenceSide& a = state.reference();
-  double lo_x = std::numeric_limits<double>::infinity(), lo_y = lo_x, hi_x = -lo_x, hi_y = -lo_x;
-  for (const Point2& p : a.xy) {
-    lo_x = std::min(lo_x, p.x), hi_x = std::max(hi_x, p.x);
-    lo_y = std::min(lo_y, p.y), hi_y = std::max(hi_y, p.y);
-  }
-  double side = std::max(hi_x - lo_x, hi_y - lo_y) / kFineTiles;
-  if (!(side > 0)) side = 1;
-  TileBinner first(state, mask, lo_x, lo_y, side), second(state, mask, lo_x, lo_y, side);
+  const FineGrid grid = FineGridOf(state.reference().xy);
+  TileBinner first(state, mask, grid), second(state, mask, grid);
   volume_internal::ForEachCellOfState(state, parallel, first, second);
   for (std::size_t t = 0; t < first.tiles.size(); ++t) {
     const TileSums& o = second.tiles[t];
@@ -107,6 +119,53 @@ std::vector<TileSums> MergedTiles(const std::vector<TileSums>& fine) {
   return best;
 }
 
+// The spread of the tiles' scores: Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − 1).
+Matrix6 ScoreSpread(const std::vector<Vector6>& scores) {
+  Vector6 mean = Vector6::Zero();
+  for (const Vector6& score : scores) mean += score;
+  mean /= static_cast<double>(scores.size());
+  Matrix6 spread = Matrix6::Zero();
+  for (const Vector6& score : scores) spread += (score - mean) * (score - mean).transpose();
+  return spread * (static_cast<double>(scores.size()) / (scores.size() - 1.0));
+}
+
+// H⁻¹ M H⁻¹ on the free parameters, in units where rotation and translation
+// weigh alike (the positive-definiteness check and the inverse are then
+// well conditioned); locked rows and columns 0. Not ok unless H is
+// positive definite.
+bool Sandwich(const Matrix6& hessian, const Matrix6& meat, const std::vector<int>& free, double rotation_scale,
+              Matrix6* covariance) {
+  const int n = static_cast<int>(free.size());
+  Eigen::MatrixXd h(n, n), m(n, n);
+  Eigen::VectorXd scale(n);
+  for (int i = 0; i < n; ++i) scale[i] = free[i] < 3 ? rotation_scale : 1.0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      h(i, j) = 0.5 * (hessian(free[i], free[j]) + hessian(free[j], free[i])) / (scale[i] * scale[j]);
+      m(i, j) = meat(free[i], free[j]) / (scale[i] * scale[j]);
+    }
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(h);
+  const Eigen::VectorXd lambda = eigen.eigenvalues();
+  if (!(lambda.minCoeff() > 1e-12 * lambda.maxCoeff())) return false;
+  const Eigen::MatrixXd inverse = eigen.eigenvectors() * lambda.cwiseInverse().asDiagonal() *
+                                  eigen.eigenvectors().transpose();
+  const Eigen::MatrixXd c = inverse * m * inverse;
+  covariance->setZero();
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) (*covariance)(free[i], free[j]) = c(i, j) / (scale[i] * scale[j]);
+  }
+  return covariance->allFinite();
+}
+
+std::vector<int> FreeParameters(const AlignOptions& options) {
+  std::vector<int> free;
+  for (int k = 0; k < 6; ++k) {
+    if (options.free[k]) free.push_back(k);
+  }
+  return free;
+}
+
 }  // namespace
 
 SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& context,
@@ -116,10 +175,7 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   const std::vector<std::array<Point2, 3>>* mask =
       context.mask_triangles.empty() ? nullptr : &context.mask_triangles;
   const std::array<double, 6> theta = state.theta();
-  std::vector<int> free;
-  for (int k = 0; k < 6; ++k) {
-    if (options.free[k]) free.push_back(k);
-  }
+  const std::vector<int> free = FreeParameters(options);
   const int n = static_cast<int>(free.size());
   if (n == 0) return out;
 
@@ -133,15 +189,8 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   if (!(area > 0)) return out;
   const double f = abs / area;
   std::vector<Vector6> scores;
-  Vector6 mean = Vector6::Zero();
-  for (const TileSums& t : tiles) {
-    scores.push_back((t.d_abs - f * t.d_area) / area);
-    mean += scores.back();
-  }
-  mean /= static_cast<double>(scores.size());
-  Matrix6 meat = Matrix6::Zero();
-  for (const Vector6& s : scores) meat += (s - mean) * (s - mean).transpose();
-  meat *= static_cast<double>(scores.size()) / (scores.size() - 1.0);
+  for (const TileSums& t : tiles) scores.push_back((t.d_abs - f * t.d_area) / area);
+  const Matrix6 meat = ScoreSpread(scores);
 
   // The bread: central differences of the exact gradient (forward ones
   // from the solution are not symmetric enough on a kinked cost: on a face
@@ -170,27 +219,74 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   }
   state.Update(theta);
 
-  // On the free parameters, in units where rotation and translation weigh
-  // alike (the PD check and the inverse are then well conditioned).
-  Eigen::MatrixXd h(n, n), m(n, n);
-  Eigen::VectorXd scale(n);
-  for (int i = 0; i < n; ++i) scale[i] = free[i] < 3 ? context.rotation_scale : 1.0;
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      h(i, j) = 0.5 * (hessian(free[i], free[j]) + hessian(free[j], free[i])) / (scale[i] * scale[j]);
-      m(i, j) = meat(free[i], free[j]) / (scale[i] * scale[j]);
+  out.ok = Sandwich(hessian, meat, free, context.rotation_scale, &out.covariance);
+  return out;
+}
+
+namespace {
+
+// Jᵀr of the axial residuals at the state's θ.
+Vector6 AxialGradient(const PairState& state, const AxialSettings& settings) {
+  AxialResiduals residuals;
+  ComputeAxialResiduals(state, settings, /*jacobians=*/true, &residuals);
+  Vector6 g = Vector6::Zero();
+  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+    if (residuals.active[k]) g += residuals.r[k] * Eigen::Map<const Vector6>(residuals.jacobian[k].data());
+  }
+  return g;
+}
+
+}  // namespace
+
+SandwichEstimate AxialSandwichCovariance(PairState& state, const SolveContext& context,
+                                         const std::array<double, 6>& step) {
+  SandwichEstimate out;
+  const std::vector<int> free = FreeParameters(*context.options);
+  const int n = static_cast<int>(free.size());
+  if (n == 0) return out;
+  const std::array<double, 6> theta = state.theta();
+  AxialResiduals residuals;
+  ComputeAxialResiduals(state, context.axial, /*jacobians=*/true, &residuals);
+  // Nodes: A's first, then B's (moved); binned by where they lie, over the
+  // same fine grid on A's bounding box as the volume cost's cells.
+  const ReferenceSide& a = state.reference();
+  const FineGrid grid = FineGridOf(a.xy);
+  std::vector<TileSums> fine(kFineTiles * kFineTiles);
+  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+    if (!residuals.active[k]) continue;
+    const Point2& p = k < a.xy.size() ? a.xy[k] : state.moved_xy()[k - a.xy.size()];
+    TileSums& t = fine[grid.Index(p.x, p.y)];
+    t.d_abs += residuals.r[k] * Eigen::Map<const Vector6>(residuals.jacobian[k].data());  // its share of Jᵀr
+    t.used = true;
+  }
+  const std::vector<TileSums> tiles = MergedTiles(fine);
+  out.tiles = static_cast<int>(tiles.size());
+  if (out.tiles < 2 * n) return out;
+  std::vector<Vector6> scores;
+  for (const TileSums& t : tiles) scores.push_back(t.d_abs);
+  // The bread by central differences of Jᵀr, not JᵀJ: on noisy surfaces the
+  // Jacobian's slopes carry the noise too, and JᵀJ then overstates the
+  // curvature along the horizontal motions (the Gauss-Newton bread gave
+  // error / σ 2.1 for rz, 1.5 for tx and ty in tests/stddev_calibration_test.cc).
+  Matrix6 hessian = Matrix6::Zero();
+  for (int k : free) {
+    bool done = false;
+    for (double h = step[k]; !done && h > 0 && std::isfinite(h) && h > 1e-6 * step[k]; h *= 0.25) {
+      std::array<double, 6> plus = theta, minus = theta;
+      plus[k] += h, minus[k] -= h;
+      if (!state.Update(plus)) continue;
+      const Vector6 g_plus = AxialGradient(state, context.axial);
+      if (!state.Update(minus)) continue;
+      hessian.col(k) = (g_plus - AxialGradient(state, context.axial)) / (2 * h);
+      done = true;
+    }
+    if (!done) {
+      state.Update(theta);
+      return out;
     }
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(h);
-  const Eigen::VectorXd lambda = eigen.eigenvalues();
-  if (!(lambda.minCoeff() > 1e-12 * lambda.maxCoeff())) return out;
-  const Eigen::MatrixXd inverse = eigen.eigenvectors() * lambda.cwiseInverse().asDiagonal() *
-                                  eigen.eigenvectors().transpose();
-  const Eigen::MatrixXd c = inverse * m * inverse;
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) out.covariance(free[i], free[j]) = c(i, j) / (scale[i] * scale[j]);
-  }
-  out.ok = out.covariance.allFinite();
+  state.Update(theta);
+  out.ok = Sandwich(hessian, ScoreSpread(scores), free, context.rotation_scale, &out.covariance);
   return out;
 }
 

@@ -37,4 +37,10 @@ struct SandwichEstimate {
 SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& context,
                                     const std::array<double, 6>& step);
 
+// The same for the axial cost at the state's θ: H by central differences
+// of Jᵀr, M the spread of the tiles' shares of Jᵀr (nodes binned where
+// they lie).
+SandwichEstimate AxialSandwichCovariance(PairState& state, const SolveContext& context,
+                                         const std::array<double, 6>& step);
+
 }  // namespace surfreg
