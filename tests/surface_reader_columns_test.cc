@@ -72,6 +72,18 @@ TEST(XyzColumns, ByPosition) {
   EXPECT_TRUE(Xyz("1 2 3 7\n4.5 -5 6 7\n7 8.25 -9 7\n", Columns({"1", "2", "3"})).weight.empty());
 }
 
+TEST(XyzColumns, FieldsBeyondThePositionLimitAreCountedNotKept) {
+  std::string tail;
+  for (int i = 0; i < 150000; ++i) tail += " 0";
+  const Surface s =
+      Xyz("1 2 3" + tail + "\n4.5 -5 6" + tail + "\n7 8.25 -9" + tail + "\n", Columns({"1", "2", "3"}));
+  ExpectTriangle(s);
+  EXPECT_EQ(XyzError("1 2 3" + tail + "\n4 5 6\n", Columns({"1", "2", "3"})),
+            "data/a.xyz:2: found 3 columns, line 1 has 150003");
+  EXPECT_EQ(XyzError("1 2 3\n", Columns({"1", "2", "100001"})),
+            "data/a.xyz: columns: position '100001' is not 1 to 100000 (1-based)");
+}
+
 TEST(XyzColumns, SemicolonSeparator) {
   ExpectTriangle(Xyz("x;y;z\n1;2;3\n4.5;-5;6\n7;8.25;-9\n"));
   ExpectTriangle(Xyz("1 ; 2; 3\n4.5 ;-5 ;6\n7;\t8.25;-9\n"));

@@ -12,6 +12,9 @@ namespace surfreg::io_internal {
 namespace {
 
 const char* const kColumnName[] = {"x", "y", "z", "weight"};
+// The highest position `columns` may pick; fields beyond it are counted but
+// not kept, so a line of a billion fields costs no memory.
+constexpr int kMaxPosition = 100000;
 
 inline bool IsSeparator(char c) { return c == ',' || c == ';'; }
 
@@ -40,7 +43,9 @@ void SplitFields(const char* p, const char* end, Fields* fields) {
     fields->empty_field |= separators > (fields->count > 0 ? 1 : 0);
     const char* start = p;
     while (p < end && !IsBlank(*p) && !IsSeparator(*p)) ++p;
-    fields->token->emplace_back(start, static_cast<std::size_t>(p - start));
+    if (fields->count < kMaxPosition) {
+      fields->token->emplace_back(start, static_cast<std::size_t>(p - start));
+    }
     ++fields->count;
   }
 }
@@ -68,8 +73,10 @@ class XyzParser {
     for (std::size_t k = 0; k < columns.size(); ++k) {
       unsigned long long position = 0;
       if (ParseCount(columns[k], &position)) {
-        if (position == 0 || position > 100000) {
-          Fail(name_, 0, "columns: position " + Quote(columns[k]) + " is not 1 to 100000 (1-based)");
+        if (position == 0 || position > kMaxPosition) {
+          Fail(name_, 0,
+               "columns: position " + Quote(columns[k]) + " is not 1 to " +
+                   std::to_string(kMaxPosition) + " (1-based)");
         }
         pick_[k] = static_cast<int>(position - 1);
       } else if (columns[k].empty()) {
@@ -138,14 +145,17 @@ class XyzParser {
   }
 
   void ResolveNames(std::size_t line) {
-    std::string names;
-    for (int i = 0; i < fields_.count; ++i) names += (i ? ", " : "") + std::string(tokens_[i]);
+    const int kept = static_cast<int>(tokens_.size());
     for (std::size_t k = 0; k < columns_.size(); ++k) {
       if (pick_[k] >= 0) continue;
-      for (int i = 0; i < fields_.count && pick_[k] < 0; ++i) {
+      for (int i = 0; i < kept && pick_[k] < 0; ++i) {
         if (SameName(tokens_[i], columns_[k])) pick_[k] = i;
       }
       if (pick_[k] < 0) {
+        std::string names;  // Quote shows the start of it
+        for (int i = 0; i < kept && names.size() < 200; ++i) {
+          names += (i ? ", " : "") + std::string(tokens_[i]);
+        }
         Fail(name_, line,
              "columns: no column " + Quote(columns_[k]) + " in the header line (" +
                  Quote(names) + ")");
