@@ -113,10 +113,21 @@ TEST(StddevCalibrationTest, CovarianceMatchesTheStddev) {
     for (int k = 0; k < 6; ++k) {
       EXPECT_NEAR(std::sqrt(r.covariance(k, k)), r.stddev[k], 1e-12 * (1 + r.stddev[k])) << subsamples << " " << k;
     }
+    EXPECT_EQ(r.stddev_source.rfind(subsamples > 0 ? "block half-samples" : "sandwich over ", 0), 0u)
+        << r.stddev_source;
     EXPECT_EQ(r.stddev[5], 0.0);
     EXPECT_EQ(r.covariance.row(5).norm() + r.covariance.col(5).norm(), 0.0);
     EXPECT_GT(r.stddev[3], 0.0);
   }
+  // Asked for, the information estimate; and it is what the sandwich
+  // replaces (the two differ).
+  AlignOptions options;
+  const AlignResult sandwich = Align(MakeSurface(a, {}, "a"), MakeSurface(b, {}, "b"), options);
+  options.stddev_method = AlignOptions::StddevMethod::kInformation;
+  const AlignResult info = Align(MakeSurface(a, {}, "a"), MakeSurface(b, {}, "b"), options);
+  EXPECT_EQ(info.stddev_source, "information");
+  EXPECT_NE(info.stddev[3], sandwich.stddev[3]);
+  EXPECT_EQ(info.rotation_vector, sandwich.rotation_vector);  // the motion is the same
 }
 
 }  // namespace
