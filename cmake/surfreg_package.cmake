@@ -38,15 +38,16 @@ install(FILES ${SURFREG_PUBLIC_MEASURE_HEADERS} DESTINATION ${surfreg_include_di
 install(FILES ${SURFREG_PUBLIC_REGISTRATION_HEADERS} DESTINATION ${surfreg_include_dir}/registration)
 install(FILES ${SURFREG_PUBLIC_IO_HEADERS} DESTINATION ${surfreg_include_dir}/io)
 
-# Two export sets, so that a client of the core (measure, registration)
-# needs neither GDAL nor surfreg::io: the config file loads io only when
-# GDAL is found (or fails when COMPONENTS io asks for it).
+# Two export sets: the core (measure, registration) and the readers and
+# writers (io, whose GDAL calls are in the run-time module below).
 set(surfreg_library_destinations ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS surfreg_measure surfreg_registration EXPORT surfregTargets
         ${surfreg_library_destinations})
 install(TARGETS surfreg_io EXPORT surfregIoTargets ${surfreg_library_destinations})
 install(TARGETS surfreg RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The GDAL module (tools/io/gdal_module.h), loaded by surfreg::io at run time.
+install(TARGETS surfreg_gdal LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/surfreg)
 
 set(surfreg_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/surfreg)
 install(EXPORT surfregTargets NAMESPACE surfreg:: DESTINATION ${surfreg_cmake_dir})

@@ -1,9 +1,6 @@
-// CRS parsing (GDAL/PROJ) and the common metric frame (GeographicLib); see
-// geo_frame.h.
+// CRS parsing (GDAL/PROJ, through the GDAL module) and the common metric
+// frame (GeographicLib); see geo_frame.h.
 #include "tools/geo_frame.h"
-
-#include <cpl_error.h>
-#include <ogr_spatialref.h>
 
 #include <GeographicLib/Geocentric.hpp>
 #include <GeographicLib/LocalCartesian.hpp>
@@ -20,6 +17,7 @@
 #include <vector>
 
 #include "measure/input_error.h"
+#include "tools/io/gdal_module.h"
 
 namespace surfreg {
 namespace {
@@ -30,28 +28,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kUtmScale = 0.9996;
 constexpr double kUtmFalseEasting = 500000.0;
 constexpr double kUtmFalseNorthingSouth = 10000000.0;
-
-// While alive, OGR/PROJ errors on this thread are kept here instead of being
-// printed (the same idea as in tools/io/raster_io.cc).
-class QuietGdal {
- public:
-  QuietGdal() { CPLPushErrorHandlerEx(&Handler, this); }
-  ~QuietGdal() { CPLPopErrorHandler(); }
-  QuietGdal(const QuietGdal&) = delete;
-  QuietGdal& operator=(const QuietGdal&) = delete;
-  std::string Detail() const { return last_.empty() ? "" : " (" + last_ + ")"; }
-
- private:
-  static void CPL_STDCALL Handler(CPLErr level, CPLErrorNum, const char* message) {
-    auto* self = static_cast<QuietGdal*>(CPLGetErrorHandlerUserData());
-    if (self == nullptr || level < CE_Failure || message == nullptr) return;
-    self->last_ = message;
-    for (char& c : self->last_) {
-      if (c == '\n' || c == '\r') c = ' ';
-    }
-  }
-  std::string last_;
-};
 
 std::string Trim(const std::string& text) {
   std::size_t b = 0, e = text.size();
@@ -65,15 +41,6 @@ std::string Lower(std::string text) {
   return text;
 }
 
-// At most 60 characters of user text, for messages.
-std::string Shown(const std::string& text) {
-  std::string one_line = text.size() > 60 ? text.substr(0, 57) + "..." : text;
-  for (char& c : one_line) {
-    if (c == '\n' || c == '\r') c = ' ';
-  }
-  return "'" + one_line + "'";
-}
-
 // The shortest text that reads back as `value`: full precision, no noise digits.
 std::string Exact(double value) {
   char text[32];
@@ -82,49 +49,6 @@ std::string Exact(double value) {
     if (std::strtod(text, nullptr) == value) break;
   }
   return text;
-}
-
-// "EPSG:nnnn" when the CRS has an EPSG code, or is one of the EPSG
-// catalogue but for its names or axis order (an ESRI .prj's "GCS_WGS_1984",
-// our longitude-first WGS 84), else its PROJ string, else "".
-std::string Identify(const OGRSpatialReference& srs) {
-  QuietGdal quiet;
-  const auto code_of = [](const OGRSpatialReference& s) {
-    const char* authority = s.GetAuthorityName(nullptr);
-    const char* code = s.GetAuthorityCode(nullptr);
-    return authority != nullptr && code != nullptr ? std::string(authority) + ":" + code
-                                                   : std::string();
-  };
-  std::string id = code_of(srs);
-  if (!id.empty()) return id;
-  int n = 0;
-  int* confidence = nullptr;
-  OGRSpatialReferenceH* matches = srs.FindMatches(nullptr, &n, &confidence);
-  const char* const same[] = {"CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS",
-                              "IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", nullptr};
-  for (int i = 0; i < n && id.empty(); ++i) {
-    const OGRSpatialReference* match = OGRSpatialReference::FromHandle(matches[i]);
-    const char* authority = match->GetAuthorityName(nullptr);
-    if (authority != nullptr && std::string(authority) == "EPSG" && srs.IsSame(match, same)) {
-      id = code_of(*match);
-    }
-  }
-  if (matches != nullptr) OSRFreeSRSArray(matches);
-  CPLFree(confidence);
-  if (!id.empty()) return id;
-  char* proj = nullptr;
-  if (srs.exportToProj4(&proj) == OGRERR_NONE && proj != nullptr) id = Trim(proj);
-  CPLFree(proj);
-  return id;
-}
-
-// The Crs's spatial reference with x = easting/longitude, y = northing/latitude.
-std::unique_ptr<OGRSpatialReference> Import(const Crs& crs) {
-  auto srs = std::make_unique<OGRSpatialReference>();
-  srs->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  QuietGdal quiet;
-  if (crs.wkt.empty() || srs->importFromWkt(crs.wkt.c_str()) != OGRERR_NONE) return nullptr;
-  return srs;
 }
 
 // The ellipsoid and prime meridian of a geographic (or projected) CRS;
@@ -138,17 +62,12 @@ struct Datum {
 
 Datum DatumOf(const Crs& crs) {
   Datum datum;
-  const auto srs = Import(crs);
-  if (!srs) return datum;
-  OGRErr error = OGRERR_NONE;
-  const double a = srs->GetSemiMajor(&error);
-  if (error != OGRERR_NONE || !(a > 0)) return datum;
-  const double inverse_f = srs->GetInvFlattening(&error);
-  datum.a = a;
-  datum.f = inverse_f > 0 ? 1.0 / inverse_f : 0.0;  // 0 = sphere
-  datum.prime_meridian_deg = srs->GetPrimeMeridian();
-  const char* name = srs->GetAttrValue("GEOGCS");
-  if (name != nullptr) datum.name = name;
+  CrsDatum known;
+  if (!Gdal("CRS '" + crs.name + "'").datum_of(crs.wkt, &known)) return datum;
+  datum.a = known.a;
+  datum.f = known.f;
+  datum.prime_meridian_deg = known.prime_meridian_deg;
+  if (!known.name.empty()) datum.name = known.name;
   return datum;
 }
 
@@ -317,39 +236,15 @@ Crs ParseCrs(const std::string& text, const std::string& label) {
   crs.name = "none";
   if (trimmed.empty() || lower == "none") return crs;
   const bool shorthand = lower == "lonlat" || lower == "geographic";
-  OGRSpatialReference srs;
-  QuietGdal quiet;
-  // Config text must not make us read files or the network.
-  const char* const options[] = {"ALLOW_NETWORK_ACCESS=NO", "ALLOW_FILE_ACCESS=NO", nullptr};
-  if (srs.SetFromUserInput(shorthand ? "EPSG:4326" : trimmed.c_str(), options) != OGRERR_NONE) {
-    throw InputError(label + ": unreadable CRS " + Shown(trimmed) + quiet.Detail());
+  CrsFacts facts;
+  std::string error;
+  if (!Gdal(label).parse_crs(shorthand ? "EPSG:4326" : trimmed, &facts, &error)) {
+    throw InputError(label + ": " + error);
   }
-  const char* name = srs.GetName();
-  crs.name = name != nullptr && *name != '\0' ? name : Shown(trimmed);
-  const std::string what = label + ": CRS '" + crs.name + "'";
-  if (srs.IsGeocentric()) {
-    throw InputError(what + " is geocentric; a height field needs a geographic or projected CRS");
-  }
-  if (srs.IsGeographic()) {
-    const double degree = Math::pi() / 180.0;
-    if (std::fabs(srs.GetAngularUnits() - degree) > 1e-12 * degree) {
-      throw InputError(what + ": angular unit is not the degree");
-    }
-    crs.kind = CrsKind::kGeographic;
-  } else if (srs.IsProjected() || srs.IsLocal()) {
-    crs.kind = CrsKind::kProjected;
-    crs.metres_per_unit = srs.GetLinearUnits();
-  } else {
-    throw InputError(what + " is neither projected nor geographic");
-  }
-  char* wkt = nullptr;
-  const char* const wkt_options[] = {"FORMAT=WKT2_2019", nullptr};
-  if (srs.exportToWkt(&wkt, wkt_options) != OGRERR_NONE || wkt == nullptr) {
-    CPLFree(wkt);
-    throw InputError(what + ": cannot be written as WKT" + quiet.Detail());
-  }
-  crs.wkt = wkt;
-  CPLFree(wkt);
+  crs.kind = facts.kind == CrsFacts::kGeographic ? CrsKind::kGeographic : CrsKind::kProjected;
+  crs.name = facts.name;
+  crs.wkt = facts.wkt;
+  crs.metres_per_unit = facts.metres_per_unit;
   return crs;
 }
 
@@ -372,8 +267,7 @@ std::string GeoFrame::Describe() const {
 
 std::string DescribeCrs(const Crs& crs) {
   if (crs.kind == CrsKind::kNone) return "none";
-  const auto srs = Import(crs);
-  const std::string id = srs ? Identify(*srs) : "";
+  const std::string id = Gdal("CRS '" + crs.name + "'").identify_crs(crs.wkt);
   return id.empty() ? crs.name : crs.name + " (" + id + ")";
 }
 
@@ -393,29 +287,25 @@ GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surfa
     frame.datum = "no CRS";
     return frame;
   }
-  const auto ref_srs = Import(reference_crs), mov_srs = Import(moving_crs);
-  if (!ref_srs || !mov_srs) mismatch("a CRS is unreadable");
+  const GdalModule& gdal = Gdal("reference " + reference->source);
+  const int same = gdal.same_crs(reference_crs.wkt, moving_crs.wkt, kind == CrsKind::kGeographic);
+  if (same < 0) mismatch("a CRS is unreadable");
   if (kind == CrsKind::kProjected) {
-    if (!ref_srs->IsSame(mov_srs.get())) {
+    if (same == 0) {
       const bool metres = reference_crs.metres_per_unit == 1 && moving_crs.metres_per_unit == 1;
       mismatch(std::string("different projected CRSs") +
                (metres ? "" : " (and not both in metres)") + "; reproject one onto the other");
     }
     frame.datum = reference_crs.name;
-    frame.definition = Identify(*ref_srs);
+    frame.definition = gdal.identify_crs(reference_crs.wkt);
     return frame;
   }
-  if (!ref_srs->IsSameGeogCS(mov_srs.get())) {
+  if (same == 0) {
     mismatch("different geographic datums; transform one onto the other's datum");
   }
   frame = GeographicFrame(reference, moving, DatumOf(reference_crs), choice);
   if (frame.kind == GeoFrame::kUtm) {
-    OGRSpatialReference utm;
-    QuietGdal quiet;
-    if (utm.CopyGeogCSFrom(ref_srs.get()) == OGRERR_NONE &&
-        utm.SetUTM(frame.zone, frame.northp ? TRUE : FALSE) == OGRERR_NONE) {
-      frame.definition = Identify(utm);
-    }
+    frame.definition = gdal.identify_utm(reference_crs.wkt, frame.zone, frame.northp);
   }
   return frame;
 }
@@ -435,19 +325,7 @@ namespace {
 
 // Latitude/longitude of a projected point through PROJ; false if unknown.
 bool ProjectedToLonLat(const Crs& crs, double x, double y, double* lat, double* lon) {
-  QuietGdal quiet;
-  const auto source = Import(crs);
-  if (!source) return false;
-  OGRSpatialReference wgs84;
-  wgs84.SetWellKnownGeogCS("WGS84");
-  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-  std::unique_ptr<OGRCoordinateTransformation> transform(
-      OGRCreateCoordinateTransformation(source.get(), &wgs84));
-  if (!transform) return false;
-  double px = x, py = y;
-  if (!transform->Transform(1, &px, &py)) return false;
-  *lon = px, *lat = py;
-  return true;
+  return Gdal("CRS '" + crs.name + "'").projected_to_lonlat(crs.wkt, x, y, lat, lon);
 }
 
 }  // namespace
