@@ -52,6 +52,10 @@ void InstallInterruptHandlers() {
   action.sa_flags = SA_RESTART;  // reads and writes go on; the loops check the flag
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  // Past a file-size limit (ulimit -f) a write then fails with EFBIG, which
+  // the writers report naming the file, instead of the process being killed
+  // with its temporary file left behind.
+  std::signal(SIGXFSZ, SIG_IGN);
 }
 
 int InterruptSignal() { return g_signal; }

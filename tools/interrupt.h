@@ -28,7 +28,9 @@ class Interrupted {
   int signal_;
 };
 
-// Installs the handlers for SIGINT and SIGTERM (once, in main).
+// Installs the handlers for SIGINT and SIGTERM (once, in main), and ignores
+// SIGXFSZ so that a write past a file-size limit fails (EFBIG) rather than
+// killing the process.
 void InstallInterruptHandlers();
 
 // The first signal received, or 0.

@@ -7,7 +7,9 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <string>
 #include <vector>
@@ -286,6 +288,15 @@ int main(int argc, char** argv) {
   try {
     const int code = surfreg::Dispatch(argc, argv);
     surfreg::ThrowIfInterrupted();  // a signal during a stage that does not check
+    // Results printed to a full disk, a file past `ulimit -f` or a closed
+    // pipe must not end as a success: the last buffered bytes are written
+    // here, and any failed write of stdout is sticky in ferror.
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      const int error = errno;
+      std::fprintf(stderr, "surfreg: error: cannot write the standard output: %s\n",
+                   error != 0 ? std::strerror(error) : "write error");
+      return 2;
+    }
     return code;
   } catch (const surfreg::Interrupted& e) {
     // What is complete stays (outputs written, a sweep's partial file, the
