@@ -368,6 +368,13 @@ ok = len(rows) == 2 and all(r["success"] == "true" for r in rows) and worst < 0.
 sys.exit(0 if ok else 1)
 PY
 fi
+# The aligned file of a lon/lat pair is in the metric frame, and says so.
+run align "$tmp/ll_a.asc" "$tmp/ll_b.asc" --covariance=false --aligned="$out/ll_aligned.xyz"
+if [[ $rc -ne 0 ]] || ! grep -q "^# coordinates: UTM zone 60S" "$out/ll_aligned.xyz" ||
+   ! grep -q "matrix (moving -> reference, in those coordinates" "$out/ll_aligned.xyz" ||
+   grep -q "input coordinates" "$out/ll_aligned.xyz"; then
+  fail "lon/lat --aligned: expected a header naming UTM zone 60S as its coordinates"
+fi
 rm -rf "${out:?}"/*
 
 if [[ $failures -ne 0 ]]; then

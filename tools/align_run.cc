@@ -23,12 +23,18 @@ std::string LogCsv(const std::vector<AlignOptions::Iteration>& log) {
   return csv;
 }
 
-// Comment lines of the aligned surface file: where it came from, the matrix.
-std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignResult& r) {
+// Comment lines of the aligned surface file: where it came from, the frame
+// of its coordinates and of the matrix (geographic inputs were moved into a
+// metric one, tools/geo_frame.h), the matrix.
+std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignResult& r,
+                                         const GeoFrame& frame) {
+  const bool input_frame = frame.kind == GeoFrame::kAsGiven;
+  const std::string where = input_frame ? "input coordinates" : frame.Describe();
   std::vector<std::string> lines = {
       "aligned: " + config.moving + " moved onto " + config.reference + " by surfreg align",
-      std::string("verdict: ") + VerdictName(r.verdict) +
-          "; matrix (moving -> reference, input coordinates, row-major):"};
+      "coordinates: " + where,
+      std::string("verdict: ") + VerdictName(r.verdict) + "; matrix (moving -> reference, " +
+          (input_frame ? "input coordinates" : "in those coordinates") + ", row-major):"};
   for (int i = 0; i < 4; ++i) {
     char row[160];
     std::snprintf(row, sizeof(row), "  %.17g %.17g %.17g %.17g", r.matrix(i, 0), r.matrix(i, 1),
@@ -89,7 +95,7 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
   if (!config.output.empty()) WriteFileAtomically(config.output, run.json, config.Where("output"));
   if (!config.aligned.empty()) {
     WriteSurface(config.aligned, TransformSurface(inputs.moving, result.matrix),
-                 config.Where("aligned"), AlignedComments(config, result));
+                 config.Where("aligned"), AlignedComments(config, result, inputs.frame));
   }
   if (!config.log.empty()) {
     WriteFileAtomically(config.log, LogCsv(result.log.empty() ? seen : result.log),
