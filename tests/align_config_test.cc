@@ -152,6 +152,8 @@ domain_max_edge_spacings: 4.5
 domain_min_thinness: 0.2
 classes: [2, 9]
 columns: [E, N, H, 5]
+initial_transform: start.txt
+matrix_txt: matrix.txt
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -194,6 +196,9 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(c.output, "out.json");
   EXPECT_EQ(c.aligned, "moved.ply");
   EXPECT_EQ(c.log, "iterations.csv");
+  EXPECT_EQ(c.initial_transform, "start.txt");
+  EXPECT_EQ(c.matrix_txt, "matrix.txt");
+  EXPECT_TRUE(c.initial_matrix.empty());  // until FinishAlignConfig reads the file
   EXPECT_TRUE(c.progress);
   EXPECT_EQ(o.linear_solver, LinearSolverKind::kDenseNormalCholesky);
   EXPECT_EQ(o.subsample, 0.5);
@@ -449,6 +454,32 @@ TEST(AlignConfigErrors, ConfigFileAndSurfaceFiles) {
   ApplyAlignFlag("moving", bad, &config);
   EXPECT_TRUE(Contains(ErrorOf([&] { ReadAlignSurface(config, "moving"); }),
                        "flag '--moving': " + bad + ":3: z is not a number"));
+}
+
+TEST(AlignConfigErrors, InitialTransformIsReadAndIsTheOnlyStart) {
+  TempDir dir;
+  const std::string a = dir.File("a.xyz", "0 0 0\n1 0 0\n0 1 0\n");
+  const std::string t = dir.File("t.txt", "0 -1 0 5\n1 0 0 6\n0 0 1 7\n0 0 0 1\n");
+  const std::string head = "reference: " + a + "\nmoving: " + a + "\ninitial_transform: " + t + "\n";
+  AlignConfig config = FromYaml(head + "initial_translation: [0, 0, 0]\n");
+  FinishAlignConfig(&config);
+  EXPECT_EQ(config.initial_matrix,
+            (std::vector<double>{0, -1, 0, 5, 1, 0, 0, 6, 0, 0, 1, 7, 0, 0, 0, 1}));
+  const auto finish_error = [](const std::string& yaml) {
+    return ErrorOf([&] {
+      AlignConfig c = FromYaml(yaml);
+      FinishAlignConfig(&c);
+    });
+  };
+  EXPECT_EQ(finish_error(head + "initial_rotation_deg: [0, 0, 1]\n"),
+            "t.yaml:3: key 'initial_transform' and t.yaml:4: key 'initial_rotation_deg' both set "
+            "the start: give one of them");
+  EXPECT_TRUE(Contains(finish_error(head + "output: " + t + "\n"),
+                       "key 'output': '" + t + "' is also the initial_transform file"));
+  const std::string shear = dir.File("s.txt", "1 1 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  EXPECT_TRUE(Contains(finish_error("reference: " + a + "\nmoving: " + a +
+                                    "\ninitial_transform: " + shear + "\n"),
+                       "t.yaml:3: key 'initial_transform': " + shear + ": not a rigid motion"));
 }
 
 TEST(AlignConfigErrors, FinishChecksRequiredKeysAndOutputs) {

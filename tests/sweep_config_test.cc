@@ -115,6 +115,11 @@ TEST(SweepConfig, ErrorsNameFileLineAndKey) {
                        "key 'settings.threads': not a sweep setting: runs are parallel"));
   EXPECT_TRUE(Contains(ConfigError(std::string(kPairs) + "sweep: {output: [a.json]}"),
                        "not a sweep setting"));
+  EXPECT_TRUE(Contains(ConfigError(std::string(kPairs) + "settings: {initial_transform: t.txt}"),
+                       "key 'settings.initial_transform': not a sweep setting: the starts are set "
+                       "by the truth"));
+  EXPECT_TRUE(Contains(ConfigError(std::string(kPairs) + "settings: {matrix_txt: m.txt}"),
+                       "key 'settings.matrix_txt': not a sweep setting: a sweep writes no per-run"));
   EXPECT_TRUE(Contains(ConfigError(std::string(kPairs) + "settings: {dod: d.tif}"),
                        "key 'settings.dod': not a sweep setting: terrain inputs"));
   EXPECT_TRUE(Contains(ConfigError(std::string(kPairs) + "sweep: {lod: [0.1, 0.2]}"),

@@ -9,11 +9,11 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <type_traits>
 #include <utility>
 
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
+#include "tools/align_config_values.h"
 #include "tools/config_value.h"
 #include "tools/io/raster_io.h"
 #include "tools/yaml_value.h"
@@ -21,6 +21,7 @@
 #include "tools/io/surface_reader.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/io/surface_writer.h"
+#include "tools/transform_file.h"
 
 namespace surfreg {
 namespace {
@@ -52,88 +53,6 @@ const Names<LinearSolverKind> kLinearSolvers = {
     {"dense_qr", LinearSolverKind::kDenseQr},
     {"dense_normal_cholesky", LinearSolverKind::kDenseNormalCholesky},
     {"cgnr", LinearSolverKind::kCgnr}};
-
-// free: parameter names and groups, united; at least one.
-std::array<bool, 6> FreeParameters(const Value& v) {
-  std::array<bool, 6> free = {false, false, false, false, false, false};
-  const std::vector<std::string> items = Items(v);
-  if (items.empty()) Reject(v);
-  for (const std::string& item : items) {
-    const auto set = [&free](int first, int last) {
-      for (int k = first; k < last; ++k) free[k] = true;
-    };
-    if (item == "all") {
-      set(0, 6);
-    } else if (item == "rotation") {
-      set(0, 3);
-    } else if (item == "translation") {
-      set(3, 6);
-    } else {
-      const auto* name = std::find(kParameterNames.begin(), kParameterNames.end(), item);
-      if (name == kParameterNames.end()) Reject(v);
-      const int k = static_cast<int>(name - kParameterNames.begin());
-      set(k, k + 1);
-    }
-  }
-  return free;
-}
-
-std::string FreeText(const std::array<bool, 6>& free) {
-  if (std::all_of(free.begin(), free.end(), [](bool b) { return b; })) return "all";
-  std::string out;
-  for (int k = 0; k < 6; ++k) {
-    if (free[k]) out += std::string(out.empty() ? "" : ", ") + kParameterNames[k];
-  }
-  return "[" + out + "]";
-}
-
-// classes: LAS classifications 0-255; an empty list (or nothing) keeps all.
-std::vector<int> Classes(const Value& v) {
-  if (v.kind == Value::kNull) return {};
-  std::vector<int> classes;
-  for (const std::string& item : Items(v)) {
-    Value one = v;
-    one.kind = Value::kScalar;
-    one.text = item;
-    classes.push_back(Integer(one, 0, 255));
-  }
-  return classes;
-}
-
-// columns: 3 or 4 non-empty names or positions >= 1; nothing = the default.
-std::vector<std::string> Columns(const Value& v) {
-  if (v.kind == Value::kNull) return {};
-  const std::vector<std::string> items = Items(v);
-  if (items.empty()) return {};
-  if (items.size() != 3 && items.size() != 4) Reject(v);
-  for (const std::string& item : items) {
-    // A name is one header token: no blanks, separators or comment; a
-    // number must be a position.
-    unsigned long long position = 0;
-    double number = 0;
-    const bool is_position = io_internal::ParseCount(item, &position);
-    if (item.empty() || item.find_first_of(" \t,;#[]") != std::string::npos ||
-        (is_position && position == 0) ||
-        (!is_position && io_internal::ParseNumber(item, &number) == io_internal::NumberStatus::kOk)) {
-      Reject(v);
-    }
-  }
-  return items;
-}
-
-template <typename T>
-std::string ListText(const std::vector<T>& items) {
-  if (items.empty()) return "";
-  std::string out;
-  for (const T& item : items) {
-    if constexpr (std::is_same_v<T, std::string>) {
-      out += (out.empty() ? "" : ", ") + item;
-    } else {
-      out += (out.empty() ? "" : ", ") + std::to_string(item);
-    }
-  }
-  return "[" + out + "]";
-}
 
 using C = AlignConfig;
 const std::vector<KeyEntry>& Table() {
@@ -258,6 +177,11 @@ const std::vector<KeyEntry>& Table() {
         "initial shift of the moving centroid (data units)"},
        [](const Value& v, C* c) { c->options.initial_translation = Vector3(v); },
        [](const C& c) { return Text(c.options.initial_translation); }},
+      {{"initial_transform", "a transform file (align JSON or 4 x 4 text), or nothing",
+        "the start: the moving -> reference matrix in the file (not with initial_rotation_deg "
+        "or initial_translation)"},
+       [](const Value& v, C* c) { c->initial_transform = Path(v, false); },
+       [](const C& c) { return c.initial_transform; }},
       {{"classes", "a list of LAS classifications (integers 0 to 255), or nothing",
         "LAS inputs: keep only the points of these classes (e.g. [2] for ground); nothing = all"},
        [](const Value& v, C* c) { c->classes = Classes(v); },
@@ -303,6 +227,10 @@ const std::vector<KeyEntry>& Table() {
       {{"output", "a file name, or nothing", "the transform JSON"},
        [](const Value& v, C* c) { c->output = Path(v, false); },
        [](const C& c) { return c.output; }},
+      {{"matrix_txt", "a file name, or nothing",
+        "the moving -> reference matrix as text: 4 lines of 4 numbers"},
+       [](const Value& v, C* c) { c->matrix_txt = Path(v, false); },
+       [](const C& c) { return c.matrix_txt; }},
       {{"aligned", "a file name ending in .ply, .xyz or .txt, or nothing",
         "the moving surface after the motion (input coordinates)"},
        [](const Value& v, C* c) { c->aligned = Path(v, false); },
@@ -402,6 +330,22 @@ void ApplyMapping(const YAML::Node& root, const std::string& file, AlignConfig* 
     }
     Apply(*entry, config_value::FromYaml(pair.second), at + "key '" + name + "'", config);
   }
+}
+
+// One start: a transform file or the rotation and shift keys, read here so
+// that a bad file stops the run before anything is read or written.
+void ReadInitialTransform(AlignConfig* config) {
+  config->initial_matrix.clear();
+  if (config->initial_transform.empty()) return;
+  for (const char* key : {"initial_rotation_deg", "initial_translation"}) {
+    if (AlignConfigValue(*config, key) != "[0, 0, 0]") {
+      throw InputError(config->Where("initial_transform") + " and " + config->Where(key) +
+                       " both set the start: give one of them");
+    }
+  }
+  const Eigen::Matrix4d m =
+      ReadTransformFile(config->initial_transform, config->Where("initial_transform"));
+  for (int k = 0; k < 16; ++k) config->initial_matrix.push_back(m(k / 4, k % 4));
 }
 
 }  // namespace
@@ -516,6 +460,9 @@ void FinishAlignConfig(AlignConfig* config) {
   std::vector<std::pair<std::string, std::string>> files = {{"reference", config->reference},
                                                             {"moving", config->moving}};
   if (!config->mask.empty()) files.emplace_back("mask", config->mask);
+  if (!config->initial_transform.empty()) {
+    files.emplace_back("initial_transform", config->initial_transform);
+  }
   if (!config->terrain.mask_raster.empty()) {
     files.emplace_back("mask_raster", config->terrain.mask_raster);
   }
@@ -533,7 +480,7 @@ void FinishAlignConfig(AlignConfig* config) {
     }
   }
   for (const char* key :
-       {"output", "aligned", "log", "dod", "dod_png", "histogram_png", "change_csv", "dod_sigma",
+       {"output", "matrix_txt", "aligned", "log", "dod", "dod_png", "histogram_png", "change_csv", "dod_sigma",
         "dod_thresholded"}) {
     const std::string path = AlignConfigValue(*config, key);
     if (path.empty()) continue;
@@ -561,6 +508,7 @@ void FinishAlignConfig(AlignConfig* config) {
     }
     config->options.weight = WeightMode::kPerPoint;
   }
+  ReadInitialTransform(config);
   if (!config->mask.empty()) {
     try {
       config->options.mask_polygon = ReadPolygon(config->mask);

@@ -53,6 +53,13 @@ struct AlignConfig {
   std::string mask;         // polygon file (input coordinates) for μ; "" = uniform
   bool per_point_weights = false;  // key weights: per_point (the reference's sample weights)
   std::string output;       // transform JSON; "" = none
+  std::string matrix_txt;   // the 4x4 moving -> reference matrix as text; "" = none
+  // The start from a transform file (tools/transform_file.h), in the frame
+  // Align works in; initial_matrix (16 numbers, row-major) is read from it
+  // by FinishAlignConfig and turned into options' initial motion once the
+  // moving surface is read (ApplyInitialTransform, tools/align_run.h).
+  std::string initial_transform;
+  std::vector<double> initial_matrix;  // empty = none
   std::string aligned;      // the moved `moving` surface (.ply, .xyz, .txt); "" = none
   std::string log;          // per-iteration CSV; "" = none
   bool progress = false;    // one line per solver iteration on stderr
@@ -118,7 +125,9 @@ void ApplyAlignArguments(const std::string& reference, const std::string& moving
 // Once every setting is applied: checks that reference and moving are given,
 // that the output files can be written (their directories exist, `aligned`
 // has a known extension, no output names an input or another output), reads
-// the mask polygon into options, and checks the options as a whole
+// the mask polygon into options and the initial_transform file into
+// initial_matrix (not together with initial_rotation_deg or
+// initial_translation), and checks the options as a whole
 // (AlignOptions::IsValid, e.g. a mask with the volume cost). Throws
 // InputError naming the key.
 void FinishAlignConfig(AlignConfig* config);

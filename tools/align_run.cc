@@ -7,6 +7,8 @@
 #include "tools/interrupt.h"
 #include "tools/io/surface_writer.h"
 #include "tools/run_align_terrain.h"
+#include "tools/sweep.h"
+#include "tools/transform_file.h"
 #include "tools/transform_json.h"
 
 namespace surfreg {
@@ -56,6 +58,14 @@ std::string AlignProgressLine(const AlignOptions::Iteration& it, int levels) {
   return line;
 }
 
+void ApplyInitialTransform(const AlignConfig& config, const Surface& moving,
+                           AlignOptions* options) {
+  if (config.initial_matrix.empty()) return;
+  Eigen::Matrix4d m;
+  for (int k = 0; k < 16; ++k) m(k / 4, k % 4) = config.initial_matrix[k];
+  SetInitialMotion(m, SurfaceCentroid(moving), options);
+}
+
 AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
                        std::optional<Surface> moving,
                        const std::function<void(const AlignOptions::Iteration&)>& on_iteration) {
@@ -72,6 +82,7 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     inputs.reference = reference ? std::move(*reference) : ReadAlignSurface(config, "reference");
     inputs.moving = moving ? std::move(*moving) : ReadAlignSurface(config, "moving");
   }
+  ApplyInitialTransform(config, inputs.moving, &config.options);
   std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
   config.options.on_iteration = [&seen, &on_iteration](const AlignOptions::Iteration& it) {
     seen.push_back(it);
@@ -93,6 +104,9 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
                            run.terrain ? TerrainJsonMember(config, inputs, run.report) : "");
   if (run.terrain) WriteTerrainOutputs(config, inputs, run.report);
   if (!config.output.empty()) WriteFileAtomically(config.output, run.json, config.Where("output"));
+  if (!config.matrix_txt.empty()) {
+    WriteFileAtomically(config.matrix_txt, MatrixText(result.matrix), config.Where("matrix_txt"));
+  }
   if (!config.aligned.empty()) {
     WriteSurface(config.aligned, TransformSurface(inputs.moving, result.matrix),
                  config.Where("aligned"), AlignedComments(config, result, inputs.frame));

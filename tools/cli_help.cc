@@ -38,6 +38,7 @@ constexpr Override kOverrides[] = {
     {"jaw", "config", "the jaw YAML file (keys above)"},
     {"normalize", "output", "write the face's height field here (.xyz, .ply, .txt)"},
     {"asymmetry", "output", "write the asymmetry JSON here"},
+    {"transform", "output", "the moved surface (.xyz, .txt, .ply; or .tif, resampled onto a grid)"},
 };
 
 // The top-level keys of a sweep's YAML (tools/sweep_config.h); the align

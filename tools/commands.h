@@ -72,4 +72,11 @@ int RunAsymmetry(const std::vector<std::string>& args);
 // tools/run_jaw.cc.
 int RunJaw(const std::vector<std::string>& args);
 
+// transform INPUT --transform=T --output=OUT [--inverse] [--grid=REF]:
+// applies a rigid transform file (align JSON or 4 x 4 text,
+// tools/transform_file.h), or its inverse, to every point of a cloud or
+// raster; writes a cloud, or a GeoTIFF resampled onto the input raster's
+// grid or REF's (tools/io/raster_resample.h). tools/run_transform.cc.
+int RunTransform(const std::vector<std::string>& args);
+
 }  // namespace surfreg

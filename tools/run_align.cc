@@ -49,6 +49,7 @@ DEFINE_string(multi_start_shift, "", "align: shift of the extra starts");
 DEFINE_string(wide_search, "", "align: try many coarse starts first (auto | always | never)");
 DEFINE_string(initial_rotation_deg, "", "align: initial rotation vector rx,ry,rz in degrees");
 DEFINE_string(initial_translation, "", "align: initial shift tx,ty,tz of the moving centroid");
+DEFINE_string(initial_transform, "", "align: the start from a transform file (align JSON or 4x4 text matrix)");
 DEFINE_string(mask, "", "align: polygon file: weight 1 inside, 0 outside");
 DEFINE_string(classes, "", "measure, align: LAS inputs: keep only these classifications, e.g. 2 or 2,9");
 DEFINE_string(columns, "", "measure, align: text clouds: the x,y,z[,weight] columns by name or 1-based position");
@@ -68,6 +69,7 @@ DEFINE_string(holdout_seed, "", "align: which tiles are held out (integer seed)"
 DEFINE_string(holdout_verdict, "", "align: converged_improved only if the held-out tiles improved too (true | false)");
 DEFINE_string(threads, "", "align: threads");
 DEFINE_string(output, "", "align: write the transform JSON here");
+DEFINE_string(matrix_txt, "", "align: write the moving->reference 4x4 matrix here as text");
 DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, .xyz, .txt)");
 DEFINE_string(log, "", "align: write a per-iteration CSV here");
 DEFINE_bool(progress, false, "align: print a line per solver iteration on stderr");
@@ -182,7 +184,7 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
   }
   std::printf("iterations:   %d  (%s)\n", r.iterations, r.termination.c_str());
   std::printf("time:         %.3f s\n", r.seconds);
-  for (const char* key : {"output", "aligned", "log"}) {
+  for (const char* key : {"output", "matrix_txt", "aligned", "log"}) {
     const std::string path = AlignConfigValue(config, key);
     if (!path.empty()) std::printf("%-13s %s\n", (std::string(key) + ":").c_str(), path.c_str());
   }

@@ -22,6 +22,7 @@
 #include "measure/input_error.h"
 #include "registration/align.h"
 #include "tools/align_config.h"
+#include "tools/align_run.h"
 #include "tools/atomic_file.h"
 #include "tools/commands.h"
 #include "tools/interrupt.h"
@@ -43,7 +44,7 @@ namespace {
 constexpr double kDegrees = 180.0 / 3.14159265358979323846;
 
 // Keys a manifest row sets; as flags or config keys they would be ambiguous.
-const char* const kPerPair[] = {"reference", "moving", "output", "aligned", "log"};
+const char* const kPerPair[] = {"reference", "moving", "output", "matrix_txt", "aligned", "log"};
 
 bool PerPair(const std::string& key) {
   for (const char* k : kPerPair) {
@@ -207,6 +208,7 @@ int RunAlignManifest(const std::vector<std::string>& args) {
       const Surface& reference = inputs.reference;
       const Surface& moving = inputs.moving;
       AlignOptions options = c.options;
+      ApplyInitialTransform(c, moving, &options);  // one start for every pair
       options.on_iteration = [](const AlignOptions::Iteration&) { ThrowIfInterrupted(); };
       const AlignResult result = Align(reference, moving, options);
       std::string frame;

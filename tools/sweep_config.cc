@@ -142,10 +142,11 @@ std::string SettingText(const YAML::Node& node, const std::string& where) {
 // Keys that are not settings of a sweep, and why.
 const char* NotASetting(const std::string& key) {
   if (key == "reference" || key == "moving") return "the surfaces are given under 'pairs:'";
-  if (key == "output" || key == "aligned" || key == "log") {
+  if (key == "output" || key == "matrix_txt" || key == "aligned" || key == "log") {
     return "a sweep writes no per-run files ('output:' at the top names the CSV)";
   }
-  if (key == "initial_rotation_deg" || key == "initial_translation") {
+  if (key == "initial_rotation_deg" || key == "initial_translation" ||
+      key == "initial_transform") {
     return "the starts are set by the truth and 'perturbations:'";
   }
   if (key == "threads") return "runs are parallel, each on one thread (use 'jobs:')";

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "tools/json_writer.h"
+#include "tools/transform_file.h"
 
 namespace surfreg {
 namespace {
@@ -63,6 +64,7 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r,
   };
   JsonObject json;
   json.Raw("matrix", JsonArray(rows))
+      .String("pdal_matrix", MatrixOneLine(r.matrix))
       .Raw("rotation_vector", Numbers(r.rotation_vector.data(), 3))
       .Raw("quaternion", Numbers(r.quaternion.data(), 4))
       .Raw("euler_deg", Numbers(r.euler_deg.data(), 3))

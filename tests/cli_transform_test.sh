@@ -1,0 +1,199 @@
+#!/usr/bin/env bash
+# End-to-end tests of transform files and `surfreg transform`: a cloud moved
+# by a known matrix (text, commas, JSON) lands on the points python3
+# computes; --inverse brings it back; align's matrix_txt equals its JSON's
+# matrix and pdal_matrix, and `transform` of the moving cloud by it is what
+# --aligned writes; initial_transform from a previous align starts at the
+# solution; a DEM moved by whole cells onto its own grid is the shifted DEM
+# with nodata where nothing moved in; bad input is exit 2 with one line.
+# Usage: cli_transform_test.sh SURFREG_BINARY
+set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
+if [[ $# -ne 1 ]]; then
+  echo "usage: $0 SURFREG_BINARY" >&2
+  exit 2
+fi
+bin=$(realpath -- "$1") || exit 2
+cd "$(dirname -- "$(realpath -- "$0")")/.." || exit 2
+ref=configs/data/volcano_a.xyz
+mov=configs/data/volcano_moved.xyz
+dem=configs/data/volcano_dem.tif
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+out=$tmp/out  # outputs of the error cases go here: it must stay empty
+mkdir "$out"
+failures=0
+checks=0
+
+# expect_error TEXT ARGS...: exit 2, one stderr line "surfreg: error: ..."
+# with TEXT, nothing written to $out.
+expect_error() {
+  local text=$1
+  shift
+  run "$@"
+  if [[ $rc -ne 2 ]]; then
+    fail "surfreg $*: expected exit 2"
+  elif [[ $(wc -l <"$tmp/stderr") -ne 1 ]]; then
+    fail "surfreg $*: expected exactly one line on stderr"
+  elif ! grep -q '^surfreg: error: ' "$tmp/stderr"; then
+    fail "surfreg $*: stderr does not start with 'surfreg: error: '"
+  elif ! grep -qF -- "$text" "$tmp/stderr"; then
+    fail "surfreg $*: stderr does not mention '$text'"
+  elif [[ -n $(ls -A "$out") ]]; then
+    fail "surfreg $*: wrote $(ls -A "$out")"
+  fi
+}
+
+# compare A B TOL [MATRIX]: the points of A (each moved by MATRIX, a file of
+# 16 numbers, if given) equal B's, in order, to TOL relative to max(1, |p|).
+compare() {
+  python3 - "$@" <<'PY'
+import sys
+def points(path):
+    out = []
+    for line in open(path):
+        line = line.split("#")[0].split()
+        if line:
+            out.append([float(v) for v in line[:3]])
+    return out
+a, b, tol = points(sys.argv[1]), points(sys.argv[2]), float(sys.argv[3])
+if len(sys.argv) > 4:
+    m = [float(v) for v in open(sys.argv[4]).read().replace(",", " ").split()]
+    a = [[sum(m[4 * i + j] * (p + [1.0])[j] for j in range(4)) for i in range(3)] for p in a]
+if len(a) != len(b):
+    sys.exit("%d points vs %d" % (len(a), len(b)))
+worst = max(abs(u - v) / max(1.0, abs(u)) for p, q in zip(a, b) for u, v in zip(p, q))
+if worst > tol:
+    sys.exit("points differ by %g relative (> %g)" % (worst, tol))
+PY
+}
+
+# --- a cloud moved by a known matrix, read as text, with commas, as JSON ---
+python3 - "$tmp" <<'PY'
+import math, sys, json
+t = sys.argv[1]
+a, axis = 0.4, (0.2, -0.5, 0.84)
+n = math.sqrt(sum(v * v for v in axis))
+x, y, z = (v / n for v in axis)
+c, s = math.cos(a), math.sin(a)
+r = [[c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s],
+     [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
+     [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)]]
+m = [r[0] + [1234.5], r[1] + [-987.25], r[2] + [42.125], [0, 0, 0, 1]]
+open(t + "/m.txt", "w").write("".join(" ".join("%.17g" % v for v in row) + "\n" for row in m))
+open(t + "/m.csv", "w").write("# CloudCompare-style, with commas\n" +
+                              "".join(",".join("%.17g" % v for v in row) + "\n" for row in m))
+json.dump({"matrix": m, "verdict": "converged_improved"}, open(t + "/m.json", "w"))
+# A shear and a mirror: not rigid motions.
+open(t + "/shear.txt", "w").write("1 0.2 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n")
+open(t + "/mirror.txt", "w").write("-1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n")
+open(t + "/short.txt", "w").write("1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0\n")
+open(t + "/id.txt", "w").write("1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n")
+open(t + "/shift.txt", "w").write("1 0 0 20\n0 1 0 -10\n0 0 1 0\n0 0 0 1\n")  # 2 and 1 cells
+PY
+run transform "$ref" --transform="$tmp/m.txt" --output="$tmp/moved.xyz"
+[[ $rc -eq 0 ]] || fail "transform by m.txt"
+compare "$ref" "$tmp/moved.xyz" 1e-12 "$tmp/m.txt" || fail "transform: points are not M p"
+for t in m.csv m.json; do
+  run transform "$ref" --transform="$tmp/$t" --output="$tmp/moved_$t.xyz"
+  [[ $rc -eq 0 ]] || fail "transform by $t"
+  compare "$tmp/moved.xyz" "$tmp/moved_$t.xyz" 0 || fail "transform by $t differs from m.txt"
+done
+run transform "$tmp/moved.xyz" --transform="$tmp/m.txt" --inverse --output="$tmp/back.ply"
+[[ $rc -eq 0 ]] || fail "transform --inverse"
+run transform "$tmp/back.ply" --transform="$tmp/id.txt" --output="$tmp/back.xyz"
+compare "$ref" "$tmp/back.xyz" 1e-9 || fail "transform then --inverse is not the input"
+
+# --- align: matrix_txt, pdal_matrix, and transform = aligned ---
+run align "$ref" "$mov" --covariance=false --output="$tmp/a.json" --matrix_txt="$tmp/a.txt" \
+  --aligned="$tmp/aligned.xyz"
+[[ $rc -eq 0 ]] || fail "align with matrix_txt"
+grep -q "^matrix_txt: " "$tmp/stdout" || fail "align summary does not name matrix_txt"
+python3 - "$tmp/a.json" "$tmp/a.txt" <<'PY' || fail "matrix_txt / pdal_matrix differ from the JSON's matrix"
+import json, sys
+j = json.load(open(sys.argv[1]))
+matrix = [v for row in j["matrix"] for v in row]
+text = [float(v) for v in open(sys.argv[2]).read().split()]
+lines = open(sys.argv[2]).read().splitlines()
+pdal = [float(v) for v in j["pdal_matrix"].split(" ")]
+assert len(lines) == 4 and all(len(l.split()) == 4 for l in lines), lines
+assert text == matrix, (text, matrix)
+assert pdal == matrix, (pdal, matrix)
+PY
+run transform "$mov" --transform="$tmp/a.txt" --output="$tmp/by_txt.xyz"
+compare "$tmp/aligned.xyz" "$tmp/by_txt.xyz" 1e-12 || fail "transform by matrix_txt is not --aligned"
+
+# --- initial_transform: a previous solution is the start ---
+# The measure before equals the previous run's after (the same pose), and
+# the run ends where that one did; with the axial cost in a few iterations.
+run align "$ref" "$mov" --covariance=false --cost=axial --output="$tmp/c.json"
+for start in a.json a.txt c.json; do
+  cost=volume
+  [[ $start == c.json ]] && cost=axial
+  run align "$ref" "$mov" --covariance=false --cost=$cost --initial_transform="$tmp/$start" \
+    --output="$tmp/b_$start.json"
+  [[ $rc -eq 0 ]] || fail "align --initial_transform=$start"
+  first=$tmp/${start%.*}.json
+  python3 - "$first" "$tmp/b_$start.json" <<'PY' || fail "initial_transform=$start does not start at the solution"
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+before, after = b["before"]["mean_abs_dz"], a["after"]["mean_abs_dz"]
+assert abs(before - after) <= 1e-9 * after, (before, after)
+if b["cost"] == "axial":
+    assert b["iterations"] <= 3, b["iterations"]
+worst = max(abs(u - v) for r, s in zip(a["matrix"], b["matrix"]) for u, v in zip(r, s))
+assert worst < 1e-4, worst
+PY
+done
+
+# --- a DEM moved by whole cells, on its own grid: the shifted DEM ---
+run transform "$dem" --transform="$tmp/shift.txt" --output="$tmp/shift.tif"
+[[ $rc -eq 0 ]] || fail "transform of a DEM"
+run transform "$tmp/shift.tif" --transform="$tmp/id.txt" --output="$tmp/shift_cells.xyz"
+run transform "$dem" --transform="$tmp/id.txt" --output="$tmp/dem_cells.xyz"
+python3 - "$tmp/dem_cells.xyz" "$tmp/shift_cells.xyz" <<'PY' || fail "the shifted DEM is not the DEM shifted by whole cells"
+import sys
+def cells(path):
+    out = {}
+    for line in open(path):
+        line = line.split("#")[0].split()
+        if line:
+            out[(float(line[0]), float(line[1]))] = float(line[2])
+    return out
+dem, moved = cells(sys.argv[1]), cells(sys.argv[2])
+# Every cell of the grid whose source cell (20 m west, 10 m north) is data.
+expected = {(x + 20, y - 10): z for (x, y), z in dem.items() if (x + 20, y - 10) in dem}
+assert set(moved) == set(expected), (len(moved), len(expected))  # nodata where nothing moved in
+assert len(moved) < len(dem)
+worst = max(abs(moved[k] - expected[k]) for k in moved)
+assert worst <= 1e-9, worst
+PY
+run transform "$ref" --transform="$tmp/shift.txt" --grid="$dem" --output="$tmp/cloud.tif"
+[[ $rc -eq 0 && -s $tmp/cloud.tif ]] || fail "transform of a cloud onto --grid"
+
+# --- bad input: exit 2, one line, nothing written ---
+expect_error "flag '--transform' is required" transform "$ref" --output="$out/x.xyz"
+expect_error "flag '--output' is required" transform "$ref" --transform="$tmp/m.txt"
+expect_error "shear.txt: not a rigid motion: the 3 x 3 part is not a rotation" \
+  transform "$ref" --transform="$tmp/shear.txt" --output="$out/x.xyz"
+expect_error "mirror.txt: not a rigid motion: the 3 x 3 part is a reflection" \
+  transform "$ref" --transform="$tmp/mirror.txt" --output="$out/x.xyz"
+expect_error "short.txt: 15 numbers" transform "$ref" --transform="$tmp/short.txt" --output="$out/x.xyz"
+expect_error "nothere.txt: cannot open" transform "$ref" --transform="$tmp/nothere.txt" --output="$out/x.xyz"
+expect_error "expected a name ending in .xyz, .txt, .ply, or .tif" \
+  transform "$ref" --transform="$tmp/m.txt" --output="$out/x.las"
+expect_error "needs a grid: give --grid=REF.tif" transform "$ref" --transform="$tmp/m.txt" --output="$out/x.tif"
+expect_error "flag '--grid': a grid is only for a .tif output" \
+  transform "$dem" --transform="$tmp/m.txt" --grid="$dem" --output="$out/x.xyz"
+expect_error "is also an input" transform "$tmp/moved.xyz" --transform="$tmp/m.txt" --output="$tmp/moved.xyz"
+# A mistyped flag is a usage error: the message, then where to find usage.
+run transform "$ref" --transform="$tmp/m.txt" --inverted --output="$out/x.xyz"
+[[ $rc -eq 2 ]] && grep -qF "unknown flag '--inverted' (did you mean '--inverse'?)" "$tmp/stderr" ||
+  fail "transform --inverted: expected exit 2 and did-you-mean '--inverse'"
+expect_error "flag '--initial_transform' and flag '--initial_translation' both set the start" \
+  align "$ref" "$mov" --initial_transform="$tmp/a.txt" --initial_translation=1,0,0 --output="$out/t.json"
+expect_error "flag '--initial_transform': $tmp/shear.txt: not a rigid motion" \
+  align "$ref" "$mov" --initial_transform="$tmp/shear.txt" --output="$out/t.json"
+
+echo "cli_transform_test: $checks checks, $failures failures"
+[[ $failures -eq 0 ]]

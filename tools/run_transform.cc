@@ -1,0 +1,115 @@
+// surfreg transform INPUT --transform=T --output=OUT [--inverse] [--grid=REF]:
+// applies a rigid transform file (tools/transform_file.h) to every point of
+// a cloud or raster and writes the result as a cloud (.xyz .txt .ply) or,
+// resampled onto a grid (the input raster's own, or REF's), as a GeoTIFF
+// (tools/io/raster_resample.h).
+#include <gflags/gflags.h>
+#include <sys/stat.h>
+
+#include <Eigen/LU>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "measure/input_error.h"
+#include "registration/align.h"
+#include "tools/atomic_file.h"
+#include "tools/commands.h"
+#include "tools/io/raster_io.h"
+#include "tools/io/raster_resample.h"
+#include "tools/io/surface_reader.h"
+#include "tools/io/surface_writer.h"
+#include "tools/transform_file.h"
+
+DEFINE_string(transform, "",
+              "transform: the rigid transform file: surfreg's align JSON or a 4x4 text matrix "
+              "(moving -> reference)");
+DEFINE_bool(inverse, false, "transform: apply the inverse of the transform");
+DEFINE_string(grid, "",
+              "transform: a raster whose grid (size, geotransform, CRS) a .tif output is "
+              "resampled onto (default: the input raster's own)");
+DECLARE_string(output);  // tools/run_align.cc
+
+namespace surfreg {
+namespace {
+
+bool EndsWithTif(const std::string& path) {
+  std::string extension = path.substr(std::min(path.size(), path.find_last_of('.')));
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".tif" || extension == ".tiff";
+}
+
+bool SameFile(const std::string& a, const std::string& b) {
+  struct stat sa, sb;
+  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
+                    sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
+}
+
+// The flags, checked before anything is read.
+void CheckFlags(const std::string& input, bool raster_out, bool raster_in) {
+  // Missing flags are bad input (one line), not usage: the flag is named.
+  if (FLAGS_transform.empty()) {
+    throw InputError("flag '--transform' is required: the transform file (align JSON or 4x4 text)");
+  }
+  if (FLAGS_output.empty()) throw InputError("flag '--output' is required: the file to write");
+  if (!raster_out && !IsWritableSurfacePath(FLAGS_output)) {
+    throw InputError("flag '--output': cannot write '" + FLAGS_output +
+                     "' (expected a name ending in .xyz, .txt, .ply, or .tif)");
+  }
+  if (raster_out && !raster_in && FLAGS_grid.empty()) {
+    throw InputError("flag '--output': a cloud written as GeoTIFF needs a grid: give --grid=REF.tif");
+  }
+  if (!FLAGS_grid.empty() && !raster_out) {
+    throw InputError("flag '--grid': a grid is only for a .tif output, not '" + FLAGS_output + "'");
+  }
+  CheckOutputPath(FLAGS_output, "flag '--output'");
+  for (const std::string& other : {input, FLAGS_transform, FLAGS_grid}) {
+    if (!other.empty() && SameFile(FLAGS_output, other)) {
+      throw InputError("flag '--output': '" + FLAGS_output + "' is also an input");
+    }
+  }
+}
+
+}  // namespace
+
+int RunTransform(const std::vector<std::string>& args) {
+  if (args.empty()) throw UsageError("transform: missing INPUT");
+  if (args.size() > 1) throw UsageError("transform: too many arguments");
+  const std::string& input = args[0];
+  const bool raster_in = IsRasterPath(input);
+  const bool raster_out = EndsWithTif(FLAGS_output);
+  CheckFlags(input, raster_out, raster_in);
+  Eigen::Matrix4d m = ReadTransformFile(FLAGS_transform, "flag '--transform'");
+  if (FLAGS_inverse) m = m.inverse().eval();
+
+  Raster grid;  // the input raster's: its grid is the default output grid
+  Surface surface;
+  if (raster_in) {
+    grid = ReadRaster(input);
+    surface = RasterToSurface(grid, nullptr);
+  } else {
+    surface = ReadSurface(input);
+  }
+  if (!FLAGS_grid.empty()) grid = ReadRaster(FLAGS_grid);
+  const Surface moved = TransformSurface(surface, m);
+  if (raster_out) {
+    WriteGeoTiff(FLAGS_output, ResampleOntoGrid(moved, grid), "flag '--output'");
+  } else {
+    std::vector<std::string> comments = {
+        input + " moved by " + (FLAGS_inverse ? "the inverse of " : "") + FLAGS_transform +
+            " (surfreg transform); matrix applied, row-major:"};
+    for (int i = 0; i < 4; ++i) {
+      char row[160];
+      std::snprintf(row, sizeof(row), "  %.17g %.17g %.17g %.17g", m(i, 0), m(i, 1), m(i, 2),
+                    m(i, 3));
+      comments.push_back(row);
+    }
+    WriteSurface(FLAGS_output, moved, "flag '--output'", comments);
+  }
+  std::printf("%s: %zu points moved by %s%s -> %s\n", input.c_str(), surface.size(),
+              FLAGS_inverse ? "the inverse of " : "", FLAGS_transform.c_str(),
+              FLAGS_output.c_str());
+  return 0;
+}
+
+}  // namespace surfreg
