@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <memory>
 #include <optional>
 #include <random>
@@ -189,6 +190,33 @@ namespace {
 // `motion_only`: only the solved motion (rotation_vector, translation) and
 // a verdict from the solver alone (converged or failed): no measures, no
 // information; for the subsample σ's many small alignments.
+// The information at the state's motion and, by default, the sandwich
+// covariance of the cost (registration/sandwich.h); `source` names the one
+// that holds.
+Information StddevAt(PairState& state, const SolveContext& context, const AlignOptions& options,
+                     std::string* source) {
+  Information info = AnalyseInformation(state, context, options.compute_covariance);
+  *source = "information";
+  const bool sandwich_wanted = options.stddev_method == AlignOptions::StddevMethod::kSandwich &&
+                               options.compute_covariance && options.stddev_subsamples == 0 && info.covariance_ok;
+  if (!sandwich_wanted) return info;
+  // Steps of the information σ: on noisy terrain the sandwich's σ hardly
+  // depends on them (1 × or 3 × gave the same calibration on the 120
+  // peer pairs); on clean faces, where the L1 cost is nearly a cone at
+  // the solution, a second pass with the sandwich's own σ as the step
+  // moved the median |error| / σ only from 0.03 to 0.06.
+  std::array<double, 6> step{};
+  for (int i = 0; i < 6; ++i) step[i] = std::sqrt(std::max(0.0, info.covariance(i, i)));
+  const SandwichEstimate sandwich = options.cost == CostKind::kAxial
+                                        ? AxialSandwichCovariance(state, context, step)
+                                        : SandwichCovariance(state, context, step);
+  if (sandwich.ok) {
+    info.covariance = sandwich.covariance;
+    *source = "sandwich over " + std::to_string(sandwich.tiles) + " tiles";
+  }
+  return info;
+}
+
 AlignResult AlignFrom(const Surface& reference, const Surface& moving, const AlignOptions& options_in,
                       bool motion_only = false) {
   const Clock::time_point start = Clock::now();
@@ -260,76 +288,88 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   }
   const Eigen::Vector3d centre = finest.moving.centroid;
   const MeasureOptions measure_options = MeasureOptionsFor(options);
+  // The measure before the motion is needed only for the verdict: it runs
+  // beside the solve, whose prealignment keeps one core busy.
+  std::future<MeasureSummary> before;
   if (!motion_only) {
-    result.before = Measure(reference, TransformSurface(moving, MatrixOf(theta0, centre, reference.origin)),
-                            measure_options);
-  }
-
-  std::array<double, 6> start_theta = theta0;
-  if (options.wide_search == AlignOptions::WideSearch::kAlways) {
-    const double keep_a = std::min(1.0, 2000.0 / static_cast<double>(reference.size()));
-    const double keep_b = std::min(1.0, 2000.0 / static_cast<double>(moving.size()));
-    const ReferenceSide coarse_reference = PrepareReference(reference, keep_a, options.domain);
-    MovingSide coarse_moving = PrepareMoving(moving, shift, keep_b, options.domain);
-    coarse_moving.centroid = finest.moving.centroid;  // θ: the same motion on every level
-    start_theta = WideSearch(coarse_reference, coarse_moving, theta0, options, context.rotation_scale).theta;
-  }
-  const double spacing = std::sqrt(finest.moving.hull_area / static_cast<double>(finest.moving.points.size()));
-  const double start_shift = options.multi_start_shift > 0 ? options.multi_start_shift : 5.0 * spacing;
-  // The axial prealignment only has to land in the volume cost's basin: on
-  // large clouds it runs on a fixed subsample of at most kPrealignPoints of
-  // each (its time otherwise rivals the volume solve's).
-  std::optional<Level> prealign_sides;
-  const Level& coarsest = *levels.front();
-  const double keep_a = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.reference.xy.size()));
-  const double keep_b = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.moving.points.size()));
-  if (options.cost == CostKind::kVolume && options.prealign && std::min(keep_a, keep_b) < 1) {
-    const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
-    prealign_sides.emplace();
-    prealign_sides->reference = PrepareReference(reference, level_keep * keep_a, options.domain);
-    if (options.weight != WeightMode::kPerPoint) prealign_sides->reference.weight.clear();
-    prealign_sides->moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain);
-    prealign_sides->moving.centroid = finest.moving.centroid;
+    before = std::async(std::launch::async, [&reference, &moving, &measure_options, theta0, centre] {
+      return Measure(reference, TransformSurface(moving, MatrixOf(theta0, centre, reference.origin)),
+                     measure_options);
+    });
   }
   SolveResult best;
   bool have_best = false;
   int iterations = 0;
-  for (int s = 0; s <= options.multi_start; ++s) {
-    std::array<double, 6> theta = Perturbed(start_theta, s, options, start_shift);
-    SolveResult solved;
-    bool usable = true;
-    for (std::size_t l = 0; l < levels.size() && usable; ++l) {
-      PairState state(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
-      context.level = static_cast<int>(l);
-      context.start = s;
-      context.seconds_offset = Seconds(start);
-      context.log = &result.log;
-      if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
-        context.cost = "axial";
-        std::optional<PairState> subsampled;  // each start from the sides' own meshes
-        if (prealign_sides) {
-          subsampled.emplace(prealign_sides->reference, prealign_sides->moving, options.max_fold_fraction);
+  try {
+    std::array<double, 6> start_theta = theta0;
+    if (options.wide_search == AlignOptions::WideSearch::kAlways) {
+      const double keep_a = std::min(1.0, 2000.0 / static_cast<double>(reference.size()));
+      const double keep_b = std::min(1.0, 2000.0 / static_cast<double>(moving.size()));
+      const ReferenceSide coarse_reference = PrepareReference(reference, keep_a, options.domain);
+      MovingSide coarse_moving = PrepareMoving(moving, shift, keep_b, options.domain);
+      coarse_moving.centroid = finest.moving.centroid;  // θ: the same motion on every level
+      start_theta = WideSearch(coarse_reference, coarse_moving, theta0, options, context.rotation_scale).theta;
+    }
+    const double spacing = std::sqrt(finest.moving.hull_area / static_cast<double>(finest.moving.points.size()));
+    const double start_shift = options.multi_start_shift > 0 ? options.multi_start_shift : 5.0 * spacing;
+    // The axial prealignment only has to land in the volume cost's basin: on
+    // large clouds it runs on a fixed subsample of at most kPrealignPoints of
+    // each (its time otherwise rivals the volume solve's).
+    std::optional<Level> prealign_sides;
+    const Level& coarsest = *levels.front();
+    const double keep_a = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.reference.xy.size()));
+    const double keep_b = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.moving.points.size()));
+    if (options.cost == CostKind::kVolume && options.prealign && std::min(keep_a, keep_b) < 1) {
+      const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
+      prealign_sides.emplace();
+      prealign_sides->reference = PrepareReference(reference, level_keep * keep_a, options.domain);
+      if (options.weight != WeightMode::kPerPoint) prealign_sides->reference.weight.clear();
+      prealign_sides->moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain);
+      prealign_sides->moving.centroid = finest.moving.centroid;
+    }
+    for (int s = 0; s <= options.multi_start; ++s) {
+      std::array<double, 6> theta = Perturbed(start_theta, s, options, start_shift);
+      SolveResult solved;
+      bool usable = true;
+      for (std::size_t l = 0; l < levels.size() && usable; ++l) {
+        PairState state(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
+        context.level = static_cast<int>(l);
+        context.start = s;
+        context.seconds_offset = Seconds(start);
+        context.log = &result.log;
+        if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
+          context.cost = "axial";
+          std::optional<PairState> subsampled;  // each start from the sides' own meshes
+          if (prealign_sides) {
+            subsampled.emplace(prealign_sides->reference, prealign_sides->moving, options.max_fold_fraction);
+          }
+          context.prealignment = true;
+          const SolveResult rough = SolveAxial(subsampled ? *subsampled : state, context, theta);
+          context.prealignment = false;
+          iterations += std::max(0, rough.iterations);
+          if (rough.usable) theta = rough.theta;
         }
-        context.prealignment = true;
-        const SolveResult rough = SolveAxial(subsampled ? *subsampled : state, context, theta);
-        context.prealignment = false;
-        iterations += std::max(0, rough.iterations);
-        if (rough.usable) theta = rough.theta;
+        context.cost = options.cost == CostKind::kAxial ? "axial" : "volume";
+        context.seconds_offset = Seconds(start);
+            solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
+                                                  : SolveVolume(state, context, theta);
+        iterations += std::max(0, solved.iterations);
+        result.remeshes += state.remeshes();
+        usable = solved.usable;
+        if (usable) theta = solved.theta;
       }
-      context.cost = options.cost == CostKind::kAxial ? "axial" : "volume";
-      context.seconds_offset = Seconds(start);
-          solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
-                                                : SolveVolume(state, context, theta);
-      iterations += std::max(0, solved.iterations);
-      result.remeshes += state.remeshes();
-      usable = solved.usable;
-      if (usable) theta = solved.theta;
+      if (usable && (!have_best || solved.final_cost < best.final_cost)) {
+        best = solved;
+        have_best = true;
+      }
     }
-    if (usable && (!have_best || solved.final_cost < best.final_cost)) {
-      best = solved;
-      have_best = true;
-    }
+  } catch (...) {
+    // A measure that failed (e.g. surfaces that do not overlap) is the error
+    // to report, not what the solve made of such input.
+    if (before.valid()) before.get();
+    throw;
   }
+  if (!motion_only) result.before = before.get();
   result.iterations = iterations;
   if (motion_only) {
     const std::array<double, 6> solved = have_best ? best.theta : theta0;
@@ -352,10 +392,22 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   std::string reason = !have_best ? "the solver found no usable solution"
                        : !unfolded ? "the moving surface folds at the solution"
                                    : "";
+  // The measure after the motion runs beside the standard deviations at
+  // the solution (needed again only if the verdict keeps the start).
+  Information info;
+  bool info_at_theta = false;
   if (!failed) {
+    std::future<MeasureSummary> after =
+        std::async(std::launch::async, [&reference, &moving, &measure_options, theta, centre] {
+          return Measure(reference, TransformSurface(moving, MatrixOf(theta, centre, reference.origin)),
+                         measure_options);
+        });
+    const Clock::time_point information_start = Clock::now();
+    info = StddevAt(final_state, context, options, &result.stddev_source);
+    result.covariance_seconds = Seconds(information_start);
+    info_at_theta = true;
     try {
-      result.after = Measure(reference, TransformSurface(moving, MatrixOf(theta, centre, reference.origin)),
-                             measure_options);
+      result.after = after.get();
     } catch (const InputError& e) {
       failed = true;
       reason = std::string("the surfaces no longer overlap at the solution: ") + e.what();
@@ -381,35 +433,11 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
     final_state.Update(theta, &stats);
   }
 
-  const Clock::time_point information_start = Clock::now();
-  Information info = AnalyseInformation(final_state, context, options.compute_covariance);
-  result.stddev_source = "information";
-  const bool sandwich_wanted = options.stddev_method == AlignOptions::StddevMethod::kSandwich &&
-                               options.compute_covariance && options.stddev_subsamples == 0 && info.covariance_ok;
-  if (sandwich_wanted && options.cost == CostKind::kAxial) {
-    std::array<double, 6> step{};
-    for (int i = 0; i < 6; ++i) step[i] = std::sqrt(std::max(0.0, info.covariance(i, i)));
-    const SandwichEstimate sandwich = AxialSandwichCovariance(final_state, context, step);
-    if (sandwich.ok) {
-      info.covariance = sandwich.covariance;
-      result.stddev_source = "sandwich over " + std::to_string(sandwich.tiles) + " tiles";
-    }
+  if (keep_initial || !info_at_theta) {
+    const Clock::time_point again = Clock::now();
+    info = StddevAt(final_state, context, options, &result.stddev_source);
+    result.covariance_seconds = Seconds(again);
   }
-  if (sandwich_wanted && options.cost == CostKind::kVolume) {
-    // Steps of the information σ: on noisy terrain the sandwich's σ hardly
-    // depends on them (1 × or 3 × gave the same calibration on the 120
-    // peer pairs); on clean faces, where the L1 cost is nearly a cone at
-    // the solution, a second pass with the sandwich's own σ as the step
-    // moved the median |error| / σ only from 0.03 to 0.06.
-    std::array<double, 6> step{};
-    for (int i = 0; i < 6; ++i) step[i] = std::sqrt(std::max(0.0, info.covariance(i, i)));
-    const SandwichEstimate sandwich = SandwichCovariance(final_state, context, step);
-    if (sandwich.ok) {
-      info.covariance = sandwich.covariance;
-      result.stddev_source = "sandwich over " + std::to_string(sandwich.tiles) + " tiles";
-    }
-  }
-  result.covariance_seconds = Seconds(information_start);
   result.observability = info.observability;
   result.constrained = info.constrained;
   result.condition_number = info.condition_number;
