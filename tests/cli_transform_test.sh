@@ -5,7 +5,8 @@
 # matrix and pdal_matrix, and `transform` of the moving cloud by it is what
 # --aligned writes; initial_transform from a previous align starts at the
 # solution; a DEM moved by whole cells onto its own grid is the shifted DEM
-# with nodata where nothing moved in; bad input is exit 2 with one line.
+# with nodata where nothing moved in; align --aligned=x.tif of two DEMs is
+# the moving DEM on the reference's grid; bad input is exit 2 with one line.
 # Usage: cli_transform_test.sh SURFREG_BINARY
 set -u
 source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
@@ -171,7 +172,37 @@ PY
 run transform "$ref" --transform="$tmp/shift.txt" --grid="$dem" --output="$tmp/cloud.tif"
 [[ $rc -eq 0 && -s $tmp/cloud.tif ]] || fail "transform of a cloud onto --grid"
 
+# --- align --aligned=x.tif: the moving DEM on the reference's grid ---
+# It equals the moving DEM moved by the known motion onto that grid (transform
+# with configs/data/volcano_dem_truth.txt, --grid) within the alignment's
+# error, on the same cells, all of them cells of the reference.
+run align "$dem" configs/data/volcano_dem_moved.tif --covariance=false --aligned="$tmp/al.tif"
+[[ $rc -eq 0 ]] || fail "align --aligned=x.tif"
+run transform configs/data/volcano_dem_moved.tif --transform=configs/data/volcano_dem_truth.txt \
+  --grid="$dem" --output="$tmp/truth.tif"
+[[ $rc -eq 0 ]] || fail "transform by the truth onto --grid"
+for f in al truth; do
+  run transform "$tmp/$f.tif" --transform="$tmp/id.txt" --output="$tmp/${f}_cells.xyz"
+done
+python3 - "$tmp/al_cells.xyz" "$tmp/truth_cells.xyz" "$tmp/dem_cells.xyz" <<'PY' || fail "aligned GeoTIFF is not the moving DEM on the reference's grid"
+import sys
+def cells(path):
+    out = {}
+    for line in open(path):
+        line = line.split("#")[0].split()
+        if line:
+            out[(float(line[0]), float(line[1]))] = float(line[2])
+    return out
+aligned, truth, reference = (cells(p) for p in sys.argv[1:4])
+assert set(aligned) == set(truth) and set(aligned) <= set(reference), (len(aligned), len(truth))
+assert len(aligned) > 0.9 * len(reference), len(aligned)
+worst = max(abs(aligned[k] - truth[k]) for k in aligned)
+assert worst < 0.2, worst  # the known-motion error is ~0.01 cell: a few cm on these slopes
+PY
+
 # --- bad input: exit 2, one line, nothing written ---
+expect_error "flag '--aligned': a GeoTIFF" align "$ref" "$mov" --aligned="$out/x.tif"
+
 expect_error "flag '--transform' is required" transform "$ref" --output="$out/x.xyz"
 expect_error "flag '--output' is required" transform "$ref" --transform="$tmp/m.txt"
 expect_error "shear.txt: not a rigid motion: the 3 x 3 part is not a rotation" \

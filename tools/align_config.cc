@@ -16,6 +16,7 @@
 #include "tools/align_config_values.h"
 #include "tools/config_value.h"
 #include "tools/io/raster_io.h"
+#include "tools/io/raster_resample.h"
 #include "tools/yaml_value.h"
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader.h"
@@ -231,8 +232,9 @@ const std::vector<KeyEntry>& Table() {
         "the moving -> reference matrix as text: 4 lines of 4 numbers"},
        [](const Value& v, C* c) { c->matrix_txt = Path(v, false); },
        [](const C& c) { return c.matrix_txt; }},
-      {{"aligned", "a file name ending in .ply, .xyz or .txt, or nothing",
-        "the moving surface after the motion (input coordinates)"},
+      {{"aligned", "a file name ending in .ply, .xyz or .txt (or .tif, raster reference), or nothing",
+        "the moving surface after the motion (input coordinates; .tif: resampled onto the "
+        "reference's grid)"},
        [](const Value& v, C* c) { c->aligned = Path(v, false); },
        [](const C& c) { return c.aligned; }},
       {{"log", "a file name, or nothing", "per-iteration CSV"},
@@ -485,9 +487,13 @@ void FinishAlignConfig(AlignConfig* config) {
     const std::string path = AlignConfigValue(*config, key);
     if (path.empty()) continue;
     const std::string where = config->Where(key);
-    if (std::string(key) == "aligned" && !IsWritableSurfacePath(path)) {
+    if (std::string(key) == "aligned" && IsGeoTiffPath(path) && !IsRasterPath(config->reference)) {
+      throw InputError(where + ": a GeoTIFF '" + path +
+                       "' is resampled onto the reference's grid, but the reference is no raster");
+    }
+    if (std::string(key) == "aligned" && !IsGeoTiffPath(path) && !IsWritableSurfacePath(path)) {
       throw InputError(where + ": cannot write a surface as '" + path +
-                       "' (expected a name ending in .ply, .xyz or .txt)");
+                       "' (expected a name ending in .ply, .xyz or .txt, or .tif for a raster reference)");
     }
     CheckTerrainOutput(key, path, where);
     CheckOutputPath(path, where);

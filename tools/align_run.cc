@@ -3,8 +3,11 @@
 #include <cstdio>
 #include <utility>
 
+#include "measure/input_error.h"
 #include "tools/atomic_file.h"
 #include "tools/interrupt.h"
+#include "tools/io/raster_io.h"
+#include "tools/io/raster_resample.h"
 #include "tools/io/surface_writer.h"
 #include "tools/run_align_terrain.h"
 #include "tools/sweep.h"
@@ -82,6 +85,14 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     inputs.reference = reference ? std::move(*reference) : ReadAlignSurface(config, "reference");
     inputs.moving = moving ? std::move(*moving) : ReadAlignSurface(config, "moving");
   }
+  // An aligned GeoTIFF is on the reference raster's grid, in its CRS: only
+  // when Align works in those coordinates. Checked before the long work.
+  if (IsGeoTiffPath(config.aligned) &&
+      (!inputs.reference_is_raster || inputs.frame.kind != GeoFrame::kAsGiven)) {
+    throw InputError(config.Where("aligned") + ": a GeoTIFF needs the reference's grid in the "
+                     "coordinates align works in, but the inputs were moved into " +
+                     inputs.frame.Describe() + "; write .ply or .xyz instead");
+  }
   ApplyInitialTransform(config, inputs.moving, &config.options);
   std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
   config.options.on_iteration = [&seen, &on_iteration](const AlignOptions::Iteration& it) {
@@ -107,7 +118,11 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
   if (!config.matrix_txt.empty()) {
     WriteFileAtomically(config.matrix_txt, MatrixText(result.matrix), config.Where("matrix_txt"));
   }
-  if (!config.aligned.empty()) {
+  if (IsGeoTiffPath(config.aligned)) {
+    WriteGeoTiff(config.aligned,
+                 ResampleOntoGrid(TransformSurface(inputs.moving, result.matrix), inputs.reference_grid),
+                 config.Where("aligned"));
+  } else if (!config.aligned.empty()) {
     WriteSurface(config.aligned, TransformSurface(inputs.moving, result.matrix),
                  config.Where("aligned"), AlignedComments(config, result, inputs.frame));
   }

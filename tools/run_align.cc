@@ -70,7 +70,7 @@ DEFINE_string(holdout_verdict, "", "align: converged_improved only if the held-o
 DEFINE_string(threads, "", "align: threads");
 DEFINE_string(output, "", "align: write the transform JSON here");
 DEFINE_string(matrix_txt, "", "align: write the moving->reference 4x4 matrix here as text");
-DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, .xyz, .txt)");
+DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, .xyz, .txt; .tif: on a raster reference's grid)");
 DEFINE_string(log, "", "align: write a per-iteration CSV here");
 DEFINE_bool(progress, false, "align: print a line per solver iteration on stderr");
 // Terrain keys (tools/align_config_terrain.cc).

@@ -26,6 +26,7 @@
 #include "tools/atomic_file.h"
 #include "tools/commands.h"
 #include "tools/interrupt.h"
+#include "tools/io/raster_resample.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/io/surface_writer.h"
 #include "tools/json_writer.h"
@@ -125,6 +126,9 @@ std::vector<Row> ReadManifest(const AlignConfig& base, const Shard& shard) {
       row.config.origin[column] = at + "'" + column + "'";
     }
     FinishAlignConfig(&row.config);
+    if (IsGeoTiffPath(row.config.aligned)) {
+      throw InputError(at + "'aligned': a GeoTIFF aligned DEM is for single 'surfreg align' runs");
+    }
     for (const std::string& file : {row.config.output, row.config.aligned}) {
       if (!file.empty() && !outputs.insert(file).second) {
         throw InputError(at + "'output': '" + file + "' is written by another row too");

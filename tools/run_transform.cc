@@ -33,12 +33,6 @@ DECLARE_string(output);  // tools/run_align.cc
 namespace surfreg {
 namespace {
 
-bool EndsWithTif(const std::string& path) {
-  std::string extension = path.substr(std::min(path.size(), path.find_last_of('.')));
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension == ".tif" || extension == ".tiff";
-}
-
 bool SameFile(const std::string& a, const std::string& b) {
   struct stat sa, sb;
   return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
@@ -77,7 +71,7 @@ int RunTransform(const std::vector<std::string>& args) {
   if (args.size() > 1) throw UsageError("transform: too many arguments");
   const std::string& input = args[0];
   const bool raster_in = IsRasterPath(input);
-  const bool raster_out = EndsWithTif(FLAGS_output);
+  const bool raster_out = IsGeoTiffPath(FLAGS_output);
   CheckFlags(input, raster_out, raster_in);
   Eigen::Matrix4d m = ReadTransformFile(FLAGS_transform, "flag '--transform'");
   if (FLAGS_inverse) m = m.inverse().eval();

@@ -1,5 +1,7 @@
 #include "tools/io/raster_resample.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -66,6 +68,12 @@ Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template) {
     }
   }
   return out;
+}
+
+bool IsGeoTiffPath(const std::string& path) {
+  std::string extension = path.substr(std::min(path.size(), path.find_last_of('.')));
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".tif" || extension == ".tiff";
 }
 
 }  // namespace surfreg

@@ -11,6 +11,8 @@
 // (measure/domain.h: not in the triangles that bridge voids, nodata holes
 // or concave outlines), NaN (nodata) elsewhere. The surface and the grid
 // must be in the same coordinates (no reprojection here).
+#include <string>
+
 #include "measure/surface.h"
 #include "tools/io/raster_io.h"
 
@@ -20,5 +22,8 @@ namespace surfreg {
 // values are not used). `moved` must hold at least 3 points not on a line
 // (InputError otherwise, from the triangulation).
 Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template);
+
+// True if `path` ends in .tif or .tiff (any case): what WriteGeoTiff writes.
+bool IsGeoTiffPath(const std::string& path);
 
 }  // namespace surfreg
