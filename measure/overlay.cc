@@ -13,10 +13,13 @@ namespace {
 inline int Sign(double v) { return (v > 0.0) - (v < 0.0); }
 
 // Signs of one B vertex against the current T_A's three edge lines
-// (+1 inside, 0 on, -1 outside), valid while `stamp` is that T_A.
+// (+1 inside, 0 on, -1 outside), valid while `stamp` is that T_A; `bits`
+// has them as Orient2DEdgeSignBits gives them, for the tests of whole
+// triangles.
 struct SideCache {
   int32_t stamp = -1;
   int8_t side[3] = {0, 0, 0};
+  uint8_t bits = 0;  // bit i: side[i] > 0; bit 3 + i: side[i] < 0
 };
 
 struct HullEdge {
@@ -128,58 +131,53 @@ class OverlayBuilder {
   }
 
  private:
-  const int8_t* Sides(int32_t u) {
+  const SideCache& Sides(int32_t u) {
     SideCache& cache = sides_[u];
     if (cache.stamp != ta_) {
       cache.stamp = ta_;
+      const unsigned bits = Orient2DEdgeSignBits(a_, pb_[u]);
       for (int i = 0; i < 3; ++i) {
-        cache.side[i] = static_cast<int8_t>(Sign(Orient2D(a_[(i + 1) % 3], a_[(i + 2) % 3], pb_[u])));
+        cache.side[i] = static_cast<int8_t>(((bits >> i) & 1) - ((bits >> (3 + i)) & 1));
       }
+      cache.bits = static_cast<uint8_t>(bits);
     }
-    return cache.side;
+    return cache;
   }
 
-  // o[j][k]: the sign of T_A's vertex k against tb's edge line j.
-  void EdgeSigns(int32_t tb, int o[3][3]) const {
-    for (int j = 0; j < 3; ++j) {
-      const Point2& p = pb_[mb_.triangles[3 * tb + (j + 1) % 3]];
-      const Point2& q = pb_[mb_.triangles[3 * tb + (j + 2) % 3]];
-      for (int k = 0; k < 3; ++k) o[j][k] = Sign(Orient2D(p, q, a_[k]));
-    }
+  // outside[k], bit j: T_A's vertex k strictly outside tb's edge line j.
+  void EdgeSigns(int32_t tb, unsigned outside[3]) const {
+    const int32_t* v = &mb_.triangles[3 * tb];
+    const Point2 b[3] = {pb_[v[0]], pb_[v[1]], pb_[v[2]]};
+    for (int k = 0; k < 3; ++k) outside[k] = Orient2DEdgeSignBits(b, a_[k]) >> 3;
   }
 
   // Whether the closures of T_A and tb meet: no edge line of either has the
-  // other triangle strictly outside. Sets *have_o if it filled o (EdgeSigns).
-  bool Meets(int32_t tb, const int8_t* s[3], int o[3][3], bool* have_o) const {
+  // other triangle strictly outside. `m` are the bits of tb's corners'
+  // SideCache. Sets *have_o if it filled `outside` (EdgeSigns).
+  bool Meets(int32_t tb, const unsigned m[3], unsigned outside[3], bool* have_o) const {
     *have_o = false;
-    bool corner_inside = false;  // a corner of tb in T_A's closure decides at once
-    for (int k = 0; k < 3; ++k) corner_inside |= s[k][0] >= 0 && s[k][1] >= 0 && s[k][2] >= 0;
-    if (corner_inside) return true;
-    for (int i = 0; i < 3; ++i) {
-      if (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0) return false;
-    }
-    EdgeSigns(tb, o);
+    // A corner of tb in T_A's closure (outside no line) decides at once.
+    if ((m[0] & 070) == 0 || (m[1] & 070) == 0 || (m[2] & 070) == 0) return true;
+    if (m[0] & m[1] & m[2] & 070) return false;  // all three outside one line
+    EdgeSigns(tb, outside);
     *have_o = true;
-    for (int j = 0; j < 3; ++j) {
-      if (o[j][0] < 0 && o[j][1] < 0 && o[j][2] < 0) return false;
-    }
-    return true;
+    return (outside[0] & outside[1] & outside[2]) == 0;
   }
 
   // Hands tb to the A neighbours across T_A's edges that tb's closure meets.
-  void Propagate(int32_t ta, const int8_t* s[3], int o[3][3], bool have_o, int32_t tb) {
+  void Propagate(int32_t ta, const unsigned m[3], unsigned outside[3], bool have_o, int32_t tb) {
+    const unsigned all = m[0] & m[1] & m[2];
+    const unsigned one_side = (all | all >> 3) & 7;  // bit i: tb strictly on one side of line i
     for (int i = 0; i < 3; ++i) {
       const int32_t next = ma_.neighbors[3 * ta + i];
-      if (next < 0 || seed_[next] >= 0) continue;
-      const int e0 = (i + 1) % 3, e1 = (i + 2) % 3;  // the edge's endpoints in T_A
-      bool separated = (s[0][i] > 0 && s[1][i] > 0 && s[2][i] > 0) ||
-                       (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0);
-      if (!separated && !have_o) {
-        EdgeSigns(tb, o);
+      if (next < 0 || seed_[next] >= 0 || (one_side >> i) & 1) continue;
+      if (!have_o) {
+        EdgeSigns(tb, outside);
         have_o = true;
       }
-      for (int j = 0; j < 3 && !separated; ++j) separated = o[j][e0] < 0 && o[j][e1] < 0;
-      if (!separated) Seed(next, tb);
+      static constexpr int kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};  // edge i's endpoints
+      if (outside[kNext[i]] & outside[kPrev[i]]) continue;  // one of tb's lines separates
+      Seed(next, tb);
     }
   }
 
@@ -213,17 +211,19 @@ void OverlayBuilder::ProcessA(int32_t ta, const std::function<void(const Overlay
   for (std::size_t head = 0; head < queue_.size(); ++head) {
     const int32_t tb = queue_[head];
     ++stats_.pairs_tested;
-    const int8_t* s[3] = {Sides(mb_.triangles[3 * tb]), Sides(mb_.triangles[3 * tb + 1]),
-                          Sides(mb_.triangles[3 * tb + 2])};
-    int o[3][3];
+    const int32_t* v = &mb_.triangles[3 * tb];
+    const SideCache* c[3] = {&Sides(v[0]), &Sides(v[1]), &Sides(v[2])};
+    const unsigned m[3] = {c[0]->bits, c[1]->bits, c[2]->bits};
+    unsigned outside[3];
     bool have_o;
-    if (!Meets(tb, s, o, &have_o)) continue;
+    if (!Meets(tb, m, outside, &have_o)) continue;
+    const int8_t* s[3] = {c[0]->side, c[1]->side, c[2]->side};
     if (Clip(tb, s, cell)) {
       cell.triangle_b = tb;
       ++stats_.cells;
       visit(cell);
     }
-    Propagate(ta, s, o, have_o, tb);
+    Propagate(ta, m, outside, have_o, tb);
     for (int j = 0; j < 3; ++j) {
       const int32_t next = mb_.neighbors[3 * tb + j];
       if (next >= 0 && b_stamp_[next] != ta) {
@@ -239,11 +239,13 @@ void OverlayBuilder::ProcessA(int32_t ta, const std::function<void(const Overlay
 bool OverlayBuilder::Clip(int32_t tb, const int8_t* s[3], OverlayCell& cell) const {
   const int32_t* v = &mb_.triangles[3 * tb];
   const Point2 b[3] = {pb_[v[0]], pb_[v[1]], pb_[v[2]]};
-  double x[8], y[8], twice_area = 0.0;
-  const int n = overlay_internal::ClipTriangle(a_, b, s, x, y, &twice_area, nullptr);
+  overlay_internal::ClipPolygon scratch[2];
+  const overlay_internal::ClipPolygon* polygon = nullptr;
+  double twice_area = 0.0;
+  const int n = overlay_internal::ClipTriangleInto<false>(a_, b, s, scratch, &polygon, &twice_area);
   if (n < 3) return false;
   cell.num_vertices = n;
-  for (int k = 0; k < n; ++k) cell.vertices[k] = {x[k], y[k]};
+  for (int k = 0; k < n; ++k) cell.vertices[k] = {polygon->corner[k].x, polygon->corner[k].y};
   cell.area = 0.5 * twice_area;
   return true;
 }

@@ -22,6 +22,117 @@ inline uint8_t CornerCross(int i, int j) {
 
 inline int SignOf(double v) { return (v > 0.0) - (v < 0.0); }
 
+// The polygon while it is clipped. No member initializers: zeroing it on
+// every clip would cost more than the clip's common case.
+struct ClipPolygon {
+  struct Corner {
+    double x, y;
+  };
+  Corner corner[8];
+  int8_t origin[8];   // T_B's corner 0..2, or -1 for a computed point
+  uint8_t label[8];   // kLabelled only
+  int8_t support[8];  // kLabelled only: of the edge from corner k to corner k + 1
+};
+
+// One Sutherland-Hodgman pass: `in` (n corners) clipped by T_A's edge line
+// i into `out`. Returns the new corner count, or -1 when nothing is cut
+// (`out` untouched). T_B's corners are classified by their exact signs
+// s[.][i], computed points by their floating-point side.
+template <bool kLabelled, int i>
+inline int ClipPass(const Point2 a[3], const int8_t* const s[3], const ClipPolygon& in, int n,
+                    ClipPolygon& out) {
+  const Point2& e0 = a[(i + 1) % 3];
+  const Point2& e1 = a[(i + 2) % 3];
+  const double ex = e1.x - e0.x, ey = e1.y - e0.y;
+  const auto value_of = [&](const ClipPolygon::Corner& p) {
+    return ex * (p.y - e0.y) - ey * (p.x - e0.x);
+  };
+  const int corner_side[3] = {s[0][i], s[1][i], s[2][i]};
+  double value[8];
+  int side[8];
+  int outside = 0;
+  for (int k = 0; k < n; ++k) {
+    if (in.origin[k] >= 0) {
+      side[k] = corner_side[in.origin[k]];
+    } else {
+      value[k] = value_of(in.corner[k]);
+      side[k] = SignOf(value[k]);
+    }
+    outside |= side[k] < 0;
+  }
+  if (!outside) return -1;  // the common case: nothing to cut on this edge
+  // T_B's corners' values only now: only a cut interpolates.
+  for (int k = 0; k < n; ++k) {
+    if (in.origin[k] >= 0) value[k] = value_of(in.corner[k]);
+  }
+  int m = 0;
+  for (int k = 0; k < n && m < 8; ++k) {
+    const int l = k + 1 == n ? 0 : k + 1;
+    // Written unconditionally, kept when inside or on: fewer branches.
+    out.corner[m] = in.corner[k];
+    out.origin[m] = in.origin[k];
+    if (kLabelled) {
+      out.label[m] = in.label[k];
+      // On edge i's line and the next corner outside: the edge runs along edge i.
+      out.support[m] = static_cast<int8_t>(side[k] == 0 && side[l] < 0 ? 3 + i : in.support[k]);
+    }
+    m += side[k] >= 0;
+    if (m < 8 && side[k] * side[l] < 0) {  // a strict crossing
+      const double denominator = value[k] - value[l];
+      double t = denominator != 0.0 ? value[k] / denominator : 0.5;
+      t = std::min(1.0, std::max(0.0, t));
+      const ClipPolygon::Corner& p = in.corner[k];
+      const ClipPolygon::Corner& q = in.corner[l];
+      out.corner[m] = {p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
+      out.origin[m] = -1;
+      if (kLabelled) {
+        const int support = in.support[k];
+        out.label[m] = support < 3 ? CornerCross(i, support) : CornerA(3 - i - (support - 3));
+        out.support[m] = static_cast<int8_t>(side[k] > 0 ? 3 + i : support);  // leaving: along edge i
+      }
+      ++m;
+    }
+  }
+  return m;
+}
+
+// The clip into two scratch polygons (each pass writes the other one).
+// Returns the corner count (0 for an empty or zero-area result) and in
+// *result the polygon that holds the corners.
+template <bool kLabelled>
+inline int ClipTriangleInto(const Point2 a[3], const Point2 b[3], const int8_t* const s[3],
+                            ClipPolygon scratch[2], const ClipPolygon** result, double* twice_area) {
+  ClipPolygon* current = &scratch[0];
+  ClipPolygon* other = &scratch[1];
+  for (int k = 0; k < 3; ++k) {
+    current->corner[k] = {b[k].x, b[k].y};
+    current->origin[k] = static_cast<int8_t>(k);
+    if (kLabelled) {
+      current->label[k] = CornerB(k);
+      current->support[k] = static_cast<int8_t>(k == 0 ? 2 : k - 1);  // opposite corner k + 2
+    }
+  }
+  int n = 3;
+  const auto pass = [&](int m) {
+    if (m < 0) return;
+    n = m;
+    std::swap(current, other);
+  };
+  pass(ClipPass<kLabelled, 0>(a, s, *current, n, *other));
+  if (n > 0) pass(ClipPass<kLabelled, 1>(a, s, *current, n, *other));
+  if (n > 0) pass(ClipPass<kLabelled, 2>(a, s, *current, n, *other));
+  if (n < 3) return 0;
+  const ClipPolygon::Corner* p = current->corner;
+  double twice = 0.0;
+  for (int k = 1; k + 1 < n; ++k) {
+    twice += (p[k].x - p[0].x) * (p[k + 1].y - p[0].y) - (p[k].y - p[0].y) * (p[k + 1].x - p[0].x);
+  }
+  if (!(twice > 0.0)) return 0;
+  *twice_area = twice;
+  *result = current;
+  return n;
+}
+
 // T_B (corners b) clipped by T_A's three half-planes (corners a,
 // counter-clockwise), Sutherland-Hodgman. T_B's own corners are classified
 // exactly: s[k][i] is the sign of its corner k against T_A's edge line i
@@ -35,81 +146,15 @@ inline int SignOf(double v) { return (v > 0.0) - (v < 0.0); }
 // their shared vertex. The labels never change the arithmetic.
 inline int ClipTriangle(const Point2 a[3], const Point2 b[3], const int8_t* const s[3], double* x,
                         double* y, double* twice_area, uint8_t* label) {
-  // Plain arrays: Point2's member initializers would zero them on every call.
-  double next_x[8], next_y[8];
-  int origin[8], next_origin[8];  // B corner index 0..2, or -1 for a computed point
-  uint8_t labels[8], next_label[8];
-  int support[8], next_support[8];  // of the edge from corner k to corner k + 1
-  const bool labelled = label != nullptr;
-  int n = 3;
-  for (int k = 0; k < 3; ++k) {
-    x[k] = b[k].x;
-    y[k] = b[k].y;
-    origin[k] = k;
-    if (labelled) {
-      labels[k] = CornerB(k);
-      support[k] = (k + 2) % 3;  // the edge from corner k to k + 1 is opposite corner k + 2
-    }
+  ClipPolygon scratch[2];
+  const ClipPolygon* result = nullptr;
+  const int n = label != nullptr ? ClipTriangleInto<true>(a, b, s, scratch, &result, twice_area)
+                                 : ClipTriangleInto<false>(a, b, s, scratch, &result, twice_area);
+  for (int k = 0; k < n; ++k) {
+    x[k] = result->corner[k].x;
+    y[k] = result->corner[k].y;
+    if (label != nullptr) label[k] = result->label[k];
   }
-  for (int i = 0; i < 3 && n > 0; ++i) {
-    const Point2& e0 = a[(i + 1) % 3];
-    const Point2& e1 = a[(i + 2) % 3];
-    const double ex = e1.x - e0.x, ey = e1.y - e0.y;
-    double value[8];
-    int side[8];
-    bool all_inside = true;
-    for (int k = 0; k < n; ++k) {
-      value[k] = ex * (y[k] - e0.y) - ey * (x[k] - e0.x);
-      side[k] = origin[k] >= 0 ? s[origin[k]][i] : SignOf(value[k]);
-      all_inside = all_inside && side[k] >= 0;
-    }
-    if (all_inside) continue;  // the common case: nothing to cut on this edge
-    int m = 0;
-    for (int k = 0; k < n && m < 8; ++k) {
-      const int l = k + 1 == n ? 0 : k + 1;
-      if (side[k] >= 0) {
-        next_x[m] = x[k];
-        next_y[m] = y[k];
-        next_origin[m] = origin[k];
-        if (labelled) {
-          next_label[m] = labels[k];
-          // On edge i's line and the next corner outside: the edge runs along edge i.
-          next_support[m] = side[k] == 0 && side[l] < 0 ? 3 + i : support[k];
-        }
-        ++m;
-      }
-      if (m < 8 && ((side[k] > 0 && side[l] < 0) || (side[k] < 0 && side[l] > 0))) {
-        const double denominator = value[k] - value[l];
-        double t = denominator != 0.0 ? value[k] / denominator : 0.5;
-        t = std::min(1.0, std::max(0.0, t));
-        next_x[m] = x[k] + t * (x[l] - x[k]);
-        next_y[m] = y[k] + t * (y[l] - y[k]);
-        next_origin[m] = -1;
-        if (labelled) {
-          next_label[m] =
-              support[k] < 3 ? CornerCross(i, support[k]) : CornerA(3 - i - (support[k] - 3));
-          next_support[m] = side[k] > 0 ? 3 + i : support[k];  // leaving: along edge i
-        }
-        ++m;
-      }
-    }
-    n = m;
-    std::copy(next_x, next_x + m, x);
-    std::copy(next_y, next_y + m, y);
-    std::copy(next_origin, next_origin + m, origin);
-    if (labelled) {
-      std::copy(next_label, next_label + m, labels);
-      std::copy(next_support, next_support + m, support);
-    }
-  }
-  if (n < 3) return 0;
-  double twice = 0.0;
-  for (int k = 1; k + 1 < n; ++k) {
-    twice += (x[k] - x[0]) * (y[k + 1] - y[0]) - (y[k] - y[0]) * (x[k + 1] - x[0]);
-  }
-  if (!(twice > 0.0)) return 0;
-  *twice_area = twice;
-  if (labelled) std::copy(labels, labels + n, label);
   return n;
 }
 

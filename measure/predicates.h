@@ -51,6 +51,42 @@ inline double Orient2D(const Point2& a, const Point2& b, const Point2& c) {
   return predicates_internal::Orient2DExact(a, b, c);
 }
 
+// The signs of Orient2D(t[i + 1], t[i + 2], c) for i = 0, 1, 2 (mod 3), c
+// against each edge line of triangle t (edge i opposite corner i), as bits:
+// bit i when > 0, bit 3 + i when < 0, neither when c is on the line. Each
+// determinant is Orient2D's own floating-point expression (c's differences
+// shared) under Orient2D's filter, its exact stage when the filter cannot
+// decide: exactly Orient2D's signs, with one branch for the common case.
+inline unsigned Orient2DEdgeSignBits(const Point2 t[3], const Point2& c) {
+  const double dx[3] = {t[0].x - c.x, t[1].x - c.x, t[2].x - c.x};
+  const double dy[3] = {t[0].y - c.y, t[1].y - c.y, t[2].y - c.y};
+  constexpr int kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};
+  double det[3];
+  bool clear[3];
+  for (int i = 0; i < 3; ++i) {
+    const double left = dx[kNext[i]] * dy[kPrev[i]];
+    const double right = dy[kNext[i]] * dx[kPrev[i]];
+    det[i] = left - right;
+    const double scale = std::fabs(left) + std::fabs(right);
+    // Non-short-circuit: six tests without a branch, then one branch.
+    clear[i] = static_cast<bool>((std::fabs(det[i]) > predicates_internal::kOrientBound * scale) &
+                                 (scale >= predicates_internal::kOrientMinScale));
+  }
+  if (clear[0] & clear[1] & clear[2]) {
+    // No determinant is zero: the sign bits decide.
+    const unsigned negative = static_cast<unsigned>(std::signbit(det[0])) |
+                              static_cast<unsigned>(std::signbit(det[1])) << 1 |
+                              static_cast<unsigned>(std::signbit(det[2])) << 2;
+    return (~negative & 7u) | negative << 3;
+  }
+  unsigned bits = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (!clear[i]) det[i] = predicates_internal::Orient2DExact(t[kNext[i]], t[kPrev[i]], c);
+    bits |= static_cast<unsigned>(det[i] > 0.0) << i | static_cast<unsigned>(det[i] < 0.0) << (3 + i);
+  }
+  return bits;
+}
+
 // The exact sign of Orient2D(a, b, g) for g = (c[0] + c[1] + c[2]) / 3, the
 // centroid of three points, never rounded to a double: +1, -1 or 0 (g on the
 // line ab). The determinant is affine in g, so 3 Orient2D(a, b, g) =

@@ -15,6 +15,8 @@
 
 #include "measure/locator.h"
 #include "measure/measures.h"
+#include "measure/overlay_clip.h"
+#include "measure/predicates.h"
 #include "measure/spanning_tree.h"
 #include "tests/testing/point_sets.h"
 
@@ -161,6 +163,79 @@ TEST(OverlayTest, HexagramWithNoVertexInsideTheOther) {
       EXPECT_NEAR(s.rho_d, 12.0, 1e-12) << parallel << swap;
     }
   }
+}
+
+// Orient2DEdgeSignBits (the overlay's batched side test) gives Orient2D's
+// exact signs, also where its filter cannot decide: on grids (exact zeros),
+// on a line through far-apart points (tiny determinants), and at random.
+TEST(OverlayTest, EdgeSignBitsAreOrient2DSigns) {
+  std::mt19937_64 rng(31);
+  std::uniform_int_distribution<int> grid(0, 4);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int zeros = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Point2 t[3], c;
+    const int kind = trial % 3;
+    for (Point2* p : {&t[0], &t[1], &t[2], &c}) {
+      if (kind == 0) {
+        *p = {double(grid(rng)), double(grid(rng))};
+      } else if (kind == 1) {  // near the line y = x / 3 far from the origin
+        const double s = 1e6 * u(rng);
+        *p = {s, s / 3.0 + (grid(rng) - 2) * 1e-10};
+      } else {
+        *p = {u(rng), u(rng)};
+      }
+    }
+    const unsigned bits = Orient2DEdgeSignBits(t, c);
+    for (int i = 0; i < 3; ++i) {
+      const double det = Orient2D(t[(i + 1) % 3], t[(i + 2) % 3], c);
+      EXPECT_EQ((bits >> i) & 1, det > 0.0 ? 1u : 0u) << trial << " " << i;
+      EXPECT_EQ((bits >> (3 + i)) & 1, det < 0.0 ? 1u : 0u) << trial << " " << i;
+      zeros += det == 0.0;
+    }
+  }
+  EXPECT_GT(zeros, 1000);  // the degenerate cases were exercised
+}
+
+// The clip's labels never change its arithmetic: with and without them,
+// the same corners, bit for bit, and the same area.
+TEST(OverlayTest, ClipCornersDoNotDependOnLabels) {
+  std::mt19937_64 rng(32);
+  std::uniform_int_distribution<int> grid(0, 5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int cells = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Point2 a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+      a[k] = trial % 2 ? Point2{double(grid(rng)), double(grid(rng))} : Point2{u(rng), u(rng)};
+      b[k] = trial % 2 ? Point2{double(grid(rng)), double(grid(rng))} : Point2{u(rng), u(rng)};
+    }
+    if (Orient2D(a[0], a[1], a[2]) < 0.0) std::swap(a[1], a[2]);
+    if (!(Orient2D(a[0], a[1], a[2]) > 0.0)) continue;
+    int8_t side[3][3];
+    for (int k = 0; k < 3; ++k) {
+      for (int i = 0; i < 3; ++i) {
+        const double det = Orient2D(a[(i + 1) % 3], a[(i + 2) % 3], b[k]);
+        side[k][i] = static_cast<int8_t>((det > 0.0) - (det < 0.0));
+      }
+    }
+    const int8_t* const s[3] = {side[0], side[1], side[2]};
+    double x[8], y[8], lx[8], ly[8], area = 0.0, labelled_area = 0.0;
+    uint8_t label[8];
+    const int n = overlay_internal::ClipTriangle(a, b, s, x, y, &area, nullptr);
+    const int ln = overlay_internal::ClipTriangle(a, b, s, lx, ly, &labelled_area, label);
+    ASSERT_EQ(n, ln) << trial;
+    if (n == 0) continue;
+    ++cells;
+    EXPECT_EQ(area, labelled_area) << trial;
+    for (int k = 0; k < n; ++k) {
+      EXPECT_EQ(x[k], lx[k]) << trial;
+      EXPECT_EQ(y[k], ly[k]) << trial;
+    }
+    const std::array<Point2, 3> pa = {a[0], a[1], a[2]}, pb = {b[0], b[1], b[2]};
+    EXPECT_NEAR(0.5 * area, std::fabs(IntersectionArea(pb, pa)), 1e-12) << trial;
+  }
+  EXPECT_GT(cells, 5000);
 }
 
 // Midpoint rule of |F̂_B − F̂_A| on an m x m grid over [x0,x1]x[y0,y1], with
