@@ -162,6 +162,12 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   if (options.weight == WeightMode::kPerPoint && a.weight.empty() && b.weight.empty()) {
     throw InputError("per-point weights requested, but neither surface has weights");
   }
+  // Stage shares of a typical long run's time (two 1e6-point clouds, 2
+  // threads): sorting 5%, triangulating 22%, domains 18%, trees 12%,
+  // locating 5%, the volume (overlay) the other 40%.
+  const auto progress = [&options, start](const char* stage, double done) {
+    if (options.on_progress) options.on_progress({stage, done, Seconds(start)});
+  };
   MeasureSummary summary;
   summary.volume_mode = options.volume;
   summary.n_points_a = static_cast<int64_t>(a.size());
@@ -178,6 +184,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   const std::vector<int32_t> order_b = SortSpatially(pb);
 
   const bool parallel = options.parallel;
+  progress("triangulating", 0.05);
   Clock::time_point stage = Clock::now();
   RunBoth(parallel, [&] { MeshOf(a, order_a, pa); }, [&] { MeshOf(b, order_b, pb); });
   summary.timings.triangulate = Seconds(stage);
@@ -189,6 +196,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   pb.hull_area = MeshArea(pb.xy, pb.mesh);
 
   // Each surface's data domain, by its own rule (raster samples: cells).
+  progress("data domains", 0.27);
   stage = Clock::now();
   DomainRule rule_a = options.domain, rule_b = options.domain;
   rule_a.grid = a.raster_grid();
@@ -199,11 +207,13 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   CheckDomain(a, pa, rule_a, "surface A");
   CheckDomain(b, pb, rule_b, "surface B");
 
+  progress("spanning trees", 0.45);
   stage = Clock::now();
   RunBoth(parallel, [&] { pa.tree = EuclideanMst(pa.xy, pa.mesh); },
           [&] { pb.tree = EuclideanMst(pb.xy, pb.mesh); });
   summary.timings.spanning_tree = Seconds(stage);
 
+  progress("locating each cloud in the other", 0.57);
   stage = Clock::now();
   LocateAllStats stats_a, stats_b;
   std::vector<Location> a_in_b, b_in_a;
@@ -254,6 +264,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.rho_d_axial = node_weight > 0.0 ? gap_sum / node_weight : 0.0;
   summary.timings.interpolate = Seconds(stage);
 
+  progress("volume", 0.60);
   stage = Clock::now();
   VolumeResult volume;
   const OmegaDomains omega{&pa.domain, &pb.domain, &omega_a, &omega_b};

@@ -19,6 +19,7 @@
 // one set of coordinates; results are in the data's units.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,13 @@ enum class WeightMode {
   kPerPoint,  // μ = the samples' weights, interpolated linearly on A's mesh
               // (B's if only B has weights); exact for the linear μ
   kMask,      // μ = 1 inside `mask_polygon`, 0 outside
+};
+
+// Where a Measure is (MeasureOptions::on_progress).
+struct MeasureProgress {
+  const char* stage = "";  // "triangulating", "data domains", "spanning trees", ...
+  double done = 0;         // share of a typical run's time spent before this stage, 0-1
+  double seconds = 0;      // since the start of Measure
 };
 
 struct MeasureOptions {
@@ -74,6 +82,9 @@ struct MeasureOptions {
   // nodes, e.g. on a reference raster's cells; and each node's share of
   // the overlap's area (MeasureSummary::node_area_a).
   bool keep_node_gaps = false;
+  // Called at the start of each stage (from the calling thread), e.g. for a
+  // progress line with an estimate of the time left.
+  std::function<void(const MeasureProgress&)> on_progress;
 
   bool IsValid(std::string* error) const;
 };

@@ -297,6 +297,7 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
                      measure_options);
     });
   }
+  if (options.on_stage) options.on_stage("solving", Seconds(start));
   SolveResult best;
   bool have_best = false;
   int iterations = 0;
@@ -383,6 +384,7 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
 
   std::array<double, 6> theta = have_best ? best.theta : theta0;
   result.termination = have_best ? best.message : "no usable solution";
+  if (options.on_stage) options.on_stage("measuring the result", Seconds(start));
   PairState final_state(finest.reference, finest.moving, options.max_fold_fraction);
   UpdateStats stats;
   const bool unfolded = final_state.Update(theta, &stats);
@@ -528,6 +530,7 @@ void SubsampleStddev(const Surface& reference, const Surface& moving, const Alig
   sub.multi_start = 0;
   sub.levels = 1;
   sub.on_iteration = nullptr;
+  sub.on_stage = nullptr;
   sub.initial_rotation = result->rotation_vector;
   sub.initial_translation = result->translation;
   Eigen::Matrix<double, 6, 6> sum = Eigen::Matrix<double, 6, 6>::Zero();

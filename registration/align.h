@@ -172,6 +172,10 @@ struct AlignOptions {
     double seconds = 0;  // since the start of Align
   };
   std::function<void(const Iteration&)> on_iteration;
+  // Called (from Align's thread) as a long stage begins: "solving" once both
+  // surfaces are prepared, "measuring the result" after the solve, with the
+  // seconds since the start of Align.
+  std::function<void(const char* stage, double seconds)> on_stage;
 
   bool IsValid(std::string* error) const;
 };

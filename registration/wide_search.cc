@@ -43,6 +43,7 @@ WideSearchResult WideSearch(const ReferenceSide& reference, const MovingSide& mo
   coarse.max_iterations = 30;
   coarse.loss = LossKind::kNone;
   coarse.on_iteration = nullptr;
+  coarse.on_stage = nullptr;
   SolveContext context;
   context.options = &coarse;
   context.rotation_scale = rotation_scale;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <functional>
 #include <random>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -63,6 +65,32 @@ TEST(MeasureTest, ParallelPlanes) {
   EXPECT_LT(Rel(s.mean_abs_dz, 2.0), 1e-9);
   EXPECT_LT(Rel(s.rho_s, 1.0 / 200.0), 1e-9);
   EXPECT_EQ(s.n_overlap_nodes, 504 + 704 - 4);  // G1 ∪ G2 as a set: shared corners once
+}
+
+// on_progress: every stage once, in order, with shares and times that grow,
+// from the calling thread; and the same measures as without it.
+TEST(MeasureTest, ProgressNamesEveryStageInOrder) {
+  const Height a = [](double x, double y) { return std::sin(x) + 0.1 * y; };
+  const Surface sa = Sample(SquareCloud(800, 10, 3), a), sb = Sample(SquareCloud(900, 10, 4), a, 0.01);
+  std::vector<MeasureProgress> seen;
+  MeasureOptions options;
+  options.on_progress = [&seen](const MeasureProgress& p) { seen.push_back(p); };
+  const MeasureSummary with = Measure(sa, sb, options);
+  const MeasureSummary without = Measure(sa, sb);
+  const std::vector<std::string> stages = {"triangulating", "data domains", "spanning trees",
+                                           "locating each cloud in the other", "volume"};
+  ASSERT_EQ(seen.size(), stages.size());
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    EXPECT_EQ(seen[i].stage, stages[i]);
+    EXPECT_GE(seen[i].done, 0.0);
+    EXPECT_LT(seen[i].done, 1.0);
+    if (i > 0) {
+      EXPECT_GT(seen[i].done, seen[i - 1].done);
+      EXPECT_GE(seen[i].seconds, seen[i - 1].seconds);
+    }
+  }
+  EXPECT_EQ(with.rho_d, without.rho_d);
+  EXPECT_EQ(with.n_cells, without.n_cells);
 }
 
 TEST(MeasureTest, CrossingPlanes) {

@@ -103,7 +103,8 @@ const std::vector<std::string>& MeasureKeys() {
   return keys;
 }
 
-MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<Setting>& settings) {
+MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<Setting>& settings,
+                              const std::function<void(const MeasureProgress&)>& on_progress) {
   const Clock::time_point start = Clock::now();
   CheckKeys(settings);
   MeasureReport report;
@@ -111,6 +112,7 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   report.file_b = b.name;
   // Settings first: a bad value is reported before any file is read.
   MeasureOptions& options = report.options;
+  options.on_progress = on_progress;
   const Setting* volume = Find(settings, "volume");
   options.volume = volume ? ParseVolumeMode(volume->value, volume->where) : VolumeMode::kOverlay;
   AlignConfig domain;  // align's domain keys: the same values, defaults and messages

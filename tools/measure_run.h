@@ -3,6 +3,7 @@
 // document. The CLI (tools/run_measure.cc) and the Python module
 // (tools/python) both call it, so their results cannot drift apart.
 #include <optional>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -52,8 +53,10 @@ struct MeasureReport {
 // Checks the settings (an unknown key or a bad value is an InputError
 // starting with its `where`), reads A and B as `align` reads them (or takes
 // their samples), brings them into one frame and measures B against A.
-// A key given twice: the last one wins.
-MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<Setting>& settings);
+// A key given twice: the last one wins. `on_progress` is called at each
+// stage of the measure (MeasureOptions::on_progress).
+MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<Setting>& settings,
+                              const std::function<void(const MeasureProgress&)>& on_progress = nullptr);
 
 // The --json document of `surfreg measure` (one object, no newline).
 std::string MeasureJson(const MeasureReport& report);

@@ -51,8 +51,8 @@ DEFINE_string(initial_rotation_deg, "", "align: initial rotation vector rx,ry,rz
 DEFINE_string(initial_translation, "", "align: initial shift tx,ty,tz of the moving centroid");
 DEFINE_string(initial_transform, "", "align: the start from a transform file (align JSON or 4x4 text matrix)");
 DEFINE_string(mask, "", "align: polygon file: weight 1 inside, 0 outside");
-DEFINE_string(classes, "", "measure, align: LAS inputs: keep only these classifications, e.g. 2 or 2,9");
-DEFINE_string(columns, "", "measure, align: text clouds: the x,y,z[,weight] columns by name or 1-based position");
+DEFINE_string(classes, "", "measure, align, transform: LAS inputs: keep only these classifications, e.g. 2 or 2,9");
+DEFINE_string(columns, "", "measure, align, transform: text clouds: the x,y,z[,weight] columns by name or 1-based position");
 DEFINE_string(max_fold_fraction, "", "align: area share of moving triangles that may fold");
 DEFINE_string(domain, "",
               "measure, align, triangulate: data (default: without the triangles that bridge "
@@ -195,7 +195,11 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
 int RunAlign(const std::vector<std::string>& args) {
   if (!FLAGS_manifest.empty()) return RunAlignManifest(args);  // tools/run_batch.cc
   const Clock::time_point start = Clock::now();
-  const AlignConfig config = LoadConfig(args);
+  AlignConfig config = LoadConfig(args);
+  // The long stages around the solve, as the iterations: once past a second.
+  config.options.on_stage = [progress = config.progress, start](const char* stage, double) {
+    if (progress || Since(start) >= 1.0) std::fprintf(stderr, "align: %s (%.1f s)\n", stage, Since(start));
+  };
   const AlignRun run = AlignSurfaces(
       config, std::nullopt, std::nullopt,
       [&config, start](const AlignOptions::Iteration& it) { PrintProgress(it, config, start); });

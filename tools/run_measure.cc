@@ -125,6 +125,18 @@ void PrintText(const MeasureReport& r) {
   std::printf("time total:         %.6f s\n", r.total_s);
 }
 
+// A line per stage on stderr once the measure has run for a second (quiet
+// when fast), with the time left if the run goes as a typical one does.
+void PrintMeasureProgress(const MeasureProgress& p) {
+  if (p.seconds < 1.0) return;
+  if (p.done > 0) {
+    std::fprintf(stderr, "measure: %s (%.0f%% done, %.1f s, about %.1f s left)\n", p.stage,
+                 100 * p.done, p.seconds, p.seconds * (1 - p.done) / p.done);
+  } else {
+    std::fprintf(stderr, "measure: %s (%.1f s)\n", p.stage, p.seconds);
+  }
+}
+
 }  // namespace
 
 int RunMeasure(const std::vector<std::string>& args) {
@@ -137,7 +149,8 @@ int RunMeasure(const std::vector<std::string>& args) {
     CHECK(gflags::GetCommandLineFlagInfo(key.c_str(), &info)) << "no flag --" << key;
     if (!info.is_default) settings.push_back({key, info.current_value, "flag '--" + key + "'"});
   }
-  const MeasureReport report = MeasureSurfaces({args[0], {}}, {args[1], {}}, settings);
+  const MeasureReport report =
+      MeasureSurfaces({args[0], {}}, {args[1], {}}, settings, PrintMeasureProgress);
   ThrowIfInterrupted();  // no report of an interrupted run
   // A height field has one z per xy: repeated xy samples are merged with
   // their heights averaged, which users should know about.
