@@ -100,6 +100,18 @@ for t in m.csv m.json; do
   [[ $rc -eq 0 ]] || fail "transform by $t"
   compare "$tmp/moved.xyz" "$tmp/moved_$t.xyz" 0 || fail "transform by $t differs from m.txt"
 done
+# A wide text cloud: --columns picks x, y, z as for align.
+python3 - "$ref" "$tmp/wide.csv" <<'PY'
+import sys
+with open(sys.argv[2], "w") as out:
+    out.write("id;X;Y;Z;intensity\n")
+    for i, line in enumerate(l.split("#")[0].split() for l in open(sys.argv[1])):
+        if line:
+            out.write("%d;%s;%s;%s;7\n" % (i, line[0], line[1], line[2]))
+PY
+run transform "$tmp/wide.csv" --columns=X,Y,Z --transform="$tmp/m.txt" --output="$tmp/moved_wide.xyz"
+[[ $rc -eq 0 ]] || fail "transform --columns"
+compare "$tmp/moved.xyz" "$tmp/moved_wide.xyz" 0 || fail "transform --columns differs from the xyz"
 run transform "$tmp/moved.xyz" --transform="$tmp/m.txt" --inverse --output="$tmp/back.ply"
 [[ $rc -eq 0 ]] || fail "transform --inverse"
 run transform "$tmp/back.ply" --transform="$tmp/id.txt" --output="$tmp/back.xyz"
@@ -216,6 +228,8 @@ expect_error "expected a name ending in .xyz, .txt, .ply, or .tif" \
 expect_error "needs a grid: give --grid=REF.tif" transform "$ref" --transform="$tmp/m.txt" --output="$out/x.tif"
 expect_error "flag '--grid': a grid is only for a .tif output" \
   transform "$dem" --transform="$tmp/m.txt" --grid="$dem" --output="$out/x.xyz"
+expect_error "flag '--classes': INPUT is a raster" transform "$dem" --classes=2 --transform="$tmp/m.txt" --output="$out/x.tif"
+expect_error "has no classes" transform "$ref" --classes=2 --transform="$tmp/m.txt" --output="$out/x.xyz"
 expect_error "is also an input" transform "$tmp/moved.xyz" --transform="$tmp/m.txt" --output="$tmp/moved.xyz"
 # A mistyped flag is a usage error: the message, then where to find usage.
 run transform "$ref" --transform="$tmp/m.txt" --inverted --output="$out/x.xyz"

@@ -1,4 +1,5 @@
-// surfreg transform INPUT --transform=T --output=OUT [--inverse] [--grid=REF]:
+// surfreg transform INPUT --transform=T --output=OUT [--inverse] [--grid=REF]
+// [--classes=C,...] [--columns=X,Y,Z]:
 // applies a rigid transform file (tools/transform_file.h) to every point of
 // a cloud or raster and writes the result as a cloud (.xyz .txt .ply) or,
 // resampled onto a grid (the input raster's own, or REF's), as a GeoTIFF
@@ -9,10 +10,12 @@
 #include <Eigen/LU>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "measure/input_error.h"
 #include "registration/align.h"
+#include "tools/align_config.h"
 #include "tools/atomic_file.h"
 #include "tools/commands.h"
 #include "tools/io/raster_io.h"
@@ -29,6 +32,8 @@ DEFINE_string(grid, "",
               "transform: a raster whose grid (size, geotransform, CRS) a .tif output is "
               "resampled onto (default: the input raster's own)");
 DECLARE_string(output);  // tools/run_align.cc
+DECLARE_string(classes);
+DECLARE_string(columns);
 
 namespace surfreg {
 namespace {
@@ -64,6 +69,21 @@ void CheckFlags(const std::string& input, bool raster_out, bool raster_in) {
   }
 }
 
+// --classes and --columns as align reads them (same values and messages).
+ReadOptions CloudReadOptions(bool raster_in) {
+  AlignConfig settings;
+  for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"classes", FLAGS_classes},
+                                   {"columns", FLAGS_columns}}) {
+    if (value.empty()) continue;
+    if (raster_in) throw InputError(std::string("flag '--") + key + "': INPUT is a raster, not a cloud");
+    ApplyAlignFlag(key, value, &settings);
+  }
+  ReadOptions options;
+  options.classes = settings.classes;
+  options.columns = settings.columns;
+  return options;
+}
+
 }  // namespace
 
 int RunTransform(const std::vector<std::string>& args) {
@@ -73,6 +93,7 @@ int RunTransform(const std::vector<std::string>& args) {
   const bool raster_in = IsRasterPath(input);
   const bool raster_out = IsGeoTiffPath(FLAGS_output);
   CheckFlags(input, raster_out, raster_in);
+  const ReadOptions read_options = CloudReadOptions(raster_in);
   Eigen::Matrix4d m = ReadTransformFile(FLAGS_transform, "flag '--transform'");
   if (FLAGS_inverse) m = m.inverse().eval();
 
@@ -82,7 +103,7 @@ int RunTransform(const std::vector<std::string>& args) {
     grid = ReadRaster(input);
     surface = RasterToSurface(grid, nullptr);
   } else {
-    surface = ReadSurface(input);
+    surface = ReadSurface(input, read_options);
   }
   if (!FLAGS_grid.empty()) grid = ReadRaster(FLAGS_grid);
   const Surface moved = TransformSurface(surface, m);

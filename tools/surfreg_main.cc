@@ -85,10 +85,11 @@ const Command kCommands[] = {
      "jaw motion over a 3D sequence: the lower part relative to the upper part, per frame",
      "config", IsJawKey},
     {"transform", RunTransform,
-     "INPUT --transform=T.json|T.txt --output=OUT [--inverse] [--grid=REF.tif]",
+     "INPUT --transform=T.json|T.txt --output=OUT [--inverse] [--grid=REF.tif] [--classes=C,...] "
+     "[--columns=X,Y,Z]",
      "apply a rigid transform (align's JSON or a 4x4 text matrix) to a cloud or raster; write "
      "a cloud, or a GeoTIFF on the input's grid or REF's",
-     "transform output inverse grid", nullptr},
+     "transform output inverse grid classes columns", nullptr},
     {"merge", RunMerge, "OUT.csv IN.csv [IN.csv ...]",
      "join the CSVs of sweep or align --manifest shards, sorted by run_id", "", nullptr},
 };
