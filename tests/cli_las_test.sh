@@ -176,7 +176,7 @@ expect_error() {
   fi
 }
 
-expect_error "one is projected" measure "$tmp/nztm.las" "$tmp/b.xyz"
+expect_error "give it with the key 'moving_crs'" measure "$tmp/nztm.las" "$tmp/b.xyz"
 
 cp "$tmp/a.las" "$tmp/x.laz"
 expect_error "x.laz: LAZ (compressed LAS) is not supported: decompress it first, e.g. \`laszip -i x.laz -o x.las\` or \`pdal translate x.laz x.las\`" \

@@ -500,16 +500,24 @@ expect_input_error "$tmp/no_such_mask.txt: cannot open" \
   measure "$a" "$b" --weights=mask:"$tmp/no_such_mask.txt"
 expect_input_error "" measure "$a" "$tmp/b_far.xyz"
 expect_input_error "" measure "$a" "$tmp/b_far.xyz" --json
-# CRSs: a flag that disagrees with the raster's own, two DEMs in different
-# CRSs, a CRS on one surface only, unreadable CRS and frame values.
+# CRSs: a flag that disagrees with the raster's own, a CRS on one surface
+# only, unreadable CRS and frame values; two DEMs in different CRSs measure.
 expect_input_error "flag '--reference_crs': 'WGS 84 / UTM zone 60S' disagrees with the CRS of $tmp/ll_a.asc ('WGS 84')" \
   measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --reference_crs=EPSG:32760
 expect_input_error "flag '--moving_crs': 'NAD27' disagrees with the CRS of $tmp/ll_b.asc ('WGS 84')" \
   measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --moving_crs=EPSG:4267
-expect_input_error "reference $tmp/ll_a.asc (CRS WGS 84) and moving $tmp/utm_b.asc (CRS WGS 84 / UTM zone 60S): one is geographic, the other projected" \
-  measure "$tmp/ll_a.asc" "$tmp/utm_b.asc"
-expect_input_error "and moving $tmp/ll_b.xyz (CRS none): one is geographic, the other no CRS" \
+expect_input_error "and moving $tmp/ll_b.xyz (CRS none): the reference surface has a CRS and the moving has none; give it with the key 'moving_crs' (flag --moving_crs)" \
   measure "$tmp/ll_a.asc" "$tmp/ll_b.xyz"
+# A moving DEM in another CRS is reprojected into the reference's (here
+# UTM 60S into lon/lat), then both go into the metric frame.
+if measure_json utm_into_ll "$tmp/ll_a.asc" "$tmp/utm_b.asc"; then
+  python3 - "$tmp/stdout" <<'PY' || fail "lon/lat against UTM: expected the UTM 60S frame and an overlap"
+import json, sys
+j = json.load(open(sys.argv[1]))
+print("lon/lat against UTM: frame %s, overlap %.0f m2" % (j["frame"], j["overlap_area"]))
+sys.exit(0 if j["frame"].startswith("UTM zone 60S") and j["overlap_area"] > 1e6 else 1)
+PY
+fi
 expect_input_error "flag '--reference_crs': unreadable CRS 'EPSG:999999'" \
   measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --reference_crs=EPSG:999999
 expect_input_error "flag '--frame' expects one of auto, enu, utm, got 'mercator'" \

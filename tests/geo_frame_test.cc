@@ -341,8 +341,10 @@ TEST(ToCommonMetricFrameTest, MismatchedCrssNameBothCrssAndFiles) {
                        "59S): different projected CRSs; reproject"));
   EXPECT_TRUE(Contains(error("EPSG:32760", "EPSG:2227"), "(and not both in metres)"));
   EXPECT_TRUE(Contains(error("none", "lonlat"),
-                       "reference ref.tif (CRS none) and moving mov.xyz (CRS WGS 84): one is no "
-                       "CRS, the other geographic"));
+                       "reference ref.tif (CRS none) and moving mov.xyz (CRS WGS 84): the moving "
+                       "surface has a CRS and the reference has none; give it with the key "
+                       "'reference_crs' (flag --reference_crs)"));
+  EXPECT_TRUE(Contains(error("EPSG:32760", "none"), "give it with the key 'moving_crs'"));
   EXPECT_TRUE(
       Contains(error("EPSG:4326", "EPSG:4267"), "(CRS NAD27): different geographic datums"));
   Surface a = Points({{500000, 6e6, 0}, {500001, 6e6, 0}, {500000, 6e6 + 1, 0}}, "utm.xyz");
@@ -350,6 +352,37 @@ TEST(ToCommonMetricFrameTest, MismatchedCrssNameBothCrssAndFiles) {
   EXPECT_TRUE(Contains(
       ErrorOf([&] { ToCommonMetricFrame(&a, LonLat(), &b, LonLat(), FrameChoice::kAuto); }),
       "utm.xyz: point 1 (500000, 6000000) is not a longitude, latitude in degrees"));
+}
+
+// ReprojectSurface: lon/lat samples brought into UTM 60S land where PROJ puts
+// them, to the micrometre; weights and raster cells stay with their samples;
+// SameCrs tells the two apart. A point PROJ cannot map names the surface.
+TEST(ReprojectSurfaceTest, LonLatIntoUtmMatchesProjAndKeepsSamples) {
+  std::vector<std::array<double, 3>> lonlat;
+  for (int i = 0; i < 5; ++i) {
+    for (int j = 0; j < 4; ++j) lonlat.push_back({174.7 + 0.01 * i, -36.9 + 0.01 * j, 10.0 * i + j});
+  }
+  std::vector<std::array<double, 3>> utm = lonlat;
+  ProjTransform("EPSG:32760", &utm);
+  Surface s = MakeSurface(lonlat, std::vector<double>(lonlat.size(), 0.5), "ll.xyz", 1.0);
+  for (int i = 0; i < static_cast<int>(s.size()); ++i) s.raster_cell.push_back({i % 4, i / 4});
+  const Crs utm_crs = ParseCrs("EPSG:32760", "k");
+  EXPECT_FALSE(SameCrs(LonLat(), utm_crs));
+  EXPECT_TRUE(SameCrs(utm_crs, ParseCrs("EPSG:32760", "k")));
+  EXPECT_TRUE(SameCrs(ParseCrs("none", "k"), ParseCrs("none", "k")));
+  ReprojectSurface(&s, LonLat(), utm_crs);
+  ASSERT_EQ(s.size(), utm.size());
+  for (std::size_t i = 0; i < utm.size(); ++i) {
+    const std::array<double, 3> p = At(s, i);
+    EXPECT_NEAR(p[0], utm[i][0], 1e-6);
+    EXPECT_NEAR(p[1], utm[i][1], 1e-6);
+    EXPECT_EQ(p[2], lonlat[i][2]);  // no vertical datum: heights as they were
+    EXPECT_EQ(s.weight[i], 0.5);
+    EXPECT_EQ(s.raster_cell[i].column, static_cast<int>(i) % 4);
+  }
+  Surface far = Points({{0, 95, 0}, {1, 95, 0}, {0, 96, 0}}, "far.xyz");  // latitude 95
+  EXPECT_TRUE(Contains(ErrorOf([&] { ReprojectSurface(&far, LonLat(), utm_crs); }),
+                       "far.xyz: cannot reproject from CRS 'WGS 84' to 'WGS 84 / UTM zone 60S'"));
 }
 
 // --- the acceptance test: lon/lat pair vs its UTM reprojection by PROJ ------

@@ -271,6 +271,28 @@ std::string DescribeCrs(const Crs& crs) {
   return id.empty() ? crs.name : crs.name + " (" + id + ")";
 }
 
+bool SameCrs(const Crs& a, const Crs& b) {
+  if (a.kind == CrsKind::kNone || b.kind == CrsKind::kNone) return a.kind == b.kind;
+  if (a.kind != b.kind) return false;
+  return Gdal("CRS '" + a.name + "'").same_crs(a.wkt, b.wkt, false) == 1;
+}
+
+void ReprojectSurface(Surface* surface, const Crs& from, const Crs& to) {
+  std::vector<std::array<double, 3>> points(surface->size());
+  for (std::size_t i = 0; i < surface->size(); ++i) {
+    points[i] = {surface->origin[0] + surface->xy[i].x, surface->origin[1] + surface->xy[i].y,
+                 surface->origin[2] + surface->z[i]};
+  }
+  std::string error;
+  if (!Gdal(surface->source).transform_points(from.wkt, to.wkt, &points, &error)) {
+    throw InputError(surface->source + ": cannot reproject from CRS '" + from.name + "' to '" +
+                     to.name + "': " + error);
+  }
+  std::vector<RasterCell> cells = std::move(surface->raster_cell);  // a raster keeps its cells
+  *surface = MakeSurface(points, std::move(surface->weight), std::move(surface->source), 1.0);
+  surface->raster_cell = std::move(cells);
+}
+
 GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surface* moving,
                              const Crs& moving_crs, FrameChoice choice) {
   const auto mismatch = [&](const std::string& why) {
@@ -278,6 +300,13 @@ GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surfa
                      ") and moving " + moving->source + " (CRS " + moving_crs.name + "): " + why);
   };
   const CrsKind kind = reference_crs.kind;
+  if ((kind == CrsKind::kNone) != (moving_crs.kind == CrsKind::kNone)) {
+    const bool reference_has = kind != CrsKind::kNone;
+    mismatch(std::string("the ") + (reference_has ? "reference" : "moving") +
+             " surface has a CRS and the " + (reference_has ? "moving" : "reference") +
+             " has none; give it with the key '" + (reference_has ? "moving_crs" : "reference_crs") +
+             "' (flag --" + (reference_has ? "moving_crs" : "reference_crs") + ")");
+  }
   if (kind != moving_crs.kind) {
     mismatch(std::string("one is ") + KindName(kind) + ", the other " + KindName(moving_crs.kind) +
              "; give both the same CRS (reproject, or set it)");

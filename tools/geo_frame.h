@@ -71,6 +71,15 @@ struct GeoFrame {
 // when known; "none" for kNone.
 std::string DescribeCrs(const Crs& crs);
 
+// Whether two CRSs are the same (both none counts as the same).
+bool SameCrs(const Crs& a, const Crs& b);
+
+// Moves every sample of `surface` from CRS `from` into CRS `to` (GDAL/PROJ;
+// heights unchanged unless the CRSs carry vertical datums), keeping a
+// raster's cells and the weights. Throws InputError naming the surface and
+// both CRSs if a point cannot be transformed.
+void ReprojectSurface(Surface* surface, const Crs& from, const Crs& to);
+
 // Brings both surfaces into one metric frame, in place (rebuilt with
 // MakeSurface, origin rounded to 1 m; weights and source kept), and returns
 // that frame:

@@ -1,6 +1,7 @@
 #include "tools/terrain.h"
 
 #include <Eigen/Geometry>
+#include <glog/logging.h>
 
 #include <algorithm>
 #include <cmath>
@@ -196,13 +197,22 @@ TerrainInputs ReadTerrainInputs(const AlignConfig& config, const Surface* given_
                      config.reference + ") is not a raster");
   }
   TerrainInputs in;
+  // A moving surface in another CRS is brought into the reference's first
+  // (GDAL/PROJ): the frame, the motion and every output are the reference's.
+  Crs moving_crs_now = moving.crs;
+  if (reference.crs.kind != CrsKind::kNone && moving.crs.kind != CrsKind::kNone &&
+      !SameCrs(reference.crs, moving.crs)) {
+    ReprojectSurface(&moving.surface, moving.crs, reference.crs);
+    moving_crs_now = reference.crs;
+    LOG(INFO) << config.moving << ": reprojected from " << moving.crs.name << " to " << reference.crs.name;
+  }
   in.moving_centroid_input = CentroidInput(moving.surface);
   const std::string& frame = config.terrain.frame;
   const FrameChoice choice = frame == "enu"   ? FrameChoice::kEnu
                              : frame == "utm" ? FrameChoice::kUtm
                                               : FrameChoice::kAuto;
-  in.frame = ToCommonMetricFrame(&reference.surface, reference.crs, &moving.surface, moving.crs,
-                                 choice);
+  in.frame = ToCommonMetricFrame(&reference.surface, reference.crs, &moving.surface,
+                                 moving_crs_now, choice);
   in.reference = std::move(reference.surface);
   in.moving = std::move(moving.surface);
   in.reference_crs = reference.crs;
@@ -258,7 +268,9 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
                        ? in.cell_size
                        : std::sqrt(report.before.hull_area_a /
                                    static_cast<double>(std::max<int64_t>(1, report.before.n_points_a)));
-  report.offset = TranslationAsGeographic(in.frame, in.moving_crs, in.moving_centroid_input,
+  // The moving centroid is in the reference's CRS (a moving surface in
+  // another CRS was reprojected into it).
+  report.offset = TranslationAsGeographic(in.frame, in.reference_crs, in.moving_centroid_input,
                                           result.translation);
 
   const std::vector<double>& k = config.terrain.known_matrix;

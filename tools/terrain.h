@@ -29,7 +29,7 @@ struct TerrainInputs {
   Raster reference_grid;
   std::vector<int64_t> reference_cells;
   double cell_size = 0;                      // reference raster's (mean) cell size, or 0
-  std::array<double, 3> moving_centroid_input = {0, 0, 0};  // in the moving CRS (lon/lat/h if geographic)
+  std::array<double, 3> moving_centroid_input = {0, 0, 0};  // in the reference CRS (lon/lat/h if geographic)
   // Each DEM's vertical standard error per sample (keys sigma_reference,
   // sigma_moving; tools/terrain_uncertainty.h); empty = not given.
   std::vector<double> sigma_reference, sigma_moving;

@@ -423,6 +423,44 @@ bool ProjectedToLonLat(const std::string& wkt, double x, double y, double* lat, 
   return true;
 }
 
+bool TransformPoints(const std::string& from_wkt, const std::string& to_wkt,
+                     std::vector<std::array<double, 3>>* points, std::string* error) {
+  QuietGdal quiet;
+  const auto from = Import(from_wkt), to = Import(to_wkt);
+  if (!from || !to) {
+    *error = "unreadable CRS" + quiet.Plain();
+    return false;
+  }
+  std::unique_ptr<OGRCoordinateTransformation> transform(
+      OGRCreateCoordinateTransformation(from.get(), to.get()));
+  if (!transform) {
+    *error = "no transformation between the two CRSs" + quiet.Plain();
+    return false;
+  }
+  const std::size_t n = points->size();
+  std::vector<double> x(n), y(n), z(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = (*points)[i][0], y[i] = (*points)[i][1], z[i] = (*points)[i][2];
+  std::vector<int> ok(n, 0);
+  // In blocks: PROJ's per-call overhead is large for one point, and an int
+  // count caps a call anyway.
+  constexpr std::size_t kBlock = 1 << 16;
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const int count = static_cast<int>(std::min(kBlock, n - b));
+    transform->Transform(count, &x[b], &y[b], &z[b], ok.data() + b);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!ok[i] || !std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i])) {
+      char what[160];
+      std::snprintf(what, sizeof(what), "point %zu (%.9g, %.9g) cannot be transformed", i + 1,
+                    (*points)[i][0], (*points)[i][1]);
+      *error = what + quiet.Plain();
+      return false;
+    }
+    (*points)[i] = {x[i], y[i], z[i]};
+  }
+  return true;
+}
+
 // --- the entry points ---------------------------------------------------
 
 // Runs `body`, turning what it throws into `*error`.
@@ -458,7 +496,7 @@ bool WriteGeoTiffEntry(const std::string& file, const Raster& raster, const std:
 
 const GdalModule kModule = {kGdalModuleVersion, &ReadRasterEntry, &WriteGeoTiffEntry, &ParseCrs,
                             &IdentifyCrs,       &IdentifyUtm,     &DatumOf,
-                            &SameCrs,           &ProjectedToLonLat};
+                            &SameCrs,           &ProjectedToLonLat, &TransformPoints};
 
 }  // namespace
 }  // namespace surfreg

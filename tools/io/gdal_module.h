@@ -11,7 +11,9 @@
 // one-line message.
 #pragma once
 
+#include <array>
 #include <string>
+#include <vector>
 
 #include "tools/io/raster_io.h"
 
@@ -61,9 +63,14 @@ struct GdalModule {
   // Latitude and longitude (WGS 84) of a point in a projected CRS.
   bool (*projected_to_lonlat)(const std::string& wkt, double x, double y, double* lat,
                               double* lon);
+  // Every point (x, y = easting/longitude, northing/latitude, z) from one
+  // CRS into another, in place; heights change only where the CRSs say how
+  // (a vertical CRS). False, with the first point that fails, otherwise.
+  bool (*transform_points)(const std::string& from_wkt, const std::string& to_wkt,
+                           std::vector<std::array<double, 3>>* points, std::string* error);
 };
 
-constexpr int kGdalModuleVersion = 1;
+constexpr int kGdalModuleVersion = 2;
 
 // The loaded module. The first call looks for libsurfreg_gdal.so in: the
 // file named by the environment variable SURFREG_GDAL_MODULE; next to the
