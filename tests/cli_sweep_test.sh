@@ -178,6 +178,11 @@ expect_error "missing --config" sweep
 sed 's/seed: 5/seed: 6/' "$tmp/sweep.yaml" >"$tmp/changed.yaml"
 expect_error "run 0 in '$tmp/full.csv(.partial)' is not this config's run 0" \
   sweep --config "$tmp/changed.yaml" --resume
+# The shard of another sweep (another seed: the same columns) is refused.
+"$bin" sweep --config "$tmp/changed.yaml" --jobs=1 --shard=2/3 --output="$tmp/other2.csv" 2>/dev/null ||
+  fail "the changed sweep's shard 2/3 failed"
+expect_error "$tmp/other2.csv: run 1 is of another sweep (fingerprint" \
+  merge "$tmp/m.csv" "$tmp/shard1.csv" "$tmp/other2.csv"
 expect_error "flag '--output' expects a file name ending in .csv" sweep --config "$tmp/sweep.yaml" --output="$tmp/x.txt"
 expect_error "flag '--shard' expects K/N" sweep --config "$tmp/sweep.yaml" --shard=4/3
 printf 'pairs: [{reference: a, moving: b}]\nsettings: {cots: axial}\noutput: o.csv\n' >"$tmp/bad.yaml"

@@ -353,12 +353,27 @@ int RunMerge(const std::vector<std::string>& args) {
     }
   }
   CsvTable merged;
+  std::string fingerprint, fingerprint_file;
   for (std::size_t i = 1; i < args.size(); ++i) {
     CsvTable table = ParseCsv(io_internal::ReadFile(args[i]), args[i], /*drop_torn_tail=*/false);
     if (i == 1) {
       merged.header = table.header;
     } else if (table.header != merged.header) {
       throw InputError(args[i] + ": its header differs from that of " + args[1]);
+    }
+    // Shards of one sweep share its fingerprint (tools/sweep_settings.h).
+    const auto column = std::find(table.header.begin(), table.header.end(), "sweep");
+    if (column != table.header.end()) {
+      const std::size_t k = static_cast<std::size_t>(column - table.header.begin());
+      for (const auto& row : table.rows) {
+        if (k >= row.size()) continue;
+        if (fingerprint.empty()) fingerprint = row[k], fingerprint_file = args[i];
+        if (row[k] != fingerprint) {
+          throw InputError(args[i] + ": run " + row[0] + " is of another sweep (fingerprint " +
+                           row[k] + ", " + fingerprint_file + " has " + fingerprint +
+                           "): merge the shards of one sweep only");
+        }
+      }
     }
     merged.rows.insert(merged.rows.end(), std::make_move_iterator(table.rows.begin()),
                        std::make_move_iterator(table.rows.end()));

@@ -15,6 +15,7 @@
 #include "registration/align.h"
 #include "tools/interrupt.h"
 #include "tools/io/surface_reader.h"
+#include "tools/sweep_settings.h"
 #include "tools/terrain.h"
 
 namespace surfreg {
@@ -288,6 +289,7 @@ void SetInitialMotion(const Eigen::Matrix4d& start, const Eigen::Vector3d& c,
 SweepPlan PlanSweep(const SweepConfig& config) {
   SweepPlan plan;
   plan.config = config;
+  plan.fingerprint = SweepFingerprint(config);
   plan.settings = {{}};
   for (const SweptKey& key : config.swept) {  // the first key varies slowest
     std::vector<std::vector<std::string>> next;
@@ -367,7 +369,7 @@ void LoadSweepPairs(SweepPlan* plan) {
 }
 
 std::vector<std::string> SweepCsvHeader(const SweepConfig& config) {
-  std::vector<std::string> header = {"run_id", "pair", "setting"};
+  std::vector<std::string> header = {"run_id", "sweep", "pair", "setting"};
   for (const SweptKey& key : config.swept) header.push_back(key.key);
   for (const char* name :
        {"perturbation_deg", "perturbation_spacings", "direction", "seed", "success", "verdict",
@@ -386,7 +388,8 @@ std::vector<std::string> SweepCsvHeader(const SweepConfig& config) {
 std::vector<std::string> SweepRunFields(const SweepPlan& plan, const SweepRun& run) {
   const SweepConfig& config = plan.config;
   const std::string& name = config.pairs.at(run.pair).name;
-  std::vector<std::string> row = {std::to_string(run.id), name, std::to_string(run.setting)};
+  std::vector<std::string> row = {std::to_string(run.id), plan.fingerprint, name,
+                                  std::to_string(run.setting)};
   row.insert(row.end(), plan.settings[run.setting].begin(), plan.settings[run.setting].end());
   row.insert(row.end(),
              {Number(config.rotation_deg[run.magnitude]),

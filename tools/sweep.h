@@ -115,6 +115,7 @@ struct SweepPlan {
   std::vector<AlignConfig> run_configs;            // [pair · S + setting], checked
   std::vector<SweepPairData> pairs;                // empty until LoadSweepPairs
   std::vector<SweepRun> runs;                      // every run, in id order
+  std::string fingerprint;                         // SweepFingerprint(config): column `sweep`
 };
 
 // Expands the grid and checks every (pair, setting) combination with

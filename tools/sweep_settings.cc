@@ -1,5 +1,6 @@
 #include "tools/sweep_settings.h"
 
+#include <cstdint>
 #include <cstdio>
 
 #include "measure/input_error.h"
@@ -67,6 +68,25 @@ std::map<std::string, std::string> SweepSettings(const SweepConfig& config) {
   settings["success.rotation_deg"] = Number(config.success_rotation_deg);
   settings["success.spacings"] = Number(config.success_spacings);
   return settings;
+}
+
+std::string SweepFingerprint(const SweepConfig& config) {
+  std::string text = SweepSettingsComment(config);
+  for (const SweptKey& key : config.swept) {
+    text += "swept " + key.key + ":";
+    for (const std::string& value : key.values) text += " " + value;
+    text += "\n";
+  }
+  text += "grid:";
+  for (double r : config.rotation_deg) text += " " + Number(r);
+  text += " /";
+  for (double s : config.shift_spacings) text += " " + Number(s);
+  text += " / " + std::to_string(config.directions) + " / " + std::to_string(config.seed) + "\n";
+  uint64_t hash = 14695981039346656037ull;  // FNV-1a: stable across runs and machines
+  for (unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
+  char hex[17];
+  std::snprintf(hex, sizeof(hex), "%016llx", static_cast<unsigned long long>(hash));
+  return hex;
 }
 
 std::string SweepSettingsComment(const SweepConfig& config) {

@@ -18,6 +18,11 @@ namespace surfreg {
 // name -> value, e.g. "max_iterations" -> "50", "pair moved" -> "a.xyz b.xyz ...".
 std::map<std::string, std::string> SweepSettings(const SweepConfig& config);
 
+// 16 hex digits identifying the sweep: a hash of SweepSettings, the swept
+// keys and their values, and the perturbation grid. Every row carries it
+// (column `sweep`), so that `merge` can refuse the shards of two sweeps.
+std::string SweepFingerprint(const SweepConfig& config);
+
 // The comment block for the partial file (each line ends with '\n').
 std::string SweepSettingsComment(const SweepConfig& config);
 
