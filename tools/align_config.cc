@@ -334,6 +334,19 @@ void ApplyMapping(const YAML::Node& root, const std::string& file, AlignConfig* 
   }
 }
 
+// A surface format, or a GeoTIFF on a raster reference's grid.
+void CheckAlignedPath(const std::string& path, const std::string& reference,
+                      const std::string& where) {
+  if (IsGeoTiffPath(path) && !IsRasterPath(reference)) {
+    throw InputError(where + ": a GeoTIFF '" + path +
+                     "' is resampled onto the reference's grid, but the reference is no raster");
+  }
+  if (!IsGeoTiffPath(path) && !IsWritableSurfacePath(path)) {
+    throw InputError(where + ": cannot write a surface as '" + path +
+                     "' (expected a name ending in .ply, .xyz or .txt, or .tif for a raster reference)");
+  }
+}
+
 // One start: a transform file or the rotation and shift keys, read here so
 // that a bad file stops the run before anything is read or written.
 void ReadInitialTransform(AlignConfig* config) {
@@ -487,14 +500,7 @@ void FinishAlignConfig(AlignConfig* config) {
     const std::string path = AlignConfigValue(*config, key);
     if (path.empty()) continue;
     const std::string where = config->Where(key);
-    if (std::string(key) == "aligned" && IsGeoTiffPath(path) && !IsRasterPath(config->reference)) {
-      throw InputError(where + ": a GeoTIFF '" + path +
-                       "' is resampled onto the reference's grid, but the reference is no raster");
-    }
-    if (std::string(key) == "aligned" && !IsGeoTiffPath(path) && !IsWritableSurfacePath(path)) {
-      throw InputError(where + ": cannot write a surface as '" + path +
-                       "' (expected a name ending in .ply, .xyz or .txt, or .tif for a raster reference)");
-    }
+    if (std::string(key) == "aligned") CheckAlignedPath(path, config->reference, where);
     CheckTerrainOutput(key, path, where);
     CheckOutputPath(path, where);
     for (const auto& [other, other_path] : files) {
