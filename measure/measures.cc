@@ -165,8 +165,9 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   // Stage shares of a typical long run's time (two 1e6-point clouds, 2
   // threads): sorting 5%, triangulating 22%, domains 18%, trees 12%,
   // locating 5%, the volume (overlay) the other 40%.
-  const auto progress = [&options, start](const char* stage, double done) {
-    if (options.on_progress) options.on_progress({stage, done, Seconds(start)});
+  const int64_t points = static_cast<int64_t>(a.size() + b.size());
+  const auto progress = [&options, start, points](const char* stage, double done) {
+    if (options.on_progress) options.on_progress({stage, done, Seconds(start), points});
   };
   MeasureSummary summary;
   summary.volume_mode = options.volume;

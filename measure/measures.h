@@ -51,6 +51,7 @@ struct MeasureProgress {
   const char* stage = "";  // "triangulating", "data domains", "spanning trees", ...
   double done = 0;         // share of a typical run's time spent before this stage, 0-1
   double seconds = 0;      // since the start of Measure
+  int64_t points = 0;      // samples of both surfaces: how long the run will be
 };
 
 struct MeasureOptions {

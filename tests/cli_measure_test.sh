@@ -479,6 +479,27 @@ assert 'change' not in r('ll_union'), r('ll_union')
 "
 fi
 
+# --- progress: from the start for 200,000 samples or more, none with --quiet ---
+python3 - "$tmp" <<'EOF' || { echo "FAIL: cannot make the progress inputs"; exit 1; }
+import math, random, sys
+random.seed(3)
+for name, dz in (("big_a", 0.0), ("big_b", 0.1)):
+    with open(f"{sys.argv[1]}/{name}.xyz", "w") as f:
+        for _ in range(110000):
+            x, y = random.uniform(0, 300), random.uniform(0, 300)
+            f.write("%.4f %.4f %.4f\n" % (x, y, math.sin(x / 20) * math.cos(y / 30) + dz))
+EOF
+run measure "$tmp/big_a.xyz" "$tmp/big_b.xyz" --json
+checks=$((checks + 1))
+if [[ $rc -ne 0 ]] || ! grep -q "^measure: triangulating (5% done" "$tmp/stderr" ||
+   ! grep -q "^measure: volume (60% done, [0-9.]* s, about [0-9.]* s left)" "$tmp/stderr" ||
+   grep -q "^measure:" "$tmp/stdout"; then
+  fail "measure of 2 x 110,000 samples: expected stage lines with the time left on stderr only"
+fi
+run measure "$tmp/big_a.xyz" "$tmp/big_b.xyz" --json --quiet
+checks=$((checks + 1))
+[[ $rc -eq 0 && ! -s "$tmp/stderr" ]] || fail "measure --quiet: expected no progress on stderr"
+
 # --- bad input: exit 2, one line naming what is wrong ------------------------
 
 expect_input_error "configs/data/no_such_b.xyz: cannot open" measure "$a" configs/data/no_such_b.xyz

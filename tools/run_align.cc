@@ -23,6 +23,7 @@
 // tools/align_config.cc parses values from files and flags alike (same
 // checks, same messages); "" (the default) means "not given". The defaults
 // are AlignOptions' (docs/align.md), not repeated here.
+DECLARE_bool(quiet);  // tools/run_measure.cc
 DEFINE_string(config, "", "align: the YAML config file (instead of REFERENCE MOVING)");
 DEFINE_string(reference, "", "align: the fixed surface file");
 DEFINE_string(moving, "", "align: the surface file moved onto the reference");
@@ -137,7 +138,7 @@ AlignConfig LoadConfig(const std::vector<std::string>& args) {
 // has taken more than a second (a quiet fast run, a visible slow one).
 void PrintProgress(const AlignOptions::Iteration& it, const AlignConfig& config,
                    Clock::time_point start) {
-  if (!config.progress && Since(start) < 1.0) return;
+  if (FLAGS_quiet || (!config.progress && Since(start) < 1.0)) return;
   std::fputs(AlignProgressLine(it, config.options.levels).c_str(), stderr);
 }
 
@@ -198,7 +199,9 @@ int RunAlign(const std::vector<std::string>& args) {
   AlignConfig config = LoadConfig(args);
   // The long stages around the solve, as the iterations: once past a second.
   config.options.on_stage = [progress = config.progress, start](const char* stage, double) {
-    if (progress || Since(start) >= 1.0) std::fprintf(stderr, "align: %s (%.1f s)\n", stage, Since(start));
+    if (!FLAGS_quiet && (progress || Since(start) >= 1.0)) {
+      std::fprintf(stderr, "align: %s (%.1f s)\n", stage, Since(start));
+    }
   };
   const AlignRun run = AlignSurfaces(
       config, std::nullopt, std::nullopt,

@@ -27,6 +27,7 @@ DEFINE_string(volume, "overlay",
               "measure: how the volume between the surfaces is integrated: overlay (exact, on "
               "the common refinement of the two triangulations) or union (the paper's, on the "
               "triangulation of A and B together)");
+DEFINE_bool(quiet, false, "measure, align, sweep: no progress lines on stderr (errors and warnings still)");
 DEFINE_string(weights, "uniform",
               "measure, align: the weight of the integrals: uniform, per_point (the samples' weights, "
               "interpolated linearly) or mask:POLYGON_FILE (1 inside the polygon, 0 outside; "
@@ -125,10 +126,11 @@ void PrintText(const MeasureReport& r) {
   std::printf("time total:         %.6f s\n", r.total_s);
 }
 
-// A line per stage on stderr once the measure has run for a second (quiet
-// when fast), with the time left if the run goes as a typical one does.
+// A line per stage on stderr, with the time left if the run goes as a
+// typical one does: from the start for clouds of 200,000 samples or more
+// (about a second of work), else once the measure has run for a second.
 void PrintMeasureProgress(const MeasureProgress& p) {
-  if (p.seconds < 1.0) return;
+  if (FLAGS_quiet || (p.seconds < 1.0 && p.points < 200000)) return;
   if (p.done > 0) {
     std::fprintf(stderr, "measure: %s (%.0f%% done, %.1f s, about %.1f s left)\n", p.stage,
                  100 * p.done, p.seconds, p.seconds * (1 - p.done) / p.done);

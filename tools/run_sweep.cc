@@ -29,6 +29,7 @@
 #include "tools/sweep_settings.h"
 
 DECLARE_string(config);  // tools/run_align.cc
+DECLARE_bool(quiet);     // tools/run_measure.cc
 DECLARE_string(output);
 DEFINE_int32(jobs, 0,
              "sweep: parallel runs (default: the config's jobs, else the number of cores)");
@@ -59,6 +60,7 @@ class ProgressBar {
   ProgressBar(std::size_t total, std::size_t already)
       : total_(total), already_(already), tty_(::isatty(2)), start_(Clock::now()) {}
   void Update(std::size_t done_now) {
+    if (FLAGS_quiet) return;
     const std::size_t done = already_ + done_now;
     const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
     const double eta = done_now > 0 ? elapsed / done_now * (total_ - done) : 0;

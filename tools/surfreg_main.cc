@@ -59,19 +59,21 @@ const Command kCommands[] = {
      "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:POLYGON_FILE] "
      "[--domain=data|hull] [--lod=L] [--reference_crs=CRS] [--moving_crs=CRS] "
      "[--frame=auto|enu|utm] [--band=N] [--window=C,R,W,H] [--sigma_reference=S|RASTER] "
-     "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--classes=C,...] [--columns=X,Y,Z] [--json]",
+     "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--classes=C,...] [--columns=X,Y,Z] [--json] "
+     "[--quiet]",
      "compare surface B with A in one metric frame: volume between them (rho_d), mean gap, "
      "cut/fill (with propagated uncertainty when each DEM's sigma is given), timings",
      "json volume weights domain domain_max_edge_spacings domain_min_thinness reference_crs "
-     "moving_crs frame band window lod sigma_reference sigma_moving lod_confidence classes columns",
+     "moving_crs frame band window lod sigma_reference sigma_moving lod_confidence classes columns "
+     "quiet",
      nullptr},
     {"align", RunAlign,
-     "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json]",
+     "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json] [--quiet]",
      "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary",
-     "config json manifest shard", IsAlignKey},
-    {"sweep", RunSweep, "--config SWEEP.yaml [--output=RUNS.csv] [--jobs=N] [--shard=K/N] [--resume]",
+     "config json manifest shard quiet", IsAlignKey},
+    {"sweep", RunSweep, "--config SWEEP.yaml [--output=RUNS.csv] [--jobs=N] [--shard=K/N] [--resume] [--quiet]",
      "run a grid of pairs x solver settings x initial offsets; CSV, ranking, plots",
-     "config output jobs shard resume", nullptr},
+     "config output jobs shard resume quiet", nullptr},
     {"normalize", RunNormalize,
      "MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] [--output=FACE.xyz] [--json]",
      "bring a face mesh or cloud into the standard face frame; write its visible height field",
