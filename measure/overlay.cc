@@ -1,6 +1,7 @@
 #include "measure/overlay.h"
 
 #include <algorithm>
+#include <array>
 #include <thread>
 #include <utility>
 
@@ -12,14 +13,31 @@ namespace {
 
 inline int Sign(double v) { return (v > 0.0) - (v < 0.0); }
 
-// Signs of one B vertex against the current T_A's three edge lines
-// (+1 inside, 0 on, -1 outside), valid while `stamp` is that T_A; `bits`
-// has them as Orient2DEdgeSignBits gives them, for the tests of whole
-// triangles.
+// Signs of one B vertex against a T_A's three edge lines, as the clip
+// takes them (+1 inside, 0 on, -1 outside) and as Orient2DEdgeSignBits
+// gives them (for the tests of whole triangles).
+struct VertexSides {
+  int8_t side[3];
+  uint8_t bits;  // bit i: side[i] > 0; bit 3 + i: side[i] < 0
+};
+
+// VertexSides by `bits`: one 4-byte copy where the signs change.
+constexpr std::array<VertexSides, 64> MakeVertexSidesTable() {
+  std::array<VertexSides, 64> table{};
+  for (unsigned bits = 0; bits < 64; ++bits) {
+    for (int i = 0; i < 3; ++i) {
+      table[bits].side[i] = static_cast<int8_t>(((bits >> i) & 1) - ((bits >> (3 + i)) & 1));
+    }
+    table[bits].bits = static_cast<uint8_t>(bits);
+  }
+  return table;
+}
+constexpr std::array<VertexSides, 64> kVertexSides = MakeVertexSidesTable();
+
+// A B vertex's sides, valid while `stamp` is the current T_A.
 struct SideCache {
   int32_t stamp = -1;
-  int8_t side[3] = {0, 0, 0};
-  uint8_t bits = 0;  // bit i: side[i] > 0; bit 3 + i: side[i] < 0
+  VertexSides sides = {{0, 0, 0}, 0};
 };
 
 struct HullEdge {
@@ -131,48 +149,44 @@ class OverlayBuilder {
   }
 
  private:
-  const SideCache& Sides(int32_t u) {
+  const VertexSides& Sides(int32_t u) {
     SideCache& cache = sides_[u];
     if (cache.stamp != ta_) {
       cache.stamp = ta_;
-      const unsigned bits = Orient2DEdgeSignBits(a_, pb_[u]);
-      for (int i = 0; i < 3; ++i) {
-        cache.side[i] = static_cast<int8_t>(((bits >> i) & 1) - ((bits >> (3 + i)) & 1));
-      }
-      cache.bits = static_cast<uint8_t>(bits);
+      cache.sides = kVertexSides[Orient2DEdgeSignBits(a_, pb_[u])];
     }
-    return cache;
+    return cache.sides;
   }
 
-  // outside[k], bit j: T_A's vertex k strictly outside tb's edge line j.
-  void EdgeSigns(int32_t tb, unsigned outside[3]) const {
-    const int32_t* v = &mb_.triangles[3 * tb];
-    const Point2 b[3] = {pb_[v[0]], pb_[v[1]], pb_[v[2]]};
+  // outside[k], bit j: T_A's vertex k strictly outside the line of tb's
+  // edge j (tb's corners b).
+  void EdgeSigns(const Point2 b[3], unsigned outside[3]) const {
     for (int k = 0; k < 3; ++k) outside[k] = Orient2DEdgeSignBits(b, a_[k]) >> 3;
   }
 
   // Whether the closures of T_A and tb meet: no edge line of either has the
   // other triangle strictly outside. `m` are the bits of tb's corners'
-  // SideCache. Sets *have_o if it filled `outside` (EdgeSigns).
-  bool Meets(int32_t tb, const unsigned m[3], unsigned outside[3], bool* have_o) const {
+  // VertexSides. Sets *have_o if it filled `outside` (EdgeSigns).
+  bool Meets(const Point2 b[3], const unsigned m[3], unsigned outside[3], bool* have_o) const {
     *have_o = false;
     // A corner of tb in T_A's closure (outside no line) decides at once.
     if ((m[0] & 070) == 0 || (m[1] & 070) == 0 || (m[2] & 070) == 0) return true;
     if (m[0] & m[1] & m[2] & 070) return false;  // all three outside one line
-    EdgeSigns(tb, outside);
+    EdgeSigns(b, outside);
     *have_o = true;
     return (outside[0] & outside[1] & outside[2]) == 0;
   }
 
   // Hands tb to the A neighbours across T_A's edges that tb's closure meets.
-  void Propagate(int32_t ta, const unsigned m[3], unsigned outside[3], bool have_o, int32_t tb) {
+  void Propagate(int32_t ta, int32_t tb, const Point2 b[3], const unsigned m[3],
+                 unsigned outside[3], bool have_o) {
     const unsigned all = m[0] & m[1] & m[2];
     const unsigned one_side = (all | all >> 3) & 7;  // bit i: tb strictly on one side of line i
     for (int i = 0; i < 3; ++i) {
       const int32_t next = ma_.neighbors[3 * ta + i];
       if (next < 0 || seed_[next] >= 0 || (one_side >> i) & 1) continue;
       if (!have_o) {
-        EdgeSigns(tb, outside);
+        EdgeSigns(b, outside);
         have_o = true;
       }
       static constexpr int kNext[3] = {1, 2, 0}, kPrev[3] = {2, 0, 1};  // edge i's endpoints
@@ -182,7 +196,7 @@ class OverlayBuilder {
   }
 
   void ProcessA(int32_t ta, const std::function<void(const OverlayCell&)>& visit);
-  bool Clip(int32_t tb, const int8_t* s[3], OverlayCell& cell) const;
+  bool Clip(const Point2 b[3], const int8_t* s[3], OverlayCell& cell) const;
 
   const std::vector<Point2>& pa_;
   const Triangulation& ma_;
@@ -212,18 +226,19 @@ void OverlayBuilder::ProcessA(int32_t ta, const std::function<void(const Overlay
     const int32_t tb = queue_[head];
     ++stats_.pairs_tested;
     const int32_t* v = &mb_.triangles[3 * tb];
-    const SideCache* c[3] = {&Sides(v[0]), &Sides(v[1]), &Sides(v[2])};
+    const VertexSides* c[3] = {&Sides(v[0]), &Sides(v[1]), &Sides(v[2])};
     const unsigned m[3] = {c[0]->bits, c[1]->bits, c[2]->bits};
+    const Point2 b[3] = {pb_[v[0]], pb_[v[1]], pb_[v[2]]};
     unsigned outside[3];
     bool have_o;
-    if (!Meets(tb, m, outside, &have_o)) continue;
+    if (!Meets(b, m, outside, &have_o)) continue;
     const int8_t* s[3] = {c[0]->side, c[1]->side, c[2]->side};
-    if (Clip(tb, s, cell)) {
+    if (Clip(b, s, cell)) {
       cell.triangle_b = tb;
       ++stats_.cells;
       visit(cell);
     }
-    Propagate(ta, m, outside, have_o, tb);
+    Propagate(ta, tb, b, m, outside, have_o);
     for (int j = 0; j < 3; ++j) {
       const int32_t next = mb_.neighbors[3 * tb + j];
       if (next >= 0 && b_stamp_[next] != ta) {
@@ -236,9 +251,7 @@ void OverlayBuilder::ProcessA(int32_t ta, const std::function<void(const Overlay
 
 // tb clipped by T_A's three half-planes (overlay_clip.h: the one clip the
 // kept overlay shares). Returns false for an empty or zero-area result.
-bool OverlayBuilder::Clip(int32_t tb, const int8_t* s[3], OverlayCell& cell) const {
-  const int32_t* v = &mb_.triangles[3 * tb];
-  const Point2 b[3] = {pb_[v[0]], pb_[v[1]], pb_[v[2]]};
+bool OverlayBuilder::Clip(const Point2 b[3], const int8_t* s[3], OverlayCell& cell) const {
   overlay_internal::ClipPolygon scratch[2];
   const overlay_internal::ClipPolygon* polygon = nullptr;
   double twice_area = 0.0;
