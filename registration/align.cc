@@ -310,6 +310,7 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
       MovingSide coarse_moving = PrepareMoving(moving, shift, keep_b, options.domain);
       coarse_moving.centroid = finest.moving.centroid;  // θ: the same motion on every level
       start_theta = WideSearch(coarse_reference, coarse_moving, theta0, options, context.rotation_scale).theta;
+      result.wide_search_ran = true;
     }
     const double spacing = std::sqrt(finest.moving.hull_area / static_cast<double>(finest.moving.points.size()));
     const double start_shift = options.multi_start_shift > 0 ? options.multi_start_shift : 5.0 * spacing;
@@ -499,15 +500,20 @@ AlignResult AlignWithSearch(const Surface& reference, const Surface& moving, con
   AlignResult result = AlignFrom(reference, moving, options);
   // A wrong minimum: the solver failed or did not improve, or the surfaces
   // still lie apart by far more than two samplings of one surface do at the
-  // right pose (AlignResult::sampling_gap).
-  const bool poor = result.verdict == Verdict::kFailed || result.verdict == Verdict::kConvergedNotImproved;
-  const bool apart = result.verdict == Verdict::kConvergedImproved && result.sampling_gap > 0 &&
-                     MeasureOfCost(options, result.after) > kWideSearchGapFactor * result.sampling_gap;
+  // right pose (AlignResult::sampling_gap). A start already at the minimum
+  // (a previous run's result) does not improve either, but its surfaces lie
+  // as close as samplings do: nothing to search for.
+  const bool close = result.sampling_gap > 0 &&
+                     MeasureOfCost(options, result.after) <= kWideSearchGapFactor * result.sampling_gap;
+  const bool poor = result.verdict == Verdict::kFailed ||
+                    (result.verdict == Verdict::kConvergedNotImproved && !close);
+  const bool apart = result.verdict == Verdict::kConvergedImproved && result.sampling_gap > 0 && !close;
   if (options.wide_search != AlignOptions::WideSearch::kAuto || !(poor || apart)) return result;
   AlignOptions wide = options;
   wide.wide_search = AlignOptions::WideSearch::kAlways;
   AlignResult second = AlignFrom(reference, moving, wide);
   second.seconds += result.seconds;
+  second.wide_search_ran = result.wide_search_ran = true;
   // Real change between the surfaces also leaves them apart: then the search
   // finds the same minimum, or a worse one, and the first result stays.
   const bool better = second.verdict == Verdict::kConvergedImproved &&

@@ -235,6 +235,10 @@ struct AlignResult {
   // noise dominates); more than it (what wide_search auto looks at) means
   // the surfaces do not lie on each other there, or have changed.
   double sampling_gap = 0;
+  // wide_search auto (or always) ran its coarse search: the result from the
+  // initial motion failed, did not improve a start whose surfaces lay apart,
+  // or left them apart.
+  bool wide_search_ran = false;
   // With AlignOptions::holdout_fraction > 0: the check on the held-out
   // tiles. `before` / `after` above are then the fitted part's measures.
   HoldoutCheck holdout;
