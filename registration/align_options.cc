@@ -1,0 +1,87 @@
+// AlignOptions' checks and the small public helpers of align.h (verdict
+// names, Euler angles, moving a surface by a matrix): kept apart from the
+// alignment pipeline in align.cc.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "registration/align.h"
+
+namespace surfreg {
+
+bool AlignOptions::IsValid(std::string* error) const {
+  auto fail = [error](const std::string& message) {
+    *error = message;
+    return false;
+  };
+  if (!(loss_scale >= 0) || !std::isfinite(loss_scale)) return fail("loss_scale must be >= 0");
+  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (!(function_tolerance > 0 && function_tolerance < 1)) return fail("function_tolerance must be in (0, 1)");
+  if (!(trim_fraction >= 0 && trim_fraction < 0.5)) return fail("trim_fraction must be in [0, 0.5)");
+  if (std::none_of(free.begin(), free.end(), [](bool f) { return f; })) {
+    return fail("free: at least one parameter must be free");
+  }
+  if (levels < 1 || levels > 8) return fail("levels must be in [1, 8]");
+  if (!(level_factor >= 1.5 && level_factor <= 64)) return fail("level_factor must be in [1.5, 64]");
+  if (!(subsample > 0 && subsample <= 1)) return fail("subsample must be in (0, 1]");
+  if (linear_solver == LinearSolverKind::kCgnr && trust_region == TrustRegionKind::kDogleg) {
+    return fail("linear_solver cgnr needs trust_region levenberg_marquardt (dogleg needs a factorization)");
+  }
+  if (multi_start < 0 || multi_start > 1000) return fail("multi_start must be in [0, 1000]");
+  if (!(multi_start_angle_deg >= 0 && multi_start_angle_deg <= 90)) {
+    return fail("multi_start_angle_deg must be in [0, 90]");
+  }
+  if (!(multi_start_shift >= 0) || !std::isfinite(multi_start_shift)) return fail("multi_start_shift must be >= 0");
+  if (!(max_fold_fraction >= 0 && max_fold_fraction <= 1)) return fail("max_fold_fraction must be in [0, 1]");
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(initial_rotation[k]) || !std::isfinite(initial_translation[k])) {
+      return fail("initial motion must be finite");
+    }
+  }
+  if (cost == CostKind::kVolume && trim_fraction > 0) return fail("trim_fraction applies to the axial cost only");
+  if (num_threads < 1) return fail("threads must be >= 1");
+  if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");
+  if (!(gap_weight >= 0 && gap_weight <= 100)) return fail("gap_weight must be in [0, 100]");
+  if (!(holdout_fraction >= 0 && holdout_fraction < 0.9)) return fail("holdout must be in [0, 0.9)");
+  if (stddev_subsamples < 0 || stddev_subsamples > 1000) return fail("stddev_subsamples must be in [0, 1000]");
+  MeasureOptions m;
+  m.weight = weight;
+  m.mask_polygon = mask_polygon;
+  return m.IsValid(error);
+}
+
+const char* VerdictName(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kConvergedImproved: return "converged_improved";
+    case Verdict::kConvergedNotImproved: return "converged_not_improved";
+    case Verdict::kIllConditioned: return "ill_conditioned";
+    case Verdict::kFailed: return "failed";
+  }
+  return "?";
+}
+
+std::array<double, 3> EulerDegrees(const Eigen::Matrix3d& r) {
+  const double degrees = 180.0 / M_PI;
+  const double ry = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+  return {std::atan2(r(2, 1), r(2, 2)) * degrees, ry * degrees,
+          std::atan2(r(1, 0), r(0, 0)) * degrees};
+}
+
+Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix) {
+  std::vector<std::array<double, 3>> points(surface.size());
+  // Rotate local coordinates and move the origin separately: no large
+  // coordinates are multiplied by the rotation.
+  const Eigen::Matrix3d r = matrix.topLeftCorner<3, 3>();
+  const Eigen::Vector3d origin(surface.origin[0], surface.origin[1], surface.origin[2]);
+  const Eigen::Vector3d moved_origin = r * origin + matrix.topRightCorner<3, 1>();
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    const Eigen::Vector3d p = r * Eigen::Vector3d(surface.xy[i].x, surface.xy[i].y, surface.z[i]);
+    points[i] = {p.x() + moved_origin.x(), p.y() + moved_origin.y(), p.z() + moved_origin.z()};
+  }
+  Surface moved = MakeSurface(points, surface.weight, surface.source);
+  moved.raster_cell = surface.raster_cell;  // a rigidly moved raster keeps its cells
+  return moved;
+}
+
+}  // namespace surfreg
