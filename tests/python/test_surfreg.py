@@ -234,6 +234,19 @@ def test_align_writes_the_files_its_keys_name(tmp_path):
     same(without(r, TIMING_KEYS), without(written, TIMING_KEYS))
 
 
+def test_initial_transform_and_matrix_txt_round_trip(tmp_path):
+    """matrix_txt writes the 4 x 4 matrix as text; initial_transform starts a
+    second alignment there, which ends at the same motion."""
+    reference, moving, _ = known_pair(n=1500)
+    text = tmp_path / "m.txt"
+    first = surfreg.align(reference, moving, matrix_txt=text)
+    np.testing.assert_allclose(np.loadtxt(text), first["matrix"], rtol=0, atol=1e-15)
+    second = surfreg.align(reference, moving, initial_transform=text)
+    np.testing.assert_allclose(second["matrix"], first["matrix"], atol=1e-6)
+    assert second["verdict"] in ("converged_improved", "converged_not_improved")
+    assert second["before"]["mean_abs_dz"] == pytest.approx(first["after"]["mean_abs_dz"], rel=1e-9)
+
+
 # --- bad input ------------------------------------------------------------
 
 
