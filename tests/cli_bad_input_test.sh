@@ -131,6 +131,17 @@ fi
 rm -f out/failed.json
 
 # --- configs and options ---
+# Usage mistakes: the error line with the suggestion, then the usage hint
+# (--jobs=0 is in cli_sweep_test.sh, which has a sweep to run).
+for mistake in "aling good.xyz good.xyz|unknown command 'aling' (did you mean 'align'?)" \
+               "align good.xyz good.xyz --max_iter=5|unknown flag '--max_iter=5' (did you mean '--max_iterations'?)"; do
+  # shellcheck disable=SC2086  # the command's words
+  run ${mistake%%|*}
+  if [[ $rc -ne 2 ]] || [[ "$(head -1 stderr)" != "surfreg: error: ${mistake#*|}" ]] ||
+     [[ "$(sed -n 2p stderr)" != "run 'surfreg help' for usage" ]] || [[ $(wc -l <stderr) -ne 2 ]]; then
+    fail "surfreg ${mistake%%|*}: expected exit 2, 'surfreg: error: ${mistake#*|}' and the usage hint"
+  fi
+done
 printf 'reference: good.xyz\nmoving: good.xyz\ncostt: axial\n' >unknown_key.yaml
 expect_error "unknown_key.yaml:3: unknown key 'costt' (did you mean 'cost'?)" align --config unknown_key.yaml
 printf 'reference: good.xyz\nmoving: good.xyz\nmax_iterations: many\n' >wrong_type.yaml
