@@ -1,0 +1,206 @@
+// The steps of an alignment before its result (align_steps.h).
+#include "registration/align_steps.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "measure/input_error.h"
+#include "measure/weights.h"
+#include "registration/wide_search.h"
+
+namespace surfreg {
+namespace align_steps {
+namespace {
+
+// The axial prealignment runs on at most about this many points of each
+// surface (AlignOptions::prealign).
+constexpr double kPrealignPoints = 5000.0;
+
+double RmsRadius(const MovingSide& side) {
+  double sum = 0;
+  for (const Eigen::Vector3d& p : side.points) sum += (p - side.centroid).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(side.points.size()));
+}
+
+// The deterministic perturbation of multi-start s ≥ 1: a random axis and
+// direction (seeded by s), of the configured magnitudes, free parameters only.
+std::array<double, 6> Perturbed(const std::array<double, 6>& theta, int s,
+                                const AlignOptions& options, double shift) {
+  if (s == 0) return theta;
+  std::mt19937_64 rng(0x5eed0000ULL + static_cast<uint64_t>(s));
+  std::normal_distribution<double> normal;
+  Eigen::Vector3d axis(normal(rng), normal(rng), normal(rng)), direction(normal(rng), normal(rng), normal(rng));
+  axis.normalize();
+  direction.normalize();
+  const double angle = options.multi_start_angle_deg * M_PI / 180.0;
+  std::array<double, 6> out = theta;
+  for (int k = 0; k < 3; ++k) {
+    if (options.free[k]) out[k] += angle * axis[k];
+    if (options.free[3 + k]) out[3 + k] += shift * direction[k];
+  }
+  return out;
+}
+
+}  // namespace
+
+void CheckPerPointWeights(const Surface& reference, const AlignOptions& options) {
+  if (options.weight != WeightMode::kPerPoint) return;
+  // μ lives on the reference's mesh: the reference is fixed, so μ is too.
+  const std::string name = reference.source.empty() ? "the reference" : reference.source;
+  if (reference.weight.empty()) {
+    throw InputError("align: weight per_point needs per-sample weights on the reference, but " + name +
+                     " has none");
+  }
+  const auto positive = [](double w) { return w > 0; };
+  if (std::none_of(reference.weight.begin(), reference.weight.end(), positive)) {
+    throw InputError("align: weight per_point: every weight of " + name + " is 0");
+  }
+}
+
+// Levels, coarsest first; all share the full cloud's centroid so θ means
+// the same motion on every level.
+std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, const Surface& moving,
+                                                  const AlignOptions& options,
+                                                  const std::array<double, 3>& shift) {
+  std::vector<std::unique_ptr<Level>> levels;
+  for (int l = 0; l < options.levels; ++l) {
+    const double keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1 - l));
+    auto level = std::make_unique<Level>();
+    level->reference = PrepareReference(reference, keep, options.domain);  // weights kept per point
+    if (options.weight != WeightMode::kPerPoint) level->reference.weight.clear();
+    if (options.cost == CostKind::kVolume) {
+      ApplySlopeWeight(options.slope_weight, &level->reference);
+      ApplyGapWeight(options.gap_weight, &level->reference);
+    }
+    level->moving = PrepareMoving(moving, shift, keep, options.domain);
+    levels.push_back(std::move(level));
+  }
+  Level& finest = *levels.back();
+  // A subsampled finest level has its own centroid; θ keeps meaning a motion
+  // about the full cloud's.
+  if (options.subsample < 1) finest.moving.centroid = PrepareMoving(moving, shift).centroid;
+  for (auto& level : levels) level->moving.centroid = finest.moving.centroid;
+  return levels;
+}
+
+SolveContext MakeContext(const AlignOptions* options, const Level& finest, const Surface& reference) {
+  SolveContext context;
+  context.options = options;
+  context.rotation_scale = std::max(RmsRadius(finest.moving), 1e-300);
+  for (const auto& p : options->mask_polygon) {
+    context.axial.mask.push_back({p[0] - reference.origin[0], p[1] - reference.origin[1]});
+  }
+  context.axial.trim_fraction = options->trim_fraction;
+  context.axial.normal_distance = options->normal_distance;
+  if (!context.axial.mask.empty()) context.mask_triangles = TriangulatePolygon(context.axial.mask);
+  return context;
+}
+
+// The start must not fold the moving surface; the axial cost's automatic
+// loss scale is taken there.
+void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const Surface& moving,
+                const SolveContext& context, AlignOptions* options) {
+  PairState check(finest.reference, finest.moving, options->max_fold_fraction);
+  UpdateStats stats;
+  if (!check.Update(theta0, &stats)) {
+    throw InputError("the initial motion folds " + moving.source + ": " + std::to_string(stats.folded) +
+                     " triangles turn over in the xy projection (tilt too large for a height field)");
+  }
+  if (options->cost == CostKind::kAxial && options->loss != LossKind::kNone && !(options->loss_scale > 0)) {
+    options->loss_scale = AutomaticLossScale(check, context.axial, 1e-9 * context.rotation_scale);
+  }
+}
+
+// The axial prealignment only has to land in the volume cost's basin: on
+// large clouds it runs on a fixed subsample of at most kPrealignPoints of
+// each (its time otherwise rivals the volume solve's). Nothing when it runs
+// on the coarsest level itself.
+std::optional<Level> PrealignSides(const Surface& reference, const Surface& moving,
+                                   const std::vector<std::unique_ptr<Level>>& levels,
+                                   const std::array<double, 3>& shift, const AlignOptions& options) {
+  std::optional<Level> sides;
+  const Level& coarsest = *levels.front();
+  const double keep_a = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.reference.xy.size()));
+  const double keep_b = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.moving.points.size()));
+  if (options.cost != CostKind::kVolume || !options.prealign || std::min(keep_a, keep_b) >= 1) return sides;
+  const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
+  sides.emplace();
+  sides->reference = PrepareReference(reference, level_keep * keep_a, options.domain);
+  if (options.weight != WeightMode::kPerPoint) sides->reference.weight.clear();
+  sides->moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain);
+  sides->moving.centroid = levels.back()->moving.centroid;
+  return sides;
+}
+
+
+namespace {
+
+// One start through every level (the prealignment first); false if a level
+// gave no usable solution.
+bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const std::optional<Level>& prealign,
+                   const AlignOptions& options, std::array<double, 6> theta, SolveContext& context,
+                   Clock::time_point start, SolveResult* solved, Starts* starts) {
+  for (std::size_t l = 0; l < levels.size(); ++l) {
+    PairState state(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
+    context.level = static_cast<int>(l);
+    context.seconds_offset = Seconds(start);
+    if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
+      context.cost = "axial";
+      std::optional<PairState> subsampled;  // each start from the sides' own meshes
+      if (prealign) subsampled.emplace(prealign->reference, prealign->moving, options.max_fold_fraction);
+      context.prealignment = true;
+      const SolveResult rough = SolveAxial(subsampled ? *subsampled : state, context, theta);
+      context.prealignment = false;
+      starts->iterations += std::max(0, rough.iterations);
+      if (rough.usable) theta = rough.theta;
+    }
+    context.cost = options.cost == CostKind::kAxial ? "axial" : "volume";
+    context.seconds_offset = Seconds(start);
+    *solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
+                                               : SolveVolume(state, context, theta);
+    starts->iterations += std::max(0, solved->iterations);
+    starts->remeshes += state.remeshes();
+    if (!solved->usable) return false;
+    theta = solved->theta;
+  }
+  return true;
+}
+
+}  // namespace
+
+Starts SolveFromStarts(const Surface& reference, const Surface& moving,
+                       const std::vector<std::unique_ptr<Level>>& levels, const std::array<double, 3>& shift,
+                       const std::array<double, 6>& theta0, const AlignOptions& options, SolveContext& context,
+                       Clock::time_point start) {
+  Starts starts;
+  const Level& finest = *levels.back();
+  std::array<double, 6> start_theta = theta0;
+  if (options.wide_search == AlignOptions::WideSearch::kAlways) {
+    const double keep_a = std::min(1.0, 2000.0 / static_cast<double>(reference.size()));
+    const double keep_b = std::min(1.0, 2000.0 / static_cast<double>(moving.size()));
+    const ReferenceSide coarse_reference = PrepareReference(reference, keep_a, options.domain);
+    MovingSide coarse_moving = PrepareMoving(moving, shift, keep_b, options.domain);
+    coarse_moving.centroid = finest.moving.centroid;  // θ: the same motion on every level
+    start_theta = WideSearch(coarse_reference, coarse_moving, theta0, options, context.rotation_scale).theta;
+    starts.wide_search_ran = true;
+  }
+  const double spacing = std::sqrt(finest.moving.hull_area / static_cast<double>(finest.moving.points.size()));
+  const double start_shift = options.multi_start_shift > 0 ? options.multi_start_shift : 5.0 * spacing;
+  const std::optional<Level> prealign = PrealignSides(reference, moving, levels, shift, options);
+  for (int s = 0; s <= options.multi_start; ++s) {
+    context.start = s;
+    SolveResult solved;
+    const bool usable = SolveOneStart(levels, prealign, options, Perturbed(start_theta, s, options, start_shift),
+                                      context, start, &solved, &starts);
+    if (usable && (!starts.have_best || solved.final_cost < starts.best.final_cost)) {
+      starts.best = solved;
+      starts.have_best = true;
+    }
+  }
+  return starts;
+}
+
+}  // namespace align_steps
+}  // namespace surfreg

@@ -1,0 +1,63 @@
+#pragma once
+// The steps of an alignment before its result (registration/align.cc, the
+// pipeline): checking the inputs, preparing the levels and the solve's
+// context, and solving from each start through every level. Internal.
+#include <array>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "measure/surface.h"
+#include "registration/align.h"
+#include "registration/pair_state.h"
+#include "registration/solvers.h"
+
+namespace surfreg {
+namespace align_steps {
+
+using Clock = std::chrono::steady_clock;
+inline double Seconds(Clock::time_point from) {
+  return std::chrono::duration<double>(Clock::now() - from).count();
+}
+
+// One level of the coarse-to-fine solve: both sides prepared.
+struct Level {
+  ReferenceSide reference;
+  MovingSide moving;
+};
+
+// A per_point weight needs weights on the reference, not all zero.
+void CheckPerPointWeights(const Surface& reference, const AlignOptions& options);
+
+// Levels, coarsest first; all share the full cloud's centroid so θ means
+// the same motion on every level.
+std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, const Surface& moving,
+                                                  const AlignOptions& options,
+                                                  const std::array<double, 3>& shift);
+
+SolveContext MakeContext(const AlignOptions* options, const Level& finest, const Surface& reference);
+
+// The start must not fold the moving surface; the axial cost's automatic
+// loss scale is taken there.
+void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const Surface& moving,
+                const SolveContext& context, AlignOptions* options);
+
+// What the starts (AlignOptions::multi_start, each through every level)
+// found: the lowest final cost.
+struct Starts {
+  SolveResult best;
+  bool have_best = false;
+  int iterations = 0;
+  int remeshes = 0;
+  bool wide_search_ran = false;
+};
+
+// The wide search (if always), then every start through every level.
+Starts SolveFromStarts(const Surface& reference, const Surface& moving,
+                       const std::vector<std::unique_ptr<Level>>& levels, const std::array<double, 3>& shift,
+                       const std::array<double, 6>& theta0, const AlignOptions& options, SolveContext& context,
+                       Clock::time_point start);
+
+}  // namespace align_steps
+}  // namespace surfreg
