@@ -479,22 +479,23 @@ assert 'change' not in r('ll_union'), r('ll_union')
 "
 fi
 
-# --- progress: from the start for 200,000 samples or more, none with --quiet ---
+# --- progress: from the start for 200,000 samples or 5 MB of input or more, none with --quiet ---
 python3 - "$tmp" <<'EOF' || { echo "FAIL: cannot make the progress inputs"; exit 1; }
 import math, random, sys
 random.seed(3)
 for name, dz in (("big_a", 0.0), ("big_b", 0.1)):
     with open(f"{sys.argv[1]}/{name}.xyz", "w") as f:
-        for _ in range(110000):
+        for _ in range(140000):
             x, y = random.uniform(0, 300), random.uniform(0, 300)
             f.write("%.4f %.4f %.4f\n" % (x, y, math.sin(x / 20) * math.cos(y / 30) + dz))
 EOF
 run measure "$tmp/big_a.xyz" "$tmp/big_b.xyz" --json
 checks=$((checks + 1))
-if [[ $rc -ne 0 ]] || ! grep -q "^measure: triangulating (5% done" "$tmp/stderr" ||
+if [[ $rc -ne 0 ]] || ! grep -q "^measure: reading $tmp/big_a.xyz and $tmp/big_b.xyz ([0-9.]* MB)" "$tmp/stderr" ||
+   ! grep -q "^measure: triangulating (5% done" "$tmp/stderr" ||
    ! grep -q "^measure: volume (60% done, [0-9.]* s, about [0-9.]* s left)" "$tmp/stderr" ||
    grep -q "^measure:" "$tmp/stdout"; then
-  fail "measure of 2 x 110,000 samples: expected stage lines with the time left on stderr only"
+  fail "measure of 2 x 140,000 samples (6.7 MB): expected the reading line and stage lines with the time left on stderr only"
 fi
 run measure "$tmp/big_a.xyz" "$tmp/big_b.xyz" --json --quiet
 checks=$((checks + 1))

@@ -17,6 +17,7 @@
 #include "tools/align_run.h"
 #include "tools/commands.h"
 #include "tools/json_writer.h"
+#include "tools/progress_lines.h"
 #include "tools/terrain.h"
 
 // Every config key is a flag. Non-boolean flags are strings, so that
@@ -197,8 +198,11 @@ int RunAlign(const std::vector<std::string>& args) {
   if (!FLAGS_manifest.empty()) return RunAlignManifest(args);  // tools/run_batch.cc
   const Clock::time_point start = Clock::now();
   AlignConfig config = LoadConfig(args);
-  // The long stages around the solve, as the iterations: once past a second.
-  config.options.on_stage = [progress = config.progress, start](const char* stage, double) {
+  // The long stages around the solve, as the iterations: once past a second,
+  // or from the start for large inputs (their reading is the first stage).
+  const bool large = LargeInputs({config.reference, config.moving});
+  if (!FLAGS_quiet && large) PrintReadingLine("align", {config.reference, config.moving});
+  config.options.on_stage = [progress = config.progress || large, start](const char* stage, double) {
     if (!FLAGS_quiet && (progress || Since(start) >= 1.0)) {
       std::fprintf(stderr, "align: %s (%.1f s)\n", stage, Since(start));
     }

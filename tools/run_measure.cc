@@ -18,6 +18,7 @@
 #include "tools/interrupt.h"
 #include "tools/json_writer.h"
 #include "tools/measure_run.h"
+#include "tools/progress_lines.h"
 #include "tools/terrain_uncertainty.h"
 
 // The run itself is tools/measure_run.cc (shared with the Python module);
@@ -151,6 +152,7 @@ int RunMeasure(const std::vector<std::string>& args) {
     CHECK(gflags::GetCommandLineFlagInfo(key.c_str(), &info)) << "no flag --" << key;
     if (!info.is_default) settings.push_back({key, info.current_value, "flag '--" + key + "'"});
   }
+  if (!FLAGS_quiet && LargeInputs({args[0], args[1]})) PrintReadingLine("measure", {args[0], args[1]});
   const MeasureReport report =
       MeasureSurfaces({args[0], {}}, {args[1], {}}, settings, PrintMeasureProgress);
   ThrowIfInterrupted();  // no report of an interrupted run
