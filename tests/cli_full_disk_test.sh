@@ -25,7 +25,9 @@ limited() {
   shift 2
   rm -rf "$tmp/out" && mkdir "$tmp/out"
   checks=$((checks + 1))
-  (ulimit -f "$kib" && exec "$bin" "$@") >"$tmp/stdout" 2>"$tmp/stderr"
+  # --quiet: the limit holds for stderr's file too, and a slow build (the
+  # sanitizers') prints progress lines that would fill it first.
+  (ulimit -f "$kib" && exec "$bin" "$@" --quiet) >"$tmp/stdout" 2>"$tmp/stderr"
   rc=$?
   local errors
   errors=$(grep -c '^surfreg: error:' "$tmp/stderr")
