@@ -3,6 +3,10 @@
 # input gives exit code 2, exactly one line on stderr naming the file (and
 # line) or the config key, and no output file; the two classes surfreg
 # accepts (duplicate xy samples, coordinates near 1e7) give the right numbers.
+# Then what the command line must survive (issue 23): outputs that cannot be
+# written (a file-size limit, a full device), SIGINT and SIGTERM during
+# measure, align and sweep, a resume with other settings, a merge into one
+# of its inputs, --jobs=0, and a failed verdict (exit 3).
 # Usage: cli_bad_input_test.sh SURFREG_BINARY   (needs python3, standard library)
 set -u
 source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
@@ -11,6 +15,7 @@ if [[ $# -ne 1 ]]; then
   exit 2
 fi
 bin=$(realpath -- "$1") || exit 2
+data=$(realpath -- "$(dirname -- "$(realpath -- "$0")")/../configs/data") || exit 2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cd "$tmp" || exit 2
@@ -132,7 +137,7 @@ rm -f out/failed.json
 
 # --- configs and options ---
 # Usage mistakes: the error line with the suggestion, then the usage hint
-# (--jobs=0 is in cli_sweep_test.sh, which has a sweep to run).
+# (--jobs=0 is with the sweep below).
 for mistake in "aling good.xyz good.xyz|unknown command 'aling' (did you mean 'align'?)" \
                "align good.xyz good.xyz --max_iter=5|unknown flag '--max_iter=5' (did you mean '--max_iterations'?)"; do
   # shellcheck disable=SC2086  # the command's words
@@ -162,8 +167,181 @@ expect_error "the initial motion folds" align good.xyz good.xyz --initial_rotati
 expect_error "directory '$tmp/nowhere' does not exist" align good.xyz good.xyz \
   --output="$tmp/nowhere/t.json"
 
+# --- outputs that cannot be written ---
+# Past a file-size limit (`ulimit -f`, which without surfreg's handling kills
+# the process with SIGXFSZ) and to a full device (/dev/full as stdout): exit
+# 2 and one line "surfreg: error: ..." naming the file (or the standard
+# output), and no file and no temporary left behind.
+# limited KIB EXPECTED_FILE ARGS...: runs the command under `ulimit -f KIB`
+# and checks exit 2, one error line naming EXPECTED_FILE, and an empty out/.
+limited() {
+  local kib=$1 file=$2
+  shift 2
+  rm -rf "$out" && mkdir "$out"
+  checks=$((checks + 1))
+  # --quiet: the limit holds for stderr's file too, and a slow build (the
+  # sanitizers') prints progress lines that would fill it first.
+  (ulimit -f "$kib" && exec "$bin" "$@" --quiet) >"$tmp/stdout" 2>"$tmp/stderr"
+  rc=$?
+  local errors
+  errors=$(grep -c '^surfreg: error:' "$tmp/stderr")
+  if [[ $rc -ne 2 ]]; then
+    fail "ulimit -f $kib: $*: expected exit 2, got $rc"
+  elif [[ $errors -ne 1 ]] || ! grep -q "^surfreg: error: .*$file.*File too large" "$tmp/stderr"; then
+    fail "ulimit -f $kib: $*: expected one error line naming $file and 'File too large'"
+  elif [[ -n "$(ls -A "$out")" ]]; then
+    fail "ulimit -f $kib: $*: files left behind: $(ls -A "$out")"
+  fi
+}
+
+limited 1 out/log.csv align "$data/volcano_a.xyz" "$data/volcano_moved.xyz" --log="$tmp/out/log.csv"
+limited 1 out/run.json align "$data/volcano_a.xyz" "$data/volcano_moved.xyz" --output="$tmp/out/run.json"
+limited 4 out/aligned.xyz align "$data/volcano_a.xyz" "$data/volcano_moved.xyz" --aligned="$tmp/out/aligned.xyz"
+limited 4 out/dod.tif align "$data/volcano_dem.tif" "$data/volcano_dem_moved.tif" --output="$tmp/out/dod.tif"
+limited 4 out/dod.png align "$data/volcano_dem.tif" "$data/volcano_dem_moved.tif" --dod_png="$tmp/out/dod.png"
+limited 1 "standard output" measure "$data/volcano_a.xyz" "$data/volcano_b.xyz" --json
+
+# A full device as stdout: the results must not be lost silently.
+for command in "measure $data/volcano_a.xyz $data/volcano_b.xyz --json" \
+               "measure $data/volcano_a.xyz $data/volcano_b.xyz"; do
+  checks=$((checks + 1))
+  # shellcheck disable=SC2086  # the command's words
+  "$bin" $command >/dev/full 2>"$tmp/stderr"
+  rc=$?
+  if [[ $rc -ne 2 ]] || ! grep -q "^surfreg: error: cannot write the standard output: No space left" "$tmp/stderr"; then
+    fail "$command > /dev/full: expected exit 2 and 'cannot write the standard output: No space left'"
+  fi
+done
+
+rm -rf "$out" && mkdir "$out"
+
+# --- SIGINT and SIGTERM ---
+# Each signalled command ends with exit 130 (SIGINT) / 143 (SIGTERM) and
+# "surfreg: interrupted" as its last and only non-progress line on stderr,
+# leaves no temporary file, and keeps what is complete: align's --log rows
+# so far, the sweep's partial file, which --resume then continues to the
+# uninterrupted sweep's rows.
+# Two wavy 400 x 400 grids, the second shifted and tilted: seconds of work.
+python3 - <<'PY' || exit 2
+import math
+def grid(name, dx, dz, tilt):
+    with open(name, "w") as f:
+        for i in range(400):
+            for j in range(400):
+                x, y = i * 0.05, j * 0.05
+                z = math.sin(x) * math.cos(0.7 * y) + 0.1 * x + tilt * y + dz
+                f.write("%.6f %.6f %.6f\n" % (x + dx, y, z))
+grid("a.xyz", 0, 0, 0)
+grid("b.xyz", 0.07, 0.2, 0.01)
+PY
+
+# start ARGS...: the command in the background, its pid in `pid`.
+start() {
+  checks=$((checks + 1))
+  "$bin" "$@" >stdout 2>stderr &
+  pid=$!
+}
+
+# wait_for FILE PATTERN: until FILE has a line matching PATTERN (60 s at most).
+wait_for() {
+  for _ in $(seq 600); do
+    grep -q -- "$2" "$1" 2>/dev/null && return 0
+    kill -0 "$pid" 2>/dev/null || return 1
+    sleep 0.1
+  done
+  return 1
+}
+
+# finish SIGNAL CODE WHAT: signal the running command; check the exit code,
+# the last stderr line, that no other line is an error, and no temporary.
+finish() {
+  kill -"$1" "$pid"
+  wait "$pid"
+  rc=$?
+  if [[ $rc -ne $2 ]]; then
+    fail "$3: expected exit $2 after SIG$1"
+  elif [[ $(tail -n 1 stderr) != "surfreg: interrupted" ]]; then
+    fail "$3: the last line on stderr is not 'surfreg: interrupted'"
+  elif [[ $(grep -c '^surfreg: ' stderr) -ne 1 ]]; then
+    fail "$3: more than one surfreg: line on stderr"
+  elif [[ -n $(find . -name '*.tmp-*') ]]; then
+    fail "$3: temporary files left: $(find . -name '*.tmp-*')"
+  fi
+}
+
+# --- measure: signalled while it reads or measures ---------------------------------
+start measure a.xyz b.xyz --json
+sleep 0.3
+kill -0 "$pid" 2>/dev/null || fail "measure finished within 0.3 s: too fast to interrupt"
+finish INT 130 "measure"
+[[ -s stdout ]] && fail "measure: printed a report although interrupted"
+
+# --- align: the --log rows so far are kept -------------------------------------------
+start align a.xyz b.xyz --cost=volume --levels=1 --max_iterations=500 --function_tolerance=1e-30 \
+  --progress --log=out/log.csv --output=out/t.json --aligned=out/aligned.xyz
+wait_for stderr "volume iteration *3 " || fail "align: no progress line within 60 s"
+finish INT 130 "align"
+checks=$((checks + 1))
+rows=$(($(wc -l <out/log.csv 2>/dev/null || echo 0) - 1))
+if [[ ! -s out/log.csv ]] || ! head -n 1 out/log.csv | grep -q '^level,start,cost_kind,iteration'; then
+  fail "align: the --log CSV was not kept"
+elif [[ $rows -lt 3 ]]; then
+  fail "align: the --log CSV holds $rows rows, expected the iterations printed so far"
+fi
+[[ -e out/t.json || -e out/aligned.xyz ]] && fail "align: wrote outputs of an unfinished run"
+rm -f out/*
+
+# --- sweep: SIGTERM, then --resume gives the uninterrupted result ----------------------
+mkdir sw
+awk 'NR % 16 == 0' a.xyz >sa.xyz
+awk 'NR % 16 == 1' b.xyz >sb.xyz
+cat >sweep.yaml <<YAML
+pairs:
+  - {name: p, reference: sa.xyz, moving: sb.xyz}
+settings: {cost: axial, max_iterations: 30, covariance: false, levels: 1}
+sweep: {loss: [none, cauchy]}
+perturbations: {rotation_deg: [1, 2], shift_spacings: [1, 2], directions: 3, seed: 3}
+output: sw/full.csv
+YAML
+runs=12
+run sweep --config sweep.yaml --jobs=2
+[[ $rc -eq 0 ]] || fail "sweep: exit $rc"
+start sweep --config sweep.yaml --jobs=1 --output=sw/cut.csv
+wait_for sw/cut.csv.partial '^3,' || fail "sweep: run 3 was not streamed within 60 s"
+finish TERM 143 "sweep"
+checks=$((checks + 1))
+if [[ -e sw/cut.csv || ! -e sw/cut.csv.partial ]]; then
+  fail "sweep: expected the partial file and no CSV"
+else
+  kept=$(($(grep -c '^[0-9]' sw/cut.csv.partial)))
+  # A resume with other settings than the partial file's: refused, naming the key.
+  sed 's/max_iterations: 30/max_iterations: 10/' sweep.yaml >fewer.yaml
+  expect_error "was written with other settings: max_iterations '30' there, '10' now" \
+    sweep --config fewer.yaml --output=sw/cut.csv --resume
+  run sweep --config sweep.yaml --output=sw/cut.csv --resume --jobs=2
+  [[ $rc -eq 0 ]] || fail "sweep --resume: exit $rc"
+  grep -q "$kept of $runs runs already done" stderr || fail "sweep --resume did not keep the $kept rows"
+  checks=$((checks + 1))
+  python3 - sw/cut.csv sw/full.csv <<'PY' || fail "the resumed sweep's rows differ from the uninterrupted ones"
+import csv, sys
+def rows(path):
+    table = list(csv.reader(open(path, newline='')))
+    drop = table[0].index('seconds')
+    return [r[:drop] + r[drop + 1:] for r in table]
+sys.exit(rows(sys.argv[1]) != rows(sys.argv[2]))
+PY
+fi
+
+# --- sweep and merge mistakes ---
+cp sw/cut.csv sw/cut_before.csv
+expect_error "argument OUT: 'sw/cut.csv' is also input 2 ('sw/cut.csv'); write the merge to another file" \
+  merge sw/cut.csv sw/full.csv sw/cut.csv
+checks=$((checks + 1))
+cmp -s sw/cut.csv sw/cut_before.csv || fail "merge into one of its inputs changed it"
+expect_error "flag '--jobs' expects an integer >= 1, got 0" sweep --config sweep.yaml --jobs=0
+
 if [[ $failures -ne 0 ]]; then
-  echo "$failures failure(s)"
+  echo "$failures failure(s) in $checks checks"
   exit 1
 fi
-echo "all bad-input checks passed"
+echo "all $checks bad-input checks passed"

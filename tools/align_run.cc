@@ -49,6 +49,17 @@ std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignR
   return lines;
 }
 
+// The files an align run writes, for its "writing ..." stage line.
+std::string OutputList(const AlignConfig& config) {
+  std::string list;
+  for (const char* key : {"output", "matrix_txt", "aligned", "log", "dod", "dod_png", "histogram_png",
+                          "change_csv", "dod_sigma", "dod_thresholded"}) {
+    const std::string path = AlignConfigValue(config, key);
+    if (!path.empty()) list += (list.empty() ? "" : ", ") + path;
+  }
+  return list.empty() ? "nothing (no output key)" : list;
+}
+
 }  // namespace
 
 std::string AlignProgressLine(const AlignOptions::Iteration& it, int levels) {
@@ -110,7 +121,14 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
   config.options.on_iteration = nullptr;  // it refers to this frame's locals
   const AlignResult& result = run.result;
 
-  if (run.terrain) run.report = AnalyseTerrain(config, inputs, result);
+  const auto stage = [&config](const std::string& what) {
+    if (config.options.on_stage) config.options.on_stage(what.c_str(), 0);
+  };
+  if (run.terrain) {
+    stage("terrain change");
+    run.report = AnalyseTerrain(config, inputs, result);
+  }
+  stage("writing " + OutputList(config));
   run.json = TransformJson(config, result,
                            run.terrain ? TerrainJsonMember(config, inputs, run.report) : "");
   if (run.terrain) WriteTerrainOutputs(config, inputs, run.report);

@@ -39,6 +39,8 @@ DECLARE_string(output);
 DECLARE_string(manifest);
 DECLARE_string(shard);  // tools/run_sweep.cc
 
+DECLARE_bool(quiet);  // tools/run_measure.cc
+
 namespace surfreg {
 namespace {
 
@@ -230,8 +232,10 @@ int RunAlignManifest(const std::vector<std::string>& args) {
                       " by surfreg align --manifest"});
       }
       summary.rows.push_back(SummaryRow(row, &result, ""));
-      std::fprintf(stderr, "align: pair %zu/%zu (row %lld): %s, %.2f s\n", k + 1, rows.size(),
-                   static_cast<long long>(row.id), VerdictName(result.verdict), result.seconds);
+      if (!FLAGS_quiet) {
+        std::fprintf(stderr, "align: pair %zu/%zu (row %lld): %s, %.2f s\n", k + 1, rows.size(),
+                     static_cast<long long>(row.id), VerdictName(result.verdict), result.seconds);
+      }
     } catch (const InputError& e) {
       ++failed;
       summary.rows.push_back(SummaryRow(row, nullptr, e.what()));

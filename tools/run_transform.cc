@@ -22,6 +22,7 @@
 #include "tools/io/raster_resample.h"
 #include "tools/io/surface_reader.h"
 #include "tools/io/surface_writer.h"
+#include "tools/progress_lines.h"
 #include "tools/transform_file.h"
 
 DEFINE_string(transform, "",
@@ -34,6 +35,7 @@ DEFINE_string(grid, "",
 DECLARE_string(output);  // tools/run_align.cc
 DECLARE_string(classes);
 DECLARE_string(columns);
+DECLARE_bool(quiet);  // tools/run_measure.cc
 
 namespace surfreg {
 namespace {
@@ -97,6 +99,9 @@ int RunTransform(const std::vector<std::string>& args) {
   Eigen::Matrix4d m = ReadTransformFile(FLAGS_transform, "flag '--transform'");
   if (FLAGS_inverse) m = m.inverse().eval();
 
+  // Stage lines for inputs large enough to take seconds (progress_lines.h).
+  const bool loud = !FLAGS_quiet && LargeInputs({input});
+  if (loud) PrintReadingLine("transform", {input});
   Raster grid;  // the input raster's: its grid is the default output grid
   Surface surface;
   if (raster_in) {
@@ -107,6 +112,10 @@ int RunTransform(const std::vector<std::string>& args) {
   }
   if (!FLAGS_grid.empty()) grid = ReadRaster(FLAGS_grid);
   const Surface moved = TransformSurface(surface, m);
+  if (loud) {
+    std::fprintf(stderr, "transform: writing %s%s\n", FLAGS_output.c_str(),
+                 raster_out ? " (resampled onto the grid)" : "");
+  }
   if (raster_out) {
     WriteGeoTiff(FLAGS_output, ResampleOntoGrid(moved, grid), "flag '--output'");
   } else {

@@ -88,10 +88,10 @@ const Command kCommands[] = {
      "config", IsJawKey},
     {"transform", RunTransform,
      "INPUT --transform=T.json|T.txt --output=OUT [--inverse] [--grid=REF.tif] [--classes=C,...] "
-     "[--columns=X,Y,Z]",
+     "[--columns=X,Y,Z] [--quiet]",
      "apply a rigid transform (align's JSON or a 4x4 text matrix) to a cloud or raster; write "
      "a cloud, or a GeoTIFF on the input's grid or REF's",
-     "transform output inverse grid classes columns", nullptr},
+     "transform output inverse grid classes columns quiet", nullptr},
     {"merge", RunMerge, "OUT.csv IN.csv [IN.csv ...]",
      "join the CSVs of sweep or align --manifest shards, sorted by run_id", "", nullptr},
 };
