@@ -205,8 +205,10 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   RunBoth(parallel, [&] { pa.domain = MakeMeshDomain(pa.xy, pa.mesh, rule_a, &pa.in_grid); },
           [&] { pb.domain = MakeMeshDomain(pb.xy, pb.mesh, rule_b, &pb.in_grid); });
   summary.timings.domain = Seconds(stage);
-  CheckDomain(a, pa, rule_a, "surface A");
-  CheckDomain(b, pb, rule_b, "surface B");
+  if (!options.allow_empty_overlap) {
+    CheckDomain(a, pa, rule_a, "surface A");
+    CheckDomain(b, pb, rule_b, "surface B");
+  }
 
   progress("spanning trees", 0.45);
   stage = Clock::now();
@@ -243,6 +245,8 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
                  pa.domain.Contains(pa.mesh, b_in_a[j]);
   }
   double gap_sum = 0.0, node_weight = 0.0;
+  std::vector<uint8_t> counted_b;  // B's nodes ρ'd counts (for dz_b)
+  if (options.keep_node_gaps) counted_b.assign(pb.xy.size(), 0);
   for (std::size_t i = 0; i < pa.xy.size(); ++i) {
     if (!a_in_b[i].found()) continue;
     gaps.a[i] = InterpolateAt(pb.mesh, pb.z, a_in_b[i]) - pa.z[i];
@@ -257,6 +261,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
     gaps.b[j] = pb.z[j] - InterpolateAt(pa.mesh, pa.z, b_in_a[j]);
     if (!omega_b[j] || pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
     if (b_in_a[j].where == Where::kOnVertex) continue;  // the same node of G1 ∪ G2 as A's
+    if (!counted_b.empty()) counted_b[j] = 1;
     const double w = mu.AtNodeB(j);
     gap_sum += w * std::fabs(gaps.b[j]);
     node_weight += w;
@@ -280,7 +285,8 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   // The domains' areas: the hulls' with DomainKind::kHull.
   const double smaller = std::min(pa.domain.area, pb.domain.area);
   const char* what = options.domain.kind == DomainKind::kHull ? "hull" : "data domain";
-  if (!(volume.area > options.min_overlap_fraction * smaller) || volume.cells == 0) {
+  if (!options.allow_empty_overlap &&
+      (!(volume.area > options.min_overlap_fraction * smaller) || volume.cells == 0)) {
     char numbers[160];
     std::snprintf(numbers, sizeof numbers,
                   " (overlap area %.3g, %.3g%% of the smaller %s; the minimum is %.3g%%)",
@@ -328,6 +334,10 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
     }
     summary.node_area_a.assign(pa.xy.size(), 0.0);
     for (std::size_t k = 0; k < pa.xy.size(); ++k) summary.node_area_a[order_a[k]] = area[k];
+    summary.dz_b.assign(pb.xy.size(), std::nan(""));
+    for (std::size_t k = 0; k < pb.xy.size(); ++k) {
+      if (counted_b[k]) summary.dz_b[order_b[k]] = gaps.b[k];
+    }
   }
   summary.timings.total = Seconds(start);
   return summary;

@@ -83,6 +83,10 @@ struct MeasureOptions {
   // nodes, e.g. on a reference raster's cells; and each node's share of
   // the overlap's area (MeasureSummary::node_area_a).
   bool keep_node_gaps = false;
+  // One tile of a larger measure (measure/tiled_measure.h): a surface with
+  // an empty data domain, or an empty or sliver overlap, gives zero
+  // measures instead of an InputError (the whole is judged, not the tile).
+  bool allow_empty_overlap = false;
   // Called at the start of each stage (from the calling thread), e.g. for a
   // progress line with an estimate of the time left.
   std::function<void(const MeasureProgress&)> on_progress;
@@ -130,6 +134,11 @@ struct MeasureSummary {
   // area exactly; its sum is |Ω| less the part along Ω's outline. The
   // cellwise change budgets (measure/change_budget.h) weight dz_a by it.
   std::vector<double> node_area_a;
+  // d at each sample of B, in B's input order (with keep_node_gaps): NaN
+  // except at the nodes ρ'd counts for B, i.e. B's nodes in Ω that are not
+  // also nodes of A (those are in dz_a). So every node of G1 ∪ G2 in Ω is
+  // finite in exactly one of dz_a, dz_b (a tiled measure counts them so).
+  std::vector<double> dz_b;
   int64_t n_points_a = 0, n_points_b = 0;          // input samples
   int64_t n_duplicates_a = 0, n_duplicates_b = 0;  // merged (heights averaged)
   int64_t n_overlap_nodes = 0;  // nodes of G1 ∪ G2 (as a set of xy) inside Ω

@@ -1,0 +1,571 @@
+#include "measure/tiled_measure.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <unordered_map>
+#include <utility>
+
+#include "measure/input_error.h"
+#include "measure/predicates.h"
+#include "measure/weights.h"
+
+namespace surfreg {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Sample index of each (column, row) of a window, -1 where nodata: the
+// reader's surfaces are per window, so a dense table is tile-sized.
+class WindowIndex {
+ public:
+  WindowIndex(const Surface& s, const SampleWindow& w) : w_(w) {
+    index_.assign(static_cast<std::size_t>(w.columns) * w.rows, -1);
+    for (std::size_t i = 0; i < s.raster_cell.size(); ++i) {
+      const RasterCell& cell = s.raster_cell[i];
+      if (!Inside(cell.column, cell.row)) {
+        throw InputError(Name(s) + ": sample at cell (" + std::to_string(cell.column) + ", " +
+                         std::to_string(cell.row) + ") outside the window read");
+      }
+      index_[Offset(cell.column, cell.row)] = static_cast<int32_t>(i);
+    }
+  }
+  bool Inside(int32_t c, int32_t r) const {
+    return c >= w_.column && c < w_.column + w_.columns && r >= w_.row && r < w_.row + w_.rows;
+  }
+  std::size_t Offset(int32_t c, int32_t r) const {
+    return static_cast<std::size_t>(r - w_.row) * w_.columns + (c - w_.column);
+  }
+  int32_t At(int32_t c, int32_t r) const { return Inside(c, r) ? index_[Offset(c, r)] : -1; }
+  // The four corners of cell (c, r) (samples (c, r) to (c+1, r+1)), or false.
+  bool Corners(int32_t c, int32_t r, int32_t corner[4]) const {
+    corner[0] = At(c, r), corner[1] = At(c + 1, r), corner[2] = At(c + 1, r + 1);
+    corner[3] = At(c, r + 1);
+    return corner[0] >= 0 && corner[1] >= 0 && corner[2] >= 0 && corner[3] >= 0;
+  }
+  static std::string Name(const Surface& s) {
+    return s.source.empty() ? std::string("raster") : s.source;
+  }
+
+ private:
+  SampleWindow w_;
+  std::vector<int32_t> index_;
+};
+
+// The cells (c, r) with c in [c0, c1), r in [r0, r1) whose corners are all
+// valid: their area (both grid triangles, grid_mesh.h) and their number.
+double CompleteCellArea(const Surface& s, const WindowIndex& index, int32_t c0, int32_t c1,
+                        int32_t r0, int32_t r1, int64_t* count) {
+  double twice = 0.0;
+  *count = 0;
+  int32_t v[4];
+  for (int32_t r = r0; r < r1; ++r) {
+    for (int32_t c = c0; c < c1; ++c) {
+      if (!index.Corners(c, r, v)) continue;
+      const Point2 &p0 = s.xy[v[0]], &p1 = s.xy[v[1]], &p2 = s.xy[v[2]], &p3 = s.xy[v[3]];
+      twice += std::fabs((p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x));
+      twice += std::fabs((p2.x - p0.x) * (p3.y - p0.y) - (p2.y - p0.y) * (p3.x - p0.x));
+      ++*count;
+    }
+  }
+  return 0.5 * twice;
+}
+
+// Convex hull (counter-clockwise, no collinear corners; exact turns) of
+// `points`: a merged hull is the hull of the parts' hull corners.
+std::vector<Point2> ConvexHull(std::vector<Point2> points) {
+  std::sort(points.begin(), points.end(),
+            [](const Point2& p, const Point2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); });
+  points.erase(std::unique(points.begin(), points.end(),
+                           [](const Point2& p, const Point2& q) { return p.x == q.x && p.y == q.y; }),
+               points.end());
+  if (points.size() < 3) return points;
+  std::vector<Point2> hull(2 * points.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && Orient2D(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && Orient2D(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+double PolygonArea(const std::vector<Point2>& p) {
+  double twice = 0.0;
+  for (std::size_t k = 1; k + 1 < p.size(); ++k) {
+    twice += (p[k].x - p[0].x) * (p[k + 1].y - p[0].y) - (p[k].y - p[0].y) * (p[k + 1].x - p[0].x);
+  }
+  return 0.5 * twice;
+}
+
+void MergeHull(const std::vector<Point2>& xy, std::vector<Point2>* hull) {
+  std::vector<Point2> points = *hull;
+  points.insert(points.end(), xy.begin(), xy.end());
+  *hull = ConvexHull(std::move(points));
+}
+
+// The edges of a tile's reference samples along its block's border (both
+// ends valid), bucketed so that a point finds the few it may lie on.
+class TileBorder {
+ public:
+  TileBorder(const Surface& a, const WindowIndex& index, const SampleWindow& w) {
+    const int32_t c0 = w.column, c1 = w.column + w.columns - 1;
+    const int32_t r0 = w.row, r1 = w.row + w.rows - 1;
+    auto add = [&](int32_t ca, int32_t ra, int32_t cb, int32_t rb) {
+      const int32_t u = index.At(ca, ra), v = index.At(cb, rb);
+      if (u >= 0 && v >= 0) edges_.push_back({a.xy[u], a.xy[v]});
+    };
+    for (int32_t r = r0; r < r1; ++r) add(c0, r, c0, r + 1), add(c1, r, c1, r + 1);
+    for (int32_t c = c0; c < c1; ++c) add(c, r0, c + 1, r0), add(c, r1, c + 1, r1);
+    lo_ = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    Point2 hi{-lo_.x, -lo_.y};
+    for (const auto& e : edges_) {
+      for (const Point2& p : e) {
+        lo_ = {std::min(lo_.x, p.x), std::min(lo_.y, p.y)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+      }
+    }
+    buckets_ = std::max(1, std::max(w.columns, w.rows));
+    step_ = {(hi.x - lo_.x) / buckets_, (hi.y - lo_.y) / buckets_};
+    if (!(step_.x > 0.0)) step_.x = 1.0;
+    if (!(step_.y > 0.0)) step_.y = 1.0;
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      const auto& s = edges_[e];
+      const int bx0 = Bucket(std::min(s[0].x, s[1].x), lo_.x, step_.x);
+      const int bx1 = Bucket(std::max(s[0].x, s[1].x), lo_.x, step_.x);
+      const int by0 = Bucket(std::min(s[0].y, s[1].y), lo_.y, step_.y);
+      const int by1 = Bucket(std::max(s[0].y, s[1].y), lo_.y, step_.y);
+      for (int by = by0; by <= by1; ++by) {
+        for (int bx = bx0; bx <= bx1; ++bx) grid_[Key(bx, by)].push_back(static_cast<int32_t>(e));
+      }
+    }
+  }
+
+  // p lies on one of the edges (exact). The bucket of a coordinate is
+  // monotone in it, so an edge's buckets hold every point of its box.
+  bool Holds(const Point2& p) const {
+    if (edges_.empty()) return false;
+    const auto it = grid_.find(Key(Bucket(p.x, lo_.x, step_.x), Bucket(p.y, lo_.y, step_.y)));
+    if (it == grid_.end()) return false;
+    for (int32_t e : it->second) {
+      const Point2 &s0 = edges_[e][0], &s1 = edges_[e][1];
+      if (std::min(s0.x, s1.x) <= p.x && p.x <= std::max(s0.x, s1.x) &&
+          std::min(s0.y, s1.y) <= p.y && p.y <= std::max(s0.y, s1.y) && Orient2D(s0, s1, p) == 0.0) {
+        return true;
+      }
+    }
+    return false;
+  }
+
+ private:
+  int Bucket(double v, double lo, double step) const {
+    const double b = std::floor((v - lo) / step);
+    return static_cast<int>(std::min(std::max(b, 0.0), static_cast<double>(buckets_ - 1)));
+  }
+  int64_t Key(int bx, int by) const { return static_cast<int64_t>(by) * buckets_ + bx; }
+
+  std::vector<std::array<Point2, 2>> edges_;
+  std::unordered_map<int64_t, std::vector<int32_t>> grid_;
+  Point2 lo_, step_;
+  int buckets_ = 1;
+};
+
+// The sums that make up a MeasureSummary, over the tiles.
+struct Totals {
+  MeasureSummary sum;
+  double gap_sum = 0, node_weight = 0;  // ρ'd: Σ μ|d| and Σ μ over the nodes
+  double domain_area_a = 0, domain_area_b = 0;
+  int64_t complete_cells_a = 0, complete_cells_b = 0;
+  std::vector<Point2> hull_a, hull_b;
+
+  void AddNode(double dz, double w) {
+    gap_sum += w * std::fabs(dz);
+    node_weight += w;
+    ++sum.n_overlap_nodes;
+  }
+  void AddTile(const MeasureSummary& s) {
+    sum.rho_d += s.rho_d;
+    sum.overlap_area += s.overlap_area;
+    sum.weight_integral += s.weight_integral;
+    sum.signed_volume += s.signed_volume;
+    sum.volume_above += s.volume_above;
+    sum.volume_below += s.volume_below;
+    sum.fill_detected += s.fill_detected;
+    sum.cut_detected += s.cut_detected;
+    sum.fill_area += s.fill_area;
+    sum.cut_area += s.cut_area;
+    sum.n_cells += s.n_cells;
+    sum.walk_steps += s.walk_steps;
+    MeasureTimings& t = sum.timings;
+    t.triangulate += s.timings.triangulate, t.domain += s.timings.domain;
+    t.spanning_tree += s.timings.spanning_tree, t.locate += s.timings.locate;
+    t.interpolate += s.timings.interpolate, t.volume += s.timings.volume;
+  }
+};
+
+// A reference node on a tile border: the parts the tiles holding it saw.
+struct BorderNode {
+  double dz = kNaN;   // finite if some tile has it in Ω
+  double area = 0.0;  // sum of the tiles' parts
+};
+
+// A moving node exactly on a tile border, counted by the first tile.
+struct SharedNode {
+  double dz = 0, weight = 0;
+};
+
+void CheckOptions(const TiledRasterSource& reference, const TiledRasterSource& moving,
+                  const TiledMeasureOptions& options) {
+  std::string error;
+  if (!options.measure.IsValid(&error)) throw InputError("measure options: " + error);
+  if (options.tile < 1) {
+    throw InputError("tile must be at least 1 cell (got " + std::to_string(options.tile) + ")");
+  }
+  if (options.margin < 1) throw InputError("tile margin must be at least 1 sample");
+  if (options.measure.weight == WeightMode::kPerPoint) {
+    throw InputError("tiled measure: per-point weights are not supported yet");
+  }
+  if (options.measure.volume != VolumeMode::kOverlay) {
+    throw InputError("tiled measure: the union volume mode is not local; use the overlay mode");
+  }
+  if (options.measure.domain.kind != DomainKind::kData) {
+    throw InputError("tiled measure: the hull domain is not local; use the data domain");
+  }
+  if (!reference.read || !moving.read || !moving.cover) {
+    throw InputError("tiled measure: a raster source lacks its read (or the moving one its cover)");
+  }
+  if (reference.columns < 0 || reference.rows < 0 || moving.columns < 0 || moving.rows < 0) {
+    throw InputError("tiled measure: negative raster size");
+  }
+}
+
+Surface ReadChecked(const TiledRasterSource& source, const SampleWindow& window) {
+  Surface s = source.read(window);
+  if (s.origin != source.origin) {
+    throw InputError(WindowIndex::Name(s) + ": a window was read with another origin than the "
+                     "source's (the tiles would not add up exactly)");
+  }
+  if (s.raster_cell.size() != s.xy.size() || s.z.size() != s.xy.size()) {
+    throw InputError(WindowIndex::Name(s) + ": a window read without one raster cell per sample");
+  }
+  return s;
+}
+
+int64_t Tiles(int32_t samples, int32_t tile) {
+  const int64_t cells = std::max<int64_t>(samples - 1, 0);
+  return (cells + tile - 1) / tile;
+}
+
+// The samples tile t of a grid of side `tile` reads (its cells and the far
+// corner row and column) and owns (half-open, the last tiles to the edge).
+void TileWindows(int32_t columns, int32_t rows, int32_t tile, int64_t tx, int64_t ty,
+                 SampleWindow* read, SampleWindow* owned) {
+  const int64_t c0 = tx * tile, r0 = ty * tile;
+  const int64_t c1 = std::min<int64_t>(c0 + tile, columns - 1);
+  const int64_t r1 = std::min<int64_t>(r0 + tile, rows - 1);
+  *read = {static_cast<int32_t>(c0), static_cast<int32_t>(r0), static_cast<int32_t>(c1 - c0 + 1),
+           static_cast<int32_t>(r1 - r0 + 1)};
+  *owned = *read;
+  if (c1 < columns - 1) --owned->columns;
+  if (r1 < rows - 1) --owned->rows;
+}
+
+// Domain area, hull and sample count of the moving raster, from its own
+// blocks of cells (its windows in the reference's tiles overlap).
+void MovingPass(const TiledRasterSource& moving, const TiledMeasureOptions& options,
+                Totals* totals, TiledProgress* progress) {
+  const int64_t nx = Tiles(moving.columns, options.tile), ny = Tiles(moving.rows, options.tile);
+  for (int64_t ty = 0; ty < ny; ++ty) {
+    for (int64_t tx = 0; tx < nx; ++tx) {
+      SampleWindow read, owned;
+      TileWindows(moving.columns, moving.rows, options.tile, tx, ty, &read, &owned);
+      const Surface b = ReadChecked(moving, read);
+      const WindowIndex index(b, read);
+      int64_t cells = 0;
+      totals->domain_area_b += CompleteCellArea(b, index, read.column, read.column + read.columns - 1,
+                                                read.row, read.row + read.rows - 1, &cells);
+      totals->complete_cells_b += cells;
+      for (const RasterCell& cell : b.raster_cell) {
+        if (cell.column < owned.column + owned.columns && cell.row < owned.row + owned.rows) {
+          ++totals->sum.n_points_b;
+        }
+      }
+      MergeHull(ConvexHull(b.xy), &totals->hull_b);
+      ++progress->done;
+      if (options.on_progress) options.on_progress(*progress);
+    }
+  }
+}
+
+SampleWindow ClipWindow(SampleWindow w, int32_t margin, int32_t columns, int32_t rows) {
+  if (w.empty()) return {};
+  const int64_t c0 = std::max<int64_t>(int64_t{w.column} - margin, 0);
+  const int64_t r0 = std::max<int64_t>(int64_t{w.row} - margin, 0);
+  const int64_t c1 = std::min<int64_t>(int64_t{w.column} + w.columns + margin, columns);
+  const int64_t r1 = std::min<int64_t>(int64_t{w.row} + w.rows + margin, rows);
+  if (c1 <= c0 || r1 <= r0) return {};
+  return {static_cast<int32_t>(c0), static_cast<int32_t>(r0), static_cast<int32_t>(c1 - c0),
+          static_cast<int32_t>(r1 - r0)};
+}
+
+[[noreturn]] void NoData(const std::string& source, const char* name) {
+  throw InputError((source.empty() ? std::string(name) : source) +
+                   ": no part of it is data (no raster cell has all four corners valid); "
+                   "'domain: hull' measures over the convex hull instead");
+}
+
+}  // namespace
+
+MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRasterSource& moving,
+                            const TiledMeasureOptions& options, TiledMeasureStats* stats) {
+  const Clock::time_point start = Clock::now();
+  CheckOptions(reference, moving, options);
+  TiledMeasureStats local_stats;
+  TiledMeasureStats& st = stats != nullptr ? *stats : local_stats;
+  st = TiledMeasureStats();
+
+  MeasureOptions tile_options = options.measure;
+  tile_options.keep_node_gaps = true;
+  tile_options.allow_empty_overlap = true;
+  tile_options.on_progress = nullptr;
+  // μ at a node as Measure has it (weights.h): the mask in the reference's
+  // local frame, the moving nodes shifted into it by the same sums.
+  const bool masked = options.measure.weight == WeightMode::kMask;
+  std::vector<Point2> mask;
+  for (const auto& v : options.measure.mask_polygon) {
+    mask.push_back({v[0] - reference.origin[0], v[1] - reference.origin[1]});
+  }
+  const double shift[2] = {moving.origin[0] - reference.origin[0],
+                           moving.origin[1] - reference.origin[1]};
+  auto weight_at = [&](const Point2& p) { return masked && !InsidePolygon(mask, p) ? 0.0 : 1.0; };
+
+  const int64_t nx = Tiles(reference.columns, options.tile), ny = Tiles(reference.rows, options.tile);
+  TiledProgress progress{0, nx * ny + Tiles(moving.columns, options.tile) *
+                                          Tiles(moving.rows, options.tile)};
+  Totals totals;
+  std::unordered_map<int64_t, BorderNode> border;  // reference nodes, by row * columns + column
+  std::unordered_map<int64_t, SharedNode> shared;  // moving nodes, likewise
+  const auto key = [](int32_t c, int32_t r, int32_t columns) {
+    return static_cast<int64_t>(r) * columns + c;
+  };
+
+  for (int64_t ty = 0; ty < ny; ++ty) {
+    for (int64_t tx = 0; tx < nx; ++tx) {
+      SampleWindow window, owned;
+      TileWindows(reference.columns, reference.rows, options.tile, tx, ty, &window, &owned);
+      const int32_t c0 = window.column, r0 = window.row;
+      const int32_t c1 = c0 + window.columns - 1, r1 = r0 + window.rows - 1;
+      const Surface a = ReadChecked(reference, window);
+      const WindowIndex index(a, window);
+      ++st.tiles;
+      int64_t cells = 0;
+      totals.domain_area_a += CompleteCellArea(a, index, c0, c1, r0, r1, &cells);
+      totals.complete_cells_a += cells;
+      MergeHull(ConvexHull(a.xy), &totals.hull_a);
+
+      // The tile's own DoD: dz and its part of each node's area.
+      const std::size_t n = static_cast<std::size_t>(window.columns) * window.rows;
+      std::vector<double> dz(n, kNaN), area(n, 0.0);
+      SampleWindow wb;
+      if (cells > 0) {
+        XyBox box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                  -std::numeric_limits<double>::infinity(),
+                  -std::numeric_limits<double>::infinity()};
+        int32_t v[4];
+        for (int32_t r = r0; r < r1; ++r) {
+          for (int32_t c = c0; c < c1; ++c) {
+            if (!index.Corners(c, r, v)) continue;
+            for (int32_t i : v) {
+              const double x = a.xy[i].x + reference.origin[0], y = a.xy[i].y + reference.origin[1];
+              box = {std::min(box.x_min, x), std::min(box.y_min, y), std::max(box.x_max, x),
+                     std::max(box.y_max, y)};
+            }
+          }
+        }
+        wb = ClipWindow(moving.cover(box), options.margin, moving.columns, moving.rows);
+      }
+      if (!wb.empty()) {
+        const Surface b = ReadChecked(moving, wb);
+        const WindowIndex index_b(b, wb);
+        int64_t cells_b = 0;
+        CompleteCellArea(b, index_b, wb.column, wb.column + wb.columns - 1, wb.row,
+                         wb.row + wb.rows - 1, &cells_b);
+        if (cells_b > 0) {
+          const MeasureSummary s = Measure(a, b, tile_options);
+          ++st.tiles_measured;
+          totals.AddTile(s);
+          for (std::size_t i = 0; i < a.size(); ++i) {
+            const std::size_t o = index.Offset(a.raster_cell[i].column, a.raster_cell[i].row);
+            dz[o] = s.dz_a[i];
+            area[o] = s.node_area_a[i];
+          }
+          // Moving nodes: one tile each, but those exactly on its border edges.
+          const TileBorder edges(a, index, window);
+          for (std::size_t j = 0; j < b.size(); ++j) {
+            if (!std::isfinite(s.dz_b[j])) continue;
+            const Point2 p{b.xy[j].x + shift[0], b.xy[j].y + shift[1]};
+            const double w = weight_at(p);
+            if (!edges.Holds(p)) {
+              totals.AddNode(s.dz_b[j], w);
+              continue;
+            }
+            const auto inserted = shared.emplace(
+                key(b.raster_cell[j].column, b.raster_cell[j].row, moving.columns),
+                SharedNode{s.dz_b[j], w});
+            ++(inserted.second ? st.shared_moving_nodes : st.merged_moving_nodes);
+          }
+        }
+      }
+
+      // Border nodes gather the parts of every tile holding them; in
+      // row-major order the owned block is then final.
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        const RasterCell& cell = a.raster_cell[i];
+        if (cell.column != c0 && cell.column != c1 && cell.row != r0 && cell.row != r1) continue;
+        const std::size_t o = index.Offset(cell.column, cell.row);
+        if (!std::isfinite(dz[o]) && area[o] == 0.0) continue;
+        BorderNode& node = border[key(cell.column, cell.row, reference.columns)];
+        if (!std::isfinite(node.dz)) node.dz = dz[o];
+        node.area += area[o];
+      }
+      TileDod dod;
+      dod.tile = ty * nx + tx;
+      dod.window = owned;
+      dod.dz.assign(static_cast<std::size_t>(owned.columns) * owned.rows, kNaN);
+      dod.node_area.assign(dod.dz.size(), 0.0);
+      for (int32_t r = owned.row; r < owned.row + owned.rows; ++r) {
+        for (int32_t c = owned.column; c < owned.column + owned.columns; ++c) {
+          const int32_t i = index.At(c, r);
+          if (i < 0) continue;
+          ++totals.sum.n_points_a;
+          const std::size_t o = index.Offset(c, r);
+          double d = dz[o], node_area = area[o];
+          if (c == c0 || c == c1 || r == r0 || r == r1) {
+            const auto it = border.find(key(c, r, reference.columns));
+            if (it == border.end()) continue;
+            d = it->second.dz;
+            node_area = it->second.area;
+            border.erase(it);
+          }
+          const std::size_t out = static_cast<std::size_t>(r - owned.row) * owned.columns +
+                                  (c - owned.column);
+          dod.dz[out] = d;
+          dod.node_area[out] = node_area;
+          if (std::isfinite(d)) totals.AddNode(d, weight_at(a.xy[i]));
+        }
+      }
+      if (options.on_tile) options.on_tile(dod);
+      ++progress.done;
+      if (options.on_progress) options.on_progress(progress);
+    }
+  }
+  // Shared moving nodes once each, in key order (deterministic sums).
+  std::vector<std::pair<int64_t, SharedNode>> listed(shared.begin(), shared.end());
+  std::sort(listed.begin(), listed.end(),
+            [](const auto& p, const auto& q) { return p.first < q.first; });
+  for (const auto& entry : listed) totals.AddNode(entry.second.dz, entry.second.weight);
+
+  MovingPass(moving, options, &totals, &progress);
+
+  MeasureSummary summary = totals.sum;
+  if (totals.complete_cells_a == 0) NoData(reference.source, "surface A");
+  if (totals.complete_cells_b == 0) NoData(moving.source, "surface B");
+  const double smaller = std::min(totals.domain_area_a, totals.domain_area_b);
+  const double overlap = summary.overlap_area;
+  if (!(overlap > options.measure.min_overlap_fraction * smaller) || summary.n_cells == 0) {
+    char numbers[160];
+    std::snprintf(numbers, sizeof numbers,
+                  " (overlap area %.3g, %.3g%% of the smaller data domain; the minimum is %.3g%%)",
+                  overlap, smaller > 0.0 ? 100.0 * overlap / smaller : 0.0,
+                  100.0 * options.measure.min_overlap_fraction);
+    throw InputError((reference.source.empty() ? std::string("surface A") : reference.source) +
+                     " and " + (moving.source.empty() ? std::string("surface B") : moving.source) +
+                     (overlap > 0.0 ? " overlap only in a sliver" : " do not overlap") + numbers);
+  }
+  summary.volume_mode = VolumeMode::kOverlay;
+  summary.domain_kind = DomainKind::kData;
+  summary.rho_d_axial = totals.node_weight > 0.0 ? totals.gap_sum / totals.node_weight : 0.0;
+  summary.rho_s = summary.rho_d > 0.0 ? 1.0 / summary.rho_d : 1.0;
+  summary.mean_abs_dz =
+      summary.weight_integral > 0.0 ? summary.rho_d / summary.weight_integral : 0.0;
+  summary.hull_area_a = PolygonArea(totals.hull_a);
+  summary.hull_area_b = PolygonArea(totals.hull_b);
+  summary.domain_area_a = totals.domain_area_a;
+  summary.domain_area_b = totals.domain_area_b;
+  summary.excluded_area_a = summary.hull_area_a - summary.domain_area_a;
+  summary.excluded_area_b = summary.hull_area_b - summary.domain_area_b;
+  summary.level_of_detection = options.measure.level_of_detection;
+  summary.timings.total = std::chrono::duration<double>(Clock::now() - start).count();
+  return summary;
+}
+
+Surface RasterBlockToSurface(const std::array<double, 6>& gt, const SampleWindow& window,
+                             const std::vector<double>& values, const std::array<double, 3>& origin,
+                             const std::string& source) {
+  Surface s;
+  s.origin = origin;
+  s.source = source;
+  if (values.size() != static_cast<std::size_t>(std::max(window.columns, 0)) *
+                           static_cast<std::size_t>(std::max(window.rows, 0))) {
+    throw InputError((source.empty() ? std::string("raster") : source) + ": " +
+                     std::to_string(values.size()) + " values for a window of " +
+                     std::to_string(window.columns) + " x " + std::to_string(window.rows));
+  }
+  std::size_t k = 0;
+  for (int32_t row = window.row; row < window.row + window.rows; ++row) {
+    for (int32_t column = window.column; column < window.column + window.columns; ++column, ++k) {
+      if (!std::isfinite(values[k])) continue;
+      // The cell centre exactly as Raster::CellCentre, then MakeSurface's
+      // subtraction: the same doubles as an untiled read.
+      const double c = column + 0.5, r = row + 0.5;
+      const double x = gt[0] + c * gt[1] + r * gt[2], y = gt[3] + c * gt[4] + r * gt[5];
+      s.xy.push_back({x - origin[0], y - origin[1]});
+      s.z.push_back(values[k] - origin[2]);
+      s.raster_cell.push_back({column, row});
+    }
+  }
+  return s;
+}
+
+std::function<SampleWindow(const XyBox&)> AffineGridCover(const std::array<double, 6>& gt,
+                                                          int32_t columns, int32_t rows) {
+  return [gt, columns, rows](const XyBox& box) -> SampleWindow {
+    const double det = gt[1] * gt[5] - gt[2] * gt[4];
+    if (det == 0.0 || !std::isfinite(det)) return {};
+    double u_lo = std::numeric_limits<double>::infinity(), u_hi = -u_lo, v_lo = u_lo, v_hi = -u_lo;
+    for (const double x : {box.x_min, box.x_max}) {
+      for (const double y : {box.y_min, box.y_max}) {
+        const double dx = x - gt[0], dy = y - gt[3];
+        const double u = (gt[5] * dx - gt[2] * dy) / det;  // pixel-is-area column coordinate
+        const double v = (gt[1] * dy - gt[4] * dx) / det;
+        u_lo = std::min(u_lo, u), u_hi = std::max(u_hi, u);
+        v_lo = std::min(v_lo, v), v_hi = std::max(v_hi, v);
+      }
+    }
+    // Samples sit at u = c + 0.5; the cells meeting [u_lo, u_hi] have corner
+    // samples floor(u_lo - 0.5) .. ceil(u_hi - 0.5); one more for rounding.
+    auto clamp = [](double value, int32_t n) {
+      return static_cast<int64_t>(std::min(std::max(value, -2.0), n + 2.0));
+    };
+    const int64_t c0 = std::max<int64_t>(clamp(std::floor(u_lo - 0.5), columns) - 1, 0);
+    const int64_t c1 = std::min<int64_t>(clamp(std::ceil(u_hi - 0.5), columns) + 1, columns - 1);
+    const int64_t r0 = std::max<int64_t>(clamp(std::floor(v_lo - 0.5), rows) - 1, 0);
+    const int64_t r1 = std::min<int64_t>(clamp(std::ceil(v_hi - 0.5), rows) + 1, rows - 1);
+    if (!(std::isfinite(u_lo) && std::isfinite(u_hi) && std::isfinite(v_lo) &&
+          std::isfinite(v_hi)) || c1 < c0 || r1 < r0) {
+      return {};
+    }
+    return {static_cast<int32_t>(c0), static_cast<int32_t>(r0), static_cast<int32_t>(c1 - c0 + 1),
+            static_cast<int32_t>(r1 - r0 + 1)};
+  };
+}
+
+}  // namespace surfreg

@@ -1,0 +1,382 @@
+// MeasureTiled (measure/tiled_measure.h) against Measure on the whole
+// surfaces: two synthetic rasters with nodata holes (one larger than a
+// tile) and a known change, on different grids and on one grid, for tile
+// sizes from one cell to more than the raster.
+#include "measure/tiled_measure.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "measure/input_error.h"
+#include "measure/measures.h"
+
+namespace surfreg {
+namespace {
+
+constexpr double kX0 = 500000.0, kY0 = 4200000.0;  // UTM-sized, as real DEMs
+
+double Terrain(double x, double y) {
+  const double dx = x - kX0, dy = kY0 - y;
+  return 100.0 + 8.0 * std::sin(dx / 17.3) * std::cos(dy / 11.1) + 0.02 * dx + 0.01 * dy;
+}
+
+// The known change: a bump (fill) and a pit (cut), smooth.
+double Change(double x, double y) {
+  const double dx = x - kX0, dy = kY0 - y;
+  auto blob = [&](double cx, double cy, double r) {
+    return std::exp(-((dx - cx) * (dx - cx) + (dy - cy) * (dy - cy)) / (r * r));
+  };
+  return 0.8 * blob(0.3 * 400, 0.4 * 300, 25.0) - 0.5 * blob(0.7 * 400, 0.6 * 300, 30.0);
+}
+
+// Scattered nodata, about 1 sample in 200.
+bool Speckle(int32_t c, int32_t r, uint32_t seed) {
+  uint32_t h = static_cast<uint32_t>(c) * 73856093u ^ static_cast<uint32_t>(r) * 19349663u ^ seed;
+  h ^= h >> 13, h *= 0x5bd1e995u, h ^= h >> 15;
+  return h % 200u == 0u;
+}
+
+struct Hole {
+  double cx, cy, radius;  // in cells
+};
+
+// A raster in memory, read whole or a window at a time as a file would be.
+struct Grid {
+  int32_t columns = 0, rows = 0;
+  std::array<double, 6> gt{};
+  std::array<double, 3> origin{};
+  std::vector<double> values;
+  std::string name;
+
+  Surface Whole() const {
+    return RasterBlockToSurface(gt, {0, 0, columns, rows}, values, origin, name);
+  }
+  TiledRasterSource Source() const {
+    TiledRasterSource s;
+    s.columns = columns;
+    s.rows = rows;
+    s.origin = origin;
+    s.source = name;
+    s.read = [this](const SampleWindow& w) {
+      EXPECT_TRUE(w.column >= 0 && w.row >= 0 && w.column + w.columns <= columns &&
+                  w.row + w.rows <= rows && !w.empty());
+      std::vector<double> block;
+      block.reserve(static_cast<std::size_t>(w.columns) * w.rows);
+      for (int32_t r = w.row; r < w.row + w.rows; ++r) {
+        for (int32_t c = w.column; c < w.column + w.columns; ++c) {
+          block.push_back(values[static_cast<std::size_t>(r) * columns + c]);
+        }
+      }
+      return RasterBlockToSurface(gt, w, block, origin, name);
+    };
+    s.cover = AffineGridCover(gt, columns, rows);
+    return s;
+  }
+};
+
+Grid MakeGrid(int32_t columns, int32_t rows, std::array<double, 6> gt, std::array<double, 3> origin,
+              bool changed, const std::vector<Hole>& holes, uint32_t seed, std::string name) {
+  Grid g{columns, rows, gt, origin, {}, std::move(name)};
+  g.values.resize(static_cast<std::size_t>(columns) * rows);
+  for (int32_t r = 0; r < rows; ++r) {
+    for (int32_t c = 0; c < columns; ++c) {
+      const double x = gt[0] + (c + 0.5) * gt[1] + (r + 0.5) * gt[2];
+      const double y = gt[3] + (c + 0.5) * gt[4] + (r + 0.5) * gt[5];
+      double z = Terrain(x, y) + (changed ? Change(x, y) : 0.0);
+      for (const Hole& h : holes) {
+        if (std::hypot(c - h.cx, r - h.cy) < h.radius) z = std::nan("");
+      }
+      if (Speckle(c, r, seed)) z = std::nan("");
+      g.values[static_cast<std::size_t>(r) * columns + c] = z;
+    }
+  }
+  return g;
+}
+
+// The DoD gathered from on_tile into whole-raster arrays.
+struct Dod {
+  std::vector<double> dz, area;
+  std::vector<int32_t> seen;  // how many tiles wrote each sample
+  int64_t all_nodata_tiles = 0;
+};
+
+TiledMeasureOptions WithDod(TiledMeasureOptions options, const Grid& a, Dod* dod) {
+  const std::size_t n = a.values.size();
+  dod->dz.assign(n, std::nan(""));
+  dod->area.assign(n, 0.0);
+  dod->seen.assign(n, 0);
+  options.on_tile = [&a, dod](const TileDod& t) {
+    ASSERT_EQ(t.dz.size(), static_cast<std::size_t>(t.window.columns) * t.window.rows);
+    bool any = false;
+    for (int32_t r = 0; r < t.window.rows; ++r) {
+      for (int32_t c = 0; c < t.window.columns; ++c) {
+        const std::size_t in = static_cast<std::size_t>(r) * t.window.columns + c;
+        const std::size_t out =
+            static_cast<std::size_t>(t.window.row + r) * a.columns + t.window.column + c;
+        dod->dz[out] = t.dz[in];
+        dod->area[out] = t.node_area[in];
+        ++dod->seen[out];
+        any = any || std::isfinite(a.values[out]);
+      }
+    }
+    if (!any) ++dod->all_nodata_tiles;
+  };
+  return options;
+}
+
+// |got - want| <= tolerance * max(|want|, scale).
+void Near(const char* what, double want, double got, double scale, double tolerance = 1e-9) {
+  EXPECT_LE(std::fabs(got - want), tolerance * std::max(std::fabs(want), scale))
+      << what << ": untiled " << want << ", tiled " << got;
+}
+
+double MaxRelative(double want, double got, double scale) {
+  return std::fabs(got - want) / std::max(std::fabs(want), scale);
+}
+
+// Every quantity the untiled Measure reports, and the DoD per sample.
+double ExpectSame(const MeasureSummary& m, const MeasureSummary& t, const Surface& whole_a,
+                  const Grid& a, const Dod& dod) {
+  const double volume = m.rho_d, area = m.domain_area_a;
+  Near("rho_d", m.rho_d, t.rho_d, volume);
+  Near("rho_d_axial", m.rho_d_axial, t.rho_d_axial, m.rho_d_axial);
+  Near("rho_s", m.rho_s, t.rho_s, m.rho_s);
+  Near("overlap_area", m.overlap_area, t.overlap_area, area);
+  Near("weight_integral", m.weight_integral, t.weight_integral, area);
+  Near("mean_abs_dz", m.mean_abs_dz, t.mean_abs_dz, m.mean_abs_dz);
+  Near("signed_volume", m.signed_volume, t.signed_volume, volume);
+  Near("volume_above", m.volume_above, t.volume_above, volume);
+  Near("volume_below", m.volume_below, t.volume_below, volume);
+  Near("fill_detected", m.fill_detected, t.fill_detected, volume);
+  Near("cut_detected", m.cut_detected, t.cut_detected, volume);
+  Near("fill_area", m.fill_area, t.fill_area, area);
+  Near("cut_area", m.cut_area, t.cut_area, area);
+  Near("domain_area_a", m.domain_area_a, t.domain_area_a, area);
+  Near("domain_area_b", m.domain_area_b, t.domain_area_b, area);
+  Near("hull_area_a", m.hull_area_a, t.hull_area_a, area);
+  Near("hull_area_b", m.hull_area_b, t.hull_area_b, area);
+  Near("excluded_area_a", m.excluded_area_a, t.excluded_area_a, area);
+  Near("excluded_area_b", m.excluded_area_b, t.excluded_area_b, area);
+  EXPECT_EQ(m.level_of_detection, t.level_of_detection);
+  EXPECT_EQ(m.n_overlap_nodes, t.n_overlap_nodes);
+  EXPECT_EQ(m.n_cells, t.n_cells);
+  EXPECT_EQ(m.n_points_a, t.n_points_a);
+  EXPECT_EQ(m.n_points_b, t.n_points_b);
+  EXPECT_TRUE(t.dz_a.empty() && t.node_area_a.empty());
+  double worst = std::max({MaxRelative(m.rho_d, t.rho_d, volume),
+                           MaxRelative(m.signed_volume, t.signed_volume, volume),
+                           MaxRelative(m.overlap_area, t.overlap_area, area),
+                           MaxRelative(m.rho_d_axial, t.rho_d_axial, m.rho_d_axial),
+                           MaxRelative(m.fill_detected, t.fill_detected, volume),
+                           MaxRelative(m.hull_area_b, t.hull_area_b, area),
+                           MaxRelative(m.domain_area_b, t.domain_area_b, area)});
+  // The DoD: each sample written by one tile; NaN exactly where untiled.
+  int bad = 0;
+  for (std::size_t i = 0; i < whole_a.size(); ++i) {
+    const RasterCell& cell = whole_a.raster_cell[i];
+    const std::size_t k = static_cast<std::size_t>(cell.row) * a.columns + cell.column;
+    const double want = m.dz_a[i], got = dod.dz[k];
+    const bool ok = std::isnan(want) ? std::isnan(got)
+                                     : std::fabs(got - want) <= 1e-12 * std::max(std::fabs(want), 1.0);
+    const bool area_ok =
+        std::fabs(dod.area[k] - m.node_area_a[i]) <= 1e-12 * std::max(m.node_area_a[i], 1.0);
+    if ((!ok || !area_ok) && ++bad <= 5) {
+      ADD_FAILURE() << "sample (" << cell.column << ", " << cell.row << "): dz " << want << " / "
+                    << got << ", area " << m.node_area_a[i] << " / " << dod.area[k];
+    }
+  }
+  EXPECT_EQ(bad, 0);
+  for (std::size_t k = 0; k < dod.seen.size(); ++k) {
+    if (dod.seen[k] != 1 && ++bad <= 5) ADD_FAILURE() << "sample " << k << " written " << dod.seen[k];
+  }
+  return worst;
+}
+
+MeasureOptions Options() {
+  MeasureOptions o;
+  o.detect_change = true;
+  o.level_of_detection = 0.05;
+  return o;
+}
+
+MeasureSummary Untiled(const Grid& a, const Grid& b, MeasureOptions options) {
+  options.keep_node_gaps = true;
+  return Measure(a.Whole(), b.Whole(), options);
+}
+
+// Compares one tiled run; returns the largest relative difference.
+double Compare(const Grid& a, const Grid& b, const MeasureSummary& untiled, int32_t tile,
+               MeasureOptions measure, TiledMeasureStats* stats = nullptr, Dod* dod_out = nullptr) {
+  SCOPED_TRACE("tile " + std::to_string(tile));
+  TiledMeasureOptions options;
+  options.measure = measure;
+  options.tile = tile;
+  TiledProgress last;
+  options.on_progress = [&last](const TiledProgress& p) { last = p; };
+  Dod dod;
+  options = WithDod(options, a, &dod);
+  const MeasureSummary tiled = MeasureTiled(a.Source(), b.Source(), options, stats);
+  EXPECT_EQ(last.done, last.total);
+  EXPECT_GT(last.total, 0);
+  const double worst = ExpectSame(untiled, tiled, a.Whole(), a, dod);
+  if (dod_out != nullptr) *dod_out = std::move(dod);
+  return worst;
+}
+
+const std::array<double, 6> kGridA = {kX0, 1.0, 0.0, kY0, 0.0, -1.0};
+
+// A 400 x 300 reference and a moving raster on another grid (shifted by a
+// fraction of a cell, cells 1% larger and 1% smaller), with a 40-cell hole
+// (more than a tile of 37) and another origin.
+TEST(TiledMeasureTest, OtherGridEqualsUntiled) {
+  const Grid a = MakeGrid(400, 300, kGridA, {kX0 + 200, kY0 - 150, 0}, false,
+                          {{150, 120, 40}, {330, 60, 8}}, 1u, "a.tif");
+  const Grid b = MakeGrid(400, 305, {kX0 + 0.37, 1.01, 0.0, kY0 - 0.23, 0.0, -0.99},
+                          {kX0 + 210, kY0 - 140, 50}, true, {{260, 200, 18}}, 2u, "b.tif");
+  const MeasureSummary untiled = Untiled(a, b, Options());
+  ASSERT_GT(untiled.fill_detected, 0.0);
+  ASSERT_GT(untiled.cut_detected, 0.0);
+  double worst = 0.0;
+  for (int32_t tile : {37, 128, 1000}) {
+    TiledMeasureStats stats;
+    worst = std::max(worst, Compare(a, b, untiled, tile, Options(), &stats));
+    EXPECT_EQ(stats.tiles, ((399 + tile - 1) / tile) * ((299 + tile - 1) / tile));
+  }
+  RecordProperty("max_relative_difference", std::to_string(worst));
+  std::printf("other grid: largest relative difference %.3g\n", worst);
+}
+
+// The same grid: every moving node is a reference node (counted once, as A's).
+TEST(TiledMeasureTest, SameGridEqualsUntiled) {
+  const std::array<double, 3> origin = {kX0 + 200, kY0 - 150, 0};
+  const Grid a = MakeGrid(400, 300, kGridA, origin, false, {{100, 200, 30}}, 3u, "a.tif");
+  const Grid b = MakeGrid(400, 300, kGridA, origin, true, {{300, 100, 45}}, 4u, "b.tif");
+  const MeasureSummary untiled = Untiled(a, b, Options());
+  Compare(a, b, untiled, 61, Options());
+}
+
+// A mask polygon (weights 1 inside, 0 outside), crossing tiles and holes.
+TEST(TiledMeasureTest, MaskEqualsUntiled) {
+  const Grid a = MakeGrid(160, 120, kGridA, {kX0 + 80, kY0 - 60, 0}, false, {{60, 50, 20}}, 5u,
+                          "a.tif");
+  const Grid b = MakeGrid(165, 125, {kX0 - 0.61, 0.995, 0.0, kY0 + 0.4, 0.0, -1.005},
+                          {kX0 + 80, kY0 - 60, 0}, true, {}, 6u, "b.tif");
+  MeasureOptions options = Options();
+  options.weight = WeightMode::kMask;
+  options.mask_polygon = {{kX0 + 10.2, kY0 - 5.7},  {kX0 + 140.3, kY0 - 20.1},
+                          {kX0 + 100.9, kY0 - 60.0}, {kX0 + 150.0, kY0 - 110.4},
+                          {kX0 + 20.5, kY0 - 100.0}};
+  const MeasureSummary untiled = Untiled(a, b, options);
+  ASSERT_LT(untiled.weight_integral, 0.9 * untiled.overlap_area);
+  for (int32_t tile : {13, 50}) Compare(a, b, untiled, tile, options);
+}
+
+// Tiles of 1, 2 and 5 cells on a small pair: most nodes are on a tile
+// border; a hole of 9 cells' radius covers whole tiles (only nodata).
+TEST(TiledMeasureTest, TinyTilesEqualUntiled) {
+  const Grid a = MakeGrid(48, 37, kGridA, {kX0 + 24, kY0 - 18, 0}, false, {{20, 18, 9}}, 7u, "a.tif");
+  const Grid b = MakeGrid(50, 40, {kX0 + 0.29, 1.013, 0.0, kY0 - 0.41, 0.0, -0.987},
+                          {kX0 + 24, kY0 - 18, 0}, true, {{40, 10, 4}}, 8u, "b.tif");
+  MeasureOptions options = Options();
+  options.parallel = false;  // thousands of tiny Measures: no threads each
+  const MeasureSummary untiled = Untiled(a, b, options);
+  for (int32_t tile : {1, 2, 5}) {
+    Dod dod;
+    Compare(a, b, untiled, tile, options, nullptr, &dod);
+    EXPECT_GT(dod.all_nodata_tiles, 0);
+  }
+}
+
+// Moving nodes exactly on the reference's grid lines (half a cell across):
+// those on a tile border are counted by two tiles, and once in the result.
+TEST(TiledMeasureTest, MovingNodesOnTileBordersCountOnce) {
+  const std::array<double, 3> origin = {kX0 + 30, kY0 - 20, 0};
+  const Grid a = MakeGrid(60, 40, kGridA, origin, false, {{30, 20, 5}}, 9u, "a.tif");
+  const Grid b = MakeGrid(60, 40, {kX0 + 0.5, 1.0, 0.0, kY0, 0.0, -1.0}, origin, true, {}, 10u,
+                          "b.tif");
+  MeasureOptions options = Options();
+  options.parallel = false;
+  const MeasureSummary untiled = Untiled(a, b, options);
+  for (int32_t tile : {3, 8}) {
+    TiledMeasureStats stats;
+    Compare(a, b, untiled, tile, options, &stats);
+    EXPECT_GT(stats.merged_moving_nodes, 0);
+  }
+}
+
+TEST(TiledMeasureTest, NoOverlapIsTheUntiledError) {
+  const Grid a = MakeGrid(30, 20, kGridA, {kX0, kY0, 0}, false, {}, 11u, "a.tif");
+  const Grid b = MakeGrid(30, 20, {kX0 + 1000.0, 1.0, 0.0, kY0, 0.0, -1.0}, {kX0, kY0, 0}, true, {},
+                          12u, "b.tif");
+  std::string untiled, tiled;
+  try {
+    Measure(a.Whole(), b.Whole(), Options());
+  } catch (const InputError& e) {
+    untiled = e.what();
+  }
+  TiledMeasureOptions options;
+  options.measure = Options();
+  options.tile = 7;
+  try {
+    MeasureTiled(a.Source(), b.Source(), options);
+  } catch (const InputError& e) {
+    tiled = e.what();
+  }
+  EXPECT_NE(untiled.find("do not overlap"), std::string::npos) << untiled;
+  EXPECT_EQ(untiled, tiled);
+}
+
+TEST(TiledMeasureTest, RefusesWhatIsNotLocal) {
+  const Grid a = MakeGrid(10, 10, kGridA, {kX0, kY0, 0}, false, {}, 13u, "a.tif");
+  TiledMeasureOptions options;
+  options.measure = Options();
+  for (int32_t tile : {0, -4}) {
+    options.tile = tile;
+    EXPECT_THROW(MeasureTiled(a.Source(), a.Source(), options), InputError);
+  }
+  options.tile = 4;
+  options.measure.weight = WeightMode::kPerPoint;
+  EXPECT_THROW(MeasureTiled(a.Source(), a.Source(), options), InputError);
+  options.measure = Options();
+  options.measure.volume = VolumeMode::kUnion;
+  options.measure.detect_change = false;
+  EXPECT_THROW(MeasureTiled(a.Source(), a.Source(), options), InputError);
+  options.measure = MeasureOptions();
+  options.measure.domain.kind = DomainKind::kHull;
+  EXPECT_THROW(MeasureTiled(a.Source(), a.Source(), options), InputError);
+  options.measure = MeasureOptions();
+  TiledRasterSource no_cover = a.Source();
+  no_cover.cover = nullptr;
+  EXPECT_THROW(MeasureTiled(a.Source(), no_cover, options), InputError);
+}
+
+// A window read whole is the whole surface, bit for bit.
+TEST(TiledMeasureTest, BlockSurfaceIsTheWholeOnesWindow) {
+  const Grid a = MakeGrid(20, 15, kGridA, {kX0 + 10, kY0 - 7, 0}, false, {{5, 5, 2}}, 14u, "a");
+  const Surface whole = a.Whole();
+  const Surface part = a.Source().read({3, 4, 9, 6});
+  ASSERT_GT(part.size(), 0u);
+  for (std::size_t i = 0; i < part.size(); ++i) {
+    const RasterCell cell = part.raster_cell[i];
+    const auto it = std::find_if(whole.raster_cell.begin(), whole.raster_cell.end(),
+                                 [&](const RasterCell& w) {
+                                   return w.column == cell.column && w.row == cell.row;
+                                 });
+    ASSERT_NE(it, whole.raster_cell.end());
+    const std::size_t k = static_cast<std::size_t>(it - whole.raster_cell.begin());
+    EXPECT_EQ(part.xy[i].x, whole.xy[k].x);
+    EXPECT_EQ(part.xy[i].y, whole.xy[k].y);
+    EXPECT_EQ(part.z[i], whole.z[k]);
+  }
+}
+
+}  // namespace
+}  // namespace surfreg
