@@ -220,7 +220,24 @@ struct BorderNode {
 // A moving node exactly on a tile border, counted by the first tile.
 struct SharedNode {
   double dz = 0, weight = 0;
+  int64_t tile_row = 0;  // of that tile: only rows up to one below can see it again
 };
+
+// Counts the listed moving nodes first seen in tile rows < `before` (no
+// later tile can list them again), in key order for deterministic sums.
+void FlushShared(std::unordered_map<int64_t, SharedNode>* shared, int64_t before, Totals* totals) {
+  std::vector<std::pair<int64_t, SharedNode>> done;
+  for (auto it = shared->begin(); it != shared->end();) {
+    if (it->second.tile_row < before) {
+      done.emplace_back(*it);
+      it = shared->erase(it);
+    } else {
+      ++it;
+    }
+  }
+  std::sort(done.begin(), done.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+  for (const auto& entry : done) totals->AddNode(entry.second.dz, entry.second.weight);
+}
 
 void CheckOptions(const TiledRasterSource& reference, const TiledRasterSource& moving,
                   const TiledMeasureOptions& options) {
@@ -419,7 +436,7 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
             }
             const auto inserted = shared.emplace(
                 key(b.raster_cell[j].column, b.raster_cell[j].row, moving.columns),
-                SharedNode{s.dz_b[j], w});
+                SharedNode{s.dz_b[j], w, ty});
             ++(inserted.second ? st.shared_moving_nodes : st.merged_moving_nodes);
           }
         }
@@ -466,12 +483,9 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
       ++progress.done;
       if (options.on_progress) options.on_progress(progress);
     }
+    FlushShared(&shared, ty, &totals);  // keeps the list to two rows of tiles
   }
-  // Shared moving nodes once each, in key order (deterministic sums).
-  std::vector<std::pair<int64_t, SharedNode>> listed(shared.begin(), shared.end());
-  std::sort(listed.begin(), listed.end(),
-            [](const auto& p, const auto& q) { return p.first < q.first; });
-  for (const auto& entry : listed) totals.AddNode(entry.second.dz, entry.second.weight);
+  FlushShared(&shared, ny, &totals);
 
   MovingPass(moving, options, &totals, &progress);
 
