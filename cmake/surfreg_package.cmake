@@ -47,7 +47,9 @@ install(TARGETS surfreg_measure surfreg_registration EXPORT surfregTargets
 install(TARGETS surfreg_io EXPORT surfregIoTargets ${surfreg_library_destinations})
 install(TARGETS surfreg RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 # The GDAL module (tools/io/gdal_module.h), loaded by surfreg::io at run time.
-install(TARGETS surfreg_gdal LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/surfreg)
+if(SURFREG_GDAL)
+  install(TARGETS surfreg_gdal LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/surfreg)
+endif()
 
 set(surfreg_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/surfreg)
 install(EXPORT surfregTargets NAMESPACE surfreg:: DESTINATION ${surfreg_cmake_dir})

@@ -197,8 +197,11 @@ limited() {
 limited 1 out/log.csv align "$data/volcano_a.xyz" "$data/volcano_moved.xyz" --log="$tmp/out/log.csv"
 limited 1 out/run.json align "$data/volcano_a.xyz" "$data/volcano_moved.xyz" --output="$tmp/out/run.json"
 limited 4 out/aligned.xyz align "$data/volcano_a.xyz" "$data/volcano_moved.xyz" --aligned="$tmp/out/aligned.xyz"
-limited 4 out/dod.tif align "$data/volcano_dem.tif" "$data/volcano_dem_moved.tif" --output="$tmp/out/dod.tif"
-limited 4 out/dod.png align "$data/volcano_dem.tif" "$data/volcano_dem_moved.tif" --dod_png="$tmp/out/dod.png"
+if has_part gdal; then  # rasters: not in a build without GDAL
+  limited 4 out/dod.tif align "$data/volcano_dem.tif" "$data/volcano_dem_moved.tif" --output="$tmp/out/dod.tif"
+  has_part plots &&
+    limited 4 out/dod.png align "$data/volcano_dem.tif" "$data/volcano_dem_moved.tif" --dod_png="$tmp/out/dod.png"
+fi
 limited 1 "standard output" measure "$data/volcano_a.xyz" "$data/volcano_b.xyz" --json
 
 # A full device as stdout: the results must not be lost silently.

@@ -16,3 +16,16 @@ run() {
   timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
   rc=$?
 }
+
+# has_part gdal|plots: whether this surfreg was built with that optional
+# part (its --version says; tests/without_optional_parts_test.sh checks the
+# refusals of a build without them).
+has_part() {
+  local version
+  version=$("$bin" --version 2>&1)
+  case $1 in
+    gdal) [[ $version != *"built without GDAL"* ]] ;;
+    plots) [[ $version != *"built without Cairo"* ]] ;;
+    *) return 1 ;;
+  esac
+}

@@ -152,7 +152,9 @@ fi
 # loaded gives one line naming the file and the module, exit 2.
 checks=$((checks + 1))
 module=$(find "$prefix" -name libsurfreg_gdal.so -path '*/surfreg/*' | head -1)
-if [[ -z "$module" ]]; then
+if [[ $("$prefix/bin/surfreg" --version 2>&1) == *"built without GDAL"* ]]; then
+  [[ -z "$module" ]] || fail "a build without GDAL installed $module"
+elif [[ -z "$module" ]]; then
   fail "libsurfreg_gdal.so is not installed under lib*/surfreg/"
 else
   bin=$prefix/bin/surfreg

@@ -159,6 +159,7 @@ assert worst < 1e-4, worst
 PY
 done
 
+if has_part gdal; then  # rasters and CRSs: not in a build without GDAL
 # --- a DEM moved by whole cells, on its own grid: the shifted DEM ---
 run transform "$dem" --transform="$tmp/shift.txt" --output="$tmp/shift.tif"
 [[ $rc -eq 0 ]] || fail "transform of a DEM"
@@ -211,6 +212,8 @@ assert len(aligned) > 0.9 * len(reference), len(aligned)
 worst = max(abs(aligned[k] - truth[k]) for k in aligned)
 assert worst < 0.2, worst  # the known-motion error is ~0.01 cell: a few cm on these slopes
 PY
+
+fi  # has_part gdal
 
 # --- bad input: exit 2, one line, nothing written ---
 expect_error "flag '--aligned': a GeoTIFF" align "$ref" "$mov" --aligned="$out/x.tif"

@@ -7,6 +7,7 @@
 
 #include "tools/config_value.h"
 #include "tools/io/raster_io.h"
+#include "tools/plot.h"
 
 namespace surfreg {
 
@@ -88,6 +89,7 @@ void CheckTerrainOutput(const std::string& key, const std::string& path, const s
   if (png && extension != ".png") {
     throw InputError(where + ": expected a name ending in .png, got '" + path + "'");
   }
+  if (png) RequirePngFigures(where);
 }
 
 const std::vector<KeyEntry>& TerrainKeyTable() {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "measure/input_error.h"
+#include "tools/plot.h"
 #include "tools/atomic_file.h"
 #include "tools/config_value.h"
 #include "tools/yaml_value.h"
@@ -223,6 +224,7 @@ void CheckOutputs(JawConfig* config) {
       std::string ext = std::filesystem::path(path).extension().string();
       for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
       if (ext != ".png") throw InputError(where + ": expects a .png file name, got '" + path + "'");
+      RequirePngFigures(where);
     }
     for (const std::string& frame : config->frame_files) {
       if (SameFile(path, frame)) throw InputError(where + ": '" + path + "' is one of the frames");

@@ -12,6 +12,12 @@
 
 namespace surfreg {
 
+// Whether this build draws figures: the CMake option SURFREG_PLOTS (Cairo).
+// Without it every Write*Png below throws InputError saying so, and
+// RequirePngFigures lets a command refuse a .png output before its work.
+bool PngFiguresBuilt();
+void RequirePngFigures(const std::string& label);  // throws "<label>: ... built without Cairo ..."
+
 struct FigureText {
   std::string title;
   std::string x_label;  // e.g. "easting (m)"

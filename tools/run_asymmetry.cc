@@ -64,6 +64,7 @@ FaceFrameOptions CheckFlags() {
     if (!EndsWithPng(FLAGS_map)) {
       throw InputError("flag '--map': " + FLAGS_map + ": expected a .png file name");
     }
+    RequirePngFigures("flag '--map'");
     CheckOutputPath(FLAGS_map, "flag '--map'");
   }
   if (!FLAGS_output.empty()) CheckOutputPath(FLAGS_output, "flag '--output'");

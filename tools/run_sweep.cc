@@ -264,6 +264,10 @@ void Report(const SweepPlan& plan, const CsvTable& runs, const std::string& outp
   WriteFileAtomically(summary, markdown, "summary '" + summary + "'");
   std::printf("%s\n", markdown.c_str());
   std::printf("runs:    %s\nsummary: %s\n", output.c_str(), summary.c_str());
+  if (!PngFiguresBuilt()) {
+    std::printf("plots:   none (this surfreg was built without Cairo)\n");
+    return;
+  }
   for (const std::string& plot : WritePlots(runs, ranks, keys, Stem(output)))
     std::printf("plot:    %s\n", plot.c_str());
 }

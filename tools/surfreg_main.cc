@@ -289,7 +289,10 @@ int main(int argc, char** argv) {
   // --minloglevel=0 shows the INFO lines.
   FLAGS_logtostderr = true;
   FLAGS_minloglevel = google::GLOG_WARNING;
-  gflags::SetVersionString(SURFREG_VERSION);
+  // The optional parts this build has: scripts and tests ask --version.
+  gflags::SetVersionString(std::string(SURFREG_VERSION) + " (rasters and CRSs: " +
+                           (SURFREG_HAS_GDAL ? "yes" : "no, built without GDAL") + "; PNG figures: " +
+                           (SURFREG_HAS_PLOTS ? "yes" : "no, built without Cairo") + ")");
   gflags::SetUsageMessage("<command> [arguments] [flags]; run 'surfreg help' for the commands");
   google::InitGoogleLogging(argv[0], &surfreg::LogPrefix);  // surfreg: warning: ...
   surfreg::InstallInterruptHandlers();

@@ -50,6 +50,10 @@ struct Loaded {
 
 Loaded Load() {
   Loaded loaded;
+#ifdef SURFREG_WITHOUT_GDAL
+  loaded.why = "this surfreg was built without GDAL (cmake -DSURFREG_GDAL=OFF, or libgdal-dev missing)";
+  return loaded;
+#endif
   const char* named = std::getenv("SURFREG_GDAL_MODULE");
   const bool chosen = named != nullptr && *named != '\0';
   std::string tried;
