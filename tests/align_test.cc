@@ -380,7 +380,7 @@ TEST(AlignTest, MaskExcludesChangedRegion) {
   const MotionError volume_unmasked = AlignAndCompare(pair, options);
   const std::vector<std::array<double, 2>> stable = {{0, 0}, {100, 0}, {100, 55}, {55, 55}, {55, 100}, {0, 100}};
   options.weight = WeightMode::kMask;
-  options.mask_polygon = stable;
+  options.mask = {stable};
   AlignResult result;
   const MotionError volume_masked = AlignAndCompare(pair, options, &result);
   EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
@@ -389,7 +389,7 @@ TEST(AlignTest, MaskExcludesChangedRegion) {
   options.cost = CostKind::kAxial;
   const MotionError axial_unmasked = AlignAndCompare(pair, options);
   options.weight = WeightMode::kMask;
-  options.mask_polygon = stable;
+  options.mask = {stable};
   const MotionError axial_masked = AlignAndCompare(pair, options);
   std::printf("rotation error (deg) volume %.4f masked %.4f, axial %.4f masked %.4f\n",
               volume_unmasked.rotation_deg, volume_masked.rotation_deg, axial_unmasked.rotation_deg,
@@ -479,8 +479,8 @@ TEST(AlignTest, MaskedVolumeGradientMatchesDifferences) {
   const ReferenceSide ref = PrepareReference(sa);
   const MovingSide mov = PrepareMoving(sb, {sb.origin[0] - sa.origin[0], sb.origin[1] - sa.origin[1],
                                             sb.origin[2] - sa.origin[2]});
-  std::vector<Point2> polygon = {{-30, -40}, {20, -45}, {35, 10}, {-5, 30}, {-40, 0}};
-  const auto mask = TriangulatePolygon(polygon);
+  const MaskRegion mask = MakeMaskRegion({{{-30, -40}, {20, -45}, {35, 10}, {-5, 30}, {-40, 0}}},
+                                         MaskMode::kInclude, {0, 0});
   PairState state(ref, mov);
   const std::array<double, 6> theta = {0.01, -0.02, 0.05, 1.5, -2.0, 0.3};
   ASSERT_TRUE(state.Update(theta));
