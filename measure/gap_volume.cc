@@ -86,6 +86,16 @@ void AddDetectedChange(const Point2* p, int n, const Plane& d, const Plane* mu, 
   if (m >= 3) IntegrateLinear(part, m, minus_d, mu, &change->cut, &change->cut_area);
 }
 
+void AddScaled(const GapIntegrals& g, double sign, GapIntegrals* to) {
+  to->abs += sign * g.abs, to->above += sign * g.above, to->below += sign * g.below;
+  to->signed_volume += sign * g.signed_volume, to->weight += sign * g.weight;
+}
+
+void AddScaled(const DetectedChange& c, double sign, DetectedChange* to) {
+  to->fill += sign * c.fill, to->cut += sign * c.cut;
+  to->fill_area += sign * c.fill_area, to->cut_area += sign * c.cut_area;
+}
+
 }  // namespace
 
 // Sutherland-Hodgman, one edge of the triangle at a time.
@@ -145,16 +155,20 @@ void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightF
         lo_y = std::min(lo_y, polygon[k].y), hi_y = std::max(hi_y, polygon[k].y);
       }
       Point2 piece[12];
-      for (const auto& t : mu.mask_triangles()) {
-        if (std::max({t[0].x, t[1].x, t[2].x}) < lo_x || std::min({t[0].x, t[1].x, t[2].x}) > hi_x ||
-            std::max({t[0].y, t[1].y, t[2].y}) < lo_y || std::min({t[0].y, t[1].y, t[2].y}) > hi_y) {
-          continue;
+      const MaskRegion& mask = mu.mask();
+      ForEachMaskTriangle(mask, {lo_x, lo_y}, {hi_x, hi_y}, [&](int32_t k) {
+        const int m = ClipByTriangle(polygon, n, mask.triangles[k], piece);
+        if (m < 3) return;
+        // A hole's triangle (sign −1) takes back what its ring's gave.
+        GapIntegrals gap;
+        FanUniform(piece, m, d, &gap);
+        AddScaled(gap, mask.sign[k], &result->gap);
+        if (lod >= 0.0) {
+          DetectedChange change;
+          AddDetectedChange(piece, m, d, nullptr, lod, &change);
+          AddScaled(change, mask.sign[k], &result->change);
         }
-        const int m = ClipByTriangle(polygon, n, t, piece);
-        if (m < 3) continue;
-        FanUniform(piece, m, d, &result->gap);
-        if (lod >= 0.0) AddDetectedChange(piece, m, d, nullptr, lod, &result->change);
-      }
+      });
       break;
     }
   }

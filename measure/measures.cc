@@ -136,7 +136,11 @@ bool MeasureOptions::IsValid(std::string* error) const {
     *error = "change detection (cut/fill beyond a level of detection) needs the overlay volume mode";
     return false;
   }
-  if (weight == WeightMode::kMask) return ValidMaskPolygon(mask_polygon, error);
+  if (mask_mode == MaskMode::kExclude && weight != WeightMode::kMask) {
+    *error = "mask_mode exclude needs a mask";
+    return false;
+  }
+  if (weight == WeightMode::kMask) return ValidMaskRings(mask, error);
   return true;
 }
 

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "measure/domain.h"
+#include "measure/mask_region.h"
 #include "measure/surface.h"
 
 namespace surfreg {
@@ -43,7 +44,7 @@ enum class WeightMode {
   kUniform,   // μ = 1
   kPerPoint,  // μ = the samples' weights, interpolated linearly on A's mesh
               // (B's if only B has weights); exact for the linear μ
-  kMask,      // μ = 1 inside `mask_polygon`, 0 outside
+  kMask,      // μ = 1 on the region of `mask` (see mask_mode), 0 elsewhere
 };
 
 // Where a Measure is (MeasureOptions::on_progress).
@@ -61,9 +62,11 @@ struct MeasureOptions {
   // set per surface from Surface::raster_grid() (raster cells).
   DomainRule domain;
   WeightMode weight = WeightMode::kUniform;
-  // Simple polygon (either orientation, not closed explicitly) in input
-  // coordinates (not local), for WeightMode::kMask.
-  std::vector<std::array<double, 2>> mask_polygon;
+  // For WeightMode::kMask: rings in input coordinates (not local), combined
+  // by the even–odd rule (measure/mask_region.h: holes, several parts); one
+  // ring is a plain polygon. kExclude takes the complement (within A).
+  std::vector<MaskRing> mask;
+  MaskMode mask_mode = MaskMode::kInclude;
   // An overlap smaller than this fraction of the smaller domain's area (the
   // convex hull's with kHull) is reported as an error (a sliver, or surfaces
   // that do not overlap):

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "measure/input_error.h"
+#include "measure/mask_region.h"
 #include "measure/predicates.h"
 #include "measure/weights.h"
 
@@ -354,15 +355,14 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
   tile_options.allow_empty_overlap = true;
   tile_options.on_progress = nullptr;
   // μ at a node as Measure has it (weights.h): the mask in the reference's
-  // local frame, the moving nodes shifted into it by the same sums.
+  // local frame, the moving nodes shifted into it by the same sums. Made per
+  // tile as Measure makes it: an exclude mask's enclosing ring goes around
+  // the tile's reference samples, and every node weighed lies among them.
   const bool masked = options.measure.weight == WeightMode::kMask;
-  std::vector<Point2> mask;
-  for (const auto& v : options.measure.mask_polygon) {
-    mask.push_back({v[0] - reference.origin[0], v[1] - reference.origin[1]});
-  }
+  MaskRegion tile_mask;
   const double shift[2] = {moving.origin[0] - reference.origin[0],
                            moving.origin[1] - reference.origin[1]};
-  auto weight_at = [&](const Point2& p) { return masked && !InsidePolygon(mask, p) ? 0.0 : 1.0; };
+  auto weight_at = [&](const Point2& p) { return masked && !InsideMask(tile_mask, p) ? 0.0 : 1.0; };
 
   const int64_t nx = Tiles(reference.columns, options.tile), ny = Tiles(reference.rows, options.tile);
   TiledProgress progress{0, nx * ny + Tiles(moving.columns, options.tile) *
@@ -382,6 +382,10 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
       const int32_t c1 = c0 + window.columns - 1, r1 = r0 + window.rows - 1;
       const Surface a = ReadChecked(reference, window);
       const WindowIndex index(a, window);
+      if (masked && !a.xy.empty()) {
+        tile_mask = MakeMaskRegion(options.measure.mask, options.measure.mask_mode,
+                                   {reference.origin[0], reference.origin[1]}, a.xy);
+      }
       ++st.tiles;
       int64_t cells = 0;
       totals.domain_area_a += CompleteCellArea(a, index, c0, c1, r0, r1, &cells);

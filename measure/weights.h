@@ -5,10 +5,9 @@
 // - per point: μ linear on each triangle of the mesh whose samples carry the
 //   weights, so on an overlay cell both the gap d and μ are linear and
 //   ∫|d|μ has a closed form (volume.h);
-// - mask: μ = 1 on a simple polygon, 0 outside. The polygon is cut into
-//   triangles (ear clipping with exact orientation tests) and each cell is
-//   clipped against them, so the integral is exact up to rounding of the
-//   clipped corners.
+// - mask: μ = 1 on a region of rings (even–odd, measure/mask_region.h), 0
+//   elsewhere. Each cell is clipped against the region's signed triangles
+//   near it, so the integral is exact up to rounding of the clipped corners.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -16,6 +15,7 @@
 
 #include "measure/delaunay.h"
 #include "measure/locator.h"
+#include "measure/mask_region.h"
 #include "measure/measures.h"
 #include "measure/surface.h"
 
@@ -30,16 +30,6 @@ struct Plane {
 Plane PlaneThrough(const Point2& p0, const Point2& p1, const Point2& p2, double z0, double z1,
                    double z2);
 
-// Checks a mask polygon: at least 3 finite vertices, non-zero area, no two
-// edges crossing or touching except consecutive ones at their shared vertex.
-bool ValidMaskPolygon(const std::vector<std::array<double, 2>>& polygon, std::string* error);
-
-// Triangles (3 points each, counter-clockwise) covering a simple polygon.
-std::vector<std::array<Point2, 3>> TriangulatePolygon(std::vector<Point2> polygon);
-
-// Whether p is inside or on the boundary of a simple polygon (exact).
-bool InsidePolygon(const std::vector<Point2>& polygon, const Point2& p);
-
 // μ for one comparison. Keeps references to the vectors it was made from,
 // which must outlive it (they are Measure's locals).
 class WeightField {
@@ -49,7 +39,7 @@ class WeightField {
   double AtNodeB(std::size_t j) const;  // μ at B's sample j (in Ω)
   // Per point: μ on overlay cell (triangle_a, triangle_b) as a plane.
   Plane CellPlane(int32_t triangle_a, int32_t triangle_b) const;
-  const std::vector<std::array<Point2, 3>>& mask_triangles() const { return mask_triangles_; }
+  const MaskRegion& mask() const { return mask_; }
 
  private:
   friend WeightField MakeWeightField(const MeasureOptions&, const Surface&,
@@ -63,8 +53,7 @@ class WeightField {
   const Triangulation* mesh_ = nullptr;            // and mesh
   const std::vector<double>* weight_ = nullptr;    // and weights
   const std::vector<Location>* other_in_this_ = nullptr;  // the other's nodes located in it
-  std::vector<Point2> mask_;                       // polygon in A's local frame
-  std::vector<std::array<Point2, 3>> mask_triangles_;
+  MaskRegion mask_;                                // in A's local frame
   const std::vector<Point2>* xy_a_ = nullptr;
   const std::vector<Point2>* xy_b_ = nullptr;
 };

@@ -67,7 +67,8 @@ Eigen::Matrix4d MatrixOf(const std::array<double, 6>& theta, const Eigen::Vector
 MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
   MeasureOptions m;
   m.weight = options.weight;
-  m.mask_polygon = options.mask_polygon;
+  m.mask = options.mask;
+  m.mask_mode = options.mask_mode;
   m.domain = options.domain;
   m.parallel = options.num_threads > 1;
   return m;

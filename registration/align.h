@@ -118,13 +118,15 @@ struct AlignOptions {
   std::array<double, 3> initial_rotation = {0, 0, 0};
   std::array<double, 3> initial_translation = {0, 0, 0};
   // The weight μ used by the cost and the reported measures, as in
-  // MeasureOptions: uniform; a mask polygon in input coordinates; or per
+  // MeasureOptions: uniform; a mask (rings in input coordinates, even–odd,
+  // include or exclude); or per
   // point: the REFERENCE's per-sample weights (Surface::weight, required),
   // linear on its mesh and fixed with it (carried to every level and
   // subsample). The axial cost weights node k's squared residual by μ_k
   // (B's nodes by μ where they land), the volume cost is ∫μ|d| / ∫μ.
   WeightMode weight = WeightMode::kUniform;
-  std::vector<std::array<double, 2>> mask_polygon;
+  std::vector<MaskRing> mask;
+  MaskMode mask_mode = MaskMode::kInclude;
   // Moving triangles that turn over in projection under a tilt: up to this
   // share of the moving surface's area they are slivers standing nearly
   // vertical, and the moving surface is re-triangulated at that pose

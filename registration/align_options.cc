@@ -47,7 +47,8 @@ bool AlignOptions::IsValid(std::string* error) const {
   if (stddev_subsamples < 0 || stddev_subsamples > 1000) return fail("stddev_subsamples must be in [0, 1000]");
   MeasureOptions m;
   m.weight = weight;
-  m.mask_polygon = mask_polygon;
+  m.mask = mask;
+  m.mask_mode = mask_mode;
   return m.IsValid(error);
 }
 

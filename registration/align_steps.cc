@@ -89,12 +89,13 @@ SolveContext MakeContext(const AlignOptions* options, const Level& finest, const
   SolveContext context;
   context.options = options;
   context.rotation_scale = std::max(RmsRadius(finest.moving), 1e-300);
-  for (const auto& p : options->mask_polygon) {
-    context.axial.mask.push_back({p[0] - reference.origin[0], p[1] - reference.origin[1]});
+  if (options->weight == WeightMode::kMask && !options->mask.empty()) {
+    // Ω lies within the reference: exclude's enclosing ring need only cover it.
+    context.axial.mask = std::make_shared<const MaskRegion>(MakeMaskRegion(
+        options->mask, options->mask_mode, {reference.origin[0], reference.origin[1]}, reference.xy));
   }
   context.axial.trim_fraction = options->trim_fraction;
   context.axial.normal_distance = options->normal_distance;
-  if (!context.axial.mask.empty()) context.mask_triangles = TriangulatePolygon(context.axial.mask);
   return context;
 }
 

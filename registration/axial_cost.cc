@@ -44,7 +44,7 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   const std::vector<Point2>& bxy = state.moved_xy();
   const std::vector<double>& bz = state.moved_z();
   const std::vector<Eigen::Vector3d>& bq = state.moved_q();
-  const bool masked = !settings.mask.empty();
+  const MaskRegion* mask = settings.mask.get();
   const bool normal = settings.normal_distance;
   const std::vector<double>& mu = a.weight;
   const bool weighted = !mu.empty();
@@ -63,7 +63,7 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     // Nodes of either surface's junk (measure/domain.h) are not in Ω.
     if (!a.domain_vertex[i] || !state.OnMovingSurface(loc)) continue;
     ++overlap;
-    if (masked && !InsidePolygon(settings.mask, a.xy[i])) continue;
+    if (mask != nullptr && !InsideMask(*mask, a.xy[i])) continue;
     if (weighted && !(mu[i] > 0.0)) continue;
     const int32_t* v = &mesh_b.triangles[3 * loc.triangle];
     const auto& l = loc.barycentric;
@@ -115,7 +115,7 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     const Location& loc = state.b_in_a()[j];
     if (!state.moving_node_active(j) || !state.OnReferenceSurface(loc)) continue;
     ++overlap;
-    if (masked && !InsidePolygon(settings.mask, bxy[j])) continue;
+    if (mask != nullptr && !InsideMask(*mask, bxy[j])) continue;
     const int32_t* v = &a.mesh.triangles[3 * loc.triangle];
     const auto& l = loc.barycentric;
     double w = 1.0;

@@ -31,8 +31,10 @@
 // normalization below counts Σ μ τ².
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "measure/mask_region.h"
 #include "registration/pair_state.h"
 
 namespace surfreg {
@@ -52,8 +54,9 @@ struct AxialResiduals {
 
 struct AxialSettings {
   double trim_fraction = 0.0;  // drop this fraction of the largest |r| (0 ≤ f < 0.5)
-  // μ as a mask: a simple polygon in A's local frame (empty: μ = 1).
-  std::vector<Point2> mask;
+  // μ as a mask in A's local frame (null: μ = 1); shared with the volume
+  // cost (SolveContext) and every level, as it is built once.
+  std::shared_ptr<const MaskRegion> mask;
   // If > 0, residuals are scaled by sqrt(normalize_count / active_weight),
   // so the sum of squares is a (weighted) mean over the overlap: otherwise
   // sliding the surfaces apart lowers the cost by dropping nodes (partial

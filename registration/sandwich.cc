@@ -55,7 +55,7 @@ FineGrid FineGridOf(const std::vector<Point2>& xy) {
 
 // Bins the cells an accumulator takes into fine tiles by their centroid.
 struct TileBinner {
-  TileBinner(const PairState& state, const std::vector<std::array<Point2, 3>>* mask, const FineGrid& fine_grid)
+  TileBinner(const PairState& state, const MaskRegion* mask, const FineGrid& fine_grid)
       : accumulator(state, /*gradient=*/true, mask), grid(fine_grid), tiles(kFineTiles * kFineTiles) {}
   void operator()(const OverlayCell& cell) {
     const VolumeCostValue before = accumulator.value;
@@ -79,7 +79,7 @@ struct TileBinner {
 // Per fine tile, the parts of ∫μ|d|, ∫μ and their gradients from the cells
 // whose centroid lies in it (the integrals of EvaluateVolumeCost, split),
 // on two threads when `parallel`.
-std::vector<TileSums> FineTileSums(const PairState& state, const std::vector<std::array<Point2, 3>>* mask,
+std::vector<TileSums> FineTileSums(const PairState& state, const MaskRegion* mask,
                                    bool parallel) {
   const FineGrid grid = FineGridOf(state.reference().xy);
   TileBinner first(state, mask, grid), second(state, mask, grid);
@@ -172,8 +172,8 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
                                     const std::array<double, 6>& step) {
   SandwichEstimate out;
   const AlignOptions& options = *context.options;
-  const std::vector<std::array<Point2, 3>>* mask =
-      context.mask_triangles.empty() ? nullptr : &context.mask_triangles;
+  const MaskRegion* mask =
+      context.axial.mask.get();
   const std::array<double, 6> theta = state.theta();
   const std::vector<int> free = FreeParameters(options);
   const int n = static_cast<int>(free.size());

@@ -296,7 +296,7 @@ namespace {
 class VolumeFunction : public ceres::FirstOrderFunction {
  public:
   VolumeFunction(PairState& state, const ParameterMap& map, bool parallel,
-                 const std::vector<std::array<Point2, 3>>* mask)
+                 const MaskRegion* mask)
       : state_(state), map_(map), parallel_(parallel), mask_(mask) {}
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
     UpdateStats stats;
@@ -324,7 +324,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   PairState& state_;
   const ParameterMap& map_;
   bool parallel_;
-  const std::vector<std::array<Point2, 3>>* mask_;
+  const MaskRegion* mask_;
   mutable VolumeCostCache cache_;  // bound to state_ (one state per solve)
   mutable int refused_folds_ = 0;
 };
@@ -376,7 +376,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
     ++rounds;
     auto* function = new VolumeFunction(
         state, map, options.num_threads > 1,
-        context.mask_triangles.empty() ? nullptr : &context.mask_triangles);
+        context.axial.mask.get());
     ceres::GradientProblem problem(function);  // owns `function`
     log.set_iteration_offset(iterations, round > 0);
     ceres::Solve(solver, problem, x.data(), &summary);

@@ -23,7 +23,6 @@ namespace surfreg {
 struct SolveContext {
   const AlignOptions* options = nullptr;
   AxialSettings axial;
-  std::vector<std::array<Point2, 3>> mask_triangles;  // the mask for the volume cost (empty: none)
   double rotation_scale = 1.0;  // length that multiplies radians
   int level = 0, start = 0;
   const char* cost = "axial";  // for the log

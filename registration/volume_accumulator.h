@@ -117,7 +117,7 @@ struct MovedTriangle {
 class VolumeAccumulator {
  public:
   VolumeAccumulator(const PairState& state, bool gradient,
-              const std::vector<std::array<Point2, 3>>* mask)
+              const MaskRegion* mask)
       : state_(state), gradient_(gradient), mask_(mask),
         weight_(state.reference().weight.empty() ? nullptr : &state.reference().weight) {
     mt_ = state.derivative().m.transpose();
@@ -177,20 +177,19 @@ class VolumeAccumulator {
       lo_y = std::min(lo_y, p[k].y), hi_y = std::max(hi_y, p[k].y);
     }
     Point2 piece[12];
-    for (const auto& t : *mask_) {
-      if (std::max({t[0].x, t[1].x, t[2].x}) < lo_x || std::min({t[0].x, t[1].x, t[2].x}) > hi_x ||
-          std::max({t[0].y, t[1].y, t[2].y}) < lo_y || std::min({t[0].y, t[1].y, t[2].y}) > hi_y) {
-        continue;
-      }
+    ForEachMaskTriangle(*mask_, {lo_x, lo_y}, {hi_x, hi_y}, [&](int32_t k) {
+      const std::array<Point2, 3>& t = mask_->triangles[k];
       const int m = ClipByTriangle(p, cell.num_vertices, t, piece);
-      if (m < 3) continue;
+      if (m < 3) return;
       double area;
       Point2 centroid;
       AreaCentroid(piece, m, &area, &centroid);
-      if (!(area > 0)) continue;
+      if (!(area > 0)) return;
+      sign_ = mask_->sign[k];  // a hole's triangle takes back what its ring's gave
       AddPolygon(piece, m, area);
       if (gradient_ && has_hull_edge_) AddBoundary(cell.triangle_b, &t);
-    }
+      sign_ = 1.0;
+    });
   }
 
   void SetMovedTriangle(int32_t t) {
@@ -221,7 +220,7 @@ class VolumeAccumulator {
     double dv[12];
     for (int k = 0; k < n; ++k) dv[k] = tb_.height.At(p[k]) - fa_.At(p[k]);
     if (weight_ == nullptr) {
-      value.area += area;
+      value.area += sign_ * area;
     } else {
       for (int k = 1; k + 1 < n; ++k) {
         const double fan = 0.5 * TwiceArea(p[0], p[k], p[k + 1]);
@@ -229,8 +228,8 @@ class VolumeAccumulator {
         const double d[3] = {dv[0], dv[k], dv[k + 1]};
         const double m[3] = {mu_.At(p[0]), mu_.At(p[k]), mu_.At(p[k + 1])};
         const GapIntegrals gap = IntegrateGapWeighted(fan, d, m);
-        value.abs += gap.abs;
-        value.area += gap.weight;
+        value.abs += sign_ * gap.abs;
+        value.area += sign_ * gap.weight;
       }
       if (!gradient_) return;
     }
@@ -265,7 +264,7 @@ class VolumeAccumulator {
     if (!(area > 0)) return;
     if (weight_ == nullptr) {
       const double d = tb_.height.At(c) - fa_.At(c);
-      value.abs += area * std::max(0.0, sign * d);
+      value.abs += sign_ * area * std::max(0.0, sign * d);
     }
     if (!gradient_) return;
     const Eigen::Vector3d q = tb_.QAt(c);
@@ -274,11 +273,11 @@ class VolumeAccumulator {
       const Eigen::Vector2d m = SecondMoment(p, n, c) * Eigen::Vector2d(mu_.gx, mu_.gy);
       const double mu_area = mu_.At(c) * area;
       const Eigen::Vector3d mu_q = mu_area * q + tb_.QStep(m.x(), m.y());
-      value.d_abs.head<3>() += sign * -(mt_ * tb_.normal.cross(mu_q));
-      value.d_abs.tail<3>() += sign * mu_area * tb_.normal;
+      value.d_abs.head<3>() += sign_ * sign * -(mt_ * tb_.normal.cross(mu_q));
+      value.d_abs.tail<3>() += sign_ * sign * mu_area * tb_.normal;
       return;
     }
-    const double w = sign * area;
+    const double w = sign_ * sign * area;
     value.d_abs.head<3>() += w * -(mt_ * tb_.normal.cross(q));
     value.d_abs.tail<3>() += w * tb_.normal;
   }
@@ -326,10 +325,10 @@ class VolumeAccumulator {
       // on each sign piece; Simpson is exact for both.
       auto mu = [&](double s) { return weight_ == nullptr ? 1.0 : mu_.At(point(s)); };
       if (weight_ == nullptr) {
-        value.d_area += (s1 - s0) * length * g(0.5 * (s0 + s1));
+        value.d_area += sign_ * (s1 - s0) * length * g(0.5 * (s0 + s1));
       } else {
         const double sm = 0.5 * (s0 + s1);
-        value.d_area += (s1 - s0) * length / 6.0 *
+        value.d_area += sign_ * (s1 - s0) * length / 6.0 *
                         (mu(s0) * g(s0) + 4.0 * mu(sm) * g(sm) + mu(s1) * g(s1));
       }
       // ∫|d| g ds, split where d changes sign; Simpson is exact for the quadratic.
@@ -343,7 +342,7 @@ class VolumeAccumulator {
       }
       for (int k = 0; k < pieces; ++k) {
         const double a0 = cuts[k], a1 = cuts[k + 1], am = 0.5 * (a0 + a1);
-        value.d_abs += (a1 - a0) * length / 6.0 *
+        value.d_abs += sign_ * (a1 - a0) * length / 6.0 *
                        (mu(a0) * std::fabs(d(a0)) * g(a0) +
                         4.0 * mu(am) * std::fabs(d(am)) * g(am) +
                         mu(a1) * std::fabs(d(a1)) * g(a1));
@@ -353,7 +352,8 @@ class VolumeAccumulator {
 
   const PairState& state_;
   const bool gradient_;
-  const std::vector<std::array<Point2, 3>>* mask_;
+  const MaskRegion* mask_;
+  double sign_ = 1.0;  // of the mask triangle being integrated (+1 without a mask)
   const std::vector<double>* weight_;  // A's per-node μ, or null (μ = 1); owned by the state
   Plane mu_;                           // μ on the current A triangle
   Eigen::Matrix3d mt_;

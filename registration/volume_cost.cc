@@ -29,7 +29,7 @@ using volume_internal::TriangleExtra;
 using volume_internal::TriangleRecord;
 
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
-                                   const std::vector<std::array<Point2, 3>>* mask) {
+                                   const MaskRegion* mask) {
   VolumeAccumulator first(state, gradient, mask), second(state, gradient, mask);
   ForEachCellOfState(state, parallel, first, second);
   VolumeCostValue total = first.value;
@@ -102,7 +102,7 @@ struct VolumeCostCache::Impl {
                  VolumeCostValue* out);
   void IntegrateSimd(CellKernel kernel, const PairState& s, bool gradient, int32_t lo, int32_t hi,
                      int part, VolumeCostValue* out);
-  void Generic(const PairState& s, bool gradient, const std::vector<std::array<Point2, 3>>* mask,
+  void Generic(const PairState& s, bool gradient, const MaskRegion* mask,
                int32_t lo, int32_t hi, VolumeCostValue* out);
 };
 
@@ -392,7 +392,7 @@ void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s,
 
 // A mask: every cell through the full path's accumulator (which also takes weights).
 void VolumeCostCache::Impl::Generic(const PairState& s, bool gradient,
-                                    const std::vector<std::array<Point2, 3>>* mask, int32_t lo,
+                                    const MaskRegion* mask, int32_t lo,
                                     int32_t hi, VolumeCostValue* out) {
   const Triangulation& mesh_a = reference->mesh;
   const Triangulation& mesh_b = s.moving_mesh();
@@ -454,7 +454,7 @@ void AddInto(const VolumeCostValue& v, VolumeCostValue* total) {
 }  // namespace
 
 VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, bool parallel,
-                                          const std::vector<std::array<Point2, 3>>* mask) {
+                                          const MaskRegion* mask) {
   Impl& m = *impl_;
   if (m.state != &s || m.reference != &s.reference() || m.moving != &s.moving()) m.Bind(s);
   const Triangulation& mesh_a = m.reference->mesh;

@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include "measure/mask_region.h"
 #include "registration/pair_state.h"
 
 namespace surfreg {
@@ -46,13 +47,13 @@ struct VolumeCostValue {
 
 // At the state's current θ (state.Update must have succeeded). With
 // `parallel`, on two threads (deterministic: fixed split, fixed summation
-// order). With `mask` (disjoint counter-clockwise triangles in A's frame, e.g.
-// TriangulatePolygon of a mask polygon), μ = 1 on them and 0 elsewhere: both
+// order). With `mask` (a region in A's frame, measure/mask_region.h), μ = 1
+// on it and 0 elsewhere: both
 // integrals and the area are taken over Ω ∩ mask, whose boundary moves only
 // where it is B's (the mask is fixed to the reference). If the reference
 // side has weights, μ is them (times the mask, if both are given).
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
-                                   const std::vector<std::array<Point2, 3>>* mask = nullptr);
+                                   const MaskRegion* mask = nullptr);
 
 // What a VolumeCostCache did, summed over its evaluations.
 struct VolumeCostCacheStats {
@@ -94,7 +95,7 @@ class VolumeCostCache {
 
   // As EvaluateVolumeCost (state.Update must have succeeded).
   VolumeCostValue Evaluate(const PairState& state, bool gradient, bool parallel,
-                           const std::vector<std::array<Point2, 3>>* mask = nullptr);
+                           const MaskRegion* mask = nullptr);
   void Reset();  // the next Evaluate builds the whole overlay
   const VolumeCostCacheStats& stats() const;
 

@@ -154,6 +154,8 @@ classes: [2, 9]
 columns: [E, N, H, 5]
 initial_transform: start.txt
 matrix_txt: matrix.txt
+mask_mode: exclude
+mask_layer: slides
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -227,6 +229,8 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.dod_thresholded, "dod_detected.tif");
   EXPECT_EQ(c.classes, (std::vector<int>{2, 9}));
   EXPECT_EQ(c.columns, (std::vector<std::string>{"E", "N", "H", "5"}));
+  EXPECT_EQ(o.mask_mode, MaskMode::kExclude);
+  EXPECT_EQ(c.mask_layer, "slides");
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
   EXPECT_EQ(c.Where("progress"), "t.yaml:29: key 'progress'");
@@ -517,7 +521,8 @@ TEST(AlignConfigErrors, FinishChecksRequiredKeysAndOutputs) {
       FromYaml(head + "cost: axial\nmask: " + dir.File("m.txt", "0 0\n1 0\n1 1\n0 1\n"));
   FinishAlignConfig(&config);
   EXPECT_EQ(config.options.weight, WeightMode::kMask);
-  EXPECT_EQ(config.options.mask_polygon.size(), 4u);
+  EXPECT_EQ(config.options.mask.size(), 1u);
+  EXPECT_EQ(config.options.mask[0].size(), 4u);
 
   // weights: per_point sets μ from the reference's samples; one μ at a time.
   AlignConfig weighted = FromYaml(head + "weights: per_point\n");

@@ -380,7 +380,7 @@ TEST(AlignTest, MaskExcludesChangedRegion) {
   const MotionError volume_unmasked = AlignAndCompare(pair, options);
   const std::vector<std::array<double, 2>> stable = {{0, 0}, {100, 0}, {100, 55}, {55, 55}, {55, 100}, {0, 100}};
   options.weight = WeightMode::kMask;
-  options.mask_polygon = stable;
+  options.mask = {stable};
   AlignResult result;
   const MotionError volume_masked = AlignAndCompare(pair, options, &result);
   EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
@@ -389,7 +389,7 @@ TEST(AlignTest, MaskExcludesChangedRegion) {
   options.cost = CostKind::kAxial;
   const MotionError axial_unmasked = AlignAndCompare(pair, options);
   options.weight = WeightMode::kMask;
-  options.mask_polygon = stable;
+  options.mask = {stable};
   const MotionError axial_masked = AlignAndCompare(pair, options);
   std::printf("rotation error (deg) volume %.4f masked %.4f, axial %.4f masked %.4f\n",
               volume_unmasked.rotation_deg, volume_masked.rotation_deg, axial_unmasked.rotation_deg,
@@ -401,6 +401,31 @@ TEST(AlignTest, MaskExcludesChangedRegion) {
   EXPECT_LT(volume_masked.rotation_deg, volume_unmasked.rotation_deg);
   EXPECT_GT(axial_unmasked.rotation_deg, 3 * axial_masked.rotation_deg);
   EXPECT_LT(axial_masked.rotation_deg, 0.15);
+}
+
+// The same deposit, left out by a hole in a mask of the whole square, or by
+// an exclude mask of that hole alone: the axial cost recovers the motion.
+TEST(AlignTest, HoledAndExcludeMasksLeaveOutTheDeposit) {
+  const double spacing = 100.0 / std::sqrt(5000.0);
+  auto changed = [](double x, double y) {
+    return testing::SmoothTerrain(x, y) + 6.0 * std::exp(-((x - 75) * (x - 75) + (y - 75) * (y - 75)) / 60.0);
+  };
+  const auto a = testing::SampleUniform(testing::SmoothTerrain, 5000, 0, 100, 0, 100, 21);
+  const auto b = testing::SampleUniform(changed, 5000, 0, 100, 0, 100, 22);
+  const Pair pair = MakePair(a, b, kAxes[3], 3.0, {4, -3, 2}, spacing);
+  const MaskRing hole = {{55, 55}, {95, 55}, {95, 95}, {55, 95}};
+  AlignOptions options;
+  options.cost = CostKind::kAxial;
+  options.weight = WeightMode::kMask;
+  options.mask = {{{-1, -1}, {101, -1}, {101, 101}, {-1, 101}}, hole};
+  const MotionError holed = AlignAndCompare(pair, options);
+  options.mask = {hole};
+  options.mask_mode = MaskMode::kExclude;
+  const MotionError excluded = AlignAndCompare(pair, options);
+  for (const MotionError& e : {holed, excluded}) {
+    EXPECT_LT(e.rotation_deg, 0.15);
+    EXPECT_LT(e.translation, 0.1);
+  }
 }
 
 // The same deposit, left out by per-point weights on the reference (0 on
@@ -479,26 +504,36 @@ TEST(AlignTest, MaskedVolumeGradientMatchesDifferences) {
   const ReferenceSide ref = PrepareReference(sa);
   const MovingSide mov = PrepareMoving(sb, {sb.origin[0] - sa.origin[0], sb.origin[1] - sa.origin[1],
                                             sb.origin[2] - sa.origin[2]});
-  std::vector<Point2> polygon = {{-30, -40}, {20, -45}, {35, 10}, {-5, 30}, {-40, 0}};
-  const auto mask = TriangulatePolygon(polygon);
-  PairState state(ref, mov);
-  const std::array<double, 6> theta = {0.01, -0.02, 0.05, 1.5, -2.0, 0.3};
-  ASSERT_TRUE(state.Update(theta));
-  const VolumeCostValue value = EvaluateVolumeCost(state, true, false, &mask);
-  const VolumeCostValue whole = EvaluateVolumeCost(state, false, false);
-  EXPECT_LT(value.area, 0.9 * whole.area);
-  const Eigen::Matrix<double, 6, 1> g = value.PerAreaGradient();
-  for (int k = 0; k < 6; ++k) {
-    const double h = 1e-6;
-    std::array<double, 6> plus = theta, minus = theta;
-    plus[k] += h;
-    minus[k] -= h;
-    ASSERT_TRUE(state.Update(plus));
-    const double fp = EvaluateVolumeCost(state, false, false, &mask).PerArea();
-    ASSERT_TRUE(state.Update(minus));
-    const double fm = EvaluateVolumeCost(state, false, false, &mask).PerArea();
-    const double scale = k < 3 ? 50.0 : 1.0;  // compare rotations as lengths
-    EXPECT_NEAR(g[k] / scale, (fp - fm) / (2 * h) / scale, 1e-5 * g.norm()) << "parameter " << k;
+  // One polygon (A's local frame); and rings in input coordinates: a hole
+  // across B's left edge (x = 10) with an island in it, so B's moving
+  // boundary is clipped by triangles of both signs.
+  const MaskRegion polygon = MakeMaskRegion({{{-30, -40}, {20, -45}, {35, 10}, {-5, 30}, {-40, 0}}},
+                                            MaskMode::kInclude, {0, 0});
+  const MaskRegion holed = MakeMaskRegion(
+      {{{5, 1}, {95, 1}, {95, 99}, {5, 99}}, {{8, 40}, {30, 40}, {30, 60}, {8, 60}},
+       {{9, 45}, {20, 45}, {20, 55}, {9, 55}}},
+      MaskMode::kInclude, {sa.origin[0], sa.origin[1]});
+  for (const MaskRegion* mask : {&polygon, &holed}) {
+    SCOPED_TRACE(mask == &polygon ? "one polygon" : "holed");
+    PairState state(ref, mov);
+    const std::array<double, 6> theta = {0.01, -0.02, 0.05, 1.5, -2.0, 0.3};
+    ASSERT_TRUE(state.Update(theta));
+    const VolumeCostValue value = EvaluateVolumeCost(state, true, false, mask);
+    const VolumeCostValue whole = EvaluateVolumeCost(state, false, false);
+    EXPECT_LT(value.area, (mask == &polygon ? 0.9 : 0.99) * whole.area);
+    const Eigen::Matrix<double, 6, 1> g = value.PerAreaGradient();
+    for (int k = 0; k < 6; ++k) {
+      const double h = 1e-6;
+      std::array<double, 6> plus = theta, minus = theta;
+      plus[k] += h;
+      minus[k] -= h;
+      ASSERT_TRUE(state.Update(plus));
+      const double fp = EvaluateVolumeCost(state, false, false, mask).PerArea();
+      ASSERT_TRUE(state.Update(minus));
+      const double fm = EvaluateVolumeCost(state, false, false, mask).PerArea();
+      const double scale = k < 3 ? 50.0 : 1.0;  // compare rotations as lengths
+      EXPECT_NEAR(g[k] / scale, (fp - fm) / (2 * h) / scale, 1e-5 * g.norm()) << "parameter " << k;
+    }
   }
 }
 

@@ -146,7 +146,7 @@ TEST(ChangeDetection, MaskKeepsTheAnalyticHalf) {
   options.domain.kind = DomainKind::kHull;
   options.detect_change = true;
   options.weight = WeightMode::kMask;
-  options.mask_polygon = {{2.0, -8.5}, {8.5, -8.5}, {8.5, 8.5}, {2.0, 8.5}};
+  options.mask = {{{2.0, -8.5}, {8.5, -8.5}, {8.5, 8.5}, {2.0, 8.5}}};
   for (double lod : {0.0, 1.2}) {
     options.level_of_detection = lod;
     const MeasureSummary s = Measure(Plane(7, 1500), PyramidSurface(8), options);

@@ -298,5 +298,31 @@ assert n == 4000, n
 "
 fi
 
+# --- an exclude mask with a hole: GeoJSON (OGR) and text give one alignment ---
+printf '100 100\n500 100\n500 500\n100 500\n>\n200 200\n300 200\n300 300\n200 300\n' >"$tmp/slide.txt"
+cat >"$tmp/slide.geojson" <<'JSON'
+{"type": "FeatureCollection", "features": [
+ {"type": "Feature", "id": 1, "properties": {}, "geometry": {"type": "Polygon", "coordinates": [
+   [[100, 100], [500, 100], [500, 500], [100, 500], [100, 100]],
+   [[200, 200], [200, 300], [300, 300], [300, 200], [200, 200]]]}}]}
+JSON
+run align "$ref" "$mov" --cost=axial --mask="$tmp/slide.txt" --mask_mode=exclude --covariance=false --json
+cp "$tmp/stdout" "$tmp/slide_txt.json"
+run align "$ref" "$mov" --cost=axial --mask="$tmp/slide.geojson" --mask_mode=exclude --covariance=false --json
+cp "$tmp/stdout" "$tmp/slide_json.json"
+check "exclude mask with a hole: GeoJSON = text, known motion recovered" "
+t, g = load('$tmp/slide_txt.json'), load('$tmp/slide_json.json')
+assert t['verdict'] == g['verdict'] == 'converged_improved', (t['verdict'], g['verdict'])
+for i in range(4):
+    for k in range(4):
+        assert abs(t['matrix'][i][k] - g['matrix'][i][k]) <= 1e-9 * (1 + abs(t['matrix'][i][k])), (t['matrix'], g['matrix'])
+angle, shift = motion_error(g['matrix'], expected('$mov'), [(0, 0, 100), (860, 600, 100)])
+assert angle < 0.05 and shift < 1.0, (angle, shift)
+"
+expect_error "flag '--mask_mode': needs a mask ('mask')" \
+  align "$ref" "$mov" --mask_mode=exclude --output="$out/t.json"
+expect_error "flag '--mask': $tmp/slide.geojson: no layer 'x' (layers: 'slide')" \
+  align "$ref" "$mov" --mask="$tmp/slide.geojson" --mask_layer=x --output="$out/t.json"
+
 echo "$((checks - failures)) of $checks checks passed"
 [[ $failures -eq 0 ]]

@@ -321,7 +321,7 @@ TEST(MeasureTest, MaskPolygonRestrictsTheIntegral) {
   const Height ramp = [](double x, double) { return x - 5.0; };
   MeasureOptions options = OnHull();
   options.weight = WeightMode::kMask;
-  options.mask_polygon = {{0, 0}, {10, 0}, {10, 2}, {5, 2}, {5, 10}, {0, 10}};
+  options.mask = {{{0, 0}, {10, 0}, {10, 2}, {5, 2}, {5, 10}, {0, 10}}};
   const MeasureSummary s =
       Measure(Sample(SquareCloud(500, 10, 80), zero), Sample(SquareCloud(500, 10, 81), ramp), options);
   EXPECT_LT(Rel(s.rho_d, 150.0), 1e-9);
@@ -353,7 +353,7 @@ TEST(MeasureTest, DisjointOrSliverOverlapIsAnError) {
   EXPECT_THROW(Measure(a, a, no_weights), InputError);
   MeasureOptions bow_tie;
   bow_tie.weight = WeightMode::kMask;
-  bow_tie.mask_polygon = {{0, 0}, {10, 10}, {10, 0}, {0, 10}};
+  bow_tie.mask = {{{0, 0}, {10, 10}, {10, 0}, {0, 10}}};
   EXPECT_THROW(Measure(a, a, bow_tie), InputError);
 }
 

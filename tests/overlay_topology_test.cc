@@ -167,7 +167,7 @@ Theta Step(const Theta& t, double radians, double shift, int k) {
 // A walk of θ: small, large and very large steps, each evaluated by the
 // cache and by the full path. Returns the cache's stats.
 VolumeCostCacheStats Walk(const Sides& sides, bool parallel,
-                          const std::vector<std::array<Point2, 3>>* mask, const char* label,
+                          const MaskRegion* mask, const char* label,
                           double spacing, int* remeshes = nullptr) {
   PairState state(sides.reference, sides.moving);
   VolumeCostCache cache;
@@ -219,15 +219,9 @@ TEST(VolumeCostCacheTest, MatchesWithWeightsAndMask) {
   Walk(*weighted, true, nullptr, "weights", 100.0 / std::sqrt(2000.0));
   Walk(*weighted, false, nullptr, "weights", 100.0 / std::sqrt(2000.0));
   const auto plain = TerrainSides(2000, 1800, 0, 100);
-  const auto mask = TriangulatePolygon({{20, 15}, {80, 25}, {70, 60}, {45, 40}, {25, 75}});
-  const std::vector<std::array<Point2, 3>> shifted = [&] {
-    // In A's local frame.
-    std::vector<std::array<Point2, 3>> out = mask;
-    for (auto& t : out) {
-      for (auto& p : t) p = {p.x - plain->a.origin[0], p.y - plain->a.origin[1]};
-    }
-    return out;
-  }();
+  // In A's local frame.
+  const MaskRegion shifted = MakeMaskRegion({{{20, 15}, {80, 25}, {70, 60}, {45, 40}, {25, 75}}},
+                                            MaskMode::kInclude, {plain->a.origin[0], plain->a.origin[1]});
   Walk(*plain, false, &shifted, "mask", 100.0 / std::sqrt(2000.0));
   Walk(*weighted, true, &shifted, "weights and mask", 100.0 / std::sqrt(2000.0));
 }

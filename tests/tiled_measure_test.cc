@@ -271,12 +271,18 @@ TEST(TiledMeasureTest, MaskEqualsUntiled) {
                           {kX0 + 80, kY0 - 60, 0}, true, {}, 6u, "b.tif");
   MeasureOptions options = Options();
   options.weight = WeightMode::kMask;
-  options.mask_polygon = {{kX0 + 10.2, kY0 - 5.7},  {kX0 + 140.3, kY0 - 20.1},
-                          {kX0 + 100.9, kY0 - 60.0}, {kX0 + 150.0, kY0 - 110.4},
-                          {kX0 + 20.5, kY0 - 100.0}};
+  options.mask = {{{kX0 + 10.2, kY0 - 5.7}, {kX0 + 140.3, kY0 - 20.1}, {kX0 + 100.9, kY0 - 60.0},
+                   {kX0 + 150.0, kY0 - 110.4}, {kX0 + 20.5, kY0 - 100.0}},
+                  // a hole, across tile borders
+                  {{kX0 + 40.5, kY0 - 70.2}, {kX0 + 70.1, kY0 - 70.9}, {kX0 + 55.3, kY0 - 90.4}}};
   const MeasureSummary untiled = Untiled(a, b, options);
   ASSERT_LT(untiled.weight_integral, 0.9 * untiled.overlap_area);
   for (int32_t tile : {13, 50}) Compare(a, b, untiled, tile, options);
+  // The same rings as unstable areas: every tile has its own enclosing ring.
+  options.mask_mode = MaskMode::kExclude;
+  const MeasureSummary excluded = Untiled(a, b, options);
+  ASSERT_GT(excluded.weight_integral, 0.1 * excluded.overlap_area);
+  for (int32_t tile : {13, 50}) Compare(a, b, excluded, tile, options);
 }
 
 // Tiles of 1, 2 and 5 cells on a small pair: most nodes are on a tile

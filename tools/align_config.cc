@@ -49,6 +49,7 @@ const Names<LineSearchKind> kLineSearches = {{"lbfgs", LineSearchKind::kLbfgs},
                                              {"bfgs", LineSearchKind::kBfgs},
                                              {"nonlinear_cg", LineSearchKind::kNonlinearCg}};
 const Names<bool> kWeightModes = {{"uniform", false}, {"per_point", true}};
+const Names<MaskMode> kMaskModes = {{"include", MaskMode::kInclude}, {"exclude", MaskMode::kExclude}};
 const Names<DomainKind> kDomains = {{"data", DomainKind::kData}, {"hull", DomainKind::kHull}};
 const Names<LinearSolverKind> kLinearSolvers = {
     {"dense_qr", LinearSolverKind::kDenseQr},
@@ -192,10 +193,18 @@ const std::vector<KeyEntry>& Table() {
         "ignored; nothing = 3 columns (x y z) or 4 (x y z weight)"},
        [](const Value& v, C* c) { c->columns = Columns(v); },
        [](const C& c) { return ListText(c.columns); }},
-      {{"mask", "a polygon file, or nothing",
-        "weight 1 inside the polygon ('x y' per line, input coordinates), 0 outside"},
+      {{"mask", "a polygon file ('x y' text, or a vector file: .gpkg .shp .geojson ...), or nothing",
+        "weight 1 on the mask's polygons (holes and several parts: even-odd), 0 elsewhere"},
        [](const Value& v, C* c) { c->mask = Path(v, false); },
        [](const C& c) { return c.mask; }},
+      {{"mask_mode", "one of include, exclude",
+        "include: the mask is the stable terrain; exclude: it is the unstable areas, left out"},
+       [](const Value& v, C* c) { c->options.mask_mode = Choice(v, kMaskModes); },
+       [](const C& c) { return NameOf(c.options.mask_mode, kMaskModes); }},
+      {{"mask_layer", "a layer name, or nothing",
+        "vector masks: the layer to read (nothing = the first)"},
+       [](const Value& v, C* c) { c->mask_layer = Scalar(v); },
+       [](const C& c) { return c.mask_layer; }},
       {{"weights", "one of uniform, per_point",
         "mu: uniform, or the reference's per-sample weights (4th .xyz column, PLY 'weight')"},
        [](const Value& v, C* c) { c->per_point_weights = Choice(v, kWeightModes); },
@@ -520,10 +529,18 @@ void FinishAlignConfig(AlignConfig* config) {
     }
     config->options.weight = WeightMode::kPerPoint;
   }
+  for (const char* key : {"mask_mode", "mask_layer"}) {
+    if (config->mask.empty() && config->origin.count(key) != 0 &&
+        AlignConfigValue(*config, key) != (std::string(key) == "mask_mode" ? "include" : "")) {
+      throw InputError(config->Where(key) + ": needs a mask ('mask')");
+    }
+  }
   ReadInitialTransform(config);
   if (!config->mask.empty()) {
     try {
-      config->options.mask_polygon = ReadPolygon(config->mask);
+      MaskFile file = ReadMask(config->mask, config->mask_layer);
+      config->options.mask = std::move(file.rings);
+      config->mask_crs_wkt = std::move(file.crs_wkt);
     } catch (const InputError& e) {
       throw InputError(config->Where("mask") + ": " + e.what());
     }

@@ -47,10 +47,12 @@ struct AlignConfig {
   std::string reference;  // fixed surface file (required)
   std::string moving;     // surface file moved onto the reference (required)
   // Solver settings. initial_rotation is in radians here (the key
-  // initial_rotation_deg is in degrees); weight and mask_polygon are set by
+  // initial_rotation_deg is in degrees); weight and mask are set by
   // FinishAlignConfig from `mask` and `per_point_weights`.
   AlignOptions options;
   std::string mask;         // polygon file (input coordinates) for μ; "" = uniform
+  std::string mask_layer;   // a vector mask's layer; "" = the first
+  std::string mask_crs_wkt;  // the mask file's CRS ("" = the reference's), set by FinishAlignConfig
   bool per_point_weights = false;  // key weights: per_point (the reference's sample weights)
   std::string output;       // transform JSON; "" = none
   std::string matrix_txt;   // the 4x4 moving -> reference matrix as text; "" = none

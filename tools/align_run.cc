@@ -92,6 +92,10 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
                                moving ? &*moving : nullptr);
     // A mask raster became the reference's per-sample weights: μ for Align.
     if (!config.terrain.mask_raster.empty()) config.options.weight = WeightMode::kPerPoint;
+    // A mask drawn in its file's CRS (or the reference's) goes where the reference went.
+    if (config.options.weight == WeightMode::kMask) {
+      MaskToFrame(inputs, config.mask_crs_wkt, config.Where("mask"), &config.options.mask);
+    }
   } else {
     inputs.reference = reference ? std::move(*reference) : ReadAlignSurface(config, "reference");
     inputs.moving = moving ? std::move(*moving) : ReadAlignSurface(config, "moving");

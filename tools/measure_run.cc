@@ -38,6 +38,7 @@ VolumeMode ParseVolumeMode(const std::string& value, const std::string& where) {
 // weights = uniform | per_point | mask:POLYGON_FILE
 void ParseWeights(const std::string& value, const std::string& where, MeasureReport* report) {
   MeasureOptions& options = report->options;
+
   const std::string mask = "mask:";
   if (value == "uniform") {
     options.weight = WeightMode::kUniform;
@@ -46,7 +47,9 @@ void ParseWeights(const std::string& value, const std::string& where, MeasureRep
   } else if (value.compare(0, mask.size(), mask) == 0 && value.size() > mask.size()) {
     options.weight = WeightMode::kMask;
     report->mask_file = value.substr(mask.size());
-    options.mask_polygon = ReadPolygon(report->mask_file);
+    MaskFile file = ReadMask(report->mask_file, report->mask_layer);
+    options.mask = std::move(file.rings);
+    report->mask_crs_wkt = std::move(file.crs_wkt);
   } else {
     throw InputError("bad value " + io_internal::Quote(value) + " for " + where +
                      " (expected uniform, per_point or mask:POLYGON_FILE)");
@@ -95,7 +98,7 @@ AlignConfig MeasureConfig(const std::string& a, const std::string& b,
 
 const std::vector<std::string>& MeasureKeys() {
   static const std::vector<std::string> keys = [] {
-    std::vector<std::string> out = {"volume", "weights"};
+    std::vector<std::string> out = {"volume", "weights", "mask_mode", "mask_layer"};
     out.insert(out.end(), std::begin(kDomainKeys), std::end(kDomainKeys));
     out.insert(out.end(), std::begin(kTerrainKeys), std::end(kTerrainKeys));
     return out;
@@ -121,7 +124,23 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     if (s != nullptr && !s->value.empty()) ApplyAlignSetting(key, s->value, s->where, &domain);
   }
   options.domain = domain.options.domain;
+  if (const Setting* s = Find(settings, "mask_layer")) report.mask_layer = s->value;
+  if (const Setting* s = Find(settings, "mask_mode")) {
+    if (s->value == "exclude") {
+      options.mask_mode = MaskMode::kExclude;
+    } else if (s->value != "include") {
+      throw InputError("bad value " + io_internal::Quote(s->value) + " for " + s->where +
+                       " (expected include or exclude)");
+    }
+  }
   const Setting* weights = Find(settings, "weights");
+  const bool masked = weights != nullptr && weights->value.compare(0, 5, "mask:") == 0;
+  for (const char* key : {"mask_layer", "mask_mode"}) {  // mask settings without a mask
+    const Setting* s = Find(settings, key);
+    if (!masked && s != nullptr && !s->value.empty() && s->value != "include") {
+      throw InputError(s->where + ": needs a mask (weights mask:FILE)");
+    }
+  }
   ParseWeights(weights ? weights->value : "uniform", weights ? weights->where : "", &report);
   const AlignConfig config = MeasureConfig(report.file_a, report.file_b, settings);
   // Cut/fill is integrated on the overlay's cells: always there, absent from union.
@@ -151,14 +170,9 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   report.metric = inputs.frame.kind != GeoFrame::kAsGiven ||
                   (inputs.reference_crs.kind == CrsKind::kProjected &&
                    inputs.reference_crs.metres_per_unit == 1.0);
-  if (options.weight == WeightMode::kMask && inputs.frame.kind != GeoFrame::kAsGiven) {
-    // The polygon is drawn in A's lon/lat: its vertices go where A went.
-    std::vector<std::array<double, 3>> vertices;
-    for (const auto& p : options.mask_polygon) vertices.push_back({p[0], p[1], 0.0});
-    PointsToFrame(inputs.frame, inputs.reference_crs, &vertices);
-    for (std::size_t i = 0; i < vertices.size(); ++i) {
-      options.mask_polygon[i] = {vertices[i][0], vertices[i][1]};
-    }
+  if (options.weight == WeightMode::kMask) {
+    // The mask is drawn in its file's CRS (or A's): its vertices go where A went.
+    MaskToFrame(inputs, report.mask_crs_wkt, report.mask_file, &options.mask);
   }
   const Surface& sa = inputs.reference;
   const Surface& sb = inputs.moving;
@@ -172,6 +186,12 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   report.read_s = Seconds(read - start);
   report.total_s = Seconds(done - start);
   return report;
+}
+
+std::size_t MaskVertices(const MeasureOptions& options) {
+  std::size_t n = 0;
+  for (const MaskRing& ring : options.mask) n += ring.size();
+  return n;
 }
 
 std::string MeasureJson(const MeasureReport& r) {
@@ -199,7 +219,9 @@ std::string MeasureJson(const MeasureReport& r) {
       .String("domain", DomainKindName(s.domain_kind));
   if (r.options.weight == WeightMode::kMask) {
     json.String("mask_file", r.mask_file)
-        .Int("mask_vertices", static_cast<int64_t>(r.options.mask_polygon.size()));
+        .String("mask_mode", MaskModeName(r.options.mask_mode))
+        .Int("mask_rings", static_cast<int64_t>(r.options.mask.size()))
+        .Int("mask_vertices", static_cast<int64_t>(MaskVertices(r.options)));
   }
   json.Number("rho_d", s.rho_d)
       .Number("rho_d_axial", s.rho_d_axial)

@@ -38,7 +38,9 @@ const std::vector<std::string>& MeasureKeys();
 
 struct MeasureReport {
   std::string file_a, file_b;
-  std::string mask_file;  // for WeightMode::kMask
+  std::string mask_file;     // for WeightMode::kMask
+  std::string mask_layer;    // a vector mask's layer ("" = the first)
+  std::string mask_crs_wkt;  // the mask file's CRS ("" = A's)
   MeasureOptions options;
   MeasureSummary summary;
   AlignConfig config;              // the files and the terrain settings
@@ -57,6 +59,9 @@ struct MeasureReport {
 // stage of the measure (MeasureOptions::on_progress).
 MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<Setting>& settings,
                               const std::function<void(const MeasureProgress&)>& on_progress = nullptr);
+
+// Vertices of all the mask's rings.
+std::size_t MaskVertices(const MeasureOptions& options);
 
 // The --json document of `surfreg measure` (one object, no newline).
 std::string MeasureJson(const MeasureReport& report);

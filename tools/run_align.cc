@@ -52,7 +52,9 @@ DEFINE_string(wide_search, "", "align: try many coarse starts first (auto | alwa
 DEFINE_string(initial_rotation_deg, "", "align: initial rotation vector rx,ry,rz in degrees");
 DEFINE_string(initial_translation, "", "align: initial shift tx,ty,tz of the moving centroid");
 DEFINE_string(initial_transform, "", "align: the start from a transform file (align JSON or 4x4 text matrix)");
-DEFINE_string(mask, "", "align: polygon file: weight 1 inside, 0 outside");
+DEFINE_string(mask, "", "align: mask file ('x y' text or a vector file such as .gpkg): weight 1 inside, 0 outside");
+DEFINE_string(mask_mode, "", "measure, align: include (the mask is stable terrain) or exclude (it is unstable: left out)");
+DEFINE_string(mask_layer, "", "measure, align: the layer of a vector mask file (default: the first)");
 DEFINE_string(classes, "", "measure, align, transform: LAS inputs: keep only these classifications, e.g. 2 or 2,9");
 DEFINE_string(columns, "", "measure, align, transform: text clouds: the x,y,z[,weight] columns by name or 1-based position");
 DEFINE_string(max_fold_fraction, "", "align: area share of moving triangles that may fold");

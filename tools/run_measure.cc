@@ -31,8 +31,9 @@ DEFINE_string(volume, "overlay",
 DEFINE_bool(quiet, false, "measure, align, sweep, transform: no progress lines on stderr (errors and warnings still)");
 DEFINE_string(weights, "uniform",
               "measure, align: the weight of the integrals: uniform, per_point (the samples' weights, "
-              "interpolated linearly) or mask:POLYGON_FILE (1 inside the polygon, 0 outside; "
-              "one 'x y' vertex per line, input coordinates, '#' comments)");
+              "interpolated linearly) or mask:FILE (1 inside the mask, 0 outside: 'x y' text, "
+              "one vertex per line, '>' between rings, '#' comments; or a vector file such as "
+              ".gpkg, .shp, .geojson; holes and several parts by the even-odd rule)");
 
 namespace surfreg {
 namespace {
@@ -66,8 +67,10 @@ void PrintText(const MeasureReport& r) {
               union_mode ? "the paper's: on the triangulation of A and B together"
                          : "exact: on the common refinement of both triangulations");
   if (r.options.weight == WeightMode::kMask) {
-    std::printf("weights:            mask  (1 inside the %zu-vertex polygon of %s)\n",
-                r.options.mask_polygon.size(), r.mask_file.c_str());
+    std::printf("weights:            mask  (%s the %zu ring%s, %zu vertices, of %s)\n",
+                r.options.mask_mode == MaskMode::kExclude ? "1 outside" : "1 inside",
+                r.options.mask.size(), r.options.mask.size() == 1 ? "" : "s", MaskVertices(r.options),
+                r.mask_file.c_str());
   } else {
     std::printf("weights:            %s\n", WeightModeName(r.options.weight));
   }

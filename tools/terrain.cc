@@ -10,6 +10,7 @@
 #include "measure/input_error.h"
 #include "measure/weights.h"
 #include "tools/atomic_file.h"
+#include "tools/io/gdal_module.h"
 #include "tools/io/surface_reader.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/plot.h"
@@ -173,6 +174,29 @@ std::vector<double> MaskRasterWeights(const AlignConfig& config, const Surface& 
 
 }  // namespace
 
+void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const std::string& where,
+                 std::vector<MaskRing>* rings) {
+  std::vector<std::array<double, 3>> points;
+  for (const MaskRing& ring : *rings) {
+    for (const auto& p : ring) points.push_back({p[0], p[1], 0.0});
+  }
+  if (!mask_crs_wkt.empty() && in.reference_crs.kind != CrsKind::kNone) {
+    const Crs crs = ParseCrs(mask_crs_wkt, where);
+    if (!SameCrs(crs, in.reference_crs)) {
+      std::string error;
+      if (!Gdal(where).transform_points(crs.wkt, in.reference_crs.wkt, &points, &error)) {
+        throw InputError(where + ": cannot reproject the mask from CRS '" + crs.name + "' to '" +
+                         in.reference_crs.name + "': " + error);
+      }
+    }
+  }
+  PointsToFrame(in.frame, in.reference_crs, &points);  // e.g. lon/lat into UTM or ENU
+  std::size_t k = 0;
+  for (MaskRing& ring : *rings) {
+    for (auto& p : ring) p = {points[k][0], points[k][1]}, ++k;
+  }
+}
+
 TerrainInputs ReadTerrainInputs(const AlignConfig& config, const Surface* given_reference,
                                 const Surface* given_moving) {
   OneInput reference = ReadOne(config, "reference", given_reference);
@@ -243,16 +267,15 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
   AddRegistrationUncertainty(in.reference, in.moving, result.rotation_vector, result.translation, result.centre,
                              result.covariance, report.after, options, &report.uncertainty);
 
-  // Stable terrain: the mask of the registration (frame coordinates), or all.
-  const auto& mask = config.options.mask_polygon;
+  // Stable terrain: the mask of the registration (frame coordinates, with
+  // its mode), or all.
   report.stable.assign(in.reference.size(), true);
-  if (config.options.weight == WeightMode::kMask && !mask.empty()) {
-    std::vector<Point2> polygon;
-    for (const auto& p : mask) polygon.push_back({p[0], p[1]});
+  if (config.options.weight == WeightMode::kMask && !config.options.mask.empty()) {
+    const MaskRegion mask =
+        MakeMaskRegion(config.options.mask, config.options.mask_mode,
+                       {in.reference.origin[0], in.reference.origin[1]}, in.reference.xy);
     for (std::size_t i = 0; i < in.reference.size(); ++i) {
-      const Point2 p{in.reference.xy[i].x + in.reference.origin[0],
-                     in.reference.xy[i].y + in.reference.origin[1]};
-      report.stable[i] = InsidePolygon(polygon, p);
+      report.stable[i] = InsideMask(mask, in.reference.xy[i]);
     }
   }
   // Or the mask raster's, as read into the reference's weights (μ is 0/1 at

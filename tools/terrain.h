@@ -45,6 +45,13 @@ struct TerrainInputs {
 TerrainInputs ReadTerrainInputs(const AlignConfig& config, const Surface* reference = nullptr,
                                 const Surface* moving = nullptr);
 
+// Mask rings given in the mask file's CRS (`mask_crs_wkt`; "" = the
+// reference's) into the frame `in` works in: reprojected into the
+// reference's CRS when both have one and they differ, then moved as the
+// reference was (PointsToFrame). `where` starts the errors.
+void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const std::string& where,
+                 std::vector<MaskRing>* rings);
+
 struct TerrainReport {
   MeasureSummary before, after;     // with change detection and node gaps
   std::vector<bool> stable;         // per reference sample: inside the mask (all if none)

@@ -72,7 +72,7 @@ inline std::vector<GoldenCase> GoldenCases() {
   cases.push_back({aw, b, w});
   MeasureOptions m;
   m.weight = WeightMode::kMask;
-  m.mask_polygon = {{2, 2}, {8, 1.5}, {9, 7}, {5, 4}, {3, 9}};
+  m.mask = {{{2, 2}, {8, 1.5}, {9, 7}, {5, 4}, {3, 9}}};
   m.parallel = false;
   cases.push_back({a, b, m});
   MeasureOptions g;

@@ -20,6 +20,11 @@
 #include <stdexcept>
 
 namespace surfreg {
+
+// Vector masks: gdal_module_vector.cc.
+bool ReadVectorRings(const std::string& path, const std::string& layer, VectorRings* out,
+                     std::string* error);
+
 namespace {
 
 void RegisterGdalOnce() {
@@ -496,7 +501,8 @@ bool WriteGeoTiffEntry(const std::string& file, const Raster& raster, const std:
 
 const GdalModule kModule = {kGdalModuleVersion, &ReadRasterEntry, &WriteGeoTiffEntry, &ParseCrs,
                             &IdentifyCrs,       &IdentifyUtm,     &DatumOf,
-                            &SameCrs,           &ProjectedToLonLat, &TransformPoints};
+                            &SameCrs,           &ProjectedToLonLat, &TransformPoints,
+                            &ReadVectorRings};
 
 }  // namespace
 }  // namespace surfreg

@@ -34,6 +34,13 @@ struct CrsDatum {
   std::string name;
 };
 
+// The polygon rings of one layer of a vector file (a mask).
+struct VectorRings {
+  std::vector<std::vector<std::array<double, 2>>> rings;  // not closed explicitly
+  std::vector<std::string> names;  // per ring, for messages: "feature 7 ring 2" (ring 1: exterior)
+  std::string crs_wkt;             // the layer's CRS as WKT2_2019; "" if it has none
+};
+
 struct GdalModule {
   // Equal to kGdalModuleVersion in both the module and its loader: a module
   // from another build is refused rather than called with other layouts.
@@ -68,9 +75,15 @@ struct GdalModule {
   // (a vertical CRS). False, with the first point that fails, otherwise.
   bool (*transform_points)(const std::string& from_wkt, const std::string& to_wkt,
                            std::vector<std::array<double, 3>>* points, std::string* error);
+  // Every ring of every Polygon and MultiPolygon feature of the layer named
+  // `layer` of a vector file (the first layer when ""). The error starts
+  // with the path: unreadable, no such layer (listing the layers), or no
+  // polygon features (saying what the layer holds).
+  bool (*read_vector_rings)(const std::string& path, const std::string& layer, VectorRings* out,
+                            std::string* error);
 };
 
-constexpr int kGdalModuleVersion = 2;
+constexpr int kGdalModuleVersion = 3;
 
 // The loaded module. The first call looks for libsurfreg_gdal.so in: the
 // file named by the environment variable SURFREG_GDAL_MODULE; next to the

@@ -73,7 +73,13 @@ Loaded Load() {
       loaded.module = module;  // kept loaded for the process's life
       return loaded;
     }
-    tried += "; " + path + " is not a surfreg GDAL module of this version";
+    // An older module lacks entry points (e.g. vector masks): never call it.
+    tried += "; " + path +
+             (module == nullptr ? " is not a surfreg GDAL module"
+                                : " is GDAL module version " + std::to_string(module->version) +
+                                      ", but this surfreg needs version " +
+                                      std::to_string(kGdalModuleVersion) +
+                                      " (reinstall surfreg, or point SURFREG_GDAL_MODULE at its module)");
     dlclose(handle);
   }
   loaded.why = "cannot load " + std::string(kFileName) +
