@@ -4,6 +4,8 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
+#include <string>
 #include <utility>
 
 #include "measure/input_error.h"
@@ -11,6 +13,7 @@
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/json_writer.h"
+#include "tools/measure_tiled.h"
 #include "tools/terrain.h"
 
 namespace surfreg {
@@ -94,11 +97,54 @@ AlignConfig MeasureConfig(const std::string& a, const std::string& b,
   return config;
 }
 
+// The tile side asked for by `tile` (cells of A) or `max_memory` (the side
+// that fits), 0 for an untiled measure; *where names the setting.
+int32_t TileSetting(const std::vector<Setting>& settings, std::string* where) {
+  const Setting* tile = Find(settings, "tile");
+  const Setting* memory = Find(settings, "max_memory");
+  int32_t side = 0;
+  if (tile != nullptr && !tile->value.empty() && tile->value != "0") {
+    char* end = nullptr;
+    const long value = std::strtol(tile->value.c_str(), &end, 10);
+    if (*end != '\0' || value < 16 || value > 32768) {
+      throw InputError(tile->where + " expects a tile side in cells of A, 16 to 32768 (0: no tiles), got '" +
+                       tile->value + "'");
+    }
+    side = static_cast<int32_t>(value);
+    *where = tile->where;
+  }
+  if (memory != nullptr && !memory->value.empty()) {
+    const double bytes = ParseMemorySize(memory->value, memory->where);
+    if (side == 0) {
+      side = TileForMemory(bytes);
+      *where = memory->where;
+    } else if (TileBytes(side) > bytes) {
+      throw InputError(tile->where + ": tiles of " + tile->value + " cells need about " +
+                       std::to_string(static_cast<int64_t>(TileBytes(side) / (1 << 20))) +
+                       " MiB, more than " + memory->where + " allows (" + memory->value + ")");
+    }
+  }
+  return side;
+}
+
+// What a tiled measure does not do yet, refused before anything is read.
+void CheckTileable(const MeasureOptions& options, bool sigma, const AlignConfig& config,
+                   const std::string& where) {
+  std::string what;
+  if (options.volume != VolumeMode::kOverlay) what = "--volume=union";
+  if (options.weight == WeightMode::kPerPoint) what = "per-point weights";
+  if (options.domain.kind == DomainKind::kHull) what = "--domain=hull";
+  if (sigma) what = "the change budget (sigma_reference, sigma_moving)";
+  if (!config.terrain.mask_raster.empty()) what = "a mask raster";
+  if (!what.empty()) throw InputError(where + ": a tiled measure does not take " + what + " yet");
+}
+
 }  // namespace
 
 const std::vector<std::string>& MeasureKeys() {
   static const std::vector<std::string> keys = [] {
-    std::vector<std::string> out = {"volume", "weights", "mask_mode", "mask_layer"};
+    std::vector<std::string> out = {"volume", "weights", "mask_mode", "mask_layer", "tile",
+                                    "max_memory"};
     out.insert(out.end(), std::begin(kDomainKeys), std::end(kDomainKeys));
     out.insert(out.end(), std::begin(kTerrainKeys), std::end(kTerrainKeys));
     return out;
@@ -160,6 +206,35 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     throw InputError(config.Where(key) + ": the change budget needs --volume=overlay");
   }
   options.keep_node_gaps = sigma;  // the budget weights dz at A's nodes by their areas
+  std::string tile_where;
+  report.tile = TileSetting(settings, &tile_where);
+  if (report.tile > 0) {
+    CheckTileable(options, sigma, config, tile_where);
+    const TiledMeasureRun run = MeasureRasterTiles(
+        config, options, report.mask_crs_wkt, report.mask_file, report.tile, tile_where,
+        [&on_progress, start, last = -1.0](const TiledProgress& p) mutable {
+          // A line a second at most: there may be thousands of tiles.
+          const double seconds = Seconds(Clock::now() - start);
+          if (!on_progress || p.total == 0 || (seconds < last + 1.0 && p.done < p.total)) return;
+          last = seconds;
+          const std::string stage =
+              "tiles, " + std::to_string(p.done) + " of " + std::to_string(p.total);
+          MeasureProgress progress;
+          progress.stage = stage.c_str();
+          progress.done = static_cast<double>(p.done) / p.total;
+          progress.seconds = seconds;
+          on_progress(progress);
+        });
+    report.summary = run.summary;
+    report.tiles = run.tiles;
+    report.crs_a = run.crs_a;
+    report.crs_b = run.crs_b;
+    report.frame = run.frame;
+    report.metric = report.crs_a.kind == CrsKind::kProjected && report.crs_a.metres_per_unit == 1.0;
+    report.config = config;
+    report.total_s = Seconds(Clock::now() - start);
+    return report;
+  }
   TerrainInputs inputs = ReadTerrainInputs(config, a.samples ? &*a.samples : nullptr,
                                            b.samples ? &*b.samples : nullptr);
   a.samples.reset();  // copied into `inputs`
@@ -223,6 +298,7 @@ std::string MeasureJson(const MeasureReport& r) {
         .Int("mask_rings", static_cast<int64_t>(r.options.mask.size()))
         .Int("mask_vertices", static_cast<int64_t>(MaskVertices(r.options)));
   }
+  if (r.tile > 0) json.Int("tile", r.tile).Int("tiles", r.tiles);
   json.Number("rho_d", s.rho_d)
       .Number("rho_d_axial", s.rho_d_axial)
       .Number("rho_s", s.rho_s)

@@ -48,6 +48,8 @@ struct MeasureReport {
   GeoFrame frame;
   Crs crs_a, crs_b;
   bool metric = false;  // lengths in metres: a geographic pair's frame, or a projected CRS in m
+  int32_t tile = 0;     // with `tile` or `max_memory`: the tile side (cells of A), else 0
+  int64_t tiles = 0;    // and how many tiles A was cut into
   double read_s = 0.0;
   double total_s = 0.0;  // the whole run: settings, read, Measure
 };

@@ -35,6 +35,13 @@ DEFINE_string(weights, "uniform",
               "one vertex per line, '>' between rings, '#' comments; or a vector file such as "
               ".gpkg, .shp, .geojson; holes and several parts by the even-odd rule)");
 
+DEFINE_int32(tile, 0,
+             "measure: measure two DEMs in tiles of this many cells of A a side (16 to 32768; 0: "
+             "untiled), each read as a window: memory bounded by the tile, the same results");
+DEFINE_string(max_memory, "",
+              "measure: a memory budget such as 512M or 2G, from which the tile side is chosen "
+              "(two DEMs in one projected CRS; about 700 bytes per cell of a tile)");
+
 namespace surfreg {
 namespace {
 
@@ -73,6 +80,10 @@ void PrintText(const MeasureReport& r) {
                 r.mask_file.c_str());
   } else {
     std::printf("weights:            %s\n", WeightModeName(r.options.weight));
+  }
+  if (r.tile > 0) {
+    std::printf("tiles:              %lld of %d x %d cells of A  (read and measured one at a time)\n",
+                static_cast<long long>(r.tiles), r.tile, r.tile);
   }
   std::printf("rho_d   (ρd):       %.10g %s  (volume between the surfaces over the overlap)\n",
               s.rho_d, volume.c_str());

@@ -28,18 +28,6 @@ struct OneInput {
   std::vector<int64_t> cells;
 };
 
-// A CRS given by a key wins over none in the file; both given must agree.
-Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::string& key_where,
-               const std::string& path) {
-  if (key_text.empty()) return from_file;
-  const Crs from_key = ParseCrs(key_text, key_where);
-  if (from_file.kind != CrsKind::kNone &&
-      (from_file.kind != from_key.kind || from_file.name != from_key.name)) {
-    throw InputError(key_where + ": '" + from_key.name + "' disagrees with the CRS of " + path +
-                     " ('" + from_file.name + "')");
-  }
-  return from_file.kind != CrsKind::kNone ? from_file : from_key;
-}
 
 // An InputError whose message already says where.
 struct Named : InputError {
@@ -173,6 +161,18 @@ std::vector<double> MaskRasterWeights(const AlignConfig& config, const Surface& 
 }
 
 }  // namespace
+
+Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::string& key_where,
+               const std::string& path) {
+  if (key_text.empty()) return from_file;
+  const Crs from_key = ParseCrs(key_text, key_where);
+  if (from_file.kind != CrsKind::kNone &&
+      (from_file.kind != from_key.kind || from_file.name != from_key.name)) {
+    throw InputError(key_where + ": '" + from_key.name + "' disagrees with the CRS of " + path +
+                     " ('" + from_file.name + "')");
+  }
+  return from_file.kind != CrsKind::kNone ? from_file : from_key;
+}
 
 void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const std::string& where,
                  std::vector<MaskRing>* rings) {

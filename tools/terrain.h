@@ -35,6 +35,12 @@ struct TerrainInputs {
   std::vector<double> sigma_reference, sigma_moving;
 };
 
+// A file's CRS and the one a key gives (`key_text`, "" = none given): the
+// key's when the file has none; both given must agree (InputError naming
+// `key_where` and `path`).
+Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::string& key_where,
+               const std::string& path);
+
 // Reads both inputs of `config` (rasters with the band and window of
 // config.terrain, point files as ReadSurface does), resolves their CRSs
 // (the raster's own, or reference_crs / moving_crs; a key overrides a file

@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# `surfreg measure --tile=N` and `--max_memory=SIZE` (issue 24): two DEMs
+# with nodata holes on different grids, measured tile by tile through
+# windowed reads, give the untiled measure (every volume and area to 1e-9
+# relative, the node and cell counts exactly) for tiles of several sizes,
+# one of them smaller than a hole and one larger than the DEM; a memory
+# budget picks a tile; what cannot be tiled yet is refused with one line.
+# Usage: cli_tiled_test.sh SURFREG_BINARY   (needs python3, standard library)
+set -u
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
+if [[ $# -ne 1 ]]; then
+  echo "usage: $0 SURFREG_BINARY" >&2
+  exit 2
+fi
+bin=$(realpath -- "$1") || exit 2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$tmp" || exit 2
+failures=0
+checks=0
+
+# A: 240 x 180 cells of 1 m with two round holes (one 30 cells across); B:
+# cells of 0.97 m on a grid shifted by fractions of a cell, the surface
+# lowered by a smooth bump (the change) and with a hole of its own. ESRI
+# ASCII grids, which GDAL reads; the .prj of a geographic CRS for one error.
+python3 - <<'EOF' || exit 2
+import math
+def grid(name, columns, rows, x0, y0, cell, holes, bump):
+    with open(name, "w") as f:
+        f.write("ncols %d\nnrows %d\nxllcorner %.6f\nyllcorner %.6f\ncellsize %.6f\nNODATA_value -9999\n"
+                % (columns, rows, x0, y0, cell))
+        for r in range(rows):
+            y = y0 + (rows - r - 0.5) * cell
+            line = []
+            for c in range(columns):
+                x = x0 + (c + 0.5) * cell
+                # holes and the bump about (1000, 5000), A's lower-left corner
+                lx, ly = x - 1000, y - 5000
+                if any((lx - hx) ** 2 + (ly - hy) ** 2 < hr * hr for hx, hy, hr in holes):
+                    line.append("-9999")
+                    continue
+                z = 20 * math.sin(lx / 37) * math.cos(ly / 23) + 0.05 * lx
+                z -= bump * math.exp(-((lx - 120) ** 2 + (ly - 90) ** 2) / 800)
+                line.append("%.4f" % z)
+            f.write(" ".join(line) + "\n")
+grid("a.asc", 240, 180, 1000.0, 5000.0, 1.0, [(60, 50, 15), (200, 140, 4)], 0.0)
+grid("b.asc", 250, 190, 997.3, 4996.6, 0.97, [(150, 40, 6)], 3.0)
+grid("ll.asc", 40, 30, 174.0, -36.9, 0.001, [], 0.0)
+with open("ll.prj", "w") as f:
+    f.write('GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563]],'
+            'PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433]]')
+EOF
+
+run measure a.asc b.asc --json
+cp stdout untiled.json
+[[ $rc -eq 0 ]] || fail "untiled measure: exit $rc"
+for tile in 16 37 100 1000; do
+  run measure a.asc b.asc --json --tile=$tile
+  cp stdout "tile$tile.json"
+  checks=$((checks + 1))
+  python3 - untiled.json "tile$tile.json" "$tile" <<'EOF' || fail "--tile=$tile differs from the untiled measure"
+import json, sys
+u, t = (json.load(open(p)) for p in sys.argv[1:3])
+assert t["tile"] == int(sys.argv[3]) and t["tiles"] >= 1, (t.get("tile"), t.get("tiles"))
+assert 6000 < u["change"]["cut"] < 9000, u["change"]  # the bump: 3 pi 800 m3 = 7540 m3
+for key in ("rho_d", "rho_d_axial", "overlap_area", "domain_area_a", "domain_area_b", "weight_integral",
+            "mean_abs_dz", "signed_volume", "volume_above", "volume_below"):
+    assert abs(u[key] - t[key]) <= 1e-9 * abs(u[key]), (key, u[key], t[key])
+for key in ("fill", "cut", "fill_area", "cut_area"):
+    assert abs(u["change"][key] - t["change"][key]) <= 1e-9 * abs(u["change"][key]), (key, u["change"], t["change"])
+for key in ("n_overlap_nodes", "n_cells", "n_points_a", "n_points_b"):
+    assert u[key] == t[key], (key, u[key], t[key])
+assert u["frame"] == t["frame"], (u["frame"], t["frame"])
+print("  --tile=%s: %d tiles, rho_d %.12g (untiled %.12g)" % (sys.argv[3], t["tiles"], t["rho_d"], u["rho_d"]))
+EOF
+done
+
+# A memory budget picks the tile: 2 MiB / 700 bytes a cell -> 54 cells.
+run measure a.asc b.asc --json --max_memory=2M
+checks=$((checks + 1))
+python3 -c 'import json, sys; t = json.load(open("stdout")); sys.exit(t["tile"] != 54 or t["tiles"] != 20)' ||
+  fail "--max_memory=2M: expected tiles of 54 cells, 20 of them"
+
+# What is not tiled yet, or cannot be: one line, exit 2.
+expect_refused() {
+  local text=$1
+  shift
+  run "$@"
+  checks=$((checks + 1))
+  if [[ $rc -ne 2 || $(wc -l <stderr) -ne 1 ]] || ! grep -qF -- "$text" stderr; then
+    fail "surfreg $*: expected exit 2 and one line with: $text"
+  fi
+}
+printf '1000 5000 1\n1100 5000 2\n1000 5100 3\n' >cloud.xyz
+expect_refused "flag '--tile': tiles are for two rasters, but argument B is 'cloud.xyz', a cloud" \
+  measure a.asc cloud.xyz --tile=32
+expect_refused "flag '--tile': a tiled measure does not take --volume=union yet" \
+  measure a.asc b.asc --tile=32 --volume=union
+expect_refused "flag '--tile': a tiled measure needs both DEMs in one projected CRS" \
+  measure ll.asc ll.asc --tile=32
+expect_refused "flag '--tile' expects a tile side in cells of A, 16 to 32768" measure a.asc b.asc --tile=8
+expect_refused "flag '--max_memory' expects a memory size such as 512M or 2G, got 'lots'" \
+  measure a.asc b.asc --max_memory=lots
+expect_refused "tiles of 1000 cells need about 667 MiB, more than flag '--max_memory' allows (64M)" \
+  measure a.asc b.asc --tile=1000 --max_memory=64M
+
+echo "$checks checks, $failures failed"
+[[ $failures -eq 0 ]]
