@@ -128,6 +128,18 @@ def test_measure_options_are_the_cli_keys():
     assert r["rho_d_axial"] == pytest.approx(0.2, abs=1e-9)
 
 
+def test_tiled_measure_of_two_dems_equals_the_untiled_one():
+    """`tile` reads the DEMs window by window (GDAL): the same measures."""
+    data = pathlib.Path(__file__).resolve().parents[2] / "configs" / "data"
+    a, b = str(data / "volcano_dem.tif"), str(data / "volcano_dem_moved.tif")
+    untiled = surfreg.measure(a, b)
+    tiled = surfreg.measure(a, b, tile=20)
+    assert tiled["tile"] == 20 and tiled["tiles"] > 1
+    for key in ("rho_d", "rho_d_axial", "overlap_area", "signed_volume"):
+        assert tiled[key] == pytest.approx(untiled[key], rel=1e-9)
+    assert tiled["n_overlap_nodes"] == untiled["n_overlap_nodes"]
+
+
 # --- align ----------------------------------------------------------------
 
 
