@@ -75,6 +75,41 @@ print("  --tile=%s: %d tiles, rho_d %.12g (untiled %.12g)" % (sys.argv[3], t["ti
 EOF
 done
 
+# The DoD on A's grid: written tile by tile, the same GeoTIFF cells as the
+# untiled one up to Float32 rounding (read back as cells through `transform`
+# by the identity), B − A reaching the bump's depth, nodata in A's holes.
+printf '1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n' >id.txt
+for tile in 0 16 37; do
+  run measure a.asc b.asc --tile=$tile --dod="dod$tile.tif" --quiet
+  checks=$((checks + 1))
+  [[ $rc -eq 0 ]] || fail "--dod with --tile=$tile: exit $rc"
+  run transform "dod$tile.tif" --transform=id.txt --output="dod$tile.xyz"
+done
+checks=$((checks + 1))
+python3 - dod0.xyz dod16.xyz dod37.xyz <<'EOF' || fail "the tiled DoDs differ from the untiled one"
+import sys
+def cells(path):
+    out = {}
+    for line in open(path):
+        line = line.split("#")[0].split()
+        if line:
+            out[(float(line[0]), float(line[1]))] = float(line[2])
+    return out
+untiled = cells(sys.argv[1])
+assert 240 * 180 * 0.9 < len(untiled) < 240 * 180, len(untiled)  # A's holes are nodata
+assert -3.05 < min(untiled.values()) < -2.9, min(untiled.values())
+assert (1060.5, 4950.5) not in untiled  # the middle of A's large hole
+for path in sys.argv[2:]:
+    tiled = cells(path)
+    assert set(tiled) == set(untiled), (path, len(tiled), len(untiled))
+    # Equal Float32 values but for rounding: a tile's gap can differ from the
+    # untiled one in the last bits of a double (another corner order), which
+    # rarely crosses a Float32 rounding boundary (2 of 42,105 cells here).
+    differ = [k for k in untiled if tiled[k] != untiled[k]]
+    assert len(differ) <= 0.001 * len(untiled), (path, len(differ))
+    assert all(abs(tiled[k] - untiled[k]) <= 2.5e-7 * abs(untiled[k]) for k in differ), path
+EOF
+
 # A memory budget picks the tile: 2 MiB / 700 bytes a cell -> 54 cells.
 run measure a.asc b.asc --json --max_memory=2M
 checks=$((checks + 1))
@@ -99,6 +134,12 @@ expect_refused "flag '--tile': a tiled measure does not take --volume=union yet"
 expect_refused "flag '--tile': a tiled measure needs both DEMs in one projected CRS" \
   measure ll.asc ll.asc --tile=32
 expect_refused "flag '--tile' expects a tile side in cells of A, 16 to 32768" measure a.asc b.asc --tile=8
+expect_refused "flag '--dod': the DoD is written on A's grid, but A ('cloud.xyz') is no raster" \
+  measure cloud.xyz b.asc --dod=d.tif
+expect_refused "flag '--dod': written as GeoTIFF; expected a name ending in .tif" \
+  measure a.asc b.asc --tile=32 --dod=d.png
+run transform a.asc --transform=id.txt --output=a.tif
+expect_refused "flag '--dod': 'a.tif' is also an input" measure a.tif b.asc --tile=32 --dod=a.tif
 expect_refused "flag '--max_memory' expects a memory size such as 512M or 2G, got 'lots'" \
   measure a.asc b.asc --max_memory=lots
 expect_refused "tiles of 1000 cells need about 667 MiB, more than flag '--max_memory' allows (64M)" \

@@ -3,14 +3,19 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <utility>
 
 #include "measure/input_error.h"
+#include "tools/atomic_file.h"
+#include "tools/config_value.h"
 #include "tools/interrupt.h"
 #include "tools/io/polygon_reader.h"
+#include "tools/io/raster_io.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/json_writer.h"
 #include "tools/measure_tiled.h"
@@ -26,7 +31,7 @@ using Clock = std::chrono::steady_clock;
 constexpr const char* kTerrainKeys[] = {"reference_crs", "moving_crs",      "frame",
                                         "band",          "window",          "lod",
                                         "sigma_reference", "sigma_moving", "lod_confidence",
-                                        "classes",       "columns"};
+                                        "classes",       "columns",         "dod"};
 constexpr const char* kDomainKeys[] = {"domain", "domain_max_edge_spacings", "domain_min_thinness"};
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
@@ -205,7 +210,23 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     const char* key = config.terrain.sigma_reference.empty() ? "sigma_moving" : "sigma_reference";
     throw InputError(config.Where(key) + ": the change budget needs --volume=overlay");
   }
-  options.keep_node_gaps = sigma;  // the budget weights dz at A's nodes by their areas
+  // The budget weights dz at A's nodes by their areas; the DoD is dz there.
+  options.keep_node_gaps = sigma || !config.terrain.dod.empty();
+  if (!config.terrain.dod.empty()) {
+    const std::string& path = config.terrain.dod;
+    if (!a.samples && !IsRasterPath(report.file_a)) {
+      throw InputError(config.Where("dod") + ": the DoD is written on A's grid, but A ('" +
+                       report.file_a + "') is no raster");
+    }
+    config_value::CheckTerrainOutput("dod", path, config.Where("dod"));
+    CheckOutputPath(path, config.Where("dod"));
+    for (const std::string& input : {report.file_a, report.file_b}) {
+      std::error_code ignored;
+      if (std::filesystem::equivalent(path, input, ignored)) {
+        throw InputError(config.Where("dod") + ": '" + path + "' is also an input");
+      }
+    }
+  }
   std::string tile_where;
   report.tile = TileSetting(settings, &tile_where);
   if (report.tile > 0) {
@@ -254,6 +275,17 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   ThrowIfInterrupted();  // between the stages: reading done, measuring next
   const Clock::time_point read = Clock::now();
   report.summary = Measure(sa, sb, report.options);
+  if (!config.terrain.dod.empty()) {
+    if (!inputs.reference_is_raster) {
+      throw InputError(config.Where("dod") + ": the DoD is written on A's grid, but A is no raster");
+    }
+    Raster dod = inputs.reference_grid;  // B − A at A's cells, nodata outside Ω
+    dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));
+    for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
+      dod.values[inputs.reference_cells[i]] = report.summary.dz_a[i];
+    }
+    WriteGeoTiff(config.terrain.dod, dod, config.Where("dod"));
+  }
   report.config = config;
   report.uncertainty = AnalyseChangeUncertainty(config, sa, sb, inputs.sigma_reference,
                                                 inputs.sigma_moving, report.summary, report.options);

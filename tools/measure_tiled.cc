@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 
 #include "measure/input_error.h"
 #include "tools/interrupt.h"
@@ -149,9 +150,18 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
   tiled.measure.on_progress = nullptr;
   tiled.tile = tile;
   tiled.on_progress = on_progress;
+  std::unique_ptr<GeoTiffStreamWriter> dod;
+  if (!config.terrain.dod.empty()) {
+    dod = std::make_unique<GeoTiffStreamWriter>(config.terrain.dod, a.columns, a.rows, a.geotransform,
+                                                a.crs.wkt, config.Where("dod"));
+    tiled.on_tile = [&dod](const TileDod& t) {
+      dod->Write(t.window.column, t.window.row, t.window.columns, t.window.rows, t.dz);
+    };
+  }
   TiledMeasureStats stats;
   run.summary = MeasureTiled(Source(config.reference, config.terrain.band, a, origin),
                              Source(config.moving, config.terrain.band, b, origin), tiled, &stats);
+  if (dod) dod->Finish();
   run.tile = tile;
   run.tiles = stats.tiles;
   return run;

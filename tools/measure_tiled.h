@@ -40,6 +40,8 @@ struct TiledMeasureRun {
 // setting that asked for tiles, for the messages of what cannot be tiled.
 // A mask (options.mask) is brought from its file's CRS (`mask_crs_wkt`, ""
 // = A's) into A's, as an untiled measure does.
+// With config.terrain.dod, the DoD (B − A at A's cells, nodata outside Ω)
+// is written tile by tile into that GeoTIFF on A's grid, never held whole.
 TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions options,
                                    const std::string& mask_crs_wkt, const std::string& mask_where,
                                    int32_t tile, const std::string& where,

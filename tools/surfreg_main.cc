@@ -60,12 +60,12 @@ const Command kCommands[] = {
      "[--mask_mode=include|exclude] [--mask_layer=NAME] [--domain=data|hull] [--lod=L] [--reference_crs=CRS] [--moving_crs=CRS] "
      "[--frame=auto|enu|utm] [--band=N] [--window=C,R,W,H] [--sigma_reference=S|RASTER] "
      "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--classes=C,...] [--columns=X,Y,Z] "
-     "[--tile=N | --max_memory=SIZE] [--json] [--quiet]",
+     "[--tile=N | --max_memory=SIZE] [--dod=DOD.tif] [--json] [--quiet]",
      "compare surface B with A in one metric frame: volume between them (rho_d), mean gap, "
      "cut/fill (with propagated uncertainty when each DEM's sigma is given), timings",
      "json volume weights mask_mode mask_layer domain domain_max_edge_spacings domain_min_thinness "
      "reference_crs moving_crs frame band window lod sigma_reference sigma_moving lod_confidence "
-     "classes columns quiet tile max_memory",
+     "classes columns quiet tile max_memory dod",
      nullptr},
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json] [--quiet]",

@@ -499,10 +499,84 @@ bool WriteGeoTiffEntry(const std::string& file, const Raster& raster, const std:
   });
 }
 
+// A GeoTIFF being written window by window (GdalModule::open_geotiff).
+struct GeoTiffStream {
+  Dataset dataset;
+  GDALRasterBandH band = nullptr;
+  std::string where;
+  std::vector<float> buffer;
+};
+
+constexpr float kStreamNodata = -9999.0f;
+
+void* OpenGeoTiffEntry(const std::string& file, int columns, int rows,
+                       const std::array<double, 6>& geotransform, const std::string& crs_wkt,
+                       const std::string& where, std::string* error) {
+  auto stream = std::make_unique<GeoTiffStream>();
+  stream->where = where;
+  const bool ok = Guarded(error, where, [&] {
+    RegisterGdalOnce();
+    const ScopedConfigOption no_side_file("GDAL_PAM_ENABLED", "NO");
+    QuietGdal quiet;
+    GDALDriverH driver = GDALGetDriverByName("GTiff");
+    if (driver == nullptr) Fail(where, "GDAL has no GTiff driver");
+    const char* options[] = {"COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", "TILED=YES",
+                             "BLOCKXSIZE=256",   "BLOCKYSIZE=256",   nullptr};
+    stream->dataset.reset(GDALCreate(driver, file.c_str(), columns, rows, 1, GDT_Float32,
+                                     const_cast<char**>(options)));
+    if (!stream->dataset) Fail(where, "cannot create" + quiet.Detail());
+    GDALDatasetH ds = stream->dataset.get();
+    double gt[6];
+    for (int k = 0; k < 6; ++k) gt[k] = geotransform[k];
+    if (GDALSetGeoTransform(ds, gt) != CE_None) Fail(where, "cannot set the geotransform" + quiet.Detail());
+    if (!crs_wkt.empty() && GDALSetProjection(ds, crs_wkt.c_str()) != CE_None) {
+      Fail(where, "unreadable CRS" + quiet.Detail());
+    }
+    stream->band = GDALGetRasterBand(ds, 1);
+    if (GDALSetRasterNoDataValue(stream->band, kStreamNodata) != CE_None) {
+      Fail(where, "cannot set the nodata value" + quiet.Detail());
+    }
+  });
+  return ok ? stream.release() : nullptr;
+}
+
+bool WriteGeoTiffWindowEntry(void* writer, int column, int row, int columns, int rows,
+                             const double* values, std::string* error) {
+  auto* stream = static_cast<GeoTiffStream*>(writer);
+  return Guarded(error, stream->where, [&] {
+    QuietGdal quiet;
+    constexpr double kMax = std::numeric_limits<float>::max();
+    stream->buffer.resize(static_cast<std::size_t>(columns) * rows);
+    for (std::size_t i = 0; i < stream->buffer.size(); ++i) {
+      const double v = values[i];
+      if (std::isfinite(v) && (std::fabs(v) > kMax || static_cast<float>(v) == kStreamNodata)) {
+        Fail(stream->where, "value " + Number(v) + " near column " + std::to_string(column) +
+                                ", row " + std::to_string(row) +
+                                (std::fabs(v) > kMax ? " does not fit Float32" : " is the nodata value"));
+      }
+      stream->buffer[i] = std::isfinite(v) ? static_cast<float>(v) : kStreamNodata;
+    }
+    if (GDALRasterIO(stream->band, GF_Write, column, row, columns, rows, stream->buffer.data(),
+                     columns, rows, GDT_Float32, 0, 0) != CE_None) {
+      Fail(stream->where, "cannot write" + quiet.Detail());
+    }
+  });
+}
+
+bool CloseGeoTiffEntry(void* writer, std::string* error) {
+  std::unique_ptr<GeoTiffStream> stream(static_cast<GeoTiffStream*>(writer));
+  return Guarded(error, stream->where, [&] {
+    QuietGdal quiet;
+    stream->dataset.reset();  // flushes and compresses the last blocks
+    if (quiet.failed()) Fail(stream->where, "cannot write" + quiet.Detail());
+  });
+}
+
 const GdalModule kModule = {kGdalModuleVersion, &ReadRasterEntry, &WriteGeoTiffEntry, &ParseCrs,
                             &IdentifyCrs,       &IdentifyUtm,     &DatumOf,
                             &SameCrs,           &ProjectedToLonLat, &TransformPoints,
-                            &ReadVectorRings};
+                            &ReadVectorRings,   &OpenGeoTiffEntry,  &WriteGeoTiffWindowEntry,
+                            &CloseGeoTiffEntry};
 
 }  // namespace
 }  // namespace surfreg

@@ -81,9 +81,20 @@ struct GdalModule {
   // polygon features (saying what the layer holds).
   bool (*read_vector_rings)(const std::string& path, const std::string& layer, VectorRings* out,
                             std::string* error);
+  // A one-band Float32 GeoTIFF written window by window, never held whole
+  // (tiled 256 x 256, DEFLATE; nodata -9999, NaN written as nodata): open
+  // it (null on failure), write windows of row-major values, then close it
+  // (which frees the writer whether or not it succeeds). `where` starts the
+  // errors; the caller chose `file` (a temporary name) and renames it.
+  void* (*open_geotiff)(const std::string& file, int columns, int rows,
+                        const std::array<double, 6>& geotransform, const std::string& crs_wkt,
+                        const std::string& where, std::string* error);
+  bool (*write_geotiff_window)(void* writer, int column, int row, int columns, int rows,
+                               const double* values, std::string* error);
+  bool (*close_geotiff)(void* writer, std::string* error);
 };
 
-constexpr int kGdalModuleVersion = 3;
+constexpr int kGdalModuleVersion = 4;
 
 // The loaded module. The first call looks for libsurfreg_gdal.so in: the
 // file named by the environment variable SURFREG_GDAL_MODULE; next to the

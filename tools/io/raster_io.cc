@@ -103,6 +103,59 @@ void WriteGeoTiff(const std::string& path, const Raster& raster, const std::stri
   UnregisterTemporary(slot);
 }
 
+GeoTiffStreamWriter::GeoTiffStreamWriter(const std::string& path, int columns, int rows,
+                                         const std::array<double, 6>& geotransform,
+                                         const std::string& crs_wkt, const std::string& label)
+    : path_(path), where_(label + ": '" + path + "'") {
+  if (columns <= 0 || rows <= 0) {
+    Fail(where_, "raster of " + std::to_string(columns) + " x " + std::to_string(rows) + " cells");
+  }
+  CheckOutputPath(path, label);
+  const GdalModule& gdal = Gdal(where_);
+  temporary_ = TemporaryName(path);
+  slot_ = RegisterTemporary(temporary_);  // an interrupted run removes it
+  std::string error;
+  writer_ = gdal.open_geotiff(temporary_, columns, rows, geotransform, crs_wkt, where_, &error);
+  if (writer_ == nullptr) {
+    std::remove(temporary_.c_str());
+    UnregisterTemporary(slot_);
+    slot_ = -1;
+    throw InputError(error);
+  }
+}
+
+GeoTiffStreamWriter::~GeoTiffStreamWriter() {
+  if (slot_ < 0) return;  // finished, or never opened
+  std::string ignored;
+  if (writer_ != nullptr) Gdal(where_).close_geotiff(writer_, &ignored);
+  std::remove(temporary_.c_str());
+  UnregisterTemporary(slot_);
+}
+
+void GeoTiffStreamWriter::Write(int column, int row, int columns, int rows,
+                                const std::vector<double>& values) {
+  if (values.size() != static_cast<std::size_t>(columns) * rows) {
+    Fail(where_, "a window of " + std::to_string(columns) + " x " + std::to_string(rows) +
+                     " cells has " + std::to_string(values.size()) + " values");
+  }
+  std::string error;
+  if (!Gdal(where_).write_geotiff_window(writer_, column, row, columns, rows, values.data(), &error)) {
+    throw InputError(error);
+  }
+}
+
+void GeoTiffStreamWriter::Finish() {
+  std::string error;
+  void* writer = writer_;
+  writer_ = nullptr;  // closed below whatever happens
+  if (!Gdal(where_).close_geotiff(writer, &error)) throw InputError(error);
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    Fail(where_, std::string("cannot rename the temporary file: ") + std::strerror(errno));
+  }
+  UnregisterTemporary(slot_);
+  slot_ = -1;
+}
+
 bool IsRasterPath(const std::string& path) {
   static const char* const kExtensions[] = {".tif", ".tiff", ".vrt", ".asc",  ".img", ".bil",
                                             ".hgt", ".dem",  ".nc",  ".gpkg", ".flt"};

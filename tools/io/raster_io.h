@@ -83,6 +83,30 @@ Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_samp
 // the Float32 range, a size mismatch, an unreadable crs_wkt, GDAL failures.
 void WriteGeoTiff(const std::string& path, const Raster& raster, const std::string& label);
 
+// A one-band Float32 GeoTIFF written window by window, never held whole
+// (tiled 256 x 256, DEFLATE, nodata -9999; NaN is written as nodata): into a
+// temporary file next to `path`, renamed over it by Finish(). Destroyed
+// unfinished (an error, an interrupt) it leaves no file. Errors throw
+// InputError starting with "<label>: '<path>'".
+class GeoTiffStreamWriter {
+ public:
+  GeoTiffStreamWriter(const std::string& path, int columns, int rows,
+                      const std::array<double, 6>& geotransform, const std::string& crs_wkt,
+                      const std::string& label);
+  ~GeoTiffStreamWriter();
+  GeoTiffStreamWriter(const GeoTiffStreamWriter&) = delete;
+  GeoTiffStreamWriter& operator=(const GeoTiffStreamWriter&) = delete;
+
+  // `values`: columns * rows, row-major, of the window at (column, row).
+  void Write(int column, int row, int columns, int rows, const std::vector<double>& values);
+  void Finish();
+
+ private:
+  std::string path_, temporary_, where_;
+  void* writer_ = nullptr;
+  int slot_ = -1;
+};
+
 // True if the extension of `path` (case-insensitive) is one ReadSurface
 // reads as a raster: .tif .tiff .vrt .asc .img .bil .hgt .dem .nc .gpkg .flt
 bool IsRasterPath(const std::string& path);
