@@ -132,7 +132,12 @@ def test_tiled_measure_of_two_dems_equals_the_untiled_one():
     """`tile` reads the DEMs window by window (GDAL): the same measures."""
     data = pathlib.Path(__file__).resolve().parents[2] / "configs" / "data"
     a, b = str(data / "volcano_dem.tif"), str(data / "volcano_dem_moved.tif")
-    untiled = surfreg.measure(a, b)
+    try:
+        untiled = surfreg.measure(a, b)
+    except ValueError as e:  # surfreg.InputError
+        if "built without GDAL" in str(e):
+            pytest.skip("this surfreg was built without GDAL")
+        raise
     tiled = surfreg.measure(a, b, tile=20)
     assert tiled["tile"] == 20 and tiled["tiles"] > 1
     for key in ("rho_d", "rho_d_axial", "overlap_area", "signed_volume"):
