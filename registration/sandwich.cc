@@ -53,6 +53,14 @@ FineGrid FineGridOf(const std::vector<Point2>& xy) {
   return grid;
 }
 
+// The same fine tiles as the volume cost's gradient bins.
+GradientBins BinsOver(const std::vector<Point2>& xy) {
+  const FineGrid grid = FineGridOf(xy);
+  GradientBins bins;
+  bins.x0 = grid.x0, bins.y0 = grid.y0, bins.side = grid.side, bins.n = kFineTiles;
+  return bins;
+}
+
 // Bins the cells an accumulator takes into fine tiles by their centroid.
 struct TileBinner {
   TileBinner(const PairState& state, const MaskRegion* mask, const FineGrid& fine_grid)
@@ -179,13 +187,28 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   const int n = static_cast<int>(free.size());
   if (n == 0) return out;
 
-  // The meat: the spread of the tiles' shares of ∇f.
+  // The meat: the spread of the tiles' shares of ∇f. Unmasked, from the
+  // evaluation at θ that starts the bread's cache (each moved B triangle's
+  // share, by its centroid); masked, from a pass over the cells.
   const bool parallel = options.num_threads > 1;
-  const std::vector<TileSums> tiles = MergedTiles(FineTileSums(state, mask, parallel));
+  VolumeCostCache cache;  // the bread's steps are small: the overlay is repaired, not rebuilt
+  std::vector<TileSums> fine;
+  double abs = 0, area = 0;
+  if (mask == nullptr) {
+    GradientBins bins = BinsOver(state.reference().xy);
+    const VolumeCostValue value = cache.Evaluate(state, true, parallel, nullptr, &bins);
+    abs = value.abs, area = value.area;
+    fine.resize(bins.used.size());
+    for (std::size_t b = 0; b < fine.size(); ++b) {
+      fine[b].d_abs = bins.d_abs[b], fine[b].d_area = bins.d_area[b], fine[b].used = bins.used[b] != 0;
+    }
+  } else {
+    fine = FineTileSums(state, mask, parallel);
+    for (const TileSums& t : fine) abs += t.abs, area += t.area;
+  }
+  const std::vector<TileSums> tiles = MergedTiles(fine);
   out.tiles = static_cast<int>(tiles.size());
   if (out.tiles < 2 * n) return out;
-  double abs = 0, area = 0;
-  for (const TileSums& t : tiles) abs += t.abs, area += t.area;
   if (!(area > 0)) return out;
   const double f = abs / area;
   std::vector<Vector6> scores;
@@ -196,7 +219,6 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   // from the solution are not symmetric enough on a kinked cost: on a face
   // they gave an H with a negative eigenvalue).
   Matrix6 hessian = Matrix6::Zero();
-  VolumeCostCache cache;  // the steps are small: the overlay is repaired, not rebuilt
   for (int k : free) {
     bool done = false;
     for (double h = step[k]; !done && h > 0 && std::isfinite(h) && h > 1e-6 * step[k]; h *= 0.25) {

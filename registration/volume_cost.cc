@@ -11,9 +11,7 @@
 #include "measure/overlay.h"
 #include "measure/volume.h"
 #include "measure/weights.h"
-#include "registration/overlay_topology.h"
-#include "registration/volume_accumulator.h"
-#include "registration/volume_kernel_simd.h"
+#include "registration/volume_cost_cache.h"
 
 namespace surfreg {
 
@@ -43,68 +41,12 @@ VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool p
 
 // ------------------------------------------------------------ incremental
 
-namespace {
+using volume_internal::GradientOf;
+using volume_internal::Pack;
+using volume_internal::PackedLocation;
+using volume_internal::PartBins;
+using volume_internal::Vector6;
 
-// A location as far as the overlay's combinatorics see it.
-struct PackedLocation {
-  int32_t triangle = -1;
-  Where where = Where::kOutside;
-  int8_t index = -1;
-  bool operator!=(const PackedLocation& o) const {
-    return triangle != o.triangle || where != o.where || index != o.index;
-  }
-};
-
-inline PackedLocation Pack(const Location& l) { return {l.triangle, l.where, l.index}; }
-
-// ∇ of the plane through three points (as PlaneThrough).
-inline Gradient2 GradientOf(const Point2& p0, const Point2& p1, const Point2& p2, double z0,
-                            double z1, double z2) {
-  const Plane plane = PlaneThrough(p0, p1, p2, z0, z1, z2);
-  return {plane.gx, plane.gy};
-}
-
-}  // namespace
-
-struct VolumeCostCache::Impl {
-  double max_dirty_fraction;
-  VolumeCostCacheStats stats;
-  // What the topology was built for.
-  const PairState* state = nullptr;
-  const ReferenceSide* reference = nullptr;
-  const MovingSide* moving = nullptr;
-  int remeshes = -1;
-  bool built = false;
-  bool fell_back = false;  // the previous evaluation took the plain full path
-  std::array<double, 6> fallback_theta{};  // at this pose
-  OverlayTopology topology;
-  std::vector<PackedLocation> last_a, last_b;  // at the previous evaluation
-  // A, fixed: the triangles around each vertex.
-  std::vector<int32_t> star_begin, star;
-  // Triangle records (volume_kernel_simd.h): A's fixed, B's per
-  // evaluation; both kernels and the gradient read ∇F and the hull bit there.
-  std::vector<TriangleRecord> record_a, record_b;
-  std::vector<TriangleExtra> extra_a, extra_b;
-  std::vector<volume_internal::WeightPlane> weight_a;  // μ per A triangle; empty: no weights
-  std::vector<uint8_t> mark;
-  std::vector<int32_t> dirty;
-  std::vector<std::pair<int32_t, int32_t>> seeds;
-  // Per thread and B triangle: Σ s|P| and Σ s|P|(c − p0) over the sign parts
-  // P of its cells (s = sign of d on P, c its centroid, p0 T_B's corner 0):
-  // all the gradient needs of the interior, as ∂_θF̂_B' is affine on T_B.
-  std::vector<Moment> moments[2];
-
-  void Bind(const PairState& s);
-  void BindWeights();
-  void MarkDirty(const PairState& s);
-  template <bool kWeighted>
-  void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
-                 VolumeCostValue* out);
-  void IntegrateSimd(CellKernel kernel, const PairState& s, bool gradient, int32_t lo, int32_t hi,
-                     int part, VolumeCostValue* out);
-  void Generic(const PairState& s, bool gradient, const MaskRegion* mask,
-               int32_t lo, int32_t hi, VolumeCostValue* out);
-};
 
 void VolumeCostCache::Impl::Bind(const PairState& s) {
   state = &s;
@@ -209,218 +151,6 @@ void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
   std::sort(seeds.begin(), seeds.end());
 }
 
-// The unmasked cost over the cells of A's triangles [lo, hi): as
-// VolumeAccumulator, but the interior gradient is left in `moments`.
-// d = F̂_B' − F_A is linear on a cell, and so is μ (fixed with A's triangle);
-// most cells lie on one side of d = 0, so that case takes one pass over the
-// corners; only the cells d = 0 crosses are split into their two sign parts.
-template <bool kWeighted>
-void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi,
-                                      int part, VolumeCostValue* out) {
-  const Triangulation& mesh_a = reference->mesh;
-  const Triangulation& mesh_b = s.moving_mesh();
-  const auto& xa = reference->xy;
-  const auto& za = reference->z;
-  const auto& xb = s.moved_xy();
-  const auto& zb = s.moved_z();
-  const int32_t* triangles_b = mesh_b.triangles.data();
-  const TriangleRecord* records_b = record_b.data();
-  const TriangleExtra* extras_b = extra_b.data();
-  Moment* moment = moments[part].data();
-  VolumeAccumulator boundary(s, gradient, nullptr);
-  OverlayCell cell;
-  double abs = 0, area_sum = 0;
-  int64_t cells = 0;
-  // The endpoints of edge i (opposite corner i) in global index order, as
-  // CellCorners orders them (so a crossing is the same point in every cell).
-  static constexpr int kFirst[3] = {1, 2, 0}, kSecond[3] = {2, 0, 1};
-  for (int32_t ta = lo; ta < hi; ++ta) {
-    const int32_t count = topology.count_of(ta);
-    if (count == 0) continue;
-    const TopologyCell* list = topology.cells_of(ta);
-    const int32_t* ia = &mesh_a.triangles[3 * ta];
-    // Corners 0-2: T_A's, 3-5: T_B's (per cell).
-    double cx6[6], cy6[6];
-    for (int k = 0; k < 3; ++k) cx6[k] = xa[ia[k]].x, cy6[k] = xa[ia[k]].y;
-    double e0x[3], e0y[3], ex[3], ey[3];
-    for (int i = 0; i < 3; ++i) {
-      int p0 = kFirst[i], p1 = kSecond[i];
-      if (ia[p0] > ia[p1]) std::swap(p0, p1);
-      e0x[i] = cx6[p0], e0y[i] = cy6[p0];
-      ex[i] = cx6[p1] - cx6[p0], ey[i] = cy6[p1] - cy6[p0];
-    }
-    const Gradient2 ga = {record_a[ta].gx, record_a[ta].gy};
-    const double za0 = za[ia[0]];
-    // μ relative to T_A's corner 0 (Bind's plane).
-    const volume_internal::WeightPlane mu = kWeighted ? weight_a[ta] : volume_internal::WeightPlane{};
-    cells += count;
-    for (int32_t c = 0; c < count; ++c) {
-      const TopologyCell& tc = list[c];
-      const int32_t tb = tc.triangle_b;
-      const int32_t* ib = triangles_b + 3 * tb;
-      for (int k = 0; k < 3; ++k) cx6[3 + k] = xb[ib[k]].x, cy6[3 + k] = xb[ib[k]].y;
-      int q0[3], q1[3];
-      for (int j = 0; j < 3; ++j) {
-        const bool swap = ib[kFirst[j]] > ib[kSecond[j]];
-        q0[j] = 3 + (swap ? kSecond[j] : kFirst[j]);
-        q1[j] = 3 + (swap ? kFirst[j] : kSecond[j]);
-      }
-      const int n = tc.num_corners;
-      const TriangleRecord& fb = records_b[tb];
-      // Relative to T_B's corner 0: d = d0 + ∇d · (x, y), μ = μ0 + ∇μ · (x, y).
-      const double bx = cx6[3], by = cy6[3];
-      const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
-      const double dgx = fb.gx - ga.gx, dgy = fb.gy - ga.gy;
-      const double mu0 = kWeighted ? mu.m0 + mu.gx * (bx - cx6[0]) + mu.gy * (by - cy6[0]) : 1.0;
-      double x[8], y[8], d[8], m[8];
-      double d_lo = 0, d_hi = 0;
-      for (int k = 0; k < n; ++k) {
-        // Every corner as if a crossing (cheap, no branch), then the vertex
-        // corners picked instead: as CellCorners, without its switch.
-        const uint8_t code = tc.corner[k];
-        const int i = (code >> 2) & 3, j = (code >> 4) & 3, kind = code & 3;
-        const int r = q0[j], w = q1[j];
-        const double vr = ex[i] * (cy6[r] - e0y[i]) - ey[i] * (cx6[r] - e0x[i]);
-        const double vs = ex[i] * (cy6[w] - e0y[i]) - ey[i] * (cx6[w] - e0x[i]);
-        const double denominator = vr - vs;
-        double t = denominator != 0.0 ? vr / denominator : 0.5;
-        t = std::min(1.0, std::max(0.0, t));
-        const int vertex = kind == kCornerB ? 3 + i : i;
-        const bool cross = kind == kCornerCross;
-        const double px = cross ? cx6[r] + t * (cx6[w] - cx6[r]) : cx6[vertex];
-        const double py = cross ? cy6[r] + t * (cy6[w] - cy6[r]) : cy6[vertex];
-        x[k] = px - bx;
-        y[k] = py - by;
-        d[k] = d0 + dgx * x[k] + dgy * y[k];
-        if (kWeighted) m[k] = mu0 + mu.gx * x[k] + mu.gy * y[k];
-        d_lo = k == 0 ? d[k] : std::min(d_lo, d[k]);
-        d_hi = k == 0 ? d[k] : std::max(d_hi, d[k]);
-      }
-      auto add = [&](const FanSums& f, double sign) {
-        abs += std::max(0.0, sign * f.wd);  // ∫_P μ|d|
-        if (!gradient) return;
-        Moment& m3 = moment[tb];
-        m3.w += sign * f.w;
-        m3.x += sign * f.wx;
-        m3.y += sign * f.wy;
-      };
-      if (d_lo >= 0 || d_hi <= 0) {  // one sign part: the whole cell
-        const FanSums f = SumFan<kWeighted>(x, y, d, m, n);
-        area_sum += f.w;
-        // d ≡ 0 adds nothing inside, but a hull cell still moves the boundary (below).
-        if (f.twice > 0 && !(d_hi == 0 && d_lo == 0)) add(f, d_hi > 0 ? 1.0 : -1.0);
-      } else {
-        // The parts where d ≥ 0 and d ≤ 0.
-        double pos_x[10], pos_y[10], pos_d[10], pos_m[10], neg_x[10], neg_y[10], neg_d[10], neg_m[10];
-        int np = 0, nn = 0;
-        for (int k = 0; k < n; ++k) {
-          const int l = k + 1 == n ? 0 : k + 1;
-          if (d[k] >= 0) {
-            pos_x[np] = x[k], pos_y[np] = y[k], pos_d[np] = d[k];
-            if (kWeighted) pos_m[np] = m[k];
-            ++np;
-          }
-          if (d[k] <= 0) {
-            neg_x[nn] = x[k], neg_y[nn] = y[k], neg_d[nn] = d[k];
-            if (kWeighted) neg_m[nn] = m[k];
-            ++nn;
-          }
-          if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
-            const double t = d[k] / (d[k] - d[l]);
-            const double cx = x[k] + t * (x[l] - x[k]), cy = y[k] + t * (y[l] - y[k]);
-            pos_x[np] = cx, pos_y[np] = cy, pos_d[np] = 0.0;
-            neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn] = 0.0;
-            if (kWeighted) pos_m[np] = neg_m[nn] = m[k] + t * (m[l] - m[k]);
-            ++np, ++nn;
-          }
-        }
-        if (np >= 3) {
-          const FanSums f = SumFan<kWeighted>(pos_x, pos_y, pos_d, pos_m, np);
-          area_sum += f.w;
-          if (f.twice > 0) add(f, 1.0);
-        }
-        if (nn >= 3) {
-          const FanSums f = SumFan<kWeighted>(neg_x, neg_y, neg_d, neg_m, nn);
-          area_sum += f.w;
-          if (f.twice > 0) add(f, -1.0);
-        }
-      }
-      if (gradient && (extras_b[tb].bits & volume_internal::kHullBit) != 0) {
-        cell.triangle_a = ta;
-        cell.triangle_b = tb;
-        cell.num_vertices = n;
-        boundary.AddBoundaryOf(cell);
-      }
-    }
-  }
-  out->abs = abs;
-  out->area = area_sum;
-  out->cells = cells;
-  out->d_abs = boundary.value.d_abs;
-  out->d_area = boundary.value.d_area;
-}
-
-// As Integrate<kWeighted>, vectorized across cells by `kernel`
-// (volume_kernel_simd.h); the hull cells' boundary term stays scalar.
-void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s, bool gradient,
-                                          int32_t lo, int32_t hi, int part, VolumeCostValue* out) {
-  VolumeAccumulator boundary(s, gradient, nullptr);
-  volume_internal::CellKernelInput in;
-  in.cells = topology.cells();
-  in.cell_begin = topology.begins();
-  in.cell_count = topology.counts();
-  in.record_a = record_a.data(), in.extra_a = extra_a.data();
-  in.weight_a = weight_a.empty() ? nullptr : weight_a.data();
-  in.record_b = record_b.data(), in.extra_b = extra_b.data();
-  in.context = &boundary;
-  in.on_hull = [](void* context, int32_t ta, int32_t tb, int n) {
-    OverlayCell cell;  // rare: a hull B triangle's cells only
-    cell.triangle_a = ta;
-    cell.triangle_b = tb;
-    cell.num_vertices = n;
-    static_cast<VolumeAccumulator*>(context)->AddBoundaryOf(cell);
-  };
-  volume_internal::CellKernelOutput result;
-  volume_internal::IntegrateCellsSimd(kernel, in, lo, hi, gradient,
-                                      gradient ? moments[part].data() : nullptr, &result);
-  out->abs = result.abs;
-  out->area = result.area;
-  out->cells = result.cells;
-  out->d_abs = boundary.value.d_abs;
-  out->d_area = boundary.value.d_area;
-}
-
-// A mask: every cell through the full path's accumulator (which also takes weights).
-void VolumeCostCache::Impl::Generic(const PairState& s, bool gradient,
-                                    const MaskRegion* mask, int32_t lo,
-                                    int32_t hi, VolumeCostValue* out) {
-  const Triangulation& mesh_a = reference->mesh;
-  const Triangulation& mesh_b = s.moving_mesh();
-  const auto& xa = reference->xy;
-  const auto& xb = s.moved_xy();
-  VolumeAccumulator accumulate(s, gradient, mask);
-  OverlayCell cell;
-  Point2* p = cell.vertices.data();
-  for (int32_t ta = lo; ta < hi; ++ta) {
-    const int32_t* ia = &mesh_a.triangles[3 * ta];
-    const Point2 a[3] = {xa[ia[0]], xa[ia[1]], xa[ia[2]]};
-    for (int32_t c = 0; c < topology.count_of(ta); ++c) {
-      const TopologyCell& tc = topology.cells_of(ta)[c];
-      const int32_t* ib = &mesh_b.triangles[3 * tc.triangle_b];
-      const Point2 b[3] = {xb[ib[0]], xb[ib[1]], xb[ib[2]]};
-      CellCorners(tc, a, ia, b, ib, p);
-      double twice = 0;
-      for (int k = 1; k + 1 < tc.num_corners; ++k) twice += TwiceArea(p[0], p[k], p[k + 1]);
-      if (!(twice > 0)) continue;
-      cell.triangle_a = ta;
-      cell.triangle_b = tc.triangle_b;
-      cell.num_vertices = tc.num_corners;
-      cell.area = 0.5 * twice;
-      accumulate(cell);
-    }
-  }
-  *out = accumulate.value;
-}
 
 VolumeCostCache::VolumeCostCache(double max_dirty_fraction) : impl_(std::make_unique<Impl>()) {
   impl_->max_dirty_fraction = max_dirty_fraction;
@@ -453,9 +183,22 @@ void AddInto(const VolumeCostValue& v, VolumeCostValue* total) {
 
 }  // namespace
 
+int GradientBins::Index(double x, double y) const {
+  const int i = std::clamp(static_cast<int>(std::floor((x - x0) / side)), 0, n - 1);
+  const int j = std::clamp(static_cast<int>(std::floor((y - y0) / side)), 0, n - 1);
+  return j * n + i;
+}
+
 VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, bool parallel,
-                                          const MaskRegion* mask) {
+                                          const MaskRegion* mask, GradientBins* bins) {
   Impl& m = *impl_;
+  m.binning = bins != nullptr && gradient && mask == nullptr && bins->n > 0;
+  if (bins != nullptr) {
+    const int n = m.binning ? bins->n * bins->n : 0;
+    bins->d_abs.assign(n, Vector6::Zero());
+    bins->d_area.assign(n, Vector6::Zero());
+    bins->used.assign(n, 0);
+  }
   if (m.state != &s || m.reference != &s.reference() || m.moving != &s.moving()) m.Bind(s);
   const Triangulation& mesh_a = m.reference->mesh;
   const Triangulation& mesh_b = s.moving_mesh();
@@ -464,7 +207,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   if (!build) {
     m.MarkDirty(s);
     build = m.dirty.size() > m.max_dirty_fraction * na;
-    if (build && (!m.fell_back || s.theta() == m.fallback_theta)) {
+    if (build && !m.binning && (!m.fell_back || s.theta() == m.fallback_theta)) {
       // Far from the topology's pose: Build + labelling would cost more
       // than the plain full path, and a solver often comes back (a
       // rejected trial step), so keep the topology and its pose and
@@ -519,6 +262,10 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   const bool vectorized = kernel != CellKernel::kScalar;
   m.record_b.resize(nb);
   m.extra_b.resize(nb);
+  if (m.binning) {
+    m.bin_of_b.resize(nb);
+    for (PartBins& part : m.part_bins) part.Reset(bins->n * bins->n);
+  }
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
   Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
@@ -530,6 +277,10 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
                         s.MovingBoundaryEdge(t, 2);
       volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, hull, &m.record_b[t],
                                   &m.extra_b[t]);
+      if (m.binning) {
+        m.bin_of_b[t] = bins->Index((xy[v[0]].x + xy[v[1]].x + xy[v[2]].x) / 3,
+                                    (xy[v[0]].y + xy[v[1]].y + xy[v[2]].y) / 3);
+      }
     }
   });
   if (gradient) {
@@ -551,6 +302,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   // The interior gradient from each B triangle's moments: with q affine on
   // T_B, Σ s|P| q(c) = W q0 + Q C; rows as VolumeAccumulator::AddPart.
   const auto& q = s.moved_q();
+  const Eigen::Matrix3d mt = s.derivative().m.transpose();
   Eigen::Vector3d rotation[2], translation[2];
   Split(nb, parallel, [&](int32_t lo, int32_t hi, int part) {
     Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
@@ -573,12 +325,26 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
       const Eigen::Vector3d normal(-m.record_b[t].gx, -m.record_b[t].gy, 1.0);
       r += normal.cross(sum);
       tr += w * normal;
+      if (m.binning) {
+        const int32_t b = m.bin_of_b[t];
+        m.part_bins[part].d_abs[b] += (Vector6() << -mt * normal.cross(sum), w * normal).finished();
+        m.part_bins[part].used[b] = 1;
+      }
     }
     rotation[part] = r;
     translation[part] = tr;
   });
   if (!parallel) rotation[1] = translation[1] = Eigen::Vector3d::Zero();
-  const Eigen::Matrix3d mt = s.derivative().m.transpose();
+  if (m.binning) {
+    for (const PartBins& part : m.part_bins) {
+      for (std::size_t b = 0; b < part.used.size(); ++b) {
+        if (!part.used[b]) continue;
+        bins->d_abs[b] += part.d_abs[b];
+        bins->d_area[b] += part.d_area[b];
+        bins->used[b] = 1;
+      }
+    }
+  }
   total.d_abs.head<3>() -= mt * (rotation[0] + rotation[1]);
   total.d_abs.tail<3>() += translation[0] + translation[1];
   return total;

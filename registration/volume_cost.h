@@ -55,6 +55,18 @@ struct VolumeCostValue {
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
                                    const MaskRegion* mask = nullptr);
 
+// The gradient's shares over an n × n grid of square bins (the sandwich's
+// tiles, registration/sandwich.h): each moved B triangle's part of ∇∫μ|d|
+// and of ∇∫μ (its cells' interior and boundary terms) goes to the bin that
+// holds its centroid. VolumeCostCache::Evaluate fills d_abs, d_area and used.
+struct GradientBins {
+  double x0 = 0, y0 = 0, side = 1;  // bin (i, j) covers x0 + [i, i + 1) side, y0 + [j, j + 1) side
+  int n = 0;                        // outer bins take whatever lies beyond
+  std::vector<Eigen::Matrix<double, 6, 1>> d_abs, d_area;  // n × n, row-major (j n + i)
+  std::vector<uint8_t> used;                               // 1: some B triangle added to it
+  int Index(double x, double y) const;
+};
+
 // What a VolumeCostCache did, summed over its evaluations.
 struct VolumeCostCacheStats {
   int64_t evaluations = 0;
@@ -93,9 +105,11 @@ class VolumeCostCache {
   VolumeCostCache(const VolumeCostCache&) = delete;
   VolumeCostCache& operator=(const VolumeCostCache&) = delete;
 
-  // As EvaluateVolumeCost (state.Update must have succeeded).
+  // As EvaluateVolumeCost (state.Update must have succeeded). With `bins`
+  // (and `gradient`, no mask; else they are left empty), the gradient's
+  // shares too, at no extra pass over the cells.
   VolumeCostValue Evaluate(const PairState& state, bool gradient, bool parallel,
-                           const MaskRegion* mask = nullptr);
+                           const MaskRegion* mask = nullptr, GradientBins* bins = nullptr);
   void Reset();  // the next Evaluate builds the whole overlay
   const VolumeCostCacheStats& stats() const;
 

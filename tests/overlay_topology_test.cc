@@ -19,6 +19,7 @@
 #include "measure/weights.h"
 #include "registration/overlay_topology.h"
 #include "registration/pair_state.h"
+#include "registration/volume_accumulator.h"
 #include "registration/volume_cost.h"
 #include "testing/registration_sides.h"
 
@@ -341,6 +342,72 @@ TEST(VolumeCostCacheTest, RebuildsAfterARemesh) {
   ExpectSame(cache.Evaluate(other, false, false), EvaluateVolumeCost(other, false, false), 1e-11,
              "after Reset", &compared);
   EXPECT_EQ(cache.stats().full_builds, 4);
+}
+
+}  // namespace
+}  // namespace surfreg
+
+namespace surfreg {
+namespace {
+
+// The gradient's shares per bin (GradientBins) against brute force: every
+// cell of the full overlay through the full path's accumulator, its share
+// put in the bin of its B triangle's centroid. With partial overlap, so that
+// the boundary terms (and ∇∫μ) are in play; one and two threads.
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+TEST(VolumeCostCacheTest, GradientBinsAreEachBTrianglesShare) {
+  const auto sides = TerrainSides(2500, 2000, 40, 140);  // B overlaps A on [40, 100]²
+  for (bool parallel : {false, true}) {
+    PairState state(sides->reference, sides->moving);
+    ASSERT_TRUE(state.Update({0.01, -0.02, 0.03, 0.2, -0.1, 0.05}));
+    // 8 × 8 bins over A's nodes (in A's local frame).
+    GradientBins bins;
+    bins.x0 = bins.y0 = 1e300;
+    double hi = -1e300;
+    for (const Point2& p : state.reference().xy) {
+      bins.x0 = std::min(bins.x0, p.x), bins.y0 = std::min(bins.y0, p.y);
+      hi = std::max({hi, p.x, p.y});
+    }
+    bins.side = (hi - std::min(bins.x0, bins.y0)) / 8, bins.n = 8;
+    VolumeCostCache cache;
+    const VolumeCostValue value = cache.Evaluate(state, true, parallel, nullptr, &bins);
+    ASSERT_EQ(bins.used.size(), 64u);
+
+    std::vector<Vector6> want_abs(64, Vector6::Zero()), want_area(64, Vector6::Zero());
+    std::vector<uint8_t> want_used(64, 0);
+    volume_internal::VolumeAccumulator accumulator(state, true, nullptr);
+    const auto& xb = state.moved_xy();
+    const auto& mb = state.moving_mesh();
+    ForEachOverlayCell(state.reference().xy, state.reference().mesh, state.a_in_b(), xb, mb,
+                       state.b_in_a(), [&](const OverlayCell& cell) {
+      const VolumeCostValue before = accumulator.value;
+      accumulator(cell);
+      if (accumulator.value.cells == before.cells) return;
+      const int32_t* v = &mb.triangles[3 * cell.triangle_b];
+      const int b = bins.Index((xb[v[0]].x + xb[v[1]].x + xb[v[2]].x) / 3,
+                               (xb[v[0]].y + xb[v[1]].y + xb[v[2]].y) / 3);
+      want_abs[b] += accumulator.value.d_abs - before.d_abs;
+      want_area[b] += accumulator.value.d_area - before.d_area;
+      want_used[b] = 1;
+    });
+    const double scale_abs = value.d_abs.norm(), scale_area = value.d_area.norm();
+    ASSERT_GT(scale_area, 0);  // the boundary moves: its terms are in the shares
+    Vector6 sum_abs = Vector6::Zero(), sum_area = Vector6::Zero();
+    int used = 0;
+    for (int b = 0; b < 64; ++b) {
+      used += bins.used[b];
+      sum_abs += bins.d_abs[b], sum_area += bins.d_area[b];
+      // A bin with cells of zero share may be used on one side only.
+      EXPECT_LE((bins.d_abs[b] - want_abs[b]).norm(), 1e-10 * scale_abs) << "bin " << b;
+      EXPECT_LE((bins.d_area[b] - want_area[b]).norm(), 1e-10 * scale_area) << "bin " << b;
+      if (want_abs[b].norm() > 1e-6 * scale_abs) EXPECT_TRUE(bins.used[b]) << "bin " << b;
+    }
+    std::printf("gradient bins%s: %d of 64 used\n", parallel ? " (2 threads)" : "", used);
+    EXPECT_GE(used, 12);  // the overlap, [40, 100]² of [0, 100]², spans about 5 × 5 bins
+    EXPECT_LE((sum_abs - value.d_abs).norm(), 1e-11 * scale_abs);
+    EXPECT_LE((sum_area - value.d_area).norm(), 1e-11 * scale_area);
+  }
 }
 
 }  // namespace

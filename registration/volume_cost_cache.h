@@ -1,0 +1,120 @@
+#pragma once
+// Internal to the volume cost (volume_cost.h): the state VolumeCostCache
+// keeps between evaluations, shared by volume_cost.cc (binding, dirty
+// marking, the evaluation) and volume_cost_integrate.cc (the cell loops).
+// Not a public interface.
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "measure/locator.h"
+#include "registration/overlay_topology.h"
+#include "registration/volume_accumulator.h"
+#include "registration/volume_cost.h"
+#include "registration/volume_kernel_simd.h"
+
+namespace surfreg {
+namespace volume_internal {
+
+
+// A location as far as the overlay's combinatorics see it.
+struct PackedLocation {
+  int32_t triangle = -1;
+  Where where = Where::kOutside;
+  int8_t index = -1;
+  bool operator!=(const PackedLocation& o) const {
+    return triangle != o.triangle || where != o.where || index != o.index;
+  }
+};
+
+inline PackedLocation Pack(const Location& l) { return {l.triangle, l.where, l.index}; }
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+// One thread's gradient shares per bin (GradientBins), merged at the end.
+struct PartBins {
+  std::vector<Vector6> d_abs, d_area;
+  std::vector<uint8_t> used;
+  void Reset(int n) {
+    d_abs.assign(n, Vector6::Zero());
+    d_area.assign(n, Vector6::Zero());
+    used.assign(n, 0);
+  }
+};
+
+// Where a hull B triangle's cells put their boundary term: the accumulator,
+// and with bins also the bin of that B triangle (the difference it made).
+struct HullSink {
+  VolumeAccumulator* boundary = nullptr;
+  const int32_t* bin_of_b = nullptr;
+  PartBins* bins = nullptr;
+  void Add(const OverlayCell& cell) {
+    if (bins == nullptr) return boundary->AddBoundaryOf(cell);
+    const Vector6 d_abs = boundary->value.d_abs, d_area = boundary->value.d_area;
+    boundary->AddBoundaryOf(cell);
+    const int32_t b = bin_of_b[cell.triangle_b];
+    bins->d_abs[b] += boundary->value.d_abs - d_abs;
+    bins->d_area[b] += boundary->value.d_area - d_area;
+    bins->used[b] = 1;
+  }
+};
+
+// ∇ of the plane through three points (as PlaneThrough).
+inline Gradient2 GradientOf(const Point2& p0, const Point2& p1, const Point2& p2, double z0,
+                            double z1, double z2) {
+  const Plane plane = PlaneThrough(p0, p1, p2, z0, z1, z2);
+  return {plane.gx, plane.gy};
+}
+
+
+}  // namespace volume_internal
+
+struct VolumeCostCache::Impl {
+  double max_dirty_fraction;
+  VolumeCostCacheStats stats;
+  // What the topology was built for.
+  const PairState* state = nullptr;
+  const ReferenceSide* reference = nullptr;
+  const MovingSide* moving = nullptr;
+  int remeshes = -1;
+  bool built = false;
+  bool fell_back = false;  // the previous evaluation took the plain full path
+  std::array<double, 6> fallback_theta{};  // at this pose
+  OverlayTopology topology;
+  std::vector<volume_internal::PackedLocation> last_a, last_b;  // at the previous evaluation
+  // A, fixed: the triangles around each vertex.
+  std::vector<int32_t> star_begin, star;
+  // Triangle records (volume_kernel_simd.h): A's fixed, B's per
+  // evaluation; both kernels and the gradient read ∇F and the hull bit there.
+  std::vector<volume_internal::TriangleRecord> record_a, record_b;
+  std::vector<volume_internal::TriangleExtra> extra_a, extra_b;
+  std::vector<volume_internal::WeightPlane> weight_a;  // μ per A triangle; empty: no weights
+  std::vector<uint8_t> mark;
+  std::vector<int32_t> dirty;
+  std::vector<std::pair<int32_t, int32_t>> seeds;
+  // Per thread and B triangle: Σ s|P| and Σ s|P|(c − p0) over the sign parts
+  // P of its cells (s = sign of d on P, c its centroid, p0 T_B's corner 0):
+  // all the gradient needs of the interior, as ∂_θF̂_B' is affine on T_B.
+  std::vector<volume_internal::Moment> moments[2];
+  // With GradientBins: each moved B triangle's bin, and each thread's shares.
+  std::vector<int32_t> bin_of_b;
+  volume_internal::PartBins part_bins[2];
+  bool binning = false;
+  volume_internal::HullSink SinkFor(volume_internal::VolumeAccumulator* boundary, int part) {
+    return {boundary, bin_of_b.data(), binning ? &part_bins[part] : nullptr};
+  }
+
+  void Bind(const PairState& s);
+  void BindWeights();
+  void MarkDirty(const PairState& s);
+  template <bool kWeighted>
+  void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
+                 VolumeCostValue* out);
+  void IntegrateSimd(volume_internal::CellKernel kernel, const PairState& s, bool gradient, int32_t lo, int32_t hi,
+                     int part, VolumeCostValue* out);
+  void Generic(const PairState& s, bool gradient, const MaskRegion* mask,
+               int32_t lo, int32_t hi, VolumeCostValue* out);
+};
+
+}  // namespace surfreg

@@ -1,0 +1,244 @@
+// The cell loops of VolumeCostCache (volume_cost_cache.h): the scalar
+// kernel (weighted or not), the vector kernels' driver, and the masked path.
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "registration/volume_cost_cache.h"
+
+namespace surfreg {
+
+using volume_internal::FanSums;
+using volume_internal::SumFan;
+using volume_internal::TwiceArea;
+using volume_internal::VolumeAccumulator;
+using volume_internal::CellKernel;
+using volume_internal::ForEachCellOfState;
+using volume_internal::Gradient2;
+using volume_internal::Moment;
+using volume_internal::TriangleExtra;
+using volume_internal::TriangleRecord;
+
+using volume_internal::HullSink;
+
+// The unmasked cost over the cells of A's triangles [lo, hi): as
+// VolumeAccumulator, but the interior gradient is left in `moments`.
+// d = F̂_B' − F_A is linear on a cell, and so is μ (fixed with A's triangle);
+// most cells lie on one side of d = 0, so that case takes one pass over the
+// corners; only the cells d = 0 crosses are split into their two sign parts.
+template <bool kWeighted>
+void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi,
+                                      int part, VolumeCostValue* out) {
+  const Triangulation& mesh_a = reference->mesh;
+  const Triangulation& mesh_b = s.moving_mesh();
+  const auto& xa = reference->xy;
+  const auto& za = reference->z;
+  const auto& xb = s.moved_xy();
+  const auto& zb = s.moved_z();
+  const int32_t* triangles_b = mesh_b.triangles.data();
+  const TriangleRecord* records_b = record_b.data();
+  const TriangleExtra* extras_b = extra_b.data();
+  Moment* moment = moments[part].data();
+  VolumeAccumulator boundary(s, gradient, nullptr);
+  HullSink sink = SinkFor(&boundary, part);
+  OverlayCell cell;
+  double abs = 0, area_sum = 0;
+  int64_t cells = 0;
+  // The endpoints of edge i (opposite corner i) in global index order, as
+  // CellCorners orders them (so a crossing is the same point in every cell).
+  static constexpr int kFirst[3] = {1, 2, 0}, kSecond[3] = {2, 0, 1};
+  for (int32_t ta = lo; ta < hi; ++ta) {
+    const int32_t count = topology.count_of(ta);
+    if (count == 0) continue;
+    const TopologyCell* list = topology.cells_of(ta);
+    const int32_t* ia = &mesh_a.triangles[3 * ta];
+    // Corners 0-2: T_A's, 3-5: T_B's (per cell).
+    double cx6[6], cy6[6];
+    for (int k = 0; k < 3; ++k) cx6[k] = xa[ia[k]].x, cy6[k] = xa[ia[k]].y;
+    double e0x[3], e0y[3], ex[3], ey[3];
+    for (int i = 0; i < 3; ++i) {
+      int p0 = kFirst[i], p1 = kSecond[i];
+      if (ia[p0] > ia[p1]) std::swap(p0, p1);
+      e0x[i] = cx6[p0], e0y[i] = cy6[p0];
+      ex[i] = cx6[p1] - cx6[p0], ey[i] = cy6[p1] - cy6[p0];
+    }
+    const Gradient2 ga = {record_a[ta].gx, record_a[ta].gy};
+    const double za0 = za[ia[0]];
+    // μ relative to T_A's corner 0 (Bind's plane).
+    const volume_internal::WeightPlane mu = kWeighted ? weight_a[ta] : volume_internal::WeightPlane{};
+    cells += count;
+    for (int32_t c = 0; c < count; ++c) {
+      const TopologyCell& tc = list[c];
+      const int32_t tb = tc.triangle_b;
+      const int32_t* ib = triangles_b + 3 * tb;
+      for (int k = 0; k < 3; ++k) cx6[3 + k] = xb[ib[k]].x, cy6[3 + k] = xb[ib[k]].y;
+      int q0[3], q1[3];
+      for (int j = 0; j < 3; ++j) {
+        const bool swap = ib[kFirst[j]] > ib[kSecond[j]];
+        q0[j] = 3 + (swap ? kSecond[j] : kFirst[j]);
+        q1[j] = 3 + (swap ? kFirst[j] : kSecond[j]);
+      }
+      const int n = tc.num_corners;
+      const TriangleRecord& fb = records_b[tb];
+      // Relative to T_B's corner 0: d = d0 + ∇d · (x, y), μ = μ0 + ∇μ · (x, y).
+      const double bx = cx6[3], by = cy6[3];
+      const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
+      const double dgx = fb.gx - ga.gx, dgy = fb.gy - ga.gy;
+      const double mu0 = kWeighted ? mu.m0 + mu.gx * (bx - cx6[0]) + mu.gy * (by - cy6[0]) : 1.0;
+      double x[8], y[8], d[8], m[8];
+      double d_lo = 0, d_hi = 0;
+      for (int k = 0; k < n; ++k) {
+        // Every corner as if a crossing (cheap, no branch), then the vertex
+        // corners picked instead: as CellCorners, without its switch.
+        const uint8_t code = tc.corner[k];
+        const int i = (code >> 2) & 3, j = (code >> 4) & 3, kind = code & 3;
+        const int r = q0[j], w = q1[j];
+        const double vr = ex[i] * (cy6[r] - e0y[i]) - ey[i] * (cx6[r] - e0x[i]);
+        const double vs = ex[i] * (cy6[w] - e0y[i]) - ey[i] * (cx6[w] - e0x[i]);
+        const double denominator = vr - vs;
+        double t = denominator != 0.0 ? vr / denominator : 0.5;
+        t = std::min(1.0, std::max(0.0, t));
+        const int vertex = kind == kCornerB ? 3 + i : i;
+        const bool cross = kind == kCornerCross;
+        const double px = cross ? cx6[r] + t * (cx6[w] - cx6[r]) : cx6[vertex];
+        const double py = cross ? cy6[r] + t * (cy6[w] - cy6[r]) : cy6[vertex];
+        x[k] = px - bx;
+        y[k] = py - by;
+        d[k] = d0 + dgx * x[k] + dgy * y[k];
+        if (kWeighted) m[k] = mu0 + mu.gx * x[k] + mu.gy * y[k];
+        d_lo = k == 0 ? d[k] : std::min(d_lo, d[k]);
+        d_hi = k == 0 ? d[k] : std::max(d_hi, d[k]);
+      }
+      auto add = [&](const FanSums& f, double sign) {
+        abs += std::max(0.0, sign * f.wd);  // ∫_P μ|d|
+        if (!gradient) return;
+        Moment& m3 = moment[tb];
+        m3.w += sign * f.w;
+        m3.x += sign * f.wx;
+        m3.y += sign * f.wy;
+      };
+      if (d_lo >= 0 || d_hi <= 0) {  // one sign part: the whole cell
+        const FanSums f = SumFan<kWeighted>(x, y, d, m, n);
+        area_sum += f.w;
+        // d ≡ 0 adds nothing inside, but a hull cell still moves the boundary (below).
+        if (f.twice > 0 && !(d_hi == 0 && d_lo == 0)) add(f, d_hi > 0 ? 1.0 : -1.0);
+      } else {
+        // The parts where d ≥ 0 and d ≤ 0.
+        double pos_x[10], pos_y[10], pos_d[10], pos_m[10], neg_x[10], neg_y[10], neg_d[10], neg_m[10];
+        int np = 0, nn = 0;
+        for (int k = 0; k < n; ++k) {
+          const int l = k + 1 == n ? 0 : k + 1;
+          if (d[k] >= 0) {
+            pos_x[np] = x[k], pos_y[np] = y[k], pos_d[np] = d[k];
+            if (kWeighted) pos_m[np] = m[k];
+            ++np;
+          }
+          if (d[k] <= 0) {
+            neg_x[nn] = x[k], neg_y[nn] = y[k], neg_d[nn] = d[k];
+            if (kWeighted) neg_m[nn] = m[k];
+            ++nn;
+          }
+          if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
+            const double t = d[k] / (d[k] - d[l]);
+            const double cx = x[k] + t * (x[l] - x[k]), cy = y[k] + t * (y[l] - y[k]);
+            pos_x[np] = cx, pos_y[np] = cy, pos_d[np] = 0.0;
+            neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn] = 0.0;
+            if (kWeighted) pos_m[np] = neg_m[nn] = m[k] + t * (m[l] - m[k]);
+            ++np, ++nn;
+          }
+        }
+        if (np >= 3) {
+          const FanSums f = SumFan<kWeighted>(pos_x, pos_y, pos_d, pos_m, np);
+          area_sum += f.w;
+          if (f.twice > 0) add(f, 1.0);
+        }
+        if (nn >= 3) {
+          const FanSums f = SumFan<kWeighted>(neg_x, neg_y, neg_d, neg_m, nn);
+          area_sum += f.w;
+          if (f.twice > 0) add(f, -1.0);
+        }
+      }
+      if (gradient && (extras_b[tb].bits & volume_internal::kHullBit) != 0) {
+        cell.triangle_a = ta;
+        cell.triangle_b = tb;
+        cell.num_vertices = n;
+        sink.Add(cell);
+      }
+    }
+  }
+  out->abs = abs;
+  out->area = area_sum;
+  out->cells = cells;
+  out->d_abs = boundary.value.d_abs;
+  out->d_area = boundary.value.d_area;
+}
+
+// As Integrate<kWeighted>, vectorized across cells by `kernel`
+// (volume_kernel_simd.h); the hull cells' boundary term stays scalar.
+void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s, bool gradient,
+                                          int32_t lo, int32_t hi, int part, VolumeCostValue* out) {
+  VolumeAccumulator boundary(s, gradient, nullptr);
+  HullSink sink = SinkFor(&boundary, part);
+  volume_internal::CellKernelInput in;
+  in.cells = topology.cells();
+  in.cell_begin = topology.begins();
+  in.cell_count = topology.counts();
+  in.record_a = record_a.data(), in.extra_a = extra_a.data();
+  in.weight_a = weight_a.empty() ? nullptr : weight_a.data();
+  in.record_b = record_b.data(), in.extra_b = extra_b.data();
+  in.context = &sink;
+  in.on_hull = [](void* context, int32_t ta, int32_t tb, int n) {
+    OverlayCell cell;  // rare: a hull B triangle's cells only
+    cell.triangle_a = ta;
+    cell.triangle_b = tb;
+    cell.num_vertices = n;
+    static_cast<HullSink*>(context)->Add(cell);
+  };
+  volume_internal::CellKernelOutput result;
+  volume_internal::IntegrateCellsSimd(kernel, in, lo, hi, gradient,
+                                      gradient ? moments[part].data() : nullptr, &result);
+  out->abs = result.abs;
+  out->area = result.area;
+  out->cells = result.cells;
+  out->d_abs = boundary.value.d_abs;
+  out->d_area = boundary.value.d_area;
+}
+
+// A mask: every cell through the full path's accumulator (which also takes weights).
+void VolumeCostCache::Impl::Generic(const PairState& s, bool gradient,
+                                    const MaskRegion* mask, int32_t lo,
+                                    int32_t hi, VolumeCostValue* out) {
+  const Triangulation& mesh_a = reference->mesh;
+  const Triangulation& mesh_b = s.moving_mesh();
+  const auto& xa = reference->xy;
+  const auto& xb = s.moved_xy();
+  VolumeAccumulator accumulate(s, gradient, mask);
+  OverlayCell cell;
+  Point2* p = cell.vertices.data();
+  for (int32_t ta = lo; ta < hi; ++ta) {
+    const int32_t* ia = &mesh_a.triangles[3 * ta];
+    const Point2 a[3] = {xa[ia[0]], xa[ia[1]], xa[ia[2]]};
+    for (int32_t c = 0; c < topology.count_of(ta); ++c) {
+      const TopologyCell& tc = topology.cells_of(ta)[c];
+      const int32_t* ib = &mesh_b.triangles[3 * tc.triangle_b];
+      const Point2 b[3] = {xb[ib[0]], xb[ib[1]], xb[ib[2]]};
+      CellCorners(tc, a, ia, b, ib, p);
+      double twice = 0;
+      for (int k = 1; k + 1 < tc.num_corners; ++k) twice += TwiceArea(p[0], p[k], p[k + 1]);
+      if (!(twice > 0)) continue;
+      cell.triangle_a = ta;
+      cell.triangle_b = tc.triangle_b;
+      cell.num_vertices = tc.num_corners;
+      cell.area = 0.5 * twice;
+      accumulate(cell);
+    }
+  }
+  *out = accumulate.value;
+}
+
+template void VolumeCostCache::Impl::Integrate<true>(const PairState&, bool, int32_t, int32_t, int,
+                                                     VolumeCostValue*);
+template void VolumeCostCache::Impl::Integrate<false>(const PairState&, bool, int32_t, int32_t, int,
+                                                      VolumeCostValue*);
+
+}  // namespace surfreg
