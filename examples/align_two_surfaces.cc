@@ -17,12 +17,13 @@ int main(int argc, char** argv) {
     const surfreg::Surface reference = surfreg::ReadSurface(argv[1]);
     const surfreg::Surface moving = surfreg::ReadSurface(argv[2]);
     const surfreg::AlignResult result = surfreg::Align(reference, moving);
-    // The verdict says whether the motion can be trusted; report it, but the
-    // matrix is printed either way (it is the initial motion if not improved).
-    std::fprintf(stderr, "verdict: %s\n", surfreg::VerdictName(result.verdict));
+    // The verdict says whether the motion can be trusted; report it (with
+    // the motion and the gap before and after), but the matrix is printed
+    // either way (it is the initial motion if not improved).
+    std::fprintf(stderr, "%s\n", result.BriefReport().c_str());
+    const Eigen::Matrix4d matrix = result.reference_from_moving.ToMatrix();
     for (int row = 0; row < 4; ++row) {
-      std::printf("%.12g %.12g %.12g %.12g\n", result.matrix(row, 0), result.matrix(row, 1),
-                  result.matrix(row, 2), result.matrix(row, 3));
+      std::printf("%.12g %.12g %.12g %.12g\n", matrix(row, 0), matrix(row, 1), matrix(row, 2), matrix(row, 3));
     }
     return result.verdict == surfreg::Verdict::kFailed ? 1 : 0;
   } catch (const surfreg::InputError& error) {

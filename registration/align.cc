@@ -52,16 +52,14 @@ double InterpolationGap(const std::vector<Eigen::Vector3d>& points, const Triang
   return count > 0 ? sum / static_cast<double>(count) : 0.0;
 }
 
-// Moving input → reference input for θ about centre c (A's local frame).
-Eigen::Matrix4d MatrixOf(const std::array<double, 6>& theta, const Eigen::Vector3d& centre_local,
-                         const std::array<double, 3>& reference_origin) {
-  const Eigen::Matrix3d rotation = RotationMatrix({theta[0], theta[1], theta[2]});
-  const Eigen::Vector3d centre =
-      centre_local + Eigen::Vector3d(reference_origin[0], reference_origin[1], reference_origin[2]);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.topLeftCorner<3, 3>() = rotation;
-  m.topRightCorner<3, 1>() = centre + Eigen::Vector3d(theta[3], theta[4], theta[5]) - rotation * centre;
-  return m;
+// The start as θ about `centre` (A's local frame).
+std::array<double, 6> InitialTheta(const AlignOptions& options, const Eigen::Vector3d& centre,
+                                   const std::array<double, 3>& reference_origin) {
+  if (options.initial_reference_from_moving) {
+    return ThetaOfRigid(*options.initial_reference_from_moving, centre, reference_origin);
+  }
+  return {options.initial_rotation[0], options.initial_rotation[1], options.initial_rotation[2],
+          options.initial_translation[0], options.initial_translation[1], options.initial_translation[2]};
 }
 
 MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
@@ -142,7 +140,8 @@ void SetStddev(const Information& info, const AlignOptions& options, AlignResult
 void SetMotion(const std::array<double, 6>& theta, const Eigen::Vector3d& centre, const Level& finest,
                const Surface& reference, AlignResult* result) {
   result->motion = MotionOf(finest.moving, theta);
-  result->matrix = MatrixOf(theta, centre, reference.origin);
+  result->reference_from_moving = RigidOfTheta(theta, centre, reference.origin);
+  result->matrix = result->reference_from_moving.ToMatrix();
   for (int k = 0; k < 3; ++k) {
     result->rotation_vector[k] = theta[k];
     result->translation[k] = theta[3 + k];
@@ -187,7 +186,8 @@ std::future<MeasureSummary> MeasureLater(const Surface& reference, const Surface
                                          const MeasureOptions& options, const std::array<double, 6>& theta,
                                          const Eigen::Vector3d& centre) {
   return std::async(std::launch::async, [&reference, &moving, &options, theta, centre] {
-    return Measure(reference, TransformSurface(moving, MatrixOf(theta, centre, reference.origin)), options);
+    return Measure(reference, TransformSurface(moving, RigidOfTheta(theta, centre, reference.origin).ToMatrix()),
+                   options);
   });
 }
 
@@ -257,9 +257,7 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   SolveContext context = align_steps::MakeContext(&options, finest, reference);
   AlignResult result;
   context.log = &result.log;
-  const std::array<double, 6> theta0 = {options.initial_rotation[0], options.initial_rotation[1],
-                                        options.initial_rotation[2], options.initial_translation[0],
-                                        options.initial_translation[1], options.initial_translation[2]};
+  const std::array<double, 6> theta0 = InitialTheta(options, finest.moving.centroid, reference.origin);
   align_steps::CheckStart(finest, theta0, moving, context, &options);
   const Eigen::Vector3d centre = finest.moving.centroid;
   const MeasureOptions measure_options = MeasureOptionsFor(options);
@@ -340,8 +338,8 @@ void SubsampleStddev(const Surface& reference, const Surface& moving, const Alig
   sub.levels = 1;
   sub.on_iteration = nullptr;
   sub.on_stage = nullptr;
-  sub.initial_rotation = result->rotation_vector;
-  sub.initial_translation = result->translation;
+  sub.initial_reference_from_moving = result->reference_from_moving;
+  sub.initial_rotation = sub.initial_translation = {0, 0, 0};
   Eigen::Matrix<double, 6, 6> sum = Eigen::Matrix<double, 6, 6>::Zero();
   int used = 0;
   for (int k = 0; k < options.stddev_subsamples; ++k) {
@@ -403,10 +401,8 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
   m.keep_node_gaps = true;
   const Eigen::Vector3d centre_local(result.centre[0] - reference.origin[0], result.centre[1] - reference.origin[1],
                                      result.centre[2] - reference.origin[2]);
-  const std::array<double, 6> theta0 = {options.initial_rotation[0], options.initial_rotation[1],
-                                        options.initial_rotation[2], options.initial_translation[0],
-                                        options.initial_translation[1], options.initial_translation[2]};
-  const Eigen::Matrix4d initial = MatrixOf(theta0, centre_local, reference.origin);
+  const Eigen::Matrix4d initial =
+      RigidOfTheta(InitialTheta(options, centre_local, reference.origin), centre_local, reference.origin).ToMatrix();
   check.before = ComputeDzStatistics(Measure(reference, TransformSurface(moving, initial), m).dz_a, keep);
   check.after = ComputeDzStatistics(Measure(reference, TransformSurface(moving, result.matrix), m).dz_a, keep);
   check.robust_before = RobustRmse(check.before);

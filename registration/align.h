@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -113,8 +114,11 @@ struct AlignOptions {
   // and improves.
   enum class WideSearch { kNever, kAuto, kAlways };
   WideSearch wide_search = WideSearch::kAuto;
-  // Initial motion (rotation vector and translation; the centre is always
-  // the moving surface's centroid).
+  // The start: either a motion in input coordinates (a transform another
+  // tool produced, or an earlier result), or a rotation vector (radians)
+  // about the moving surface's centroid and that centroid's shift (data
+  // units); not both.
+  std::optional<Rigid3d> initial_reference_from_moving;
   std::array<double, 3> initial_rotation = {0, 0, 0};
   std::array<double, 3> initial_translation = {0, 0, 0};
   // The weight μ used by the cost and the reported measures, as in
@@ -195,7 +199,8 @@ const char* VerdictName(Verdict verdict);  // "converged_improved", ...
 
 struct AlignResult {
   RigidMotion motion;           // in the reference's local frame (centre = moving centroid)
-  Eigen::Matrix4d matrix;       // moving → reference, input coordinates
+  Rigid3d reference_from_moving;  // the answer: moving input coordinates → reference's
+  Eigen::Matrix4d matrix;       // the same as a 4 × 4 homogeneous matrix
   std::array<double, 3> rotation_vector{};  // radians (same as motion.rotation_vector)
   std::array<double, 4> quaternion{};       // w, x, y, z
   std::array<double, 3> euler_deg{};        // rx, ry, rz: R = Rz · Ry · Rx
@@ -248,6 +253,15 @@ struct AlignResult {
   std::string stddev_source;  // how `stddev` was estimated (e.g. "sandwich over 64 tiles")
   double covariance_seconds = 0;  // of `seconds`: observability and standard deviations
   std::vector<AlignOptions::Iteration> log;
+
+  // The result for a person (registration/align_report.cc). BriefReport:
+  // one line (verdict, rotation angle, centroid shift, mean |dz| before ->
+  // after, time). FullReport: what `surfreg align` prints, one item per
+  // line: verdict (and why), rotation, Euler angles, translation, standard
+  // deviations and 95% intervals, ρ'd, mean |dz|, overlap, the held-out
+  // check (if any), iterations, time; every line ends in a newline.
+  std::string BriefReport() const;
+  std::string FullReport() const;
 };
 
 // Aligns `moving` onto `reference`. Throws InputError for invalid surfaces or

@@ -39,6 +39,16 @@ bool AlignOptions::IsValid(std::string* error) const {
       return fail("initial motion must be finite");
     }
   }
+  if (initial_reference_from_moving) {
+    if (!IsRigid(initial_reference_from_moving->ToMatrix())) {
+      return fail("initial_reference_from_moving must be a rigid motion (a rotation and a translation)");
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (initial_rotation[k] != 0 || initial_translation[k] != 0) {
+        return fail("initial_reference_from_moving and initial_rotation/initial_translation both set the start");
+      }
+    }
+  }
   if (cost == CostKind::kVolume && trim_fraction > 0) return fail("trim_fraction applies to the axial cost only");
   if (num_threads < 1) return fail("threads must be >= 1");
   if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");

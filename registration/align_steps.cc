@@ -18,12 +18,6 @@ namespace {
 // surface (AlignOptions::prealign).
 constexpr double kPrealignPoints = 5000.0;
 
-double RmsRadius(const MovingSide& side) {
-  double sum = 0;
-  for (const Eigen::Vector3d& p : side.points) sum += (p - side.centroid).squaredNorm();
-  return std::sqrt(sum / static_cast<double>(side.points.size()));
-}
-
 // The deterministic perturbation of multi-start s ≥ 1: a random axis and
 // direction (seeded by s), of the configured magnitudes, free parameters only.
 std::array<double, 6> Perturbed(const std::array<double, 6>& theta, int s,

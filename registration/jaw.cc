@@ -56,27 +56,6 @@ bool InsidePolygon(const std::vector<std::array<double, 2>>& polygon, double x, 
   return inside;
 }
 
-Eigen::Matrix4d MatrixOf(const Theta& theta, const Eigen::Vector3d& centre_local,
-                         const std::array<double, 3>& origin) {
-  const Eigen::Matrix3d rotation = RotationMatrix({theta[0], theta[1], theta[2]});
-  const Eigen::Vector3d centre = centre_local + Eigen::Vector3d(origin[0], origin[1], origin[2]);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.topLeftCorner<3, 3>() = rotation;
-  m.topRightCorner<3, 1>() = centre + Eigen::Vector3d(theta[3], theta[4], theta[5]) - rotation * centre;
-  return m;
-}
-
-// The inverse of MatrixOf: θ about the centre for a matrix in input coordinates.
-Theta ThetaOf(const Eigen::Matrix4d& m, const Eigen::Vector3d& centre_local,
-              const std::array<double, 3>& origin) {
-  const Eigen::Matrix3d rotation = m.topLeftCorner<3, 3>();
-  const Eigen::Vector3d centre = centre_local + Eigen::Vector3d(origin[0], origin[1], origin[2]);
-  const Eigen::Vector3d t = m.topRightCorner<3, 1>() + rotation * centre - centre;
-  const Eigen::AngleAxisd angle_axis(rotation);
-  const Eigen::Vector3d omega = angle_axis.angle() * angle_axis.axis();
-  return {omega.x(), omega.y(), omega.z(), t.x(), t.y(), t.z()};
-}
-
 Eigen::Vector3d Apply(const Eigen::Matrix4d& m, double x, double y, double z) {
   return m.topLeftCorner<3, 3>() * Eigen::Vector3d(x, y, z) + m.topRightCorner<3, 1>();
 }
@@ -133,12 +112,6 @@ double MeanAbsResidual(const PairState& state, int64_t* active = nullptr) {
     if (residuals.active[k]) sum += std::fabs(residuals.r[k]);
   }
   return sum / static_cast<double>(residuals.active_count);
-}
-
-double RmsRadius(const MovingSide& side) {
-  double sum = 0;
-  for (const Eigen::Vector3d& p : side.points) sum += (p - side.centroid).squaredNorm();
-  return std::sqrt(sum / static_cast<double>(side.points.size()));
 }
 
 // All node residuals of one part as ONE Ceres residual block over the six
@@ -268,7 +241,7 @@ JawPartResult RegisterPart(const ReferencePart& reference, const Surface& part,
                                        part.origin[2] - origin[2]};
   const MovingSide moving = PrepareMoving(part, shift);
   PairState state(reference.side, moving, options.max_fold_fraction);
-  const Theta theta0 = ThetaOf(warm, moving.centroid, origin);
+  const Theta theta0 = ThetaOfRigid(Rigid3d::FromMatrix(warm), moving.centroid, origin);
   if (!state.Update(theta0)) {
     throw InputError(part.source + ": folds at the previous frame's motion (not a height field there)");
   }
@@ -312,7 +285,7 @@ JawPartResult RegisterPart(const ReferencePart& reference, const Surface& part,
   const VolumeCostValue volume = EvaluateVolumeCost(state, false, options.num_threads > 1);
   result.mean_abs_dz_after = volume.PerArea();
   result.overlap_area_after = volume.area;
-  result.reference_from_frame = MatrixOf(theta, moving.centroid, origin);
+  result.reference_from_frame = RigidOfTheta(theta, moving.centroid, origin).ToMatrix();
   return result;
 }
 

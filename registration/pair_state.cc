@@ -216,6 +216,12 @@ void ApplyGapWeight(double floor_fraction, ReferenceSide* reference) {
     a.weight[v] *= floor / (floor + (local[v] >= 0 ? local[v] : median));
 }
 
+double RmsRadius(const MovingSide& side) {
+  double sum = 0;
+  for (const Eigen::Vector3d& p : side.points) sum += (p - side.centroid).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(side.points.size()));
+}
+
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
                          double keep_fraction, const DomainRule& rule) {
   ValidateSurface(surface);

@@ -83,6 +83,11 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction = 1.
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
                          double keep_fraction = 1.0, const DomainRule& rule = DomainRule());
 
+// The root-mean-square distance of the moving points from their centroid:
+// the lever that turns a rotation into a length (rotations × it weigh
+// alike with translations).
+double RmsRadius(const MovingSide& side);
+
 // Multiplies the reference's μ (1 where it has none) at every node by
 // cos(slope)^exponent, the slope that of the node's normal: the sum of its
 // triangles' 3D normals, each as long as twice the triangle's area. With

@@ -22,6 +22,46 @@ struct RigidMotion {
   static constexpr int kNumParameters = 6;
 };
 
+// A rigid motion named for its frames (COLMAP's Rigid3d convention):
+// `a_from_b` takes a point given in frame b to frame a,
+//   p_a = rotation · p_b + translation.
+// Align's answer is `reference_from_moving` in input coordinates (the
+// moving file's points to the reference file's frame); its inverse is
+// moving_from_reference, and a_from_b * b_from_c is a_from_c.
+struct Rigid3d {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+
+  // The top 3 × 4 of a homogeneous matrix (IsRigid says whether it is one).
+  static Rigid3d FromMatrix(const Eigen::Matrix4d& matrix);
+  // R(ω) about `centre`, then a shift: p ↦ R(ω)(p − centre) + centre + shift
+  // (ω a rotation vector, radians).
+  static Rigid3d RotationAbout(const Eigen::Vector3d& rotation_vector, const Eigen::Vector3d& centre,
+                               const Eigen::Vector3d& shift);
+  Eigen::Matrix4d ToMatrix() const;
+  Rigid3d Inverse() const;
+  Eigen::Vector3d operator*(const Eigen::Vector3d& p) const { return rotation * p + translation; }
+  Rigid3d operator*(const Rigid3d& b_from_c) const {
+    return {rotation * b_from_c.rotation, rotation * b_from_c.translation + translation};
+  }
+  Eigen::Vector3d RotationVector() const;  // ω (radians), |ω| ≤ π
+  // Where the motion takes `centre`, minus centre: RotationAbout's shift.
+  Eigen::Vector3d ShiftOf(const Eigen::Vector3d& centre) const { return *this * centre - centre; }
+};
+
+// Whether `matrix` is rigid: the top-left 3 × 3 orthonormal with
+// determinant +1 and the last row 0 0 0 1, each to `tolerance`.
+bool IsRigid(const Eigen::Matrix4d& matrix, double tolerance = 1e-6);
+
+// The registration's six parameters θ = (ω, t) about a centre given in the
+// reference's local frame (input coordinates minus `origin`), as a motion
+// in input coordinates, and back (the rotation vector of the inverse
+// conversion has |ω| ≤ π).
+Rigid3d RigidOfTheta(const std::array<double, 6>& theta, const Eigen::Vector3d& centre_local,
+                     const std::array<double, 3>& origin);
+std::array<double, 6> ThetaOfRigid(const Rigid3d& reference_from_moving, const Eigen::Vector3d& centre_local,
+                                   const std::array<double, 3>& origin);
+
 // p_in_reference for one moving point.
 Eigen::Vector3d ApplyMotion(const RigidMotion& motion, const Eigen::Vector3d& p_in_moving);
 

@@ -136,3 +136,84 @@ TEST(RigidMotionTest, DerivativeNearZeroMatchesLongDoubleDifferences) {
 
 }  // namespace
 }  // namespace surfreg
+
+namespace surfreg {
+namespace {
+
+Rigid3d RandomRigid(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+  return {Eigen::AngleAxisd(3.0 * u(rng), axis).matrix(), Eigen::Vector3d(u(rng), u(rng), u(rng)) * 1e3};
+}
+
+// Against the 4 × 4 matrices: composition is the matrix product, the
+// inverse the matrix inverse, and applying one is the matrix times the
+// homogeneous point; a_from_b * b_from_a is the identity.
+TEST(Rigid3dTest, AgreesWithHomogeneousMatrices) {
+  std::mt19937_64 rng(11);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Rigid3d a_from_b = RandomRigid(rng), b_from_c = RandomRigid(rng);
+    const Eigen::Matrix4d ab = a_from_b.ToMatrix(), bc = b_from_c.ToMatrix();
+    EXPECT_TRUE(IsRigid(ab));
+    EXPECT_LT(((a_from_b * b_from_c).ToMatrix() - ab * bc).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LT((a_from_b.Inverse().ToMatrix() - ab.inverse()).cwiseAbs().maxCoeff(), 1e-9);
+    const Rigid3d identity = a_from_b * a_from_b.Inverse();
+    EXPECT_LT((identity.ToMatrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff(), 1e-12);
+    const Eigen::Vector3d p(1e3, -250, 42);
+    EXPECT_LT((a_from_b * p - (ab * p.homogeneous()).head<3>()).norm(), 1e-9);
+    EXPECT_LT((Rigid3d::FromMatrix(ab).ToMatrix() - ab).cwiseAbs().maxCoeff(), 0.0 + 1e-15);
+  }
+}
+
+// RotationAbout(ω, c, s) fixes the rotation and takes c to c + s; its
+// rotation vector and ShiftOf(c) give ω and s back, for angles up to near π.
+TEST(Rigid3dTest, RotationAboutACentreRoundTrips) {
+  const Eigen::Vector3d centre(5e5, 4e6, 120);
+  for (const double angle : {0.0, 1e-9, 0.02, 1.0, 3.1}) {
+    const Eigen::Vector3d w = angle * Eigen::Vector3d(1, -2, 0.5).normalized();
+    const Eigen::Vector3d shift(0.3, -7, 2);
+    const Rigid3d motion = Rigid3d::RotationAbout(w, centre, shift);
+    EXPECT_LT((motion * centre - (centre + shift)).norm(), 1e-8) << angle;
+    EXPECT_LT((motion.RotationVector() - w).norm(), 1e-12) << angle;
+    EXPECT_LT((motion.ShiftOf(centre) - shift).norm(), 1e-8) << angle;
+    const Eigen::Matrix3d expected = angle > 0 ? Eigen::AngleAxisd(angle, w.normalized()).matrix()
+                                               : Eigen::Matrix3d::Identity();
+    EXPECT_LT((motion.rotation - expected).cwiseAbs().maxCoeff(), 1e-15 + 1e-15 * angle) << angle;
+  }
+}
+
+// θ about a centre in a local frame with an origin: RigidOfTheta and
+// ThetaOfRigid are inverse, and the motion does not depend on which centre
+// θ is taken about.
+TEST(Rigid3dTest, ThetaAboutAnyCentreIsTheSameMotion) {
+  const std::array<double, 3> origin = {4.5e5, 5.2e6, 300};
+  const Eigen::Vector3d centre(12, -30, 4), other(-800, 95, 60);
+  const std::array<double, 6> theta = {0.01, -0.03, 0.2, 1.5, -2.5, 0.25};
+  const Rigid3d motion = RigidOfTheta(theta, centre, origin);
+  const std::array<double, 6> back = ThetaOfRigid(motion, centre, origin);
+  for (int k = 0; k < 6; ++k) EXPECT_NEAR(back[k], theta[k], 1e-9) << k;
+  const Rigid3d again = RigidOfTheta(ThetaOfRigid(motion, other, origin), other, origin);
+  EXPECT_LT((again.ToMatrix() - motion.ToMatrix()).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+TEST(Rigid3dTest, IsRigidRejectsScaleShearAndReflection) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  EXPECT_TRUE(IsRigid(m));
+  m(0, 0) = 1.01;  // scale
+  EXPECT_FALSE(IsRigid(m));
+  m = Eigen::Matrix4d::Identity();
+  m(0, 1) = 0.1;  // shear
+  EXPECT_FALSE(IsRigid(m));
+  m = Eigen::Matrix4d::Identity();
+  m(2, 2) = -1;  // a reflection is orthonormal but not a rotation
+  EXPECT_FALSE(IsRigid(m));
+  m = Eigen::Matrix4d::Identity();
+  m(3, 0) = 0.5;  // a projective row
+  EXPECT_FALSE(IsRigid(m));
+  m = Eigen::Matrix4d::Identity();
+  m(1, 3) = std::nan("");
+  EXPECT_FALSE(IsRigid(m));
+}
+
+}  // namespace
+}  // namespace surfreg

@@ -239,22 +239,6 @@ TEST(Sweep, PerturbedStartIsOffByTheMagnitudes) {
   EXPECT_TRUE(PerturbedStart(truth, c, 0, 0, DrawDirections(1)).isApprox(truth, 1e-15));
 }
 
-// SetInitialMotion gives align's (ω, t) about c: R(ω)(p − c) + c + t is the start.
-TEST(Sweep, InitialMotionReproducesTheStart) {
-  const Eigen::Vector3d c(10, -20, 5);
-  const Eigen::Matrix4d start = testing::TrueMotion({1, 2, 3}, 7.5, {0.5, -1, 2}, {3, 4, 5});
-  AlignOptions options;
-  SetInitialMotion(start, c, &options);
-  const Eigen::Vector3d w(options.initial_rotation[0], options.initial_rotation[1],
-                          options.initial_rotation[2]);
-  const Eigen::Vector3d t(options.initial_translation[0], options.initial_translation[1],
-                          options.initial_translation[2]);
-  const Eigen::Matrix3d r = Eigen::AngleAxisd(w.norm(), w.normalized()).matrix();
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(100, -50, 7)}) {
-    EXPECT_TRUE((r * (p - c) + c + t).isApprox((start * p.homogeneous()).head<3>(), 1e-12));
-  }
-}
-
 TEST(Sweep, DirectionsDependOnlyOnTheirSeed) {
   std::set<uint64_t> seeds;
   for (const std::string pair : {"a", "b"}) {

@@ -72,12 +72,11 @@ std::string AlignProgressLine(const AlignOptions::Iteration& it, int levels) {
   return line;
 }
 
-void ApplyInitialTransform(const AlignConfig& config, const Surface& moving,
-                           AlignOptions* options) {
+void ApplyInitialTransform(const AlignConfig& config, AlignOptions* options) {
   if (config.initial_matrix.empty()) return;
   Eigen::Matrix4d m;
   for (int k = 0; k < 16; ++k) m(k / 4, k % 4) = config.initial_matrix[k];
-  SetInitialMotion(m, SurfaceCentroid(moving), options);
+  options->initial_reference_from_moving = Rigid3d::FromMatrix(m);
 }
 
 AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
@@ -108,7 +107,7 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
                      "coordinates align works in, but the inputs were moved into " +
                      inputs.frame.Describe() + "; write .ply or .xyz instead");
   }
-  ApplyInitialTransform(config, inputs.moving, &config.options);
+  ApplyInitialTransform(config, &config.options);
   std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
   config.options.on_iteration = [&seen, &on_iteration](const AlignOptions::Iteration& it) {
     seen.push_back(it);

@@ -34,12 +34,10 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
                        std::optional<Surface> moving,
                        const std::function<void(const AlignOptions::Iteration&)>& on_iteration);
 
-// Turns config.initial_matrix (if any) into options->initial_rotation and
-// initial_translation about `moving`'s centroid, the centre Align moves it
-// about. `moving` is the surface as Align gets it (for terrain inputs, in
-// the metric frame), so the matrix is taken in those coordinates.
-void ApplyInitialTransform(const AlignConfig& config, const Surface& moving,
-                           AlignOptions* options);
+// Turns config.initial_matrix (if any) into
+// options->initial_reference_from_moving, taken in the coordinates Align
+// gets the surfaces in (for terrain inputs, the metric frame).
+void ApplyInitialTransform(const AlignConfig& config, AlignOptions* options);
 
 // The per-iteration progress line of `align` ("align: level 1/3 start 0 ...").
 std::string AlignProgressLine(const AlignOptions::Iteration& it, int levels);

@@ -101,7 +101,6 @@ namespace surfreg {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kDegrees = 180.0 / 3.14159265358979323846;
 
 double Since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -147,47 +146,11 @@ void PrintProgress(const AlignOptions::Iteration& it, const AlignConfig& config,
 
 void PrintSummary(const AlignConfig& config, const Surface& reference, const Surface& moving,
                   const AlignResult& r) {
-  const double angle = std::sqrt(r.rotation_vector[0] * r.rotation_vector[0] +
-                                 r.rotation_vector[1] * r.rotation_vector[1] +
-                                 r.rotation_vector[2] * r.rotation_vector[2]);
-  const auto& v = r.rotation_vector;
-  const auto& sd = r.stddev;
   std::printf("reference:    %s  (%zu points)\n", config.reference.c_str(), reference.size());
   std::printf("moving:       %s  (%zu points)\n", config.moving.c_str(), moving.size());
   std::printf("cost:         %s, free %s\n", AlignConfigValue(config, "cost").c_str(),
               AlignConfigValue(config, "free").c_str());
-  std::printf("verdict:      %s%s%s%s\n", VerdictName(r.verdict),
-              r.verdict_reason.empty() ? "" : "  (", r.verdict_reason.c_str(),
-              r.verdict_reason.empty() ? "" : ")");
-  std::printf("rotation:     %.6f deg; vector rx %.6f ry %.6f rz %.6f deg\n", angle * kDegrees,
-              v[0] * kDegrees, v[1] * kDegrees, v[2] * kDegrees);
-  std::printf("euler:        rx %.6f ry %.6f rz %.6f deg  (R = Rz Ry Rx)\n", r.euler_deg[0],
-              r.euler_deg[1], r.euler_deg[2]);
-  std::printf("translation:  tx %.6g ty %.6g tz %.6g units  (shift of the moving centroid)\n",
-              r.translation[0], r.translation[1], r.translation[2]);
-  std::printf("stddev:       rx %.3g ry %.3g rz %.3g deg, tx %.3g ty %.3g tz %.3g units  (%s)\n",
-              sd[0] * kDegrees, sd[1] * kDegrees, sd[2] * kDegrees, sd[3], sd[4], sd[5],
-              r.stddev_source.c_str());
-  const double z = 1.959963984540054;  // 95%, two-sided
-  std::printf("95%% interval: rx +/-%.3g ry +/-%.3g rz +/-%.3g deg, tx +/-%.3g ty +/-%.3g tz +/-%.3g units\n",
-              z * sd[0] * kDegrees, z * sd[1] * kDegrees, z * sd[2] * kDegrees, z * sd[3], z * sd[4],
-              z * sd[5]);
-  std::printf("rho'_d:       %.6g -> %.6g units  (mean |dz| at the nodes)\n", r.before.rho_d_axial,
-              r.after.rho_d_axial);
-  std::printf("mean |dz|:    %.6g -> %.6g units  (rho_d / overlap area; sampling gap %.3g)\n",
-              r.before.mean_abs_dz, r.after.mean_abs_dz, r.sampling_gap);
-  std::printf("overlap:      %.2f%% -> %.2f%% of the smaller data domain\n",
-              100 * r.overlap_fraction_before, 100 * r.overlap_fraction_after);
-  if (r.holdout.done) {
-    const HoldoutCheck& h = r.holdout;
-    std::printf("held out:     %.0f%% of the reference's tiles (%lld samples): robust RMSE of dz %.6g -> %.6g (%s)\n",
-                100 * h.fraction, static_cast<long long>(h.samples), h.robust_before, h.robust_after,
-                h.improved ? "improved" : "NOT improved");
-    std::printf("              before %s\n", DzStatisticsLine(h.before, "").c_str());
-    std::printf("              after  %s\n", DzStatisticsLine(h.after, "").c_str());
-  }
-  std::printf("iterations:   %d  (%s)\n", r.iterations, r.termination.c_str());
-  std::printf("time:         %.3f s\n", r.seconds);
+  std::fputs(r.FullReport().c_str(), stdout);
   for (const char* key : {"output", "matrix_txt", "aligned", "log"}) {
     const std::string path = AlignConfigValue(config, key);
     if (!path.empty()) std::printf("%-13s %s\n", (std::string(key) + ":").c_str(), path.c_str());

@@ -214,7 +214,7 @@ int RunAlignManifest(const std::vector<std::string>& args) {
       const Surface& reference = inputs.reference;
       const Surface& moving = inputs.moving;
       AlignOptions options = c.options;
-      ApplyInitialTransform(c, moving, &options);  // one start for every pair
+      ApplyInitialTransform(c, &options);  // one start for every pair
       options.on_iteration = [](const AlignOptions::Iteration&) { ThrowIfInterrupted(); };
       const AlignResult result = Align(reference, moving, options);
       std::string frame;

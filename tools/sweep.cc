@@ -273,17 +273,6 @@ Eigen::Matrix4d PerturbedStart(const Eigen::Matrix4d& truth, const Eigen::Vector
   return truth * p;
 }
 
-void SetInitialMotion(const Eigen::Matrix4d& start, const Eigen::Vector3d& c,
-                      AlignOptions* options) {
-  const Eigen::AngleAxisd aa(Eigen::Matrix3d(start.topLeftCorner<3, 3>()));
-  const Eigen::Vector3d w = aa.angle() * aa.axis();
-  const Eigen::Vector3d t = (start * Eigen::Vector4d(c.x(), c.y(), c.z(), 1)).head<3>() - c;
-  for (int k = 0; k < 3; ++k) {
-    options->initial_rotation[k] = w[k];
-    options->initial_translation[k] = t[k];
-  }
-}
-
 // ---- The grid ----
 
 SweepPlan PlanSweep(const SweepConfig& config) {
@@ -406,9 +395,9 @@ std::vector<std::string> RunOne(const SweepPlan& plan, const SweepRun& run) {
   const double spacings = config.shift_spacings[run.magnitude];
   const uint64_t seed =
       RunSeed(config.seed, config.pairs[run.pair].name, run.magnitude, run.direction);
-  SetInitialMotion(PerturbedStart(pair.truth, pair.centroid, angle, spacings * pair.spacing,
-                                  DrawDirections(seed)),
-                   pair.centroid, &options);
+  options.initial_rotation = options.initial_translation = {0, 0, 0};
+  options.initial_reference_from_moving = Rigid3d::FromMatrix(
+      PerturbedStart(pair.truth, pair.centroid, angle, spacings * pair.spacing, DrawDirections(seed)));
 
   // An interrupted run is not a row: the signal ends it between iterations.
   options.on_iteration = [](const AlignOptions::Iteration&) { ThrowIfInterrupted(); };

@@ -90,11 +90,6 @@ PerturbationDirections DrawDirections(uint64_t run_seed);
 Eigen::Matrix4d PerturbedStart(const Eigen::Matrix4d& truth, const Eigen::Vector3d& centroid,
                                double angle_deg, double shift, const PerturbationDirections& d);
 
-// Sets options->initial_rotation / initial_translation to the motion
-// `start` (a rigid 4×4) about `centroid`.
-void SetInitialMotion(const Eigen::Matrix4d& start, const Eigen::Vector3d& centroid,
-                      AlignOptions* options);
-
 // ---- The grid ----
 struct SweepRun {
   int64_t id = 0;

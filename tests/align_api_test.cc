@@ -1,0 +1,154 @@
+// The library's face of Align (registration/align.h): the start as a rigid
+// motion, the answer as one (reference_from_moving), and the reports.
+// Swapping reference and moving must give the inverse motion within the
+// standard deviations Align states, for a terrain pair, a face-like pair
+// and a grid DEM against a scattered cloud.
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "registration/align.h"
+#include "testing/surface_pairs.h"
+
+namespace surfreg {
+namespace {
+
+// A face-like patch: an ellipsoidal cap with a nose and two brows.
+double FaceLike(double x, double y) {
+  const double cap = 1.0 - (x / 70) * (x / 70) - (y / 90) * (y / 90);
+  return 40.0 * std::sqrt(std::max(0.0, cap)) + 12.0 * std::exp(-(x * x + (y + 5) * (y + 5)) / 120.0) +
+         4.0 * std::exp(-((x - 20) * (x - 20) + (y - 25) * (y - 25)) / 90.0) +
+         4.0 * std::exp(-((x + 20) * (x + 20) + (y - 25) * (y - 25)) / 90.0);
+}
+
+std::vector<std::array<double, 3>> Grid(const testing::HeightFunction& f, double x0, double x1, double y0,
+                                        double y1, int n) {
+  std::vector<std::array<double, 3>> points;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double x = x0 + (x1 - x0) * i / (n - 1), y = y0 + (y1 - y0) * j / (n - 1);
+      points.push_back({x, y, f(x, y)});
+    }
+  }
+  return points;
+}
+
+struct Family {
+  const char* name;
+  std::vector<std::array<double, 3>> a, b;  // two samplings of one surface
+};
+
+Family MakeFamily(int k) {
+  using testing::SampleUniform;
+  switch (k) {
+    case 0:
+      return {"terrain", SampleUniform(testing::SmoothTerrain, 4000, 0, 100, 0, 100, 21),
+              SampleUniform(testing::SmoothTerrain, 4000, 0, 100, 0, 100, 22)};
+    case 1:
+      return {"face", SampleUniform(FaceLike, 4000, -45, 45, -55, 55, 23),
+              SampleUniform(FaceLike, 4000, -45, 45, -55, 55, 24)};
+    default:
+      return {"grid and cloud", Grid(testing::SmoothTerrain, 0, 100, 0, 100, 64),
+              SampleUniform(testing::SmoothTerrain, 4000, 0, 100, 0, 100, 25)};
+  }
+}
+
+class SwapTest : public ::testing::TestWithParam<int> {};
+
+// Align(a, b) and Align(b, a), each from the identity: the composed motion b_from_a · a_from_b is the identity within 3 σ of the two
+// runs' errors together (per rotation axis; for the translation, at B's
+// centroid, with the second run's rotation σ times the lever to its centre).
+TEST_P(SwapTest, SwappingTheSurfacesGivesTheInverseWithinTheStatedSigma) {
+  const Family family = MakeFamily(GetParam());
+  const Eigen::Matrix4d truth = testing::TrueMotion({1, -2, 0.5}, 2.0, {1.5, -1.0, 0.3}, testing::Centroid(family.b));
+  const Surface a = MakeSurface(family.a, {}, "a");
+  const Surface b = MakeSurface(testing::MoveByInverse(family.b, truth), {}, "b");
+  const AlignResult ab = Align(a, b);
+  ASSERT_EQ(ab.verdict, Verdict::kConvergedImproved) << family.name << ": " << ab.verdict_reason;
+  const AlignResult ba = Align(b, a);
+  ASSERT_EQ(ba.verdict, Verdict::kConvergedImproved) << family.name << ": " << ba.verdict_reason;
+
+  const Rigid3d loop = ba.reference_from_moving * ab.reference_from_moving;  // b_from_a · a_from_b
+  const Eigen::Vector3d w = loop.RotationVector();
+  const Eigen::Vector3d centre_b(ab.centre[0], ab.centre[1], ab.centre[2]);  // B's centroid
+  const Eigen::Vector3d centre_a(ba.centre[0], ba.centre[1], ba.centre[2]);
+  const double lever = (ab.reference_from_moving * centre_b - centre_a).norm();
+  const Eigen::Vector3d shift = loop.ShiftOf(centre_b);
+  for (int k = 0; k < 3; ++k) {
+    const double sigma_w = std::hypot(ab.stddev[k], ba.stddev[k]);
+    const double sigma_t = std::sqrt(ab.stddev[3 + k] * ab.stddev[3 + k] + ba.stddev[3 + k] * ba.stddev[3 + k] +
+                                     lever * lever * ba.stddev[k] * ba.stddev[k]);
+    ASSERT_GT(sigma_w, 0) << family.name;
+    EXPECT_LE(std::fabs(w[k]), 3 * sigma_w) << family.name << " rotation " << k;
+    EXPECT_LE(std::fabs(shift[k]), 3 * sigma_t) << family.name << " translation " << k;
+    std::printf("%s, axis %d: |loop| / sigma rotation %.2f, translation %.2f\n", family.name, k,
+                std::fabs(w[k]) / sigma_w, std::fabs(shift[k]) / sigma_t);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Families, SwapTest, ::testing::Values(0, 1, 2));
+
+// The start given as a rigid motion is the same start as the rotation about
+// the moving centroid and its shift: the same answer, to rounding.
+TEST(AlignApiTest, RigidStartEqualsRotationAndShiftStart) {
+  const Family family = MakeFamily(0);
+  const Surface a = MakeSurface(family.a, {}, "a");
+  const Surface b = MakeSurface(family.b, {}, "b");
+  AlignOptions by_theta;
+  by_theta.initial_rotation = {0.01, -0.02, 0.015};
+  by_theta.initial_translation = {0.5, -0.3, 0.1};
+  const Eigen::Vector3d centroid = testing::Centroid(family.b);
+  AlignOptions by_rigid;
+  by_rigid.initial_reference_from_moving =
+      Rigid3d::RotationAbout({0.01, -0.02, 0.015}, centroid, {0.5, -0.3, 0.1});
+  const AlignResult r1 = Align(a, b, by_theta), r2 = Align(a, b, by_rigid);
+  EXPECT_LT((r1.matrix - r2.matrix).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT((r2.reference_from_moving.ToMatrix() - r2.matrix).cwiseAbs().maxCoeff(), 0.0 + 1e-15);
+}
+
+TEST(AlignApiTest, BadRigidStartsAreRefused) {
+  AlignOptions options;
+  std::string error;
+  options.initial_reference_from_moving = Rigid3d();
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+  options.initial_rotation = {0.1, 0, 0};
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("both set the start"), std::string::npos) << error;
+  options.initial_rotation = {0, 0, 0};
+  options.initial_reference_from_moving->rotation(0, 0) = 1.1;  // not a rotation
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("rigid"), std::string::npos) << error;
+}
+
+// FullReport: the CLI's summary lines in order, each ending in a newline;
+// BriefReport: one line with the verdict.
+TEST(AlignApiTest, ReportsNameEveryItem) {
+  const Family family = MakeFamily(0);
+  AlignOptions options;
+  options.holdout_fraction = 0.2;
+  const AlignResult r = Align(MakeSurface(family.a, {}, "a"), MakeSurface(family.b, {}, "b"), options);
+  const std::string full = r.FullReport();
+  std::istringstream lines(full);
+  std::vector<std::string> keys;
+  for (std::string line; std::getline(lines, line);) keys.push_back(line.substr(0, line.find(':')));
+  const std::vector<std::string> want = {"verdict", "rotation", "euler", "translation", "stddev", "95% interval",
+                                         "rho'_d", "mean |dz|", "overlap", "held out", "              before",
+                                         "              after  before", "iterations", "time"};
+  ASSERT_EQ(keys.size(), want.size()) << full;
+  for (std::size_t k = 0; k < want.size(); ++k) {
+    if (want[k].rfind("              ", 0) == 0) continue;  // the held-out statistics lines
+    EXPECT_EQ(keys[k], want[k]) << full;
+  }
+  EXPECT_EQ(full.back(), '\n');
+  const std::string brief = r.BriefReport();
+  EXPECT_EQ(brief.find('\n'), std::string::npos);
+  EXPECT_EQ(brief.rfind(VerdictName(r.verdict), 0), 0u) << brief;
+  EXPECT_NE(brief.find("mean |dz|"), std::string::npos) << brief;
+}
+
+}  // namespace
+}  // namespace surfreg
