@@ -189,6 +189,129 @@ int GradientBins::Index(double x, double y) const {
   return j * n + i;
 }
 
+// Brings the overlay's topology to the state's pose: built whole (first
+// call, a remesh, far from the last pose twice), repaired around what moved;
+// false: far from the topology's pose, which is kept for the plain full path.
+bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, bool parallel) {
+  const Triangulation& mesh_a = reference->mesh;
+  const Triangulation& mesh_b = s.moving_mesh();
+  bool build = !built || remeshes != s.surface_version();
+  if (!build) {
+    MarkDirty(s);
+    build = dirty.size() > max_dirty_fraction * mesh_a.num_triangles();
+    if (build && !binning && (!fell_back || s.theta() == fallback_theta)) {
+      // Far from the topology's pose: Build + labelling would cost more
+      // than the plain full path, and a solver often comes back (a
+      // rejected trial step), so keep the topology and its pose and
+      // evaluate plainly. Too far at another pose right after: the solver
+      // has moved on; build.
+      fell_back = true;
+      fallback_theta = s.theta();
+      return false;
+    }
+  }
+  fell_back = false;
+  if (build) {
+    topology.Build(reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), parallel,
+                   reference->domain.data(), s.active_b().data());
+    built = true;
+    remeshes = s.surface_version();
+    ++stats.full_builds;
+  } else if (!dirty.empty()) {
+    const TopologyStats t = topology.Repair(reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, dirty,
+                                            seeds, parallel, reference->domain.data(), s.active_b().data());
+    stats.triangles_searched += t.triangles_searched;
+  }
+  last_a.resize(s.a_in_b().size());
+  last_b.resize(s.b_in_a().size());
+  for (std::size_t v = 0; v < last_a.size(); ++v) last_a[v] = Pack(s.a_in_b()[v]);
+  for (std::size_t u = 0; u < last_b.size(); ++u) last_b[u] = Pack(s.b_in_a()[u]);
+  return true;
+}
+
+// ∇F̂_B' and the hull bit on each moved B triangle (and its bin).
+void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, bool parallel, const GradientBins* bins) {
+  const Triangulation& mesh_b = s.moving_mesh();
+  const int32_t nb = mesh_b.num_triangles();
+  record_b.resize(nb);
+  extra_b.resize(nb);
+  if (binning) {
+    bin_of_b.resize(nb);
+    for (PartBins& part : part_bins) part.Reset(bins->n * bins->n);
+  }
+  const auto& xy = s.moved_xy();
+  const auto& z = s.moved_z();
+  Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
+    for (int32_t t = lo; t < hi; ++t) {
+      const int32_t* v = &mesh_b.triangles[3 * t];
+      const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+      // An edge of B's surface: the boundary term's cells (the moving part of ∂Ω).
+      const bool hull = s.MovingBoundaryEdge(t, 0) || s.MovingBoundaryEdge(t, 1) ||
+                        s.MovingBoundaryEdge(t, 2);
+      volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, hull, &record_b[t], &extra_b[t]);
+      if (binning) {
+        bin_of_b[t] = bins->Index((xy[v[0]].x + xy[v[1]].x + xy[v[2]].x) / 3,
+                                  (xy[v[0]].y + xy[v[1]].y + xy[v[2]].y) / 3);
+      }
+    }
+  });
+}
+
+// The interior gradient from each B triangle's moments (zeroed for the next
+// call): with q affine on T_B, Σ s|P| q(c) = W q0 + Q C; rows as
+// VolumeAccumulator::AddPart. Each triangle's share also to its bin.
+void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, bool parallel, GradientBins* bins,
+                                                VolumeCostValue* total) {
+  const Triangulation& mesh_b = s.moving_mesh();
+  const auto& xy = s.moved_xy();
+  const auto& q = s.moved_q();
+  const Eigen::Matrix3d mt = s.derivative().m.transpose();
+  Eigen::Vector3d rotation[2], translation[2];
+  Split(mesh_b.num_triangles(), parallel, [&](int32_t lo, int32_t hi, int part) {
+    Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
+    for (int32_t t = lo; t < hi; ++t) {
+      Moment& m0 = moments[0][t];
+      double w = m0.w, cx = m0.x, cy = m0.y;
+      m0 = {0.0, 0.0, 0.0};
+      if (parallel) {  // one thread leaves moments[1] zero: not worth a pass over memory
+        Moment& m1 = moments[1][t];
+        w += m1.w, cx += m1.x, cy += m1.y;
+        m1 = {0.0, 0.0, 0.0};
+      }
+      if (w == 0 && cx == 0 && cy == 0) continue;
+      const int32_t* v = &mesh_b.triangles[3 * t];
+      const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
+      const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
+      const double det = ax * by - ay * bx;
+      const double l1 = (by * cx - bx * cy) / det, l2 = (ax * cy - ay * cx) / det;
+      const Eigen::Vector3d sum = w * q[v[0]] + l1 * (q[v[1]] - q[v[0]]) + l2 * (q[v[2]] - q[v[0]]);
+      const Eigen::Vector3d normal(-record_b[t].gx, -record_b[t].gy, 1.0);
+      r += normal.cross(sum);
+      tr += w * normal;
+      if (binning) {
+        const int32_t b = bin_of_b[t];
+        part_bins[part].d_abs[b] += (Vector6() << -mt * normal.cross(sum), w * normal).finished();
+        part_bins[part].used[b] = 1;
+      }
+    }
+    rotation[part] = r;
+    translation[part] = tr;
+  });
+  if (!parallel) rotation[1] = translation[1] = Eigen::Vector3d::Zero();
+  if (binning) {
+    for (const PartBins& part : part_bins) {
+      for (std::size_t b = 0; b < part.used.size(); ++b) {
+        if (!part.used[b]) continue;
+        bins->d_abs[b] += part.d_abs[b];
+        bins->d_area[b] += part.d_area[b];
+        bins->used[b] = 1;
+      }
+    }
+  }
+  total->d_abs.head<3>() -= mt * (rotation[0] + rotation[1]);
+  total->d_abs.tail<3>() += translation[0] + translation[1];
+}
+
 VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, bool parallel,
                                           const MaskRegion* mask, GradientBins* bins) {
   Impl& m = *impl_;
@@ -200,49 +323,15 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
     bins->used.assign(n, 0);
   }
   if (m.state != &s || m.reference != &s.reference() || m.moving != &s.moving()) m.Bind(s);
-  const Triangulation& mesh_a = m.reference->mesh;
-  const Triangulation& mesh_b = s.moving_mesh();
-  const int32_t na = mesh_a.num_triangles(), nb = mesh_b.num_triangles();
-  bool build = !m.built || m.remeshes != s.surface_version();
-  if (!build) {
-    m.MarkDirty(s);
-    build = m.dirty.size() > m.max_dirty_fraction * na;
-    if (build && !m.binning && (!m.fell_back || s.theta() == m.fallback_theta)) {
-      // Far from the topology's pose: Build + labelling would cost more
-      // than the plain full path, and a solver often comes back (a
-      // rejected trial step), so keep the topology and its pose and
-      // evaluate plainly. Too far at another pose right after: the solver
-      // has moved on; build.
-      m.fell_back = true;
-      m.fallback_theta = s.theta();
-      const VolumeCostValue plain = EvaluateVolumeCost(s, gradient, parallel, mask);
-      ++m.stats.evaluations;
-      ++m.stats.fallbacks;
-      m.stats.triangles += na;
-      m.stats.cells += plain.cells;
-      return plain;
-    }
-  }
-  m.fell_back = false;
-  if (build) {
-    m.topology.Build(m.reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), parallel,
-                     m.reference->domain.data(), s.active_b().data());
-    m.built = true;
-    m.remeshes = s.surface_version();
-    ++m.stats.full_builds;
-  } else if (!m.dirty.empty()) {
-    const TopologyStats t = m.topology.Repair(m.reference->xy, mesh_a, s.a_in_b(), s.moved_xy(),
-                                              mesh_b, m.dirty, m.seeds, parallel,
-                                              m.reference->domain.data(), s.active_b().data());
-    m.stats.triangles_searched += t.triangles_searched;
-  }
-  m.last_a.resize(s.a_in_b().size());
-  m.last_b.resize(s.b_in_a().size());
-  for (std::size_t v = 0; v < m.last_a.size(); ++v) m.last_a[v] = Pack(s.a_in_b()[v]);
-  for (std::size_t u = 0; u < m.last_b.size(); ++u) m.last_b[u] = Pack(s.b_in_a()[u]);
+  const int32_t na = m.reference->mesh.num_triangles();
   ++m.stats.evaluations;
   m.stats.triangles += na;
-
+  if (!m.UpdateTopology(s, parallel)) {
+    const VolumeCostValue plain = EvaluateVolumeCost(s, gradient, parallel, mask);
+    ++m.stats.fallbacks;
+    m.stats.cells += plain.cells;
+    return plain;
+  }
   VolumeCostValue parts[2];
   if (mask != nullptr) {
     Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
@@ -252,42 +341,18 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
     m.stats.cells += parts[0].cells;
     return parts[0];
   }
-  // ∇F̂_B' on each moved B triangle, then the cells.
   const bool weighted = !m.reference->weight.empty();
   // A vector kernel where the CPU has one (weighted or not); the
   // environment variable SURFREG_CELL_KERNEL may choose another.
   static const CellKernel kernel = volume_internal::SelectedCellKernel();
   // Weights added or dropped since Bind: their planes again.
   if (m.weight_a.size() != (weighted ? static_cast<std::size_t>(na) : 0u)) m.BindWeights();
-  const bool vectorized = kernel != CellKernel::kScalar;
-  m.record_b.resize(nb);
-  m.extra_b.resize(nb);
-  if (m.binning) {
-    m.bin_of_b.resize(nb);
-    for (PartBins& part : m.part_bins) part.Reset(bins->n * bins->n);
-  }
-  const auto& xy = s.moved_xy();
-  const auto& z = s.moved_z();
-  Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
-    for (int32_t t = lo; t < hi; ++t) {
-      const int32_t* v = &mesh_b.triangles[3 * t];
-      const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
-      // An edge of B's surface: the boundary term's cells (the moving part of ∂Ω).
-      const bool hull = s.MovingBoundaryEdge(t, 0) || s.MovingBoundaryEdge(t, 1) ||
-                        s.MovingBoundaryEdge(t, 2);
-      volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, hull, &m.record_b[t],
-                                  &m.extra_b[t]);
-      if (m.binning) {
-        m.bin_of_b[t] = bins->Index((xy[v[0]].x + xy[v[1]].x + xy[v[2]].x) / 3,
-                                    (xy[v[0]].y + xy[v[1]].y + xy[v[2]].y) / 3);
-      }
-    }
-  });
+  m.RecordMovedTriangles(s, parallel, bins);
   if (gradient) {
-    for (auto& moment : m.moments) moment.resize(nb, Moment{0.0, 0.0, 0.0});  // zeroed after each use
+    for (auto& moment : m.moments) moment.resize(s.moving_mesh().num_triangles(), Moment{0.0, 0.0, 0.0});
   }
   Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
-    if (vectorized) {
+    if (kernel != CellKernel::kScalar) {
       m.IntegrateSimd(kernel, s, gradient, lo, hi, part, &parts[part]);
     } else if (weighted) {
       m.Integrate<true>(s, gradient, lo, hi, part, &parts[part]);
@@ -298,55 +363,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   AddInto(parts[1], &parts[0]);
   VolumeCostValue total = parts[0];
   m.stats.cells += total.cells;
-  if (!gradient) return total;
-  // The interior gradient from each B triangle's moments: with q affine on
-  // T_B, Σ s|P| q(c) = W q0 + Q C; rows as VolumeAccumulator::AddPart.
-  const auto& q = s.moved_q();
-  const Eigen::Matrix3d mt = s.derivative().m.transpose();
-  Eigen::Vector3d rotation[2], translation[2];
-  Split(nb, parallel, [&](int32_t lo, int32_t hi, int part) {
-    Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
-    for (int32_t t = lo; t < hi; ++t) {
-      Moment& m0 = m.moments[0][t];
-      double w = m0.w, cx = m0.x, cy = m0.y;
-      m0 = {0.0, 0.0, 0.0};
-      if (parallel) {  // one thread leaves moments[1] zero: not worth a pass over memory
-        Moment& m1 = m.moments[1][t];
-        w += m1.w, cx += m1.x, cy += m1.y;
-        m1 = {0.0, 0.0, 0.0};
-      }
-      if (w == 0 && cx == 0 && cy == 0) continue;
-      const int32_t* v = &mesh_b.triangles[3 * t];
-      const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
-      const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
-      const double det = ax * by - ay * bx;
-      const double l1 = (by * cx - bx * cy) / det, l2 = (ax * cy - ay * cx) / det;
-      const Eigen::Vector3d sum = w * q[v[0]] + l1 * (q[v[1]] - q[v[0]]) + l2 * (q[v[2]] - q[v[0]]);
-      const Eigen::Vector3d normal(-m.record_b[t].gx, -m.record_b[t].gy, 1.0);
-      r += normal.cross(sum);
-      tr += w * normal;
-      if (m.binning) {
-        const int32_t b = m.bin_of_b[t];
-        m.part_bins[part].d_abs[b] += (Vector6() << -mt * normal.cross(sum), w * normal).finished();
-        m.part_bins[part].used[b] = 1;
-      }
-    }
-    rotation[part] = r;
-    translation[part] = tr;
-  });
-  if (!parallel) rotation[1] = translation[1] = Eigen::Vector3d::Zero();
-  if (m.binning) {
-    for (const PartBins& part : m.part_bins) {
-      for (std::size_t b = 0; b < part.used.size(); ++b) {
-        if (!part.used[b]) continue;
-        bins->d_abs[b] += part.d_abs[b];
-        bins->d_area[b] += part.d_area[b];
-        bins->used[b] = 1;
-      }
-    }
-  }
-  total.d_abs.head<3>() -= mt * (rotation[0] + rotation[1]);
-  total.d_abs.tail<3>() += translation[0] + translation[1];
+  if (gradient) m.AddInteriorGradient(s, parallel, bins, &total);
   return total;
 }
 

@@ -108,6 +108,9 @@ struct VolumeCostCache::Impl {
   void Bind(const PairState& s);
   void BindWeights();
   void MarkDirty(const PairState& s);
+  bool UpdateTopology(const PairState& s, bool parallel);
+  void RecordMovedTriangles(const PairState& s, bool parallel, const GradientBins* bins);
+  void AddInteriorGradient(const PairState& s, bool parallel, GradientBins* bins, VolumeCostValue* total);
   template <bool kWeighted>
   void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
                  VolumeCostValue* out);
