@@ -29,147 +29,172 @@ void Store(const Eigen::Vector3d& rotation_part, const Eigen::Vector3d& translat
   }
 }
 
-}  // namespace
-
-void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings, bool jacobians,
-                           AxialResiduals* out) {
-  const ReferenceSide& a = state.reference();
-  const MovingSide& b = state.moving();
-  const Triangulation& mesh_b = state.moving_mesh();
-  const std::size_t na = a.xy.size(), nb = b.points.size();
-  out->r.assign(na + nb, 0.0);
-  out->active.assign(na + nb, 0);
-  if (jacobians) out->jacobian.assign(na + nb, std::array<double, 6>{});
-  const Eigen::Matrix3d mt = state.derivative().m.transpose();
-  const std::vector<Point2>& bxy = state.moved_xy();
-  const std::vector<double>& bz = state.moved_z();
-  const std::vector<Eigen::Vector3d>& bq = state.moved_q();
-  const MaskRegion* mask = settings.mask.get();
-  const bool normal = settings.normal_distance;
-  const std::vector<double>& mu = a.weight;
-  const bool weighted = !mu.empty();
-  const std::vector<uint8_t>& inner_a = state.reference_interior();
-  const std::vector<uint8_t>& inner_b = state.moving_interior();
-  const std::vector<double>& a_cosine = state.reference_cosine();
-  const std::vector<Eigen::Vector3d>& b_normal = state.moving_normal();
-  const Eigen::Matrix3d& rotation = state.derivative().rotation;
+// What every node's residual reads, gathered once per evaluation.
+struct NodeContext {
+  NodeContext(const PairState& s, const AxialSettings& settings, bool with_jacobians, AxialResiduals* residuals)
+      : state(s), a(s.reference()), mesh_b(s.moving_mesh()), na(a.xy.size()),
+        mt(s.derivative().m.transpose()), bxy(s.moved_xy()), bz(s.moved_z()), bq(s.moved_q()),
+        mask(settings.mask.get()), normal(settings.normal_distance), mu(a.weight), weighted(!mu.empty()),
+        inner_a(s.reference_interior()), inner_b(s.moving_interior()), a_cosine(s.reference_cosine()),
+        b_normal(s.moving_normal()), rotation(s.derivative().rotation), jacobians(with_jacobians),
+        out(residuals) {}
+  const PairState& state;
+  const ReferenceSide& a;
+  const Triangulation& mesh_b;
+  const std::size_t na;
+  const Eigen::Matrix3d mt;
+  const std::vector<Point2>& bxy;
+  const std::vector<double>& bz;
+  const std::vector<Eigen::Vector3d>& bq;
+  const MaskRegion* mask;
+  const bool normal;
+  const std::vector<double>& mu;
+  const bool weighted;
+  const std::vector<uint8_t>& inner_a;
+  const std::vector<uint8_t>& inner_b;
+  const std::vector<double>& a_cosine;
+  const std::vector<Eigen::Vector3d>& b_normal;
+  const Eigen::Matrix3d& rotation;
+  const bool jacobians;
+  AxialResiduals* out;
   // Each node's share of the normalization, μ τ², and its derivative.
-  std::vector<double> node_weight(na + nb, 0.0);
-  std::vector<std::array<double, 6>> d_weight(jacobians ? na + nb : 0, std::array<double, 6>{});
+  std::vector<double> node_weight;
+  std::vector<std::array<double, 6>> d_weight;
+};
 
-  int64_t overlap = 0;
-  for (std::size_t i = 0; i < na; ++i) {
-    const Location& loc = state.a_in_b()[i];
-    // Nodes of either surface's junk (measure/domain.h) are not in Ω.
-    if (!a.domain_vertex[i] || !state.OnMovingSurface(loc)) continue;
-    ++overlap;
-    if (mask != nullptr && !InsideMask(*mask, a.xy[i])) continue;
-    if (weighted && !(mu[i] > 0.0)) continue;
-    const int32_t* v = &mesh_b.triangles[3 * loc.triangle];
-    const auto& l = loc.barycentric;
-    // The taper τ: B's inner-vertex flags interpolated on the moved triangle.
-    const double taper = l[0] * inner_b[v[0]] + l[1] * inner_b[v[1]] + l[2] * inner_b[v[2]];
-    if (!(taper > 0.0)) continue;
-    // normal_distance: the cosine of B''s slope, linear on the moved
-    // triangle from its corners' moved unit normals (continuous from one
-    // triangle to the next, unlike each triangle's own slope).
-    double cosine = 1.0;
-    Eigen::Vector3d u[3] = {Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ()};
-    if (normal) {
-      for (int c = 0; c < 3; ++c) u[c] = rotation * b_normal[v[c]];
-      cosine = l[0] * u[0].z() + l[1] * u[1].z() + l[2] * u[2].z();
-      if (!(cosine > 0.0)) continue;  // overturned: the weight has reached 0
-    }
-    const double root = weighted ? std::sqrt(mu[i]) : 1.0;  // μ_i is fixed: a constant factor
-    const double mu_i = weighted ? mu[i] : 1.0;
-    node_weight[i] = mu_i * taper * taper;
-    const double gap = l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i];
-    const double untapered = root * cosine * gap;
-    out->r[i] = taper * untapered;
-    out->active[i] = 1;
-    if (!jacobians) continue;
-    const Eigen::Vector3d n = UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], bz[v[0]], bz[v[1]], bz[v[2]]);
-    const Eigen::Vector3d q = l[0] * bq[v[0]] + l[1] * bq[v[1]] + l[2] * bq[v[2]];
-    // A field f linear on the moved triangle, read at the fixed xy of node
-    // i, moves as the height does, with (−∂f/∂x, −∂f/∂y, 0) in place of n.
-    auto eulerian = [&](double f0, double f1, double f2) {
-      const Eigen::Vector3d up = UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], f0, f1, f2);
-      return Eigen::Vector3d(up.x(), up.y(), 0.0);
-    };
-    Eigen::Vector3d d_rotation = -(mt * n.cross(q)) * cosine, d_translation = n * cosine;
-    if (normal) {
-      // The corners' normals turn with the rotation (du = Mδω × u), and
-      // their z is the cosine: d(u_z)/dω = Mᵀ(u × e_z).
-      const Eigen::Vector3d n_cosine = eulerian(u[0].z(), u[1].z(), u[2].z());
-      const Eigen::Vector3d turned = mt * (l[0] * u[0] + l[1] * u[1] + l[2] * u[2]).cross(Eigen::Vector3d::UnitZ());
-      d_rotation += gap * (turned - mt * n_cosine.cross(q));
-      d_translation += gap * n_cosine;
-    }
-    const Eigen::Vector3d n_taper = eulerian(inner_b[v[0]], inner_b[v[1]], inner_b[v[2]]);
-    const Eigen::Vector3d dt_rotation = -(mt * n_taper.cross(q));
-    Store(taper * root * d_rotation + untapered * dt_rotation,
-          taper * root * d_translation + untapered * n_taper, &out->jacobian[i]);
-    Store(2.0 * mu_i * taper * dt_rotation, 2.0 * mu_i * taper * n_taper, &d_weight[i]);
+// Reference node i in Ω: its gap to the moved B (tapered, weighted).
+void ReferenceNodeResidual(NodeContext& ctx, std::size_t i) {
+  const Location& loc = ctx.state.a_in_b()[i];
+  const ReferenceSide& a = ctx.a;
+  const MaskRegion* mask = ctx.mask;
+  const bool weighted = ctx.weighted, normal = ctx.normal, jacobians = ctx.jacobians;
+  const std::vector<double>& mu = ctx.mu;
+  const auto& inner_b = ctx.inner_b;
+  const auto& bxy = ctx.bxy;
+  const auto& bz = ctx.bz;
+  const auto& bq = ctx.bq;
+  const Eigen::Matrix3d& mt = ctx.mt;
+  AxialResiduals* out = ctx.out;
+  if (mask != nullptr && !InsideMask(*mask, a.xy[i])) return;
+  if (weighted && !(mu[i] > 0.0)) return;
+  const int32_t* v = &ctx.mesh_b.triangles[3 * loc.triangle];
+  const auto& l = loc.barycentric;
+  // The taper τ: B's inner-vertex flags interpolated on the moved triangle.
+  const double taper = l[0] * inner_b[v[0]] + l[1] * inner_b[v[1]] + l[2] * inner_b[v[2]];
+  if (!(taper > 0.0)) return;
+  // normal_distance: the cosine of B''s slope, linear on the moved
+  // triangle from its corners' moved unit normals (continuous from one
+  // triangle to the next, unlike each triangle's own slope).
+  double cosine = 1.0;
+  Eigen::Vector3d u[3] = {Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ()};
+  if (normal) {
+    for (int c = 0; c < 3; ++c) u[c] = ctx.rotation * ctx.b_normal[v[c]];
+    cosine = l[0] * u[0].z() + l[1] * u[1].z() + l[2] * u[2].z();
+    if (!(cosine > 0.0)) return;  // overturned: the weight has reached 0
   }
-  for (std::size_t j = 0; j < nb; ++j) {
-    const Location& loc = state.b_in_a()[j];
-    if (!state.moving_node_active(j) || !state.OnReferenceSurface(loc)) continue;
-    ++overlap;
-    if (mask != nullptr && !InsideMask(*mask, bxy[j])) continue;
-    const int32_t* v = &a.mesh.triangles[3 * loc.triangle];
-    const auto& l = loc.barycentric;
-    double w = 1.0;
-    if (weighted) {
-      w = l[0] * mu[v[0]] + l[1] * mu[v[1]] + l[2] * mu[v[2]];
-      if (!(w > 0.0)) continue;
-    }
-    // The taper τ: A's inner-vertex flags interpolated on A's triangle.
-    const double taper = l[0] * inner_a[v[0]] + l[1] * inner_a[v[1]] + l[2] * inner_a[v[2]];
-    if (!(taper > 0.0)) continue;
-    // normal_distance: the cosine of A's slope, linear on A's triangle.
-    const double cosine =
-        normal ? l[0] * a_cosine[v[0]] + l[1] * a_cosine[v[1]] + l[2] * a_cosine[v[2]] : 1.0;
-    if (!(cosine > 0.0)) continue;
-    const std::size_t k = na + j;
-    const double gap = l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j];
-    const double r = cosine * gap;
-    const double root = std::sqrt(w);
-    out->r[k] = taper * root * r;
-    out->active[k] = 1;
-    node_weight[k] = w * taper * taper;
-    if (!jacobians) continue;
-    const Eigen::Vector3d n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
-    // A field linear on the A triangle (μ, τ, the cosine) has a gradient g
-    // that moves with x'_j: d/dt = g, d/dω = −Mᵀ(g × q).
-    auto gradient_of = [&](double f0, double f1, double f2) {
-      const Eigen::Vector3d up = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], f0, f1, f2);
-      return Eigen::Vector3d(-up.x(), -up.y(), 0.0);
-    };
-    Eigen::Vector3d d_rotation = cosine * (mt * n.cross(bq[j])), d_translation = -cosine * n;
-    if (normal) {
-      const Eigen::Vector3d g = gradient_of(a_cosine[v[0]], a_cosine[v[1]], a_cosine[v[2]]);
-      d_rotation -= gap * (mt * g.cross(bq[j]));
-      d_translation += gap * g;
-    }
-    Eigen::Vector3d dw_rotation = Eigen::Vector3d::Zero(), dw_translation = Eigen::Vector3d::Zero();
-    if (weighted) {
-      dw_translation = gradient_of(mu[v[0]], mu[v[1]], mu[v[2]]);
-      dw_rotation = -(mt * dw_translation.cross(bq[j]));
-      const double half = r / (2.0 * root);
-      d_rotation = root * d_rotation + half * dw_rotation;
-      d_translation = root * d_translation + half * dw_translation;
-    }
-    const Eigen::Vector3d dt_translation = gradient_of(inner_a[v[0]], inner_a[v[1]], inner_a[v[2]]);
-    const Eigen::Vector3d dt_rotation = -(mt * dt_translation.cross(bq[j]));
-    const double untapered = root * r;
-    Store(taper * d_rotation + untapered * dt_rotation,
-          taper * d_translation + untapered * dt_translation, &out->jacobian[k]);
-    const double t2 = taper * taper;
-    Store(t2 * dw_rotation + 2.0 * w * taper * dt_rotation,
-          t2 * dw_translation + 2.0 * w * taper * dt_translation, &d_weight[k]);
+  const double root = weighted ? std::sqrt(mu[i]) : 1.0;  // μ_i is fixed: a constant factor
+  const double mu_i = weighted ? mu[i] : 1.0;
+  ctx.node_weight[i] = mu_i * taper * taper;
+  const double gap = l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i];
+  const double untapered = root * cosine * gap;
+  out->r[i] = taper * untapered;
+  out->active[i] = 1;
+  if (!jacobians) return;
+  const Eigen::Vector3d n = UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], bz[v[0]], bz[v[1]], bz[v[2]]);
+  const Eigen::Vector3d q = l[0] * bq[v[0]] + l[1] * bq[v[1]] + l[2] * bq[v[2]];
+  // A field f linear on the moved triangle, read at the fixed xy of node
+  // i, moves as the height does, with (−∂f/∂x, −∂f/∂y, 0) in place of n.
+  auto eulerian = [&](double f0, double f1, double f2) {
+    const Eigen::Vector3d up = UpNormal(bxy[v[0]], bxy[v[1]], bxy[v[2]], f0, f1, f2);
+    return Eigen::Vector3d(up.x(), up.y(), 0.0);
+  };
+  Eigen::Vector3d d_rotation = -(mt * n.cross(q)) * cosine, d_translation = n * cosine;
+  if (normal) {
+    // The corners' normals turn with the rotation (du = Mδω × u), and
+    // their z is the cosine: d(u_z)/dω = Mᵀ(u × e_z).
+    const Eigen::Vector3d n_cosine = eulerian(u[0].z(), u[1].z(), u[2].z());
+    const Eigen::Vector3d turned = mt * (l[0] * u[0] + l[1] * u[1] + l[2] * u[2]).cross(Eigen::Vector3d::UnitZ());
+    d_rotation += gap * (turned - mt * n_cosine.cross(q));
+    d_translation += gap * n_cosine;
   }
-  out->overlap_count = overlap;
+  const Eigen::Vector3d n_taper = eulerian(inner_b[v[0]], inner_b[v[1]], inner_b[v[2]]);
+  const Eigen::Vector3d dt_rotation = -(mt * n_taper.cross(q));
+  Store(taper * root * d_rotation + untapered * dt_rotation,
+        taper * root * d_translation + untapered * n_taper, &out->jacobian[i]);
+  Store(2.0 * mu_i * taper * dt_rotation, 2.0 * mu_i * taper * n_taper, &ctx.d_weight[i]);
+}
 
+// Moving node j in Ω: its gap to A (tapered, weighted by μ where it lands).
+void MovingNodeResidual(NodeContext& ctx, std::size_t j) {
+  const Location& loc = ctx.state.b_in_a()[j];
+  const ReferenceSide& a = ctx.a;
+  const MaskRegion* mask = ctx.mask;
+  const bool weighted = ctx.weighted, normal = ctx.normal, jacobians = ctx.jacobians;
+  const std::vector<double>& mu = ctx.mu;
+  const auto& inner_a = ctx.inner_a;
+  const auto& a_cosine = ctx.a_cosine;
+  const auto& bxy = ctx.bxy;
+  const auto& bz = ctx.bz;
+  const auto& bq = ctx.bq;
+  const Eigen::Matrix3d& mt = ctx.mt;
+  AxialResiduals* out = ctx.out;
+  const std::size_t na = ctx.na;
+  if (mask != nullptr && !InsideMask(*mask, bxy[j])) return;
+  const int32_t* v = &a.mesh.triangles[3 * loc.triangle];
+  const auto& l = loc.barycentric;
+  double w = 1.0;
+  if (weighted) {
+    w = l[0] * mu[v[0]] + l[1] * mu[v[1]] + l[2] * mu[v[2]];
+    if (!(w > 0.0)) return;
+  }
+  // The taper τ: A's inner-vertex flags interpolated on A's triangle.
+  const double taper = l[0] * inner_a[v[0]] + l[1] * inner_a[v[1]] + l[2] * inner_a[v[2]];
+  if (!(taper > 0.0)) return;
+  // normal_distance: the cosine of A's slope, linear on A's triangle.
+  const double cosine =
+      normal ? l[0] * a_cosine[v[0]] + l[1] * a_cosine[v[1]] + l[2] * a_cosine[v[2]] : 1.0;
+  if (!(cosine > 0.0)) return;
+  const std::size_t k = na + j;
+  const double gap = l[0] * a.z[v[0]] + l[1] * a.z[v[1]] + l[2] * a.z[v[2]] - bz[j];
+  const double r = cosine * gap;
+  const double root = std::sqrt(w);
+  out->r[k] = taper * root * r;
+  out->active[k] = 1;
+  ctx.node_weight[k] = w * taper * taper;
+  if (!jacobians) return;
+  const Eigen::Vector3d n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
+  // A field linear on the A triangle (μ, τ, the cosine) has a gradient g
+  // that moves with x'_j: d/dt = g, d/dω = −Mᵀ(g × q).
+  auto gradient_of = [&](double f0, double f1, double f2) {
+    const Eigen::Vector3d up = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], f0, f1, f2);
+    return Eigen::Vector3d(-up.x(), -up.y(), 0.0);
+  };
+  Eigen::Vector3d d_rotation = cosine * (mt * n.cross(bq[j])), d_translation = -cosine * n;
+  if (normal) {
+    const Eigen::Vector3d g = gradient_of(a_cosine[v[0]], a_cosine[v[1]], a_cosine[v[2]]);
+    d_rotation -= gap * (mt * g.cross(bq[j]));
+    d_translation += gap * g;
+  }
+  Eigen::Vector3d dw_rotation = Eigen::Vector3d::Zero(), dw_translation = Eigen::Vector3d::Zero();
+  if (weighted) {
+    dw_translation = gradient_of(mu[v[0]], mu[v[1]], mu[v[2]]);
+    dw_rotation = -(mt * dw_translation.cross(bq[j]));
+    const double half = r / (2.0 * root);
+    d_rotation = root * d_rotation + half * dw_rotation;
+    d_translation = root * d_translation + half * dw_translation;
+  }
+  const Eigen::Vector3d dt_translation = gradient_of(inner_a[v[0]], inner_a[v[1]], inner_a[v[2]]);
+  const Eigen::Vector3d dt_rotation = -(mt * dt_translation.cross(bq[j]));
+  const double untapered = root * r;
+  Store(taper * d_rotation + untapered * dt_rotation,
+        taper * d_translation + untapered * dt_translation, &out->jacobian[k]);
+  const double t2 = taper * taper;
+  Store(t2 * dw_rotation + 2.0 * w * taper * dt_rotation,
+        t2 * dw_translation + 2.0 * w * taper * dt_translation, &ctx.d_weight[k]);
+}
+
+// trim_fraction: the largest |r| dropped; then the count of active nodes.
+void Trim(const AxialSettings& settings, bool jacobians, AxialResiduals* out) {
   int64_t active = 0;
   for (uint8_t flag : out->active) active += flag;
   out->trim_threshold = 0.0;
@@ -196,6 +221,14 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     }
   }
   out->active_count = active;
+}
+
+// normalize_count: r scaled to N / Σ μ τ² over the active nodes (and the
+// Jacobian by the scale's derivative too).
+void Normalize(const AxialSettings& settings, const NodeContext& ctx, AxialResiduals* out) {
+  const bool jacobians = ctx.jacobians;
+  const std::vector<double>& node_weight = ctx.node_weight;
+  const std::vector<std::array<double, 6>>& d_weight = ctx.d_weight;
   // Σ μ τ² over the active nodes, and its derivative.
   double total = 0.0;
   Eigen::Matrix<double, 6, 1> d_total = Eigen::Matrix<double, 6, 1>::Zero();
@@ -219,6 +252,34 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
       out->r[k] *= scale;
     }
   }
+}
+
+}  // namespace
+
+void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings, bool jacobians,
+                           AxialResiduals* out) {
+  const std::size_t na = state.reference().xy.size(), nb = state.moving().points.size();
+  out->r.assign(na + nb, 0.0);
+  out->active.assign(na + nb, 0);
+  if (jacobians) out->jacobian.assign(na + nb, std::array<double, 6>{});
+  NodeContext ctx(state, settings, jacobians, out);
+  ctx.node_weight.assign(na + nb, 0.0);
+  ctx.d_weight.assign(jacobians ? na + nb : 0, std::array<double, 6>{});
+  int64_t overlap = 0;
+  for (std::size_t i = 0; i < na; ++i) {
+    // Nodes of either surface's junk (measure/domain.h) are not in Ω.
+    if (!ctx.a.domain_vertex[i] || !state.OnMovingSurface(state.a_in_b()[i])) continue;
+    ++overlap;
+    ReferenceNodeResidual(ctx, i);
+  }
+  for (std::size_t j = 0; j < nb; ++j) {
+    if (!state.moving_node_active(j) || !state.OnReferenceSurface(state.b_in_a()[j])) continue;
+    ++overlap;
+    MovingNodeResidual(ctx, j);
+  }
+  out->overlap_count = overlap;
+  Trim(settings, jacobians, out);
+  Normalize(settings, ctx, out);
 }
 
 }  // namespace surfreg
