@@ -22,6 +22,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <ceres/gradient_problem_solver.h>
+#include <ceres/solver.h>
 
 #include "measure/measures.h"
 #include "measure/surface.h"
@@ -32,12 +34,16 @@ namespace surfreg {
 
 enum class CostKind { kAxial, kVolume };
 enum class LossKind { kNone, kHuber, kSoftL1, kCauchy };
-// Trust-region step for the axial cost.
-enum class TrustRegionKind { kLevenbergMarquardt, kDogleg };
-// Line-search direction for the volume cost.
-enum class LineSearchKind { kLbfgs, kBfgs, kNonlinearCg };
-// Linear solver of the trust-region steps (axial cost and prealignment).
-enum class LinearSolverKind { kDenseQr, kDenseNormalCholesky, kCgnr };
+
+// The Ceres options Align starts from (AlignOptions::axial_solver and
+// volume_solver): Levenberg–Marquardt with dense QR (the most stable; dense
+// normal Cholesky is faster but squares the condition number; CGNR is
+// iterative and inexact), and L-BFGS; 100 iterations per level and start;
+// a function tolerance of 1e-12; parameter tolerances of 1e-10 (trust
+// region) and 1e-14 (line search) of the parameters' size, far below any
+// accuracy the data support; no gradient tolerance (1e-16); silent.
+ceres::Solver::Options DefaultAxialSolverOptions();
+ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions();
 
 // Parameter order everywhere: rx, ry, rz (rotation vector, radians), tx, ty, tz.
 inline constexpr std::array<const char*, 6> kParameterNames = {"rx", "ry", "rz", "tx", "ty", "tz"};
@@ -57,15 +63,15 @@ struct AlignOptions {
   // down-weighted); 0 = automatic: 3 × 1.4826 × median |residual| at the
   // initial motion.
   double loss_scale = 0.0;
-  TrustRegionKind trust_region = TrustRegionKind::kLevenbergMarquardt;
-  LineSearchKind line_search = LineSearchKind::kLbfgs;
-  // Dense QR is the most stable; dense Cholesky of the normal equations is
-  // faster but squares the condition number; CGNR (conjugate gradients on
-  // the normal equations) is iterative and inexact.
-  LinearSolverKind linear_solver = LinearSolverKind::kDenseQr;
-  int max_iterations = 100;  // per level and start
-  // Relative decrease of the cost below which the solver stops.
-  double function_tolerance = 1e-12;
+  // The solvers, configured as Ceres documents them: axial_solver (a trust
+  // region) for the axial cost and the prealignment, volume_solver (a line
+  // search) for the volume cost; each run of a level and start takes them
+  // as they are, adding its own callbacks (their callbacks run too), the
+  // thread count of num_threads, and for the volume solver
+  // update_state_every_iteration; the prealignment stops at a relative
+  // tolerance of at least 1e-6. IsValid checks them with Ceres' IsValid.
+  ceres::Solver::Options axial_solver = DefaultAxialSolverOptions();
+  ceres::GradientProblemSolver::Options volume_solver = DefaultVolumeSolverOptions();
   // Drop this fraction (0 ≤ f < 0.5) of the worst residuals at each
   // evaluation: for partial overlap and regions that really changed. Axial
   // cost only.

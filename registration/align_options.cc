@@ -10,14 +10,43 @@
 
 namespace surfreg {
 
+ceres::Solver::Options DefaultAxialSolverOptions() {
+  ceres::Solver::Options o;
+  o.minimizer_type = ceres::TRUST_REGION;
+  o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  o.linear_solver_type = ceres::DENSE_QR;
+  o.max_num_iterations = 100;
+  o.function_tolerance = 1e-12;
+  o.gradient_tolerance = 1e-16;
+  o.parameter_tolerance = 1e-10;
+  o.logging_type = ceres::SILENT;
+  return o;
+}
+
+ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions() {
+  ceres::GradientProblemSolver::Options o;
+  o.line_search_direction_type = ceres::LBFGS;
+  o.max_num_iterations = 100;
+  o.function_tolerance = 1e-12;
+  o.gradient_tolerance = 1e-16;
+  o.parameter_tolerance = 1e-14;
+  o.logging_type = ceres::SILENT;
+  return o;
+}
+
 bool AlignOptions::IsValid(std::string* error) const {
   auto fail = [error](const std::string& message) {
     *error = message;
     return false;
   };
   if (!(loss_scale >= 0) || !std::isfinite(loss_scale)) return fail("loss_scale must be >= 0");
-  if (max_iterations < 1) return fail("max_iterations must be >= 1");
-  if (!(function_tolerance > 0 && function_tolerance < 1)) return fail("function_tolerance must be in (0, 1)");
+  if (axial_solver.max_num_iterations < 1 || volume_solver.max_num_iterations < 1) {
+    return fail("max_iterations must be >= 1");
+  }
+  for (const double tolerance : {axial_solver.function_tolerance, volume_solver.function_tolerance}) {
+    if (!(tolerance > 0 && tolerance < 1)) return fail("function_tolerance must be in (0, 1)");
+  }
+  if (axial_solver.minimizer_type != ceres::TRUST_REGION) return fail("axial_solver: the minimizer must be a trust region");
   if (!(trim_fraction >= 0 && trim_fraction < 0.5)) return fail("trim_fraction must be in [0, 0.5)");
   if (std::none_of(free.begin(), free.end(), [](bool f) { return f; })) {
     return fail("free: at least one parameter must be free");
@@ -25,9 +54,12 @@ bool AlignOptions::IsValid(std::string* error) const {
   if (levels < 1 || levels > 8) return fail("levels must be in [1, 8]");
   if (!(level_factor >= 1.5 && level_factor <= 64)) return fail("level_factor must be in [1.5, 64]");
   if (!(subsample > 0 && subsample <= 1)) return fail("subsample must be in (0, 1]");
-  if (linear_solver == LinearSolverKind::kCgnr && trust_region == TrustRegionKind::kDogleg) {
+  if (axial_solver.linear_solver_type == ceres::CGNR && axial_solver.trust_region_strategy_type == ceres::DOGLEG) {
     return fail("linear_solver cgnr needs trust_region levenberg_marquardt (dogleg needs a factorization)");
   }
+  std::string ceres_error;
+  if (!axial_solver.IsValid(&ceres_error)) return fail("axial_solver: " + ceres_error);
+  if (!volume_solver.IsValid(&ceres_error)) return fail("volume_solver: " + ceres_error);
   if (multi_start < 0 || multi_start > 1000) return fail("multi_start must be in [0, 1000]");
   if (!(multi_start_angle_deg >= 0 && multi_start_angle_deg <= 90)) {
     return fail("multi_start_angle_deg must be in [0, 90]");

@@ -270,7 +270,7 @@ JawPartResult RegisterPart(const ReferencePart& reference, const Surface& part,
   if (options.cost == JawCost::kVolume && options.volume_iterations > 0) {
     AlignOptions volume;
     volume.cost = CostKind::kVolume;
-    volume.max_iterations = options.volume_iterations;
+    volume.volume_solver.max_num_iterations = options.volume_iterations;
     volume.num_threads = options.num_threads;
     SolveContext volume_context;
     volume_context.options = &volume;

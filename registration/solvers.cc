@@ -227,30 +227,12 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
                              loss.get(), x.data());
   }
 
-  ceres::Solver::Options solver;
-  solver.minimizer_type = ceres::TRUST_REGION;
-  solver.trust_region_strategy_type = options.trust_region == TrustRegionKind::kDogleg
-                                          ? ceres::DOGLEG
-                                          : ceres::LEVENBERG_MARQUARDT;
-  switch (options.linear_solver) {
-    case LinearSolverKind::kDenseQr: solver.linear_solver_type = ceres::DENSE_QR; break;
-    case LinearSolverKind::kDenseNormalCholesky:
-      solver.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
-      break;
-    case LinearSolverKind::kCgnr: solver.linear_solver_type = ceres::CGNR; break;
-  }
-  solver.max_num_iterations = options.max_iterations;
-  solver.function_tolerance = options.function_tolerance;
-  solver.gradient_tolerance = 1e-16;
-  // Steps of 1e-10 of the parameters' size are far below any accuracy the
-  // data support (a trim or a mask still makes the cost jump).
-  solver.parameter_tolerance = 1e-10;
+  ceres::Solver::Options solver = options.axial_solver;
   if (context.prealignment) {
     solver.function_tolerance = std::max(solver.function_tolerance, kPrealignTolerance);
     solver.parameter_tolerance = kPrealignTolerance;
   }
   solver.num_threads = std::max(1, options.num_threads);
-  solver.logging_type = ceres::SILENT;
   LogCallback log(context);
   solver.callbacks.push_back(&log);
   // B's surface is fixed as in SolveVolume: a trust region compares the
@@ -336,19 +318,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   const AlignOptions& options = *context.options;
   ParameterMap map(options, context.rotation_scale, theta0);
   std::vector<double> x = map.Reduce(theta0);
-  ceres::GradientProblemSolver::Options solver;
-  switch (options.line_search) {
-    case LineSearchKind::kLbfgs: solver.line_search_direction_type = ceres::LBFGS; break;
-    case LineSearchKind::kBfgs: solver.line_search_direction_type = ceres::BFGS; break;
-    case LineSearchKind::kNonlinearCg:
-      solver.line_search_direction_type = ceres::NONLINEAR_CONJUGATE_GRADIENT;
-      break;
-  }
-  solver.max_num_iterations = options.max_iterations;
-  solver.function_tolerance = options.function_tolerance;
-  solver.gradient_tolerance = 1e-16;
-  solver.parameter_tolerance = 1e-14;
-  solver.logging_type = ceres::SILENT;
+  ceres::GradientProblemSolver::Options solver = options.volume_solver;
   // x holds the last accepted iterate even when a round ends in a failed line
   // search (against a fold): the next round goes on from there.
   solver.update_state_every_iteration = true;

@@ -40,7 +40,7 @@ WideSearchResult WideSearch(const ReferenceSide& reference, const MovingSide& mo
                             const std::array<double, 6>& theta0, const AlignOptions& options,
                             double rotation_scale) {
   AlignOptions coarse = options;
-  coarse.max_iterations = 30;
+  coarse.axial_solver.max_num_iterations = coarse.volume_solver.max_num_iterations = 30;
   coarse.loss = LossKind::kNone;
   coarse.on_iteration = nullptr;
   coarse.on_stage = nullptr;

@@ -124,6 +124,38 @@ TEST(AlignApiTest, BadRigidStartsAreRefused) {
   EXPECT_NE(error.find("rigid"), std::string::npos) << error;
 }
 
+// The solvers' Ceres options are the ones used (a volume solve capped at 2
+// iterations per level stops there) and are checked by Ceres' IsValid.
+TEST(AlignApiTest, CeresOptionsAreUsedAndChecked) {
+  const Family family = MakeFamily(0);
+  const Surface a = MakeSurface(family.a, {}, "a");
+  const Surface b = MakeSurface(testing::MoveByInverse(family.b, testing::TrueMotion({0, 0, 1}, 1.0, {1, 0, 0},
+                                                                                       testing::Centroid(family.b))),
+                                {}, "b");
+  AlignOptions options;
+  options.prealign = false;
+  options.wide_search = AlignOptions::WideSearch::kNever;
+  options.volume_solver.max_num_iterations = 2;
+  const AlignResult capped = Align(a, b, options);
+  EXPECT_LE(capped.iterations, 2 * 6);  // at most 2 per round of the volume solve
+  options.volume_solver.max_num_iterations = 100;
+  EXPECT_GT(Align(a, b, options).iterations, capped.iterations);
+
+  std::string error;
+  AlignOptions bad;
+  bad.axial_solver.max_trust_region_radius = -1;  // Ceres: must be positive
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_EQ(error.rfind("axial_solver: ", 0), 0u) << error;
+  bad = AlignOptions();
+  bad.volume_solver.max_lbfgs_rank = 0;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_EQ(error.rfind("volume_solver: ", 0), 0u) << error;
+  bad = AlignOptions();
+  bad.axial_solver.linear_solver_type = ceres::CGNR;
+  bad.axial_solver.trust_region_strategy_type = ceres::DOGLEG;
+  EXPECT_FALSE(bad.IsValid(&error));
+}
+
 // FullReport: the CLI's summary lines in order, each ending in a newline;
 // BriefReport: one line with the verdict.
 TEST(AlignApiTest, ReportsNameEveryItem) {

@@ -60,7 +60,7 @@ TEST(AlignConfig, DefaultsAreAlignOptionsDefaults) {
   EXPECT_EQ(AlignConfigValue(config, "loss"), "none");
   EXPECT_EQ(AlignConfigValue(config, "trust_region"), "levenberg_marquardt");
   EXPECT_EQ(AlignConfigValue(config, "line_search"), "lbfgs");
-  EXPECT_EQ(AlignConfigValue(config, "max_iterations"), std::to_string(defaults.max_iterations));
+  EXPECT_EQ(AlignConfigValue(config, "max_iterations"), std::to_string(defaults.axial_solver.max_num_iterations));
   EXPECT_EQ(AlignConfigValue(config, "free"), "all");
   EXPECT_EQ(AlignConfigValue(config, "initial_rotation_deg"), "[0, 0, 0]");
   EXPECT_EQ(AlignConfigValue(config, "covariance"), "true");
@@ -167,10 +167,12 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_FALSE(o.prealign);
   EXPECT_EQ(o.loss, LossKind::kSoftL1);
   EXPECT_EQ(o.loss_scale, 0.25);
-  EXPECT_EQ(o.trust_region, TrustRegionKind::kDogleg);
-  EXPECT_EQ(o.line_search, LineSearchKind::kNonlinearCg);
-  EXPECT_EQ(o.max_iterations, 7);
-  EXPECT_EQ(o.function_tolerance, 1e-9);
+  EXPECT_EQ(o.axial_solver.trust_region_strategy_type, ceres::DOGLEG);
+  EXPECT_EQ(o.volume_solver.line_search_direction_type, ceres::NONLINEAR_CONJUGATE_GRADIENT);
+  EXPECT_EQ(o.axial_solver.max_num_iterations, 7);
+  EXPECT_EQ(o.volume_solver.max_num_iterations, 7);
+  EXPECT_EQ(o.axial_solver.function_tolerance, 1e-9);
+  EXPECT_EQ(o.volume_solver.function_tolerance, 1e-9);
   EXPECT_EQ(o.trim_fraction, 0.1);
   EXPECT_FALSE(o.normal_distance);
   EXPECT_EQ(o.slope_weight, 1.5);
@@ -202,7 +204,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(c.matrix_txt, "matrix.txt");
   EXPECT_TRUE(c.initial_matrix.empty());  // until FinishAlignConfig reads the file
   EXPECT_TRUE(c.progress);
-  EXPECT_EQ(o.linear_solver, LinearSolverKind::kDenseNormalCholesky);
+  EXPECT_EQ(o.axial_solver.linear_solver_type, ceres::DENSE_NORMAL_CHOLESKY);
   EXPECT_EQ(o.subsample, 0.5);
   const TerrainSettings& t = c.terrain;
   EXPECT_EQ(t.reference_crs, "EPSG:2193");
@@ -381,8 +383,8 @@ TEST(AlignConfig, DomainKeys) {
 
 // linear_solver and subsample (the sweep's keys): every value, both bounds.
 TEST(AlignConfig, LinearSolverAndSubsample) {
-  EXPECT_EQ(FromYaml("linear_solver: dense_qr").options.linear_solver, LinearSolverKind::kDenseQr);
-  EXPECT_EQ(FromYaml("linear_solver: cgnr").options.linear_solver, LinearSolverKind::kCgnr);
+  EXPECT_EQ(FromYaml("linear_solver: dense_qr").options.axial_solver.linear_solver_type, ceres::DENSE_QR);
+  EXPECT_EQ(FromYaml("linear_solver: cgnr").options.axial_solver.linear_solver_type, ceres::CGNR);
   EXPECT_EQ(AlignConfigValue(FromYaml("linear_solver: dense_normal_cholesky"), "linear_solver"),
             "dense_normal_cholesky");
   EXPECT_TRUE(Contains(YamlError("linear_solver: sparse_schur"),

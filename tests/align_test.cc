@@ -554,11 +554,10 @@ TEST(AlignTest, EulerAnglesMatchComposition) {
 TEST(AlignTest, EveryLinearSolverRecoversSelfCopy) {
   const auto a = testing::SampleUniform(testing::SmoothTerrain, 3000, 0, 100, 0, 100, 21);
   const Pair pair = MakePair(a, a, kAxes[3], 4.0, {6, -5, 2}, 100.0 / std::sqrt(3000.0));
-  for (LinearSolverKind solver :
-       {LinearSolverKind::kDenseQr, LinearSolverKind::kDenseNormalCholesky, LinearSolverKind::kCgnr}) {
+  for (ceres::LinearSolverType solver : {ceres::DENSE_QR, ceres::DENSE_NORMAL_CHOLESKY, ceres::CGNR}) {
     AlignOptions options;
     options.cost = CostKind::kAxial;
-    options.linear_solver = solver;
+    options.axial_solver.linear_solver_type = solver;
     options.compute_covariance = false;
     AlignResult result;
     const MotionError error = AlignAndCompare(pair, options, &result);

@@ -42,19 +42,15 @@ const Names<LossKind> kLosses = {{"none", LossKind::kNone},
 const Names<AlignOptions::StddevMethod> kStddevMethods = {
     {"sandwich", AlignOptions::StddevMethod::kSandwich},
     {"information", AlignOptions::StddevMethod::kInformation}};
-const Names<TrustRegionKind> kTrustRegions = {
-    {"levenberg_marquardt", TrustRegionKind::kLevenbergMarquardt},
-    {"dogleg", TrustRegionKind::kDogleg}};
-const Names<LineSearchKind> kLineSearches = {{"lbfgs", LineSearchKind::kLbfgs},
-                                             {"bfgs", LineSearchKind::kBfgs},
-                                             {"nonlinear_cg", LineSearchKind::kNonlinearCg}};
+const Names<ceres::TrustRegionStrategyType> kTrustRegions = {
+    {"levenberg_marquardt", ceres::LEVENBERG_MARQUARDT}, {"dogleg", ceres::DOGLEG}};
+const Names<ceres::LineSearchDirectionType> kLineSearches = {
+    {"lbfgs", ceres::LBFGS}, {"bfgs", ceres::BFGS}, {"nonlinear_cg", ceres::NONLINEAR_CONJUGATE_GRADIENT}};
 const Names<bool> kWeightModes = {{"uniform", false}, {"per_point", true}};
 const Names<MaskMode> kMaskModes = {{"include", MaskMode::kInclude}, {"exclude", MaskMode::kExclude}};
 const Names<DomainKind> kDomains = {{"data", DomainKind::kData}, {"hull", DomainKind::kHull}};
-const Names<LinearSolverKind> kLinearSolvers = {
-    {"dense_qr", LinearSolverKind::kDenseQr},
-    {"dense_normal_cholesky", LinearSolverKind::kDenseNormalCholesky},
-    {"cgnr", LinearSolverKind::kCgnr}};
+const Names<ceres::LinearSolverType> kLinearSolvers = {
+    {"dense_qr", ceres::DENSE_QR}, {"dense_normal_cholesky", ceres::DENSE_NORMAL_CHOLESKY}, {"cgnr", ceres::CGNR}};
 
 using C = AlignConfig;
 const std::vector<KeyEntry>& Table() {
@@ -84,22 +80,27 @@ const std::vector<KeyEntry>& Table() {
        [](const Value& v, C* c) { c->options.loss_scale = Number(v, 0, HUGE_VAL); },
        [](const C& c) { return Text(c.options.loss_scale); }},
       {{"trust_region", "one of levenberg_marquardt, dogleg", "trust-region step (axial cost)"},
-       [](const Value& v, C* c) { c->options.trust_region = Choice(v, kTrustRegions); },
-       [](const C& c) { return NameOf(c.options.trust_region, kTrustRegions); }},
+       [](const Value& v, C* c) { c->options.axial_solver.trust_region_strategy_type = Choice(v, kTrustRegions); },
+       [](const C& c) { return NameOf(c.options.axial_solver.trust_region_strategy_type, kTrustRegions); }},
       {{"line_search", "one of lbfgs, bfgs, nonlinear_cg", "line-search direction (volume cost)"},
-       [](const Value& v, C* c) { c->options.line_search = Choice(v, kLineSearches); },
-       [](const C& c) { return NameOf(c.options.line_search, kLineSearches); }},
+       [](const Value& v, C* c) { c->options.volume_solver.line_search_direction_type = Choice(v, kLineSearches); },
+       [](const C& c) { return NameOf(c.options.volume_solver.line_search_direction_type, kLineSearches); }},
       {{"linear_solver", "one of dense_qr, dense_normal_cholesky, cgnr",
         "linear solver of the trust-region steps (axial cost, prealignment)"},
-       [](const Value& v, C* c) { c->options.linear_solver = Choice(v, kLinearSolvers); },
-       [](const C& c) { return NameOf(c.options.linear_solver, kLinearSolvers); }},
+       [](const Value& v, C* c) { c->options.axial_solver.linear_solver_type = Choice(v, kLinearSolvers); },
+       [](const C& c) { return NameOf(c.options.axial_solver.linear_solver_type, kLinearSolvers); }},
       {{"max_iterations", "an integer >= 1", "solver iterations per level and start"},
-       [](const Value& v, C* c) { c->options.max_iterations = Integer(v, 1); },
-       [](const C& c) { return std::to_string(c.options.max_iterations); }},
+       [](const Value& v, C* c) {
+         c->options.axial_solver.max_num_iterations = c->options.volume_solver.max_num_iterations = Integer(v, 1);
+       },
+       [](const C& c) { return std::to_string(c.options.axial_solver.max_num_iterations); }},
       {{"function_tolerance", "a number in (0, 1)",
         "the solver stops when the cost decreases by less than this fraction"},
-       [](const Value& v, C* c) { c->options.function_tolerance = Number(v, 0, 1, "()"); },
-       [](const C& c) { return Text(c.options.function_tolerance); }},
+       [](const Value& v, C* c) {
+         c->options.axial_solver.function_tolerance = c->options.volume_solver.function_tolerance =
+             Number(v, 0, 1, "()");
+       },
+       [](const C& c) { return Text(c.options.axial_solver.function_tolerance); }},
       {{"trim_fraction", "a number in [0, 0.5)",
         "fraction of the largest axial residuals dropped at each evaluation"},
        [](const Value& v, C* c) { c->options.trim_fraction = Number(v, 0, 0.5, "[)"); },
