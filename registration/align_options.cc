@@ -10,28 +10,34 @@
 
 namespace surfreg {
 
+namespace {
+
+// What both solvers stop on: 100 iterations per level and start, a relative
+// cost decrease of 1e-12, no gradient tolerance; silent.
+template <typename CeresOptions>
+CeresOptions WithAlignStops(CeresOptions o, double parameter_tolerance) {
+  o.max_num_iterations = 100;
+  o.function_tolerance = 1e-12;
+  o.gradient_tolerance = 1e-16;
+  o.parameter_tolerance = parameter_tolerance;
+  o.logging_type = ceres::SILENT;
+  return o;
+}
+
+}  // namespace
+
 ceres::Solver::Options DefaultAxialSolverOptions() {
   ceres::Solver::Options o;
   o.minimizer_type = ceres::TRUST_REGION;
   o.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   o.linear_solver_type = ceres::DENSE_QR;
-  o.max_num_iterations = 100;
-  o.function_tolerance = 1e-12;
-  o.gradient_tolerance = 1e-16;
-  o.parameter_tolerance = 1e-10;
-  o.logging_type = ceres::SILENT;
-  return o;
+  return WithAlignStops(o, 1e-10);
 }
 
 ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions() {
   ceres::GradientProblemSolver::Options o;
   o.line_search_direction_type = ceres::LBFGS;
-  o.max_num_iterations = 100;
-  o.function_tolerance = 1e-12;
-  o.gradient_tolerance = 1e-16;
-  o.parameter_tolerance = 1e-14;
-  o.logging_type = ceres::SILENT;
-  return o;
+  return WithAlignStops(o, 1e-14);
 }
 
 bool AlignOptions::IsValid(std::string* error) const {
