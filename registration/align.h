@@ -45,6 +45,17 @@ enum class LossKind { kNone, kHuber, kSoftL1, kCauchy };
 ceres::Solver::Options DefaultAxialSolverOptions();
 ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions();
 
+// The volume cost's inner loop, the integrals over the overlay's cells: the
+// best kernel this CPU runs (AVX-512 F/DQ/VL, then AVX2 + FMA, then
+// scalar), or one named, for comparison (one the CPU or build cannot run
+// falls back to the best, with a warning). Every kernel gives the same
+// cost to rounding.
+enum class CellKernelChoice { kBest, kScalar, kAvx2, kAvx512 };
+// "scalar", "avx2", "avx512" or "best"; false (choice untouched) for
+// another name. The CLI takes the environment variable SURFREG_CELL_KERNEL
+// this way.
+bool ParseCellKernel(const std::string& name, CellKernelChoice* choice);
+
 // Parameter order everywhere: rx, ry, rz (rotation vector, radians), tx, ty, tz.
 inline constexpr std::array<const char*, 6> kParameterNames = {"rx", "ry", "rz", "tx", "ty", "tz"};
 
@@ -72,6 +83,7 @@ struct AlignOptions {
   // tolerance of at least 1e-6. IsValid checks them with Ceres' IsValid.
   ceres::Solver::Options axial_solver = DefaultAxialSolverOptions();
   ceres::GradientProblemSolver::Options volume_solver = DefaultVolumeSolverOptions();
+  CellKernelChoice cell_kernel = CellKernelChoice::kBest;
   // Drop this fraction (0 ≤ f < 0.5) of the worst residuals at each
   // evaluation: for partial overlap and regions that really changed. Axial
   // cost only.

@@ -191,7 +191,7 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   // evaluation at θ that starts the bread's cache (each moved B triangle's
   // share, by its centroid); masked, from a pass over the cells.
   const bool parallel = options.num_threads > 1;
-  VolumeCostCache cache;  // the bread's steps are small: the overlay is repaired, not rebuilt
+  VolumeCostCache cache(0.25, options.cell_kernel);  // the bread's steps are small: repaired, not rebuilt
   std::vector<TileSums> fine;
   double abs = 0, area = 0;
   if (mask == nullptr) {

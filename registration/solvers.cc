@@ -278,8 +278,8 @@ namespace {
 class VolumeFunction : public ceres::FirstOrderFunction {
  public:
   VolumeFunction(PairState& state, const ParameterMap& map, bool parallel,
-                 const MaskRegion* mask)
-      : state_(state), map_(map), parallel_(parallel), mask_(mask) {}
+                 const MaskRegion* mask, CellKernelChoice kernel)
+      : state_(state), map_(map), parallel_(parallel), mask_(mask), cache_(0.25, kernel) {}
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
     UpdateStats stats;
     if (!state_.Update(map_.Full(x), &stats)) {
@@ -346,7 +346,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
     ++rounds;
     auto* function = new VolumeFunction(
         state, map, options.num_threads > 1,
-        context.axial.mask.get());
+        context.axial.mask.get(), options.cell_kernel);
     ceres::GradientProblem problem(function);  // owns `function`
     log.set_iteration_offset(iterations, round > 0);
     ceres::Solve(solver, problem, x.data(), &summary);

@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "measure/mask_region.h"
+#include "registration/align.h"  // CellKernelChoice
 #include "registration/pair_state.h"
 
 namespace surfreg {
@@ -91,16 +92,16 @@ struct VolumeCostCacheStats {
 // and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); with
 // two threads, deterministic (fixed split and summation order). Unmasked
 // cells are integrated by a vector kernel on CPUs with AVX-512 or AVX2 +
-// FMA (run-time check); the environment variable SURFREG_CELL_KERNEL =
-// scalar, avx2 or avx512 picks one, for comparison and tests (one the CPU
-// cannot run: a warning and the best it can).
+// FMA (run-time check), or the one `kernel` names, for comparison and tests
+// (one the CPU cannot run: a warning and the best it can).
 //
 // Keeps no reference to the state between calls, but remembers its address:
 // call Reset() before using it with a new state at the same address whose B
 // mesh differs from the last one seen (e.g. another level of the same pair).
 class VolumeCostCache {
  public:
-  explicit VolumeCostCache(double max_dirty_fraction = 0.25);
+  explicit VolumeCostCache(double max_dirty_fraction = 0.25,
+                           CellKernelChoice kernel = CellKernelChoice::kBest);
   ~VolumeCostCache();
   VolumeCostCache(const VolumeCostCache&) = delete;
   VolumeCostCache& operator=(const VolumeCostCache&) = delete;

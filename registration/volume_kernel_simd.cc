@@ -1,12 +1,11 @@
-// Which cell kernel runs (SURFREG_CELL_KERNEL and the CPU), and the
+// Which cell kernel runs (the choice and the CPU), and the
 // dispatch to the vector ones. Compiled for the baseline target: nothing
 // here may use AVX, and the kernels' files are entered only after the CPU
 // check. SURFREG_X86_CELL_KERNELS is defined (registration/CMakeLists.txt)
 // when those files are compiled for their instruction sets.
 #include "registration/volume_kernel_simd.h"
 
-#include <cstdlib>
-#include <cstring>
+#include <atomic>
 
 #include <glog/logging.h>
 
@@ -33,30 +32,32 @@ bool CpuRuns(CellKernel kernel) {
 #endif
 }
 
-CellKernel Select() {
+CellKernel Best() {
   CellKernel best = CellKernel::kScalar;
   for (CellKernel k : {CellKernel::kAvx2, CellKernel::kAvx512}) {
     if (CpuRuns(k)) best = k;
   }
-  const char* value = std::getenv("SURFREG_CELL_KERNEL");
-  if (value == nullptr) return best;
-  for (CellKernel k : {CellKernel::kScalar, CellKernel::kAvx2, CellKernel::kAvx512}) {
-    if (std::strcmp(value, CellKernelName(k)) != 0) continue;
-    if (CpuRuns(k)) return k;
-    LOG(WARNING) << "SURFREG_CELL_KERNEL=" << value << ": this CPU (or build) cannot run it; using "
-                 << CellKernelName(best);
-    return best;
-  }
-  LOG(WARNING) << "SURFREG_CELL_KERNEL=" << value << ": unknown (scalar, avx2 or avx512); using "
-               << CellKernelName(best);
   return best;
 }
 
 }  // namespace
 
-CellKernel SelectedCellKernel() {
-  static const CellKernel kernel = Select();
-  return kernel;
+CellKernel ResolveCellKernel(CellKernelChoice choice) {
+  static const CellKernel best = Best();
+  CellKernel wanted = best;
+  switch (choice) {
+    case CellKernelChoice::kBest: return best;
+    case CellKernelChoice::kScalar: wanted = CellKernel::kScalar; break;
+    case CellKernelChoice::kAvx2: wanted = CellKernel::kAvx2; break;
+    case CellKernelChoice::kAvx512: wanted = CellKernel::kAvx512; break;
+  }
+  if (CpuRuns(wanted)) return wanted;
+  static std::atomic<bool> warned{false};
+  if (!warned.exchange(true)) {
+    LOG(WARNING) << "cell kernel " << CellKernelName(wanted) << ": this CPU (or build) cannot run it; using "
+                 << CellKernelName(best);
+  }
+  return best;
 }
 
 const char* CellKernelName(CellKernel kernel) {
@@ -71,7 +72,7 @@ const char* CellKernelName(CellKernel kernel) {
 void IntegrateCellsSimd(CellKernel kernel, const CellKernelInput& in, int32_t lo, int32_t hi,
                         bool gradient, Moment* moment, CellKernelOutput* out) {
 #if defined(SURFREG_X86_CELL_KERNELS) && defined(__x86_64__)
-  if (CpuRuns(kernel)) {  // as SelectedCellKernel made sure; cheap
+  if (CpuRuns(kernel)) {  // as ResolveCellKernel made sure; cheap
     if (kernel == CellKernel::kAvx512) {
       return IntegrateCellsAvx512(in, lo, hi, gradient, moment, out);
     }

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "measure/surface.h"
+#include "registration/align.h"  // CellKernelChoice
 #include "registration/overlay_topology.h"
 
 namespace surfreg {
@@ -84,18 +85,16 @@ struct CellKernelOutput {
 
 enum class CellKernel { kScalar, kAvx2, kAvx512 };
 
-// The cell kernel of this process, decided on the first call: the one the
-// environment variable SURFREG_CELL_KERNEL names (scalar, avx2, avx512) if
-// this CPU runs it, else the best it runs (AVX-512 F/DQ/VL, then AVX2 +
-// FMA, then scalar), with a warning if the variable names another.
-CellKernel SelectedCellKernel();
+// The kernel a choice runs on this CPU (align.h's CellKernelChoice): the
+// one named if the CPU runs it, else the best it runs, with a warning (once
+// per process).
+CellKernel ResolveCellKernel(CellKernelChoice choice);
 const char* CellKernelName(CellKernel kernel);
-inline const char* SelectedCellKernelName() { return CellKernelName(SelectedCellKernel()); }
 
 // ∫μ|d| and ∫μ over the cells of A's triangles [lo, hi), and, with
 // `gradient`, each cell's Moment added to moment[T_B] (as the scalar kernel;
 // μ ≡ 1 without in.weight_a), by the vector kernel `kernel` (not kScalar;
-// one SelectedCellKernel may return).
+// one ResolveCellKernel may return).
 void IntegrateCellsSimd(CellKernel kernel, const CellKernelInput& in, int32_t lo, int32_t hi,
                         bool gradient, Moment* moment, CellKernelOutput* out);
 

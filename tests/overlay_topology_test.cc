@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -25,6 +26,14 @@
 
 namespace surfreg {
 namespace {
+
+// The cell kernel these tests run: SURFREG_CELL_KERNEL (ctest runs them
+// once per kernel, tests/CMakeLists.txt), else the best.
+CellKernelChoice KernelUnderTest() {
+  CellKernelChoice choice = CellKernelChoice::kBest;
+  if (const char* name = std::getenv("SURFREG_CELL_KERNEL")) EXPECT_TRUE(ParseCellKernel(name, &choice)) << name;
+  return choice;
+}
 
 std::vector<Location> LocateBrute(const std::vector<Point2>& points, const Triangulation& mesh,
                                   const std::vector<Point2>& queries) {
@@ -171,7 +180,7 @@ VolumeCostCacheStats Walk(const Sides& sides, bool parallel,
                           const MaskRegion* mask, const char* label,
                           double spacing, int* remeshes = nullptr) {
   PairState state(sides.reference, sides.moving);
-  VolumeCostCache cache;
+  VolumeCostCache cache(0.25, KernelUnderTest());
   Compared compared;
   Theta theta = {0.01, -0.02, 0.03, 0.2, -0.1, 0.05};
   const double steps[][2] = {{1e-4, 0.01}, {1e-3, 0.1}, {1e-2, 1.0}, {1e-4, 0.01}, {1e-3, 0.1}};
@@ -257,7 +266,7 @@ TEST(VolumeCostCacheTest, AreaIsTheDataDomainsIntersection) {
   // The empty region is the disc and its ragged rim: a little more than the disc.
   EXPECT_GT(hull - domain, 0.95 * M_PI * 225);
   EXPECT_LT(hull - domain, 1.4 * M_PI * 225);
-  VolumeCostCache cache;
+  VolumeCostCache cache(0.25, KernelUnderTest());
   EXPECT_NEAR(cache.Evaluate(state, true, false).area, domain, 1e-9 * domain);
   EXPECT_NEAR(EvaluateVolumeCost(state, false, true).area, domain, 1e-9 * domain);
 }
@@ -269,7 +278,7 @@ TEST(VolumeCostCacheTest, FallsBackToTheFullPathForLargeSteps) {
   const auto sides = TerrainSides(1500, 1500, 0, 100);
   const double spacing = 100.0 / std::sqrt(1500.0);
   PairState state(sides->reference, sides->moving);
-  VolumeCostCache cache;
+  VolumeCostCache cache(0.25, KernelUnderTest());
   Compared compared;
   const Theta near = {1e-3, -1e-3, 2e-3, 0.1, 0.0, 0.0};
   const Theta far = Step(near, 1e-2, 2 * spacing, 3);
@@ -304,7 +313,7 @@ TEST(VolumeCostCacheTest, CellsWithZeroGapStillMoveTheBoundary) {
   const auto sides = MakeSides(pa, pb);
   PairState state(sides->reference, sides->moving);
   ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
-  VolumeCostCache cache;
+  VolumeCostCache cache(0.25, KernelUnderTest());
   const VolumeCostValue want = EvaluateVolumeCost(state, true, false);
   const VolumeCostValue got = cache.Evaluate(state, true, false);
   ASSERT_GT(want.abs, 0);
@@ -318,7 +327,7 @@ TEST(VolumeCostCacheTest, CellsWithZeroGapStillMoveTheBoundary) {
 TEST(VolumeCostCacheTest, RebuildsAfterARemesh) {
   const auto sides = TerrainSides(1500, 1500, 0, 100);
   PairState state(sides->reference, sides->moving);
-  VolumeCostCache cache;
+  VolumeCostCache cache(0.25, KernelUnderTest());
   Compared compared;
   const Theta thetas[] = {{0, 0, 0, 0, 0, 0},
                           {1e-4, 0, 0, 0.01, 0, 0},
@@ -370,7 +379,7 @@ TEST(VolumeCostCacheTest, GradientBinsAreEachBTrianglesShare) {
       hi = std::max({hi, p.x, p.y});
     }
     bins.side = (hi - std::min(bins.x0, bins.y0)) / 8, bins.n = 8;
-    VolumeCostCache cache;
+    VolumeCostCache cache(0.25, KernelUnderTest());
     const VolumeCostValue value = cache.Evaluate(state, true, parallel, nullptr, &bins);
     ASSERT_EQ(bins.used.size(), 64u);
 

@@ -1,6 +1,7 @@
 #include "tools/align_config.h"
 
 #include <sys/stat.h>
+#include <glog/logging.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <utility>
 
@@ -474,6 +476,12 @@ void ApplyAlignArguments(const std::string& reference, const std::string& moving
 }
 
 void FinishAlignConfig(AlignConfig* config) {
+  // The cell kernel for comparisons (registration/align.h CellKernelChoice).
+  if (const char* kernel = std::getenv("SURFREG_CELL_KERNEL")) {
+    if (!ParseCellKernel(kernel, &config->options.cell_kernel)) {
+      LOG(WARNING) << "SURFREG_CELL_KERNEL=" << kernel << ": unknown (scalar, avx2 or avx512); using the best";
+    }
+  }
   const std::string source = config->config_file.empty() ? "" : config->config_file + ": ";
   for (const char* key : {"reference", "moving"}) {
     if (AlignConfigValue(*config, key).empty()) {

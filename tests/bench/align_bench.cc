@@ -48,6 +48,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -71,6 +72,16 @@
 #include "tests/testing/surface_pairs.h"
 
 namespace surfreg {
+
+// The cell kernel benchmarked: SURFREG_CELL_KERNEL (scalar, avx2, avx512),
+// else the best this CPU runs.
+CellKernelChoice BenchKernel() {
+  CellKernelChoice choice = CellKernelChoice::kBest;
+  const char* name = std::getenv("SURFREG_CELL_KERNEL");
+  if (name != nullptr && !ParseCellKernel(name, &choice)) std::fprintf(stderr, "unknown SURFREG_CELL_KERNEL=%s\n", name);
+  return choice;
+}
+
 namespace {
 
 // benchmark::DoNotOptimize on a non-const lvalue can clobber a double with
@@ -256,7 +267,7 @@ void BM_Remeasure(benchmark::State& state, int64_t n, int step, Work work) {
   }
   const Theta poses[2] = {p->theta_true, p->theta_step[step]};
   AxialResiduals residuals;
-  VolumeCostCache cache;  // volinc_*: built in the warm-up, repaired in the timed loop
+  VolumeCostCache cache(0.25, BenchKernel());  // volinc_*: built in the warm-up, repaired in the timed loop
   // Untimed: one step there and back, so the result buffers exist before
   // timing, as in a solver's later evaluations.
   bool warm = s.Update(poses[1]);
@@ -404,6 +415,7 @@ void BM_Align(benchmark::State& state, int64_t n, bool axial) {
   Pair* p = Setup(state, n);
   if (!p) return;
   AlignOptions options;
+  options.cell_kernel = BenchKernel();
   if (axial) options.cost = CostKind::kAxial;
   AlignResult result;
   try {
@@ -529,7 +541,9 @@ int main(int argc, char** argv) {
   }
   argc = out;
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::AddCustomContext("cell_kernel", surfreg::volume_internal::SelectedCellKernelName());
+  benchmark::AddCustomContext(
+      "cell_kernel", surfreg::volume_internal::CellKernelName(surfreg::volume_internal::ResolveCellKernel(
+                         surfreg::BenchKernel())));
   surfreg::RegisterAll(with_1e6);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
