@@ -24,10 +24,10 @@ target_compile_features(surfreg_measure PUBLIC cxx_std_17)
 # They keep the source layout under include/surfreg/, because they include
 # each other as "measure/x.h"; the io headers go to include/surfreg/io/.
 set(SURFREG_PUBLIC_MEASURE_HEADERS
-  change_budget.h delaunay.h domain.h dz_statistics.h face_frame.h grid_mesh.h
-  input_error.h mask_region.h measures.h surface.h tiled_measure.h volume.h)
+  change_budget.h delaunay.h domain.h dz_statistics.h grid_mesh.h
+  input_error.h mask_region.h measures.h mesh.h surface.h tiled_measure.h volume.h)
 set(SURFREG_PUBLIC_REGISTRATION_HEADERS
-  align.h holdout.h jaw.h rigid_motion.h symmetry.h)
+  align.h face_frame.h holdout.h jaw.h rigid_motion.h symmetry.h)
 set(SURFREG_PUBLIC_IO_HEADERS
   mesh_reader.h polygon_reader.h raster_io.h surface_reader.h surface_writer.h)
 list(TRANSFORM SURFREG_PUBLIC_MEASURE_HEADERS PREPEND ${PROJECT_SOURCE_DIR}/measure/)

@@ -1,7 +1,7 @@
 #pragma once
 // Facial asymmetry (Dyshkant 2010, section 3.2): the face F is compared with
 // its mirror image, first about the plane x = 0 of the normalized face frame
-// (measure/face_frame.h), then about the symmetry plane that minimizes the
+// (registration/face_frame.h), then about the symmetry plane that minimizes the
 // measure between them.
 //
 // A plane {p : n·p = offset} (unit normal n, n_x > 0) reflects a point by

@@ -1,9 +1,9 @@
-// Tests of measure/face_frame.h against independent truth: equivariance of
+// Tests of registration/face_frame.h against independent truth: equivariance of
 // the automatic frame under rigid motions (which also checks the sign
 // heuristics), the mannequin head's known orientation, exact centring and
 // rotations (Eigen's AngleAxis), visibility against an O(V·T) brute force
 // and a two-layer mesh, and the errors.
-#include "measure/face_frame.h"
+#include "registration/face_frame.h"
 
 #include <gtest/gtest.h>
 

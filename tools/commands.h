@@ -56,7 +56,7 @@ int RunMerge(const std::vector<std::string>& args);
 
 // normalize MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D]
 // [--output=FACE.xyz] [--json]: brings a face mesh or cloud into the standard
-// face frame (measure/face_frame.h) and writes its visible height field.
+// face frame (registration/face_frame.h) and writes its visible height field.
 // tools/run_normalize.cc.
 int RunNormalize(const std::vector<std::string>& args);
 

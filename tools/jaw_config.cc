@@ -14,6 +14,7 @@
 #include "tools/atomic_file.h"
 #include "tools/config_value.h"
 #include "tools/yaml_value.h"
+#include "tools/face_orientation.h"
 #include "tools/io/mesh_reader.h"
 #include "tools/io/polygon_reader.h"
 

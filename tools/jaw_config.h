@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-#include "measure/face_frame.h"
+#include "registration/face_frame.h"
 #include "registration/jaw.h"
 
 namespace surfreg {

@@ -17,11 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "measure/face_frame.h"
+#include "registration/face_frame.h"
 #include "measure/input_error.h"
 #include "registration/symmetry.h"
 #include "tools/atomic_file.h"
 #include "tools/commands.h"
+#include "tools/face_orientation.h"
 #include "tools/io/mesh_reader.h"
 #include "tools/json_writer.h"
 #include "tools/plot.h"

@@ -13,7 +13,7 @@
 
 #include <Eigen/Core>
 
-#include "measure/face_frame.h"
+#include "registration/face_frame.h"
 #include "measure/input_error.h"
 #include "registration/jaw.h"
 #include "tools/atomic_file.h"

@@ -12,7 +12,7 @@
 #include "measure/input_error.h"
 #include "measure/measures.h"
 #include "measure/surface.h"
-#include "measure/face_frame.h"
+#include "registration/face_frame.h"
 #include "tools/align_config.h"
 #include "tools/io/mesh_reader.h"
 #include "tools/jaw_config.h"

@@ -43,7 +43,7 @@ void FuzzAlignConfig(std::string_view data);
 void FuzzMeasure(std::string_view data);
 // A mesh with triangles (tools/io/mesh_reader.h): the first byte picks the
 // format (0: .off, 1: .ply, 2: .obj, modulo 3), the rest is the file; a mesh
-// read is then normalized (measure/face_frame.h).
+// read is then normalized (registration/face_frame.h).
 void FuzzMesh(std::string_view data);
 void FuzzJawConfig(std::string_view data);    // tools/jaw_config.h, YAML text
 void FuzzSweepConfig(std::string_view data);  // tools/sweep_config.h, YAML text

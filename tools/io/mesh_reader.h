@@ -1,5 +1,5 @@
 #pragma once
-// Reading triangle meshes (for faces: measure/face_frame.h), and the text
+// Reading triangle meshes (measure/mesh.h; for faces, registration/face_frame.h), and the text
 // form of the face orientation shared by the face commands.
 //
 // Formats (by file extension, case-insensitive):
@@ -23,7 +23,7 @@
 #include <string>
 #include <string_view>
 
-#include "measure/face_frame.h"
+#include "measure/mesh.h"
 
 namespace surfreg {
 
@@ -36,19 +36,5 @@ bool IsMeshPath(const std::string& path);
 // A whole .off, .ply or .obj file already in memory, the format chosen by
 // `name`'s extension (also used in messages); the errors of ReadMesh.
 Mesh ParseMesh(std::string_view data, const std::string& name);
-
-// Parses the text form of a face orientation into options->orientation (and
-// options->rotation_deg): "auto" (principal axes and the nose heuristics),
-// "as_is" (already in the frame's orientation) or a rotation vector
-// "RX,RY,RZ" in degrees (also "[RX, RY, RZ]"), axis × angle, taking input
-// coordinates to the frame. Other fields of *options are left as they are.
-// Throws InputError "<where>: ..." (`where` e.g. "--orientation" or
-// "face.yaml:4: key 'orientation'") for anything else.
-void FaceOrientationFromString(const std::string& text, const std::string& where,
-                               FaceFrameOptions* options);
-
-// The text form of options.orientation: "auto", "as_is" or "RX,RY,RZ"
-// (17 significant digits), which FaceOrientationFromString reads back.
-std::string FaceOrientationToString(const FaceFrameOptions& options);
 
 }  // namespace surfreg

@@ -18,17 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "measure/mesh.h"
 #include "measure/surface.h"
 
 namespace surfreg {
-
-// Vertices and triangles (indices into `vertices`, counter-clockwise or not).
-// A point cloud is a mesh without triangles.
-struct Mesh {
-  std::vector<std::array<double, 3>> vertices;
-  std::vector<std::array<int32_t, 3>> triangles;
-  std::string source;  // where it came from (for messages)
-};
 
 enum class FaceOrientation {
   kAsIs,           // already in the frame's orientation: only centre and shift

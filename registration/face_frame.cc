@@ -1,7 +1,7 @@
 // The standard face frame (Dyshkant 2010, 3.1): orientation by a given
 // rotation or by principal axes with the nose heuristics, then the visible
 // side by a grid-bucketed "is any triangle above this vertex" test.
-#include "measure/face_frame.h"
+#include "registration/face_frame.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
