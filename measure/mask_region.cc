@@ -273,43 +273,18 @@ bool InsidePolygon(const std::vector<Point2>& polygon, const Point2& p) {
   return inside;
 }
 
-MaskRegion MakeMaskRegion(const std::vector<MaskRing>& rings, MaskMode mode,
-                          const std::array<double, 2>& origin, const std::vector<Point2>& cover) {
-  MaskRegion m;
-  for (const MaskRing& ring : rings) {
-    std::vector<Point2> local;
-    for (const auto& q : ring) local.push_back({q[0] - origin[0], q[1] - origin[1]});
-    m.rings.push_back(std::move(local));
-  }
-  if (m.rings.empty()) return m;
-  if (mode == MaskMode::kExclude) {
-    // One ring around the rings and `cover` (with a margin, so it touches
-    // none): everything but the rings' region is then in.
-    double lx = INFINITY, ly = INFINITY, hx = -INFINITY, hy = -INFINITY;
-    const auto grow = [&](const Point2& q) {
-      lx = std::min(lx, q.x), ly = std::min(ly, q.y), hx = std::max(hx, q.x), hy = std::max(hy, q.y);
-    };
-    for (const auto& ring : m.rings) std::for_each(ring.begin(), ring.end(), grow);
-    std::for_each(cover.begin(), cover.end(), grow);
-    const double margin = std::max(0.05 * std::max(hx - lx, hy - ly), 1e-6 * (1 + std::max(
-        {std::fabs(lx), std::fabs(ly), std::fabs(hx), std::fabs(hy)})));
-    lx -= margin, ly -= margin, hx += margin, hy += margin;
-    m.rings.push_back({{lx, ly}, {hx, ly}, {hx, hy}, {lx, hy}});
-  }
-  const RingEdges e = EdgesOf(m.rings);
-  m.edges = e.edges;
-  const Strips strips = MakeStrips(m.edges);
-  m.strip_y0 = strips.y0, m.strip_h = strips.h, m.strips = strips.count;
-  m.strip_start = strips.start, m.strip_items = strips.items;
+namespace {
 
-  // Depth: the rings whose even–odd test says one of this ring's vertices
-  // is inside (rings do not touch, so any vertex will do).
-  const std::size_t count = m.rings.size();
-  m.depth.assign(count, 0);
+// Each ring's depth: how many other rings hold it (their even–odd test says
+// one of its vertices is inside; rings do not touch, so any vertex will do).
+std::vector<int> RingDepths(const std::vector<std::vector<Point2>>& rings, const RingEdges& e,
+                            const Strips& strips) {
+  const std::size_t count = rings.size();
+  std::vector<int> depth(count, 0);
   std::vector<char> parity(count, 0);
   std::vector<std::size_t> touched;
   for (std::size_t r = 0; r < count; ++r) {
-    const Point2 p = m.rings[r][0];
+    const Point2 p = rings[r][0];
     const int s = strips.Of(p.y);
     for (int32_t u = strips.start[s]; u < strips.start[s + 1]; ++u) {
       const int32_t k = strips.items[u];
@@ -320,19 +295,16 @@ MaskRegion MakeMaskRegion(const std::vector<MaskRing>& rings, MaskMode mode,
       }
       parity[other] ^= 1;
     }
-    for (const std::size_t other : touched) m.depth[r] += parity[other], parity[other] = 0;
+    for (const std::size_t other : touched) depth[r] += parity[other], parity[other] = 0;
     touched.clear();
   }
+  return depth;
+}
 
-  for (std::size_t r = 0; r < count; ++r) {
-    const double sign = m.depth[r] % 2 == 0 ? 1.0 : -1.0;
-    for (const auto& t : TriangulatePolygon(m.rings[r])) {
-      m.triangles.push_back(t);
-      m.sign.push_back(sign);
-    }
-  }
-
-  // Buckets: about one per triangle, square-ish over the rings' box.
+// The triangles' buckets: about one per triangle, square-ish over the
+// rings' box; each triangle listed in every bucket its box meets.
+void BucketTriangles(MaskRegion* region) {
+  MaskRegion& m = *region;
   m.lo = {INFINITY, INFINITY}, m.hi = {-INFINITY, -INFINITY};
   for (const auto& ring : m.rings) {
     for (const Point2& q : ring) {
@@ -367,6 +339,51 @@ MaskRegion MakeMaskRegion(const std::vector<MaskRing>& rings, MaskMode mode,
       }
     }
   }
+}
+
+}  // namespace
+
+MaskRegion MakeMaskRegion(const std::vector<MaskRing>& rings, MaskMode mode,
+                          const std::array<double, 2>& origin, const std::vector<Point2>& cover) {
+  MaskRegion m;
+  for (const MaskRing& ring : rings) {
+    std::vector<Point2> local;
+    for (const auto& q : ring) local.push_back({q[0] - origin[0], q[1] - origin[1]});
+    m.rings.push_back(std::move(local));
+  }
+  if (m.rings.empty()) return m;
+  if (mode == MaskMode::kExclude) {
+    // One ring around the rings and `cover` (with a margin, so it touches
+    // none): everything but the rings' region is then in.
+    double lx = INFINITY, ly = INFINITY, hx = -INFINITY, hy = -INFINITY;
+    const auto grow = [&](const Point2& q) {
+      lx = std::min(lx, q.x), ly = std::min(ly, q.y), hx = std::max(hx, q.x), hy = std::max(hy, q.y);
+    };
+    for (const auto& ring : m.rings) std::for_each(ring.begin(), ring.end(), grow);
+    std::for_each(cover.begin(), cover.end(), grow);
+    const double margin = std::max(0.05 * std::max(hx - lx, hy - ly), 1e-6 * (1 + std::max(
+        {std::fabs(lx), std::fabs(ly), std::fabs(hx), std::fabs(hy)})));
+    lx -= margin, ly -= margin, hx += margin, hy += margin;
+    m.rings.push_back({{lx, ly}, {hx, ly}, {hx, hy}, {lx, hy}});
+  }
+  const RingEdges e = EdgesOf(m.rings);
+  m.edges = e.edges;
+  const Strips strips = MakeStrips(m.edges);
+  m.strip_y0 = strips.y0, m.strip_h = strips.h, m.strips = strips.count;
+  m.strip_start = strips.start, m.strip_items = strips.items;
+
+  const std::size_t count = m.rings.size();
+  m.depth = RingDepths(m.rings, e, strips);
+
+  for (std::size_t r = 0; r < count; ++r) {
+    const double sign = m.depth[r] % 2 == 0 ? 1.0 : -1.0;
+    for (const auto& t : TriangulatePolygon(m.rings[r])) {
+      m.triangles.push_back(t);
+      m.sign.push_back(sign);
+    }
+  }
+
+  BucketTriangles(&m);
   return m;
 }
 
