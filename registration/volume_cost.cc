@@ -155,7 +155,7 @@ void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
 VolumeCostCache::VolumeCostCache(double max_dirty_fraction, CellKernelChoice kernel)
     : impl_(std::make_unique<Impl>()) {
   impl_->max_dirty_fraction = max_dirty_fraction;
-  impl_->kernel = volume_internal::ResolveCellKernel(kernel);
+  impl_->cell_kernel = volume_internal::ResolveCellKernel(kernel);
 }
 VolumeCostCache::~VolumeCostCache() = default;
 void VolumeCostCache::Reset() { impl_->built = false; }
@@ -344,7 +344,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
     return parts[0];
   }
   const bool weighted = !m.reference->weight.empty();
-  const CellKernel kernel = m.kernel;  // a vector kernel where the CPU has one (weighted or not)
+  const CellKernel kernel = m.cell_kernel;  // a vector kernel where the CPU has one (weighted or not)
   // Weights added or dropped since Bind: their planes again.
   if (m.weight_a.size() != (weighted ? static_cast<std::size_t>(na) : 0u)) m.BindWeights();
   m.RecordMovedTriangles(s, parallel, bins);

@@ -97,7 +97,7 @@ struct VolumeCostCache::Impl {
   // P of its cells (s = sign of d on P, c its centroid, p0 T_B's corner 0):
   // all the gradient needs of the interior, as ∂_θF̂_B' is affine on T_B.
   std::vector<volume_internal::Moment> moments[2];
-  volume_internal::CellKernel kernel = volume_internal::CellKernel::kScalar;
+  volume_internal::CellKernel cell_kernel = volume_internal::CellKernel::kScalar;
   // With GradientBins: each moved B triangle's bin, and each thread's shares.
   std::vector<int32_t> bin_of_b;
   volume_internal::PartBins part_bins[2];

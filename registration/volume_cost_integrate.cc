@@ -21,6 +21,104 @@ using volume_internal::TriangleRecord;
 
 using volume_internal::HullSink;
 
+// One cell's integrals from its n corners (relative to T_B's corner 0, d
+// and μ there; d within [d_lo, d_hi]): the whole cell when d keeps one sign
+// on it, else its parts where d ≥ 0 and d ≤ 0. Adds ∫μ|d| and ∫μ, and with
+// `gradient` the cell's Moment to T_B's.
+template <bool kWeighted>
+inline void AddCell(const double* x, const double* y, const double* d, const double* m, int n, double d_lo,
+                    double d_hi, bool gradient, double* abs, double* area_sum, Moment* moment) {
+  auto add = [&](const FanSums& f, double sign) {
+    *abs += std::max(0.0, sign * f.wd);  // ∫_P μ|d|
+    if (!gradient) return;
+    Moment& m3 = *moment;
+    m3.w += sign * f.w;
+    m3.x += sign * f.wx;
+    m3.y += sign * f.wy;
+  };
+  if (d_lo >= 0 || d_hi <= 0) {  // one sign part: the whole cell
+    const FanSums f = SumFan<kWeighted>(x, y, d, m, n);
+    *area_sum += f.w;
+    // d ≡ 0 adds nothing inside, but a hull cell still moves the boundary (below).
+    if (f.twice > 0 && !(d_hi == 0 && d_lo == 0)) add(f, d_hi > 0 ? 1.0 : -1.0);
+  } else {
+    // The parts where d ≥ 0 and d ≤ 0.
+    double pos_x[10], pos_y[10], pos_d[10], pos_m[10], neg_x[10], neg_y[10], neg_d[10], neg_m[10];
+    int np = 0, nn = 0;
+    for (int k = 0; k < n; ++k) {
+      const int l = k + 1 == n ? 0 : k + 1;
+      if (d[k] >= 0) {
+        pos_x[np] = x[k], pos_y[np] = y[k], pos_d[np] = d[k];
+        if (kWeighted) pos_m[np] = m[k];
+        ++np;
+      }
+      if (d[k] <= 0) {
+        neg_x[nn] = x[k], neg_y[nn] = y[k], neg_d[nn] = d[k];
+        if (kWeighted) neg_m[nn] = m[k];
+        ++nn;
+      }
+      if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
+        const double t = d[k] / (d[k] - d[l]);
+        const double cx = x[k] + t * (x[l] - x[k]), cy = y[k] + t * (y[l] - y[k]);
+        pos_x[np] = cx, pos_y[np] = cy, pos_d[np] = 0.0;
+        neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn] = 0.0;
+        if (kWeighted) pos_m[np] = neg_m[nn] = m[k] + t * (m[l] - m[k]);
+        ++np, ++nn;
+      }
+    }
+    if (np >= 3) {
+      const FanSums f = SumFan<kWeighted>(pos_x, pos_y, pos_d, pos_m, np);
+      *area_sum += f.w;
+      if (f.twice > 0) add(f, 1.0);
+    }
+    if (nn >= 3) {
+      const FanSums f = SumFan<kWeighted>(neg_x, neg_y, neg_d, neg_m, nn);
+      *area_sum += f.w;
+      if (f.twice > 0) add(f, -1.0);
+    }
+  }
+}
+
+// The endpoints of edge i (opposite corner i) in global index order, as
+// CellCorners orders them (so a crossing is the same point in every cell).
+constexpr int kFirst[3] = {1, 2, 0}, kSecond[3] = {2, 0, 1};
+
+// What a cell's corners are computed from: T_A's corners (0-2) and the
+// current T_B's (3-5), and T_A's edges in global index order.
+struct CellFrame {
+  double cx6[6], cy6[6];
+  double e0x[3], e0y[3], ex[3], ey[3];
+};
+
+inline CellFrame FrameOfA(const int32_t* ia, const std::vector<Point2>& xa) {
+  CellFrame f;
+  for (int k = 0; k < 3; ++k) f.cx6[k] = xa[ia[k]].x, f.cy6[k] = xa[ia[k]].y;
+  for (int i = 0; i < 3; ++i) {
+    int p0 = kFirst[i], p1 = kSecond[i];
+    if (ia[p0] > ia[p1]) std::swap(p0, p1);
+    f.e0x[i] = f.cx6[p0], f.e0y[i] = f.cy6[p0];
+    f.ex[i] = f.cx6[p1] - f.cx6[p0], f.ey[i] = f.cy6[p1] - f.cy6[p0];
+  }
+  return f;
+}
+
+// A cell's corner from its topology code (q0, q1: T_B's edges in global
+// index order): every corner computed as if a crossing (cheap, no branch),
+// then the vertex corners picked instead, as CellCorners without its switch.
+inline Point2 CornerOf(uint8_t code, const CellFrame& f, const int* q0, const int* q1) {
+  const int i = (code >> 2) & 3, j = (code >> 4) & 3, kind = code & 3;
+  const int r = q0[j], w = q1[j];
+  const double vr = f.ex[i] * (f.cy6[r] - f.e0y[i]) - f.ey[i] * (f.cx6[r] - f.e0x[i]);
+  const double vs = f.ex[i] * (f.cy6[w] - f.e0y[i]) - f.ey[i] * (f.cx6[w] - f.e0x[i]);
+  const double denominator = vr - vs;
+  double t = denominator != 0.0 ? vr / denominator : 0.5;
+  t = std::min(1.0, std::max(0.0, t));
+  const int vertex = kind == kCornerB ? 3 + i : i;
+  const bool cross = kind == kCornerCross;
+  return {cross ? f.cx6[r] + t * (f.cx6[w] - f.cx6[r]) : f.cx6[vertex],
+          cross ? f.cy6[r] + t * (f.cy6[w] - f.cy6[r]) : f.cy6[vertex]};
+}
+
 // The unmasked cost over the cells of A's triangles [lo, hi): as
 // VolumeAccumulator, but the interior gradient is left in `moments`.
 // d = F̂_B' − F_A is linear on a cell, and so is μ (fixed with A's triangle);
@@ -44,24 +142,14 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   OverlayCell cell;
   double abs = 0, area_sum = 0;
   int64_t cells = 0;
-  // The endpoints of edge i (opposite corner i) in global index order, as
-  // CellCorners orders them (so a crossing is the same point in every cell).
-  static constexpr int kFirst[3] = {1, 2, 0}, kSecond[3] = {2, 0, 1};
   for (int32_t ta = lo; ta < hi; ++ta) {
     const int32_t count = topology.count_of(ta);
     if (count == 0) continue;
     const TopologyCell* list = topology.cells_of(ta);
     const int32_t* ia = &mesh_a.triangles[3 * ta];
-    // Corners 0-2: T_A's, 3-5: T_B's (per cell).
-    double cx6[6], cy6[6];
-    for (int k = 0; k < 3; ++k) cx6[k] = xa[ia[k]].x, cy6[k] = xa[ia[k]].y;
-    double e0x[3], e0y[3], ex[3], ey[3];
-    for (int i = 0; i < 3; ++i) {
-      int p0 = kFirst[i], p1 = kSecond[i];
-      if (ia[p0] > ia[p1]) std::swap(p0, p1);
-      e0x[i] = cx6[p0], e0y[i] = cy6[p0];
-      ex[i] = cx6[p1] - cx6[p0], ey[i] = cy6[p1] - cy6[p0];
-    }
+    CellFrame frame = FrameOfA(ia, xa);
+    double* cx6 = frame.cx6;
+    double* cy6 = frame.cy6;
     const Gradient2 ga = {record_a[ta].gx, record_a[ta].gy};
     const double za0 = za[ia[0]];
     // μ relative to T_A's corner 0 (Bind's plane).
@@ -88,76 +176,15 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
       double x[8], y[8], d[8], m[8];
       double d_lo = 0, d_hi = 0;
       for (int k = 0; k < n; ++k) {
-        // Every corner as if a crossing (cheap, no branch), then the vertex
-        // corners picked instead: as CellCorners, without its switch.
-        const uint8_t code = tc.corner[k];
-        const int i = (code >> 2) & 3, j = (code >> 4) & 3, kind = code & 3;
-        const int r = q0[j], w = q1[j];
-        const double vr = ex[i] * (cy6[r] - e0y[i]) - ey[i] * (cx6[r] - e0x[i]);
-        const double vs = ex[i] * (cy6[w] - e0y[i]) - ey[i] * (cx6[w] - e0x[i]);
-        const double denominator = vr - vs;
-        double t = denominator != 0.0 ? vr / denominator : 0.5;
-        t = std::min(1.0, std::max(0.0, t));
-        const int vertex = kind == kCornerB ? 3 + i : i;
-        const bool cross = kind == kCornerCross;
-        const double px = cross ? cx6[r] + t * (cx6[w] - cx6[r]) : cx6[vertex];
-        const double py = cross ? cy6[r] + t * (cy6[w] - cy6[r]) : cy6[vertex];
-        x[k] = px - bx;
-        y[k] = py - by;
+        const Point2 p = CornerOf(tc.corner[k], frame, q0, q1);
+        x[k] = p.x - bx;
+        y[k] = p.y - by;
         d[k] = d0 + dgx * x[k] + dgy * y[k];
         if (kWeighted) m[k] = mu0 + mu.gx * x[k] + mu.gy * y[k];
         d_lo = k == 0 ? d[k] : std::min(d_lo, d[k]);
         d_hi = k == 0 ? d[k] : std::max(d_hi, d[k]);
       }
-      auto add = [&](const FanSums& f, double sign) {
-        abs += std::max(0.0, sign * f.wd);  // ∫_P μ|d|
-        if (!gradient) return;
-        Moment& m3 = moment[tb];
-        m3.w += sign * f.w;
-        m3.x += sign * f.wx;
-        m3.y += sign * f.wy;
-      };
-      if (d_lo >= 0 || d_hi <= 0) {  // one sign part: the whole cell
-        const FanSums f = SumFan<kWeighted>(x, y, d, m, n);
-        area_sum += f.w;
-        // d ≡ 0 adds nothing inside, but a hull cell still moves the boundary (below).
-        if (f.twice > 0 && !(d_hi == 0 && d_lo == 0)) add(f, d_hi > 0 ? 1.0 : -1.0);
-      } else {
-        // The parts where d ≥ 0 and d ≤ 0.
-        double pos_x[10], pos_y[10], pos_d[10], pos_m[10], neg_x[10], neg_y[10], neg_d[10], neg_m[10];
-        int np = 0, nn = 0;
-        for (int k = 0; k < n; ++k) {
-          const int l = k + 1 == n ? 0 : k + 1;
-          if (d[k] >= 0) {
-            pos_x[np] = x[k], pos_y[np] = y[k], pos_d[np] = d[k];
-            if (kWeighted) pos_m[np] = m[k];
-            ++np;
-          }
-          if (d[k] <= 0) {
-            neg_x[nn] = x[k], neg_y[nn] = y[k], neg_d[nn] = d[k];
-            if (kWeighted) neg_m[nn] = m[k];
-            ++nn;
-          }
-          if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
-            const double t = d[k] / (d[k] - d[l]);
-            const double cx = x[k] + t * (x[l] - x[k]), cy = y[k] + t * (y[l] - y[k]);
-            pos_x[np] = cx, pos_y[np] = cy, pos_d[np] = 0.0;
-            neg_x[nn] = cx, neg_y[nn] = cy, neg_d[nn] = 0.0;
-            if (kWeighted) pos_m[np] = neg_m[nn] = m[k] + t * (m[l] - m[k]);
-            ++np, ++nn;
-          }
-        }
-        if (np >= 3) {
-          const FanSums f = SumFan<kWeighted>(pos_x, pos_y, pos_d, pos_m, np);
-          area_sum += f.w;
-          if (f.twice > 0) add(f, 1.0);
-        }
-        if (nn >= 3) {
-          const FanSums f = SumFan<kWeighted>(neg_x, neg_y, neg_d, neg_m, nn);
-          area_sum += f.w;
-          if (f.twice > 0) add(f, -1.0);
-        }
-      }
+      AddCell<kWeighted>(x, y, d, m, n, d_lo, d_hi, gradient, &abs, &area_sum, &moment[tb]);
       if (gradient && (extras_b[tb].bits & volume_internal::kHullBit) != 0) {
         cell.triangle_a = ta;
         cell.triangle_b = tb;
