@@ -245,98 +245,67 @@ inline void GatherBatch(const CellKernelInput& in, const Batch<V>& batch, Gather
   g->hull = V::template TestBit<3>(bits_b);
 }
 
-// The cells of one batch: corners as the scalar kernel computes them (same
-// arithmetic, no contraction, so a shared crossing is the same point in
-// every cell), then the fan integrals. kSlots: the corner count of every
-// lane, or 0 for the batch's largest (shorter lanes padded).
-template <class V, bool kGradient, bool kWeighted, int kSlots>
-inline void RunBatch(const CellKernelInput& in, const Gathered<V>& g, const Batch<V>& batch,
-                     typename V::D* total_abs, typename V::D* total_area, Moment* moment) {
-  using D = typename V::D;
+// T_A's edges from their lower-index endpoints (e0 + t e, as CellCorners)
+// and T_B's as endpoint pairs (r, s), per lane.
+template <class V>
+struct BatchEdges {
+  typename V::D e0x[3], e0y[3], ex[3], ey[3], rx[3], ry[3], sx[3], sy[3];
+};
+
+template <class V>
+inline BatchEdges<V> EdgesOf(const Gathered<V>& g) {
   using M = typename V::M;
-  const M active = V::FirstLanes(batch.size);
-  const D* ax = g.ax;
-  const D* ay = g.ay;
-  const D* bx = g.bx;
-  const D* by = g.by;
-  // Edge i (opposite corner i) from its lower-index endpoint, as CellCorners.
-  static constexpr int kFirst[3] = {1, 2, 0}, kSecond[3] = {2, 0, 1};
-  D e0x[3], e0y[3], ex[3], ey[3], rx[3], ry[3], sx[3], sy[3];
+  static constexpr int kFirst[3] = {1, 2, 0}, kSecond[3] = {2, 0, 1};  // edge i: opposite corner i
+  BatchEdges<V> e;
   for (int i = 0; i < 3; ++i) {
     const int p = kFirst[i], q = kSecond[i];
     const M swap_a = g.swap_a[i];
-    e0x[i] = V::Blend(swap_a, ax[p], ax[q]);
-    e0y[i] = V::Blend(swap_a, ay[p], ay[q]);
-    ex[i] = V::Blend(swap_a, ax[q], ax[p]) - e0x[i];
-    ey[i] = V::Blend(swap_a, ay[q], ay[p]) - e0y[i];
+    e.e0x[i] = V::Blend(swap_a, g.ax[p], g.ax[q]);
+    e.e0y[i] = V::Blend(swap_a, g.ay[p], g.ay[q]);
+    e.ex[i] = V::Blend(swap_a, g.ax[q], g.ax[p]) - e.e0x[i];
+    e.ey[i] = V::Blend(swap_a, g.ay[q], g.ay[p]) - e.e0y[i];
     const M swap_b = g.swap_b[i];
-    rx[i] = V::Blend(swap_b, bx[p], bx[q]);
-    ry[i] = V::Blend(swap_b, by[p], by[q]);
-    sx[i] = V::Blend(swap_b, bx[q], bx[p]);
-    sy[i] = V::Blend(swap_b, by[q], by[p]);
+    e.rx[i] = V::Blend(swap_b, g.bx[p], g.bx[q]);
+    e.ry[i] = V::Blend(swap_b, g.by[p], g.by[q]);
+    e.sx[i] = V::Blend(swap_b, g.bx[q], g.bx[p]);
+    e.sy[i] = V::Blend(swap_b, g.by[q], g.by[p]);
   }
-  // d = d0 + ∇d · (x, y) relative to T_B's corner 0.
-  const D plane_a = (g.za0 + g.ga_x * (bx[0] - ax[0])) + g.ga_y * (by[0] - ay[0]);
-  const D dd0 = g.zb0 - plane_a;
-  const D dgx = g.fb_x - g.ga_x, dgy = g.fb_y - g.ga_y;
-  // μ = μ0 + ∇μ · (x, y) likewise (unused unless kWeighted).
-  D mu0 = V::Zero(), mu_gx = mu0, mu_gy = mu0;
-  if (kWeighted) {
-    mu_gx = V::Load(batch.mu_gx);
-    mu_gy = V::Load(batch.mu_gy);
-    mu0 = (V::Load(batch.mu0) + mu_gx * (bx[0] - ax[0])) + mu_gy * (by[0] - ay[0]);
-  }
+  return e;
+}
 
+// Where T_A's edge (i1, i2) crosses T_B's edge (j1, j2), per lane (t
+// clamped to [0, 1]; parallel edges: the midpoint), as the scalar kernel.
+template <class V>
+inline void Crossing(const BatchEdges<V>& e, typename V::M i1, typename V::M i2, typename V::M j1,
+                     typename V::M j2, typename V::D* cx, typename V::D* cy) {
+  using D = typename V::D;
   const D zero = V::Zero(), one = V::Set(1.0), half = V::Set(0.5);
-  typename V::I code = V::LoadInt(batch.code);
-  CellSums<V> c{zero, zero, zero, zero, zero, zero};
-  D x0 = zero, y0 = zero, d0 = zero, xp = zero, yp = zero, dp = zero, m0 = zero, mp = zero;
-  const int slots = kSlots > 0 ? kSlots : batch.max_n;
-  for (int k = 0; k < slots; ++k) {
-    // Kind 0..2 and indices 0..2: each value is one bit of the code.
-    const M is_b = V::template TestBit<0>(code);
-    const M is_cross = V::template TestBit<1>(code);
-    const M i1 = V::template TestBit<2>(code), i2 = V::template TestBit<3>(code);
-    const M j1 = V::template TestBit<4>(code), j2 = V::template TestBit<5>(code);
-    code = V::Shift8(code);
-    // Every corner as if a crossing, then the vertex corners picked instead.
-    const D e0x_ = Select3<V>(i1, i2, e0x[0], e0x[1], e0x[2]);
-    const D e0y_ = Select3<V>(i1, i2, e0y[0], e0y[1], e0y[2]);
-    const D ex_ = Select3<V>(i1, i2, ex[0], ex[1], ex[2]);
-    const D ey_ = Select3<V>(i1, i2, ey[0], ey[1], ey[2]);
-    const D rx_ = Select3<V>(j1, j2, rx[0], rx[1], rx[2]);
-    const D ry_ = Select3<V>(j1, j2, ry[0], ry[1], ry[2]);
-    const D sx_ = Select3<V>(j1, j2, sx[0], sx[1], sx[2]);
-    const D sy_ = Select3<V>(j1, j2, sy[0], sy[1], sy[2]);
-    const D vr = ex_ * (ry_ - e0y_) - ey_ * (rx_ - e0x_);
-    const D vs = ex_ * (sy_ - e0y_) - ey_ * (sx_ - e0x_);
-    const D den = vr - vs;
-    D t = V::MaskDiv(half, V::Neq(den, zero), vr, den);
-    t = V::Min(V::Max(t, zero), one);
-    const D cx = rx_ + t * (sx_ - rx_);
-    const D cy = ry_ + t * (sy_ - ry_);
-    const D vx = V::Blend(is_b, Select3<V>(i1, i2, ax[0], ax[1], ax[2]),
-                          Select3<V>(i1, i2, bx[0], bx[1], bx[2]));
-    const D vy = V::Blend(is_b, Select3<V>(i1, i2, ay[0], ay[1], ay[2]),
-                          Select3<V>(i1, i2, by[0], by[1], by[2]));
-    const D x = V::Blend(is_cross, vx, cx) - bx[0];
-    const D y = V::Blend(is_cross, vy, cy) - by[0];
-    const D d = (dd0 + dgx * x) + dgy * y;
-    if (kWeighted) {
-      const D m = (mu0 + mu_gx * x) + mu_gy * y;
-      if (k == 0) {
-        x0 = x, y0 = y, d0 = d, m0 = m;
-      } else if (k >= 2) {
-        FanWeighted<V, kGradient>(x0, y0, d0, m0, xp, yp, dp, mp, x, y, d, m, &c);
-      }
-      mp = m;
-    } else if (k == 0) {
-      x0 = x, y0 = y, d0 = d;
-    } else if (k >= 2) {
-      Fan<V, kGradient>(x0, y0, d0, xp, yp, dp, x, y, d, &c);
-    }
-    xp = x, yp = y, dp = d;
-  }
+  const D e0x = Select3<V>(i1, i2, e.e0x[0], e.e0x[1], e.e0x[2]);
+  const D e0y = Select3<V>(i1, i2, e.e0y[0], e.e0y[1], e.e0y[2]);
+  const D ex = Select3<V>(i1, i2, e.ex[0], e.ex[1], e.ex[2]);
+  const D ey = Select3<V>(i1, i2, e.ey[0], e.ey[1], e.ey[2]);
+  const D rx = Select3<V>(j1, j2, e.rx[0], e.rx[1], e.rx[2]);
+  const D ry = Select3<V>(j1, j2, e.ry[0], e.ry[1], e.ry[2]);
+  const D sx = Select3<V>(j1, j2, e.sx[0], e.sx[1], e.sx[2]);
+  const D sy = Select3<V>(j1, j2, e.sy[0], e.sy[1], e.sy[2]);
+  const D vr = ex * (ry - e0y) - ey * (rx - e0x);
+  const D vs = ex * (sy - e0y) - ey * (sx - e0x);
+  const D den = vr - vs;
+  D t = V::MaskDiv(half, V::Neq(den, zero), vr, den);
+  t = V::Min(V::Max(t, zero), one);
+  *cx = rx + t * (sx - rx);
+  *cy = ry + t * (sy - ry);
+}
+
+// A batch's sums into the totals and its cells' moments into their B
+// triangles'; the hull cells' boundary term.
+template <class V, bool kGradient, bool kWeighted>
+inline void AddBatch(const CellKernelInput& in, const Gathered<V>& g, const Batch<V>& batch, const CellSums<V>& c,
+                     typename V::D* total_abs, typename V::D* total_area, Moment* moment) {
+  using D = typename V::D;
+  using M = typename V::M;
+  const D zero = V::Zero(), half = V::Set(0.5);
+  const M active = V::FirstLanes(batch.size);
   // As the scalar kernel: every cell's area (∫μ); ∫μ|d| and the moments of
   // the cells of positive area only.
   const M valid = V::And(V::Gt(c.twice, zero), active);
@@ -360,6 +329,72 @@ inline void RunBatch(const CellKernelInput& in, const Gathered<V>& g, const Batc
       in.on_hull(in.context, batch.ta[l], batch.tb[l], batch.n[l]);
     }
   }
+}
+
+// The cells of one batch: corners as the scalar kernel computes them (same
+// arithmetic, no contraction, so a shared crossing is the same point in
+// every cell), then the fan integrals. kSlots: the corner count of every
+// lane, or 0 for the batch's largest (shorter lanes padded).
+template <class V, bool kGradient, bool kWeighted, int kSlots>
+inline void RunBatch(const CellKernelInput& in, const Gathered<V>& g, const Batch<V>& batch,
+                     typename V::D* total_abs, typename V::D* total_area, Moment* moment) {
+  using D = typename V::D;
+  using M = typename V::M;
+  const D* ax = g.ax;
+  const D* ay = g.ay;
+  const D* bx = g.bx;
+  const D* by = g.by;
+  const BatchEdges<V> e = EdgesOf(g);
+  // d = d0 + ∇d · (x, y) relative to T_B's corner 0.
+  const D plane_a = (g.za0 + g.ga_x * (bx[0] - ax[0])) + g.ga_y * (by[0] - ay[0]);
+  const D dd0 = g.zb0 - plane_a;
+  const D dgx = g.fb_x - g.ga_x, dgy = g.fb_y - g.ga_y;
+  // μ = μ0 + ∇μ · (x, y) likewise (unused unless kWeighted).
+  D mu0 = V::Zero(), mu_gx = mu0, mu_gy = mu0;
+  if (kWeighted) {
+    mu_gx = V::Load(batch.mu_gx);
+    mu_gy = V::Load(batch.mu_gy);
+    mu0 = (V::Load(batch.mu0) + mu_gx * (bx[0] - ax[0])) + mu_gy * (by[0] - ay[0]);
+  }
+
+  const D zero = V::Zero();
+  typename V::I code = V::LoadInt(batch.code);
+  CellSums<V> c{zero, zero, zero, zero, zero, zero};
+  D x0 = zero, y0 = zero, d0 = zero, xp = zero, yp = zero, dp = zero, m0 = zero, mp = zero;
+  const int slots = kSlots > 0 ? kSlots : batch.max_n;
+  for (int k = 0; k < slots; ++k) {
+    // Kind 0..2 and indices 0..2: each value is one bit of the code.
+    const M is_b = V::template TestBit<0>(code);
+    const M is_cross = V::template TestBit<1>(code);
+    const M i1 = V::template TestBit<2>(code), i2 = V::template TestBit<3>(code);
+    const M j1 = V::template TestBit<4>(code), j2 = V::template TestBit<5>(code);
+    code = V::Shift8(code);
+    // Every corner as if a crossing, then the vertex corners picked instead.
+    D cx, cy;
+    Crossing<V>(e, i1, i2, j1, j2, &cx, &cy);
+    const D vx = V::Blend(is_b, Select3<V>(i1, i2, ax[0], ax[1], ax[2]),
+                          Select3<V>(i1, i2, bx[0], bx[1], bx[2]));
+    const D vy = V::Blend(is_b, Select3<V>(i1, i2, ay[0], ay[1], ay[2]),
+                          Select3<V>(i1, i2, by[0], by[1], by[2]));
+    const D x = V::Blend(is_cross, vx, cx) - bx[0];
+    const D y = V::Blend(is_cross, vy, cy) - by[0];
+    const D d = (dd0 + dgx * x) + dgy * y;
+    if (kWeighted) {
+      const D m = (mu0 + mu_gx * x) + mu_gy * y;
+      if (k == 0) {
+        x0 = x, y0 = y, d0 = d, m0 = m;
+      } else if (k >= 2) {
+        FanWeighted<V, kGradient>(x0, y0, d0, m0, xp, yp, dp, mp, x, y, d, m, &c);
+      }
+      mp = m;
+    } else if (k == 0) {
+      x0 = x, y0 = y, d0 = d;
+    } else if (k >= 2) {
+      Fan<V, kGradient>(x0, y0, d0, xp, yp, dp, x, y, d, &c);
+    }
+    xp = x, yp = y, dp = d;
+  }
+  AddBatch<V, kGradient, kWeighted>(in, g, batch, c, total_abs, total_area, moment);
 }
 
 template <class V, bool kGradient, bool kWeighted, int kSlots>
