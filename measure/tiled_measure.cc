@@ -553,6 +553,11 @@ Surface RasterBlockToSurface(const std::array<double, 6>& gt, const SampleWindow
   return s;
 }
 
+std::array<double, 3> RasterOrigin(const std::array<double, 6>& g, int32_t columns, int32_t rows) {
+  return {std::round(g[0] + 0.5 * (columns * g[1] + rows * g[2])),
+          std::round(g[3] + 0.5 * (columns * g[4] + rows * g[5])), 0.0};
+}
+
 std::function<SampleWindow(const XyBox&)> AffineGridCover(const std::array<double, 6>& gt,
                                                           int32_t columns, int32_t rows) {
   return [gt, columns, rows](const XyBox& box) -> SampleWindow {

@@ -127,6 +127,12 @@ Surface RasterBlockToSurface(const std::array<double, 6>& geotransform, const Sa
                              const std::vector<double>& values, const std::array<double, 3>& origin,
                              const std::string& source = "");
 
+// The origin a tiled measure gives both rasters: the centre of the
+// reference's extent (columns x rows samples of pixel-is-area geotransform
+// `gt`), rounded to whole units as MakeSurface rounds, and z = 0 (a fixed
+// origin needs no pass over the heights).
+std::array<double, 3> RasterOrigin(const std::array<double, 6>& gt, int32_t columns, int32_t rows);
+
 // A `cover` for an affine raster grid of columns x rows samples: the
 // samples whose cells meet the box, plus one on each side for rounding.
 std::function<SampleWindow(const XyBox&)> AffineGridCover(const std::array<double, 6>& geotransform,

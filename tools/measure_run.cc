@@ -257,7 +257,7 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     return report;
   }
   TerrainInputs inputs = ReadTerrainInputs(config, a.samples ? &*a.samples : nullptr,
-                                           b.samples ? &*b.samples : nullptr);
+                                           b.samples ? &*b.samples : nullptr, /*tiled_origin=*/true);
   a.samples.reset();  // copied into `inputs`
   b.samples.reset();
   report.frame = inputs.frame;

@@ -141,10 +141,7 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
   }
   // One origin for both, the centre of A's extent (rounded as MakeSurface
   // rounds): B is then in A's frame with no shift at all.
-  const auto& g = a.geotransform;
-  const std::array<double, 3> origin = {
-      std::round(g[0] + 0.5 * (a.columns * g[1] + a.rows * g[2])),
-      std::round(g[3] + 0.5 * (a.columns * g[4] + a.rows * g[5])), 0.0};
+  const std::array<double, 3> origin = RasterOrigin(a.geotransform, a.columns, a.rows);
   TiledMeasureOptions tiled;
   tiled.measure = options;
   tiled.measure.on_progress = nullptr;
