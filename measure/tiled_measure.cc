@@ -360,7 +360,8 @@ TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRas
   TiledProgress progress{(part.end_row - part.first_row) * nx,
                          (part.band_end_row - part.first_row) * nx +
                              (part.moving_end_row - part.moving_first_row) *
-                                 Tiles(moving.columns, options.tile)};
+                                 Tiles(moving.columns, options.tile),
+                         (part.end_row - part.first_row) * nx};
   TiledSums& totals = part.sums;
   TiledMeasureStats& st = part.stats;
 

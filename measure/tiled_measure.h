@@ -90,6 +90,7 @@ struct TileDod {
 
 struct TiledProgress {
   int64_t done = 0, total = 0;  // tiles (the moving surface's area pass included)
+  int64_t resumed = 0;          // of `done`, done before a resume (not timed now)
 };
 
 struct TiledMeasureOptions {
