@@ -19,37 +19,8 @@ cd "$tmp" || exit 2
 failures=0
 checks=0
 
-# A: 240 x 180 cells of 1 m with two round holes (one 30 cells across); B:
-# cells of 0.97 m on a grid shifted by fractions of a cell, the surface
-# lowered by a smooth bump (the change) and with a hole of its own. ESRI
-# ASCII grids, which GDAL reads; the .prj of a geographic CRS for one error.
-python3 - <<'EOF' || exit 2
-import math
-def grid(name, columns, rows, x0, y0, cell, holes, bump):
-    with open(name, "w") as f:
-        f.write("ncols %d\nnrows %d\nxllcorner %.6f\nyllcorner %.6f\ncellsize %.6f\nNODATA_value -9999\n"
-                % (columns, rows, x0, y0, cell))
-        for r in range(rows):
-            y = y0 + (rows - r - 0.5) * cell
-            line = []
-            for c in range(columns):
-                x = x0 + (c + 0.5) * cell
-                # holes and the bump about (1000, 5000), A's lower-left corner
-                lx, ly = x - 1000, y - 5000
-                if any((lx - hx) ** 2 + (ly - hy) ** 2 < hr * hr for hx, hy, hr in holes):
-                    line.append("-9999")
-                    continue
-                z = 20 * math.sin(lx / 37) * math.cos(ly / 23) + 0.05 * lx
-                z -= bump * math.exp(-((lx - 120) ** 2 + (ly - 90) ** 2) / 800)
-                line.append("%.4f" % z)
-            f.write(" ".join(line) + "\n")
-grid("a.asc", 240, 180, 1000.0, 5000.0, 1.0, [(60, 50, 15), (200, 140, 4)], 0.0)
-grid("b.asc", 250, 190, 997.3, 4996.6, 0.97, [(150, 40, 6)], 3.0)
-grid("ll.asc", 40, 30, 174.0, -36.9, 0.001, [], 0.0)
-with open("ll.prj", "w") as f:
-    f.write('GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563]],'
-            'PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433]]')
-EOF
+# A 240 x 180 DEM and B on another grid, with holes and a known change.
+python3 "$(dirname -- "$(realpath -- "$0")")/make_tiled_pair.py" || exit 2
 
 run measure a.asc b.asc --json
 cp stdout untiled.json
