@@ -199,6 +199,7 @@ int RunMeasure(const std::vector<std::string>& args) {
       MeasureSurfaces({args[0], {}}, {args[1], {}}, settings, PrintMeasureProgress, &parts);
   ThrowIfInterrupted();  // no report of an interrupted run
   if (parts.shards > 1) {
+    if (FLAGS_quiet) return 0;
     std::fprintf(stderr,
                  "measure: shard %d/%d: %lld tiles in %s; join the %d shards with 'surfreg merge "
                  "OUT.json P1.json ...' (and --dod=DOD.tif for their DoD bands)\n",
