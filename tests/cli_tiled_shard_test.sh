@@ -10,7 +10,7 @@
 # the same JSON but for the timings, the same DoD cells.
 # Usage: cli_tiled_shard_test.sh SURFREG_BINARY   (needs python3, standard library)
 set -u
-source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run, expect_refused
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -83,17 +83,9 @@ checks=$((checks + 1))
 grep -q "^tiles: .*180 of 16 x 16 cells" stdout || fail "merge: no text report on stdout"
 
 # Refused, one line each.
-expect_refused() {
-  local text=$1
-  shift
-  run "$@"
-  checks=$((checks + 1))
-  if [[ $rc -ne 2 || $(wc -l <stderr) -ne 1 ]] || ! grep -qF -- "$text" stderr; then
-    fail "surfreg $*: expected exit 2 and one line with: $text (got: $(cat stderr))"
-  fi
-}
 expect_refused "merge: part 2/13 is missing" merge out.json p1.json p3.json p4.json
 expect_refused "merge: part 3/13 is given twice" merge out.json p1.json p2.json p3.json p3.json
+expect_refused "argument OUT: 'p2.json' is also input 2" merge p2.json p1.json p2.json
 run measure a.asc b.asc --tile=16 --shard=2/13 --partial=lod.json --lod=0.2 --quiet
 expect_refused "lod.json: a part of another measure than p1.json" merge out.json p1.json lod.json
 run measure a.asc b.asc --tile=16 --shard=2/13 --partial=nodod.json --quiet
@@ -114,11 +106,14 @@ done
 run measure big_a.tif big_b.tif --json --tile=16 --dod=full.tif --quiet
 cp stdout full.json
 [[ $rc -eq 0 ]] || fail "the uninterrupted run: exit $rc"
-kill_when_progress() {  # SIGNAL: start the run, send SIGNAL once it reports tiles done
+# SIGNAL [FLAGS]: start the run, send SIGNAL once it reports 60 tiles done
+# (rows of 26 tiles: a row's state is written by then).
+kill_when_progress() {
   "$bin" measure big_a.tif big_b.tif --json --tile=16 --dod=cut.tif "${@:2}" >cut.json 2>cut.err &
-  local pid=$! i
-  for ((i = 0; i < 300; i++)); do
-    grep -q "tiles, [0-9]* of" cut.err && break
+  local pid=$! i done
+  for ((i = 0; i < 600; i++)); do
+    done=$(grep -o "tiles, [0-9]*" cut.err | tail -1 | tr -dc 0-9)
+    [[ ${done:-0} -ge 60 ]] && break
     sleep 0.1
   done
   kill -"$1" $pid

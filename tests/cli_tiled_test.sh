@@ -7,7 +7,7 @@
 # budget picks a tile; what cannot be tiled yet is refused with one line.
 # Usage: cli_tiled_test.sh SURFREG_BINARY   (needs python3, standard library)
 set -u
-source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
+source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run, expect_refused
 if [[ $# -ne 1 ]]; then
   echo "usage: $0 SURFREG_BINARY" >&2
   exit 2
@@ -85,16 +85,7 @@ checks=$((checks + 1))
 python3 -c 'import json, sys; t = json.load(open("stdout")); sys.exit(t["tile"] != 54 or t["tiles"] != 20)' ||
   fail "--max_memory=2M: expected tiles of 54 cells, 20 of them"
 
-# What is not tiled yet, or cannot be: one line, exit 2.
-expect_refused() {
-  local text=$1
-  shift
-  run "$@"
-  checks=$((checks + 1))
-  if [[ $rc -ne 2 || $(wc -l <stderr) -ne 1 ]] || ! grep -qF -- "$text" stderr; then
-    fail "surfreg $*: expected exit 2 and one line with: $text"
-  fi
-}
+# What is not tiled yet, or cannot be: one line, exit 2 (expect_refused).
 printf '1000 5000 1\n1100 5000 2\n1000 5100 3\n' >cloud.xyz
 expect_refused "flag '--tile': tiles are for two rasters, but argument B is 'cloud.xyz', a cloud" \
   measure a.asc cloud.xyz --tile=32

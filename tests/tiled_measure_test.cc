@@ -234,6 +234,43 @@ double Compare(const Grid& a, const Grid& b, const MeasureSummary& untiled, int3
 
 const std::array<double, 6> kGridA = {kX0, 1.0, 0.0, kY0, 0.0, -1.0};
 
+int64_t TileCount(const Grid& a, int32_t tile) {
+  return ((a.columns - 1 + tile - 1) / tile) * ((a.rows - 1 + tile - 1) / tile);
+}
+
+// Parts 1..N measured one by one (in reverse order), merged, their DoDs
+// settled by the merge's patches: the unsharded run's sums to 1e-9 and its
+// DoD bit for bit. Returns the merged summary.
+MeasureSummary Sharded(const Grid& a, const Grid& b, MeasureOptions measure, int32_t tile,
+                       int32_t shards, const Dod& unsharded) {
+  SCOPED_TRACE("tile " + std::to_string(tile) + ", " + std::to_string(shards) + " shards");
+  TiledMeasureOptions options;
+  options.measure = measure;
+  options.tile = tile;
+  Dod dod;
+  options = WithDod(options, a, &dod);
+  std::vector<TiledPartial> parts;
+  for (int32_t k = shards; k >= 1; --k) {
+    parts.push_back(MeasureTiledPart(a.Source(), b.Source(), options, k, shards));
+  }
+  std::vector<TiledDodPatch> patches;
+  const TiledPartial whole = MergeTiledPartials(parts, &patches);
+  for (const TiledDodPatch& p : patches) {
+    dod.dz[static_cast<std::size_t>(p.row) * a.columns + p.column] = p.dz;
+  }
+  int differ = 0;
+  for (std::size_t k = 0; k < dod.dz.size(); ++k) {
+    const double want = unsharded.dz[k], got = dod.dz[k];
+    if (!(std::isnan(want) ? std::isnan(got) : want == got) && ++differ <= 3) {
+      ADD_FAILURE() << "DoD sample " << k << ": unsharded " << want << ", sharded " << got;
+    }
+    EXPECT_EQ(dod.seen[k], 1) << "sample " << k;
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_EQ(whole.stats.tiles, TileCount(a, tile));
+  return FinishTiled(whole.sums, measure, a.name, b.name);
+}
+
 // A 400 x 300 reference and a moving raster on another grid (shifted by a
 // fraction of a cell, cells 1% larger and 1% smaller), with a 40-cell hole
 // (more than a tile of 37) and another origin.
@@ -314,8 +351,11 @@ TEST(TiledMeasureTest, MovingNodesOnTileBordersCountOnce) {
   const MeasureSummary untiled = Untiled(a, b, options);
   for (int32_t tile : {3, 8}) {
     TiledMeasureStats stats;
-    Compare(a, b, untiled, tile, options, &stats);
+    Dod dod;
+    Compare(a, b, untiled, tile, options, &stats, &dod);
     EXPECT_GT(stats.merged_moving_nodes, 0);
+    // And on the borders between shards' bands: counted once by the merge.
+    ExpectSame(untiled, Sharded(a, b, options, tile, 4, dod), a.Whole(), a, dod);
   }
 }
 
@@ -388,43 +428,6 @@ TEST(TiledMeasureTest, BlockSurfaceIsTheWholeOnesWindow) {
 
 // --- parts: shards merged, a run resumed (measure/tiled_partial.h) ----------
 
-int64_t Tiles2(const Grid& a, int32_t tile) {
-  return ((a.columns - 1 + tile - 1) / tile) * ((a.rows - 1 + tile - 1) / tile);
-}
-
-// Parts 1..N measured one by one (in reverse order), merged, their DoDs
-// settled by the merge's patches: the unsharded run's sums to 1e-9 and its
-// DoD bit for bit. Returns the merged summary.
-MeasureSummary Sharded(const Grid& a, const Grid& b, MeasureOptions measure, int32_t tile,
-                       int32_t shards, const Dod& unsharded) {
-  SCOPED_TRACE("tile " + std::to_string(tile) + ", " + std::to_string(shards) + " shards");
-  TiledMeasureOptions options;
-  options.measure = measure;
-  options.tile = tile;
-  Dod dod;
-  options = WithDod(options, a, &dod);
-  std::vector<TiledPartial> parts;
-  for (int32_t k = shards; k >= 1; --k) {
-    parts.push_back(MeasureTiledPart(a.Source(), b.Source(), options, k, shards));
-  }
-  std::vector<TiledDodPatch> patches;
-  const TiledPartial whole = MergeTiledPartials(parts, &patches);
-  for (const TiledDodPatch& p : patches) {
-    dod.dz[static_cast<std::size_t>(p.row) * a.columns + p.column] = p.dz;
-  }
-  int differ = 0;
-  for (std::size_t k = 0; k < dod.dz.size(); ++k) {
-    const double want = unsharded.dz[k], got = dod.dz[k];
-    if (!(std::isnan(want) ? std::isnan(got) : want == got) && ++differ <= 3) {
-      ADD_FAILURE() << "DoD sample " << k << ": unsharded " << want << ", sharded " << got;
-    }
-    EXPECT_EQ(dod.seen[k], 1) << "sample " << k;
-  }
-  EXPECT_EQ(differ, 0);
-  EXPECT_EQ(whole.stats.tiles, Tiles2(a, tile));
-  return FinishTiled(whole.sums, measure, a.name, b.name);
-}
-
 TEST(TiledPartialTest, ShardsMergeToTheUnshardedRun) {
   const Grid a = MakeGrid(120, 97, kGridA, {kX0 + 60, kY0 - 48, 0}, false, {{50, 40, 14}}, 13u,
                           "a.tif");
@@ -456,20 +459,6 @@ TEST(TiledPartialTest, MaskedShardsMergeToTheUnshardedRun) {
   Dod unsharded;
   Compare(a, b, untiled, 12, options, nullptr, &unsharded);
   ExpectSame(untiled, Sharded(a, b, options, 12, 3, unsharded), a.Whole(), a, unsharded);
-}
-
-// Moving nodes on the borders between bands: counted once by the merge.
-TEST(TiledPartialTest, MovingNodesOnBandBordersCountOnce) {
-  const std::array<double, 3> origin = {kX0 + 30, kY0 - 20, 0};
-  const Grid a = MakeGrid(60, 40, kGridA, origin, false, {{30, 20, 5}}, 9u, "a.tif");
-  const Grid b = MakeGrid(60, 40, {kX0 + 0.5, 1.0, 0.0, kY0, 0.0, -1.0}, origin, true, {}, 10u,
-                          "b.tif");
-  MeasureOptions options = Options();
-  options.parallel = false;
-  const MeasureSummary untiled = Untiled(a, b, options);
-  Dod unsharded;
-  Compare(a, b, untiled, 3, options, nullptr, &unsharded);
-  ExpectSame(untiled, Sharded(a, b, options, 3, 4, unsharded), a.Whole(), a, unsharded);
 }
 
 // A part stopped after some tile rows and resumed from the state on_row

@@ -343,6 +343,11 @@ int MergeMeasureParts(const std::vector<std::string>& args, const std::string& d
   if (!dod.empty()) CheckOutputPath(dod, "flag '--dod'");
   std::vector<PartFile> files;
   for (std::size_t i = 1; i < args.size(); ++i) {
+    std::error_code ignored;
+    if (fs::equivalent(args[0], args[i], ignored)) {
+      throw InputError("argument OUT: '" + args[0] + "' is also input " + std::to_string(i) +
+                       " ('" + args[i] + "'); write the merge to another file");
+    }
     files.push_back(ReadPart(args[i]));
     const PartFile& f = files.back();
     if (f.settings != files.front().settings) {

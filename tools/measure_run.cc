@@ -253,6 +253,7 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   if (report.tile > 0) {
     CheckTileable(options, sigma, config, tile_where);
     TiledParts tiled_parts = parts != nullptr ? *parts : TiledParts();
+    tiled_parts.checkpoint = parts != nullptr;  // the Python module cannot --resume
     tiled_parts.settings = PartSettings(report, settings);
     const TiledMeasureRun run = MeasureRasterTiles(
         config, options, report.mask_crs_wkt, report.mask_file, report.tile, tile_where, tiled_parts,

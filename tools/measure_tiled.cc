@@ -1,5 +1,8 @@
 #include "tools/measure_tiled.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -7,7 +10,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <sys/stat.h>
 
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
@@ -161,9 +163,10 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
 
   // The state of an interrupted run of this part, if any.
   run.state = StateDirectory(config.terrain.dod, parts);
+  if (!parts.checkpoint) run.state += ".tmp-" + std::to_string(::getpid());
   const std::string state_file = run.state + "/state.json";
   std::unique_ptr<PartFile> resumed;
-  if (Exists(state_file)) {
+  if (parts.checkpoint && Exists(state_file)) {
     if (!parts.resume) {
       throw InputError("'" + run.state + "' holds an interrupted tiled measure: add --resume to "
                        "continue it, or delete it");
@@ -182,6 +185,13 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
   std::error_code error;
   std::filesystem::create_directories(run.state, error);
   if (error) throw InputError("'" + run.state + "': cannot create it (" + error.message() + ")");
+  struct Scratch {  // without checkpoints the directory goes, whatever happens
+    const std::string* path;
+    ~Scratch() {
+      std::error_code ignored;
+      if (path != nullptr) std::filesystem::remove_all(*path, ignored);
+    }
+  } scratch{parts.checkpoint ? nullptr : &run.state};
 
   // The DoD one tile row at a time, each row a GeoTIFF in the state
   // directory, finished before the state that counts it is written.
@@ -215,6 +225,7 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
   tiled.on_row = [&](const TiledPartial& part) {
     if (row) row->Finish();
     row.reset();
+    if (!parts.checkpoint) return;
     WriteFileAtomically(state_file, PartJson(part, parts.settings, nullptr, {}, state_file),
                         "the state of the tiled measure");
   };

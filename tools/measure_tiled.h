@@ -37,6 +37,9 @@ struct TiledParts {
   std::string partial;   // --partial=P.json ("" = none)
   bool resume = false;   // --resume
   std::string settings;  // the inputs and settings, equal in every part and on resume
+  // false (the Python module): no state kept for a resume; the DoD rows go
+  // to a directory of this process's, removed in any case.
+  bool checkpoint = true;
 };
 
 // Where a tiled run keeps its state: P.json.resume/ with a partial, else
