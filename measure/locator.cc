@@ -257,6 +257,35 @@ Location LocatePointBruteForce(const std::vector<Point2>& points, const Triangul
   return Location();
 }
 
+double InterpolateCanonical(const std::vector<Point2>& points, const Triangulation& mesh,
+                            const std::vector<double>& values, const Location& location,
+                            const Point2& p) {
+  const int32_t* v = &mesh.triangles[3 * location.triangle];
+  // Lexicographic (x, y): vertices are distinct points, so a total order.
+  auto before = [&points](int32_t i, int32_t j) {
+    return points[i].x < points[j].x || (points[i].x == points[j].x && points[i].y < points[j].y);
+  };
+  if (location.where == Where::kOnVertex) return values[v[location.index]];
+  if (location.where == Where::kOnEdge) {
+    int32_t a = v[Next(location.index)], b = v[Prev(location.index)];
+    if (before(b, a)) std::swap(a, b);
+    const double dx = points[b].x - points[a].x, dy = points[b].y - points[a].y;
+    const double t = std::fabs(dx) >= std::fabs(dy) ? (p.x - points[a].x) / dx
+                                                    : (p.y - points[a].y) / dy;
+    return values[a] + t * (values[b] - values[a]);
+  }
+  // Inside: the least corner first, then the mesh's cyclic order (a
+  // rotation keeps the orientation, so the sub-areas stay positive). With
+  // it first already, the locator's coordinates are exactly these.
+  int k = before(v[1], v[0]) ? 1 : 0;
+  if (before(v[2], v[k])) k = 2;
+  const std::array<double, 3>& l = location.barycentric;
+  if (k == 0) return l[0] * values[v[0]] + l[1] * values[v[1]] + l[2] * values[v[2]];
+  const int32_t a = v[k], b = v[Next(k)], c = v[Prev(k)];
+  const std::array<double, 3> w = Barycentric(points[a], points[b], points[c], p, -1);
+  return w[0] * values[a] + w[1] * values[b] + w[2] * values[c];
+}
+
 Location LocateCentroid(const std::vector<Point2>& points, const Triangulation& mesh,
                         const std::array<Point2, 3>& corners, int32_t start_triangle) {
   const int32_t n = mesh.num_triangles();

@@ -44,6 +44,16 @@ inline double InterpolateAt(const Triangulation& mesh, const std::vector<double>
          location.barycentric[2] * values[v[2]];
 }
 
+// The same interpolant at p (located at `location`, found), to the last bit
+// whatever the mesh: corners taken in an order fixed by their coordinates,
+// and a point on an edge from that edge's two ends alone (either triangle
+// beside it). InterpolateAt's barycentric coordinates depend on which corner
+// a mesh lists first and, on an edge, on the third corner, so a window's mesh
+// and the whole raster's gave dz differing in the last bit (tiled_measure.h).
+double InterpolateCanonical(const std::vector<Point2>& points, const Triangulation& mesh,
+                            const std::vector<double>& values, const Location& location,
+                            const Point2& p);
+
 // The most triangles a walk may visit before LocatePoint gives up: 4 per
 // triangle + 64. On a valid mesh no walk comes near it: the segment from the
 // start vertex to p crosses each triangle at most once (T steps), and the

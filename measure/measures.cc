@@ -230,7 +230,8 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.timings.locate = Seconds(stage);
 
   // Weight field μ, then the gap at every node inside Ω (each distinct
-  // vertex once): ρ'd.
+  // vertex once): ρ'd. Interpolated in a canonical corner order, so that a
+  // node's gap is the same double in any window's mesh (tiled_measure.h).
   stage = Clock::now();
   const WeightField mu = MakeWeightField(options, a, pa.xy, pa.mesh, pa.weight, pb.xy, pb.mesh,
                                          pb.weight, a_in_b, b_in_a);
@@ -253,7 +254,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   if (options.keep_node_gaps) counted_b.assign(pb.xy.size(), 0);
   for (std::size_t i = 0; i < pa.xy.size(); ++i) {
     if (!a_in_b[i].found()) continue;
-    gaps.a[i] = InterpolateAt(pb.mesh, pb.z, a_in_b[i]) - pa.z[i];
+    gaps.a[i] = InterpolateCanonical(pb.xy, pb.mesh, pb.z, a_in_b[i], pa.xy[i]) - pa.z[i];
     if (!omega_a[i] || pa.mesh.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
     const double w = mu.AtNodeA(i);
     gap_sum += w * std::fabs(gaps.a[i]);
@@ -262,7 +263,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   }
   for (std::size_t j = 0; j < pb.xy.size(); ++j) {
     if (!b_in_a[j].found()) continue;
-    gaps.b[j] = pb.z[j] - InterpolateAt(pa.mesh, pa.z, b_in_a[j]);
+    gaps.b[j] = pb.z[j] - InterpolateCanonical(pa.xy, pa.mesh, pa.z, b_in_a[j], pb.xy[j]);
     if (!omega_b[j] || pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
     if (b_in_a[j].where == Where::kOnVertex) continue;  // the same node of G1 ∪ G2 as A's
     if (!counted_b.empty()) counted_b[j] = 1;

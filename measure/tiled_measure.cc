@@ -11,6 +11,7 @@
 #include "measure/input_error.h"
 #include "measure/mask_region.h"
 #include "measure/predicates.h"
+#include "measure/tiled_partial.h"
 #include "measure/weights.h"
 
 namespace surfreg {
@@ -72,37 +73,6 @@ double CompleteCellArea(const Surface& s, const WindowIndex& index, int32_t c0, 
       twice += std::fabs((p2.x - p0.x) * (p3.y - p0.y) - (p2.y - p0.y) * (p3.x - p0.x));
       ++*count;
     }
-  }
-  return 0.5 * twice;
-}
-
-// Convex hull (counter-clockwise, no collinear corners; exact turns) of
-// `points`: a merged hull is the hull of the parts' hull corners.
-std::vector<Point2> ConvexHull(std::vector<Point2> points) {
-  std::sort(points.begin(), points.end(),
-            [](const Point2& p, const Point2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); });
-  points.erase(std::unique(points.begin(), points.end(),
-                           [](const Point2& p, const Point2& q) { return p.x == q.x && p.y == q.y; }),
-               points.end());
-  if (points.size() < 3) return points;
-  std::vector<Point2> hull(2 * points.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && Orient2D(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
-  }
-  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && Orient2D(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
-  }
-  hull.resize(k - 1);
-  return hull;
-}
-
-double PolygonArea(const std::vector<Point2>& p) {
-  double twice = 0.0;
-  for (std::size_t k = 1; k + 1 < p.size(); ++k) {
-    twice += (p[k].x - p[0].x) * (p[k + 1].y - p[0].y) - (p[k].y - p[0].y) * (p[k + 1].x - p[0].x);
   }
   return 0.5 * twice;
 }
@@ -179,39 +149,6 @@ class TileBorder {
   int buckets_ = 1;
 };
 
-// The sums that make up a MeasureSummary, over the tiles.
-struct Totals {
-  MeasureSummary sum;
-  double gap_sum = 0, node_weight = 0;  // ρ'd: Σ μ|d| and Σ μ over the nodes
-  double domain_area_a = 0, domain_area_b = 0;
-  int64_t complete_cells_a = 0, complete_cells_b = 0;
-  std::vector<Point2> hull_a, hull_b;
-
-  void AddNode(double dz, double w) {
-    gap_sum += w * std::fabs(dz);
-    node_weight += w;
-    ++sum.n_overlap_nodes;
-  }
-  void AddTile(const MeasureSummary& s) {
-    sum.rho_d += s.rho_d;
-    sum.overlap_area += s.overlap_area;
-    sum.weight_integral += s.weight_integral;
-    sum.signed_volume += s.signed_volume;
-    sum.volume_above += s.volume_above;
-    sum.volume_below += s.volume_below;
-    sum.fill_detected += s.fill_detected;
-    sum.cut_detected += s.cut_detected;
-    sum.fill_area += s.fill_area;
-    sum.cut_area += s.cut_area;
-    sum.n_cells += s.n_cells;
-    sum.walk_steps += s.walk_steps;
-    MeasureTimings& t = sum.timings;
-    t.triangulate += s.timings.triangulate, t.domain += s.timings.domain;
-    t.spanning_tree += s.timings.spanning_tree, t.locate += s.timings.locate;
-    t.interpolate += s.timings.interpolate, t.volume += s.timings.volume;
-  }
-};
-
 // A reference node on a tile border: the parts the tiles holding it saw.
 struct BorderNode {
   double dz = kNaN;   // finite if some tile has it in Ω
@@ -225,11 +162,14 @@ struct SharedNode {
 };
 
 // Counts the listed moving nodes first seen in tile rows < `before` (no
-// later tile can list them again), in key order for deterministic sums.
-void FlushShared(std::unordered_map<int64_t, SharedNode>* shared, int64_t before, Totals* totals) {
+// later tile can list them again), in key order for deterministic sums;
+// but those of tile row `keep` (a band's first, whose top edge another part
+// measures): the merge counts them.
+void FlushShared(std::unordered_map<int64_t, SharedNode>* shared, int64_t before, int64_t keep,
+                 TiledSums* totals) {
   std::vector<std::pair<int64_t, SharedNode>> done;
   for (auto it = shared->begin(); it != shared->end();) {
-    if (it->second.tile_row < before) {
+    if (it->second.tile_row < before && it->second.tile_row != keep) {
       done.emplace_back(*it);
       it = shared->erase(it);
     } else {
@@ -299,9 +239,9 @@ void TileWindows(int32_t columns, int32_t rows, int32_t tile, int64_t tx, int64_
 // Domain area, hull and sample count of the moving raster, from its own
 // blocks of cells (its windows in the reference's tiles overlap).
 void MovingPass(const TiledRasterSource& moving, const TiledMeasureOptions& options,
-                Totals* totals, TiledProgress* progress) {
-  const int64_t nx = Tiles(moving.columns, options.tile), ny = Tiles(moving.rows, options.tile);
-  for (int64_t ty = 0; ty < ny; ++ty) {
+                int64_t first_row, int64_t end_row, TiledSums* totals, TiledProgress* progress) {
+  const int64_t nx = Tiles(moving.columns, options.tile);
+  for (int64_t ty = first_row; ty < end_row; ++ty) {
     for (int64_t tx = 0; tx < nx; ++tx) {
       SampleWindow read, owned;
       TileWindows(moving.columns, moving.rows, options.tile, tx, ty, &read, &owned);
@@ -334,22 +274,16 @@ SampleWindow ClipWindow(SampleWindow w, int32_t margin, int32_t columns, int32_t
           static_cast<int32_t>(r1 - r0)};
 }
 
-[[noreturn]] void NoData(const std::string& source, const char* name) {
-  throw InputError((source.empty() ? std::string(name) : source) +
-                   ": no part of it is data (no raster cell has all four corners valid); "
-                   "'domain: hull' measures over the convex hull instead");
-}
-
 }  // namespace
 
-MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRasterSource& moving,
-                            const TiledMeasureOptions& options, TiledMeasureStats* stats) {
-  const Clock::time_point start = Clock::now();
+TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRasterSource& moving,
+                              const TiledMeasureOptions& options, int32_t shard, int32_t shards,
+                              const TiledPartial* resume) {
   CheckOptions(reference, moving, options);
-  TiledMeasureStats local_stats;
-  TiledMeasureStats& st = stats != nullptr ? *stats : local_stats;
-  st = TiledMeasureStats();
-
+  if (shards < 1 || shard < 1 || shard > shards) {
+    throw InputError("tiled measure: part " + std::to_string(shard) + " of " +
+                     std::to_string(shards) + " does not exist");
+  }
   MeasureOptions tile_options = options.measure;
   tile_options.keep_node_gaps = true;
   tile_options.allow_empty_overlap = true;
@@ -365,16 +299,75 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
   auto weight_at = [&](const Point2& p) { return masked && !InsideMask(tile_mask, p) ? 0.0 : 1.0; };
 
   const int64_t nx = Tiles(reference.columns, options.tile), ny = Tiles(reference.rows, options.tile);
-  TiledProgress progress{0, nx * ny + Tiles(moving.columns, options.tile) *
-                                          Tiles(moving.rows, options.tile)};
-  Totals totals;
+  TiledPartial part;
+  part.shard = shard;
+  part.shards = shards;
+  part.tile = options.tile;
+  part.tile_rows = ny;
+  part.moving_tile_rows = Tiles(moving.rows, options.tile);
+  TiledBand(ny, shard, shards, &part.first_row, &part.band_end_row);
+  TiledBand(part.moving_tile_rows, shard, shards, &part.moving_first_row, &part.moving_end_row);
+  part.end_row = part.first_row;
   std::unordered_map<int64_t, BorderNode> border;  // reference nodes, by row * columns + column
   std::unordered_map<int64_t, SharedNode> shared;  // moving nodes, likewise
+  std::vector<TiledBorderNode> owned_top;          // the band's first row, for the merge
   const auto key = [](int32_t c, int32_t r, int32_t columns) {
     return static_cast<int64_t>(r) * columns + c;
   };
+  if (resume != nullptr) {
+    if (resume->shard != shard || resume->shards != shards || resume->tile != part.tile ||
+        resume->tile_rows != ny || resume->moving_tile_rows != part.moving_tile_rows ||
+        resume->first_row != part.first_row || resume->end_row < part.first_row ||
+        resume->end_row > part.band_end_row) {
+      throw InputError("tiled measure: the state to resume is of another run or part");
+    }
+    part.end_row = resume->end_row;
+    part.sums = resume->sums;
+    part.stats = resume->stats;
+    for (const TiledBorderNode& n : resume->border) {
+      if (n.owned) {
+        owned_top.push_back(n);
+      } else {
+        border[key(n.column, n.row, reference.columns)] = {n.dz, n.area};
+      }
+    }
+    for (const TiledSharedNode& n : resume->shared) {
+      shared[key(n.column, n.row, moving.columns)] = {n.dz, n.weight, n.tile_row};
+    }
+  }
+  const int64_t keep = part.first_row > 0 ? part.first_row : -1;  // FlushShared
+  // The state after the rows done: the maps as lists (sorted: reproducible).
+  auto snapshot = [&](TiledPartial* out) {
+    out->border = owned_top;
+    for (const auto& [k, node] : border) {
+      out->border.push_back({static_cast<int32_t>(k % reference.columns),
+                             static_cast<int32_t>(k / reference.columns), node.dz, node.area, 0.0,
+                             false});
+    }
+    out->shared.clear();
+    for (const auto& [k, node] : shared) {
+      out->shared.push_back({static_cast<int32_t>(k % moving.columns),
+                             static_cast<int32_t>(k / moving.columns), node.dz, node.weight,
+                             node.tile_row});
+    }
+    std::sort(out->border.begin(), out->border.end(), [](const auto& p, const auto& q) {
+      return std::make_pair(p.row, p.column) < std::make_pair(q.row, q.column);
+    });
+    std::sort(out->shared.begin(), out->shared.end(), [](const auto& p, const auto& q) {
+      return std::make_pair(p.row, p.column) < std::make_pair(q.row, q.column);
+    });
+  };
+  TiledProgress progress{(part.end_row - part.first_row) * nx,
+                         (part.band_end_row - part.first_row) * nx +
+                             (part.moving_end_row - part.moving_first_row) *
+                                 Tiles(moving.columns, options.tile),
+                         (part.end_row - part.first_row) * nx};
+  TiledSums& totals = part.sums;
+  TiledMeasureStats& st = part.stats;
 
-  for (int64_t ty = 0; ty < ny; ++ty) {
+  for (int64_t ty = part.end_row; ty < part.band_end_row; ++ty) {
+    // The band's first sample row is another part's too: listed, not counted.
+    const bool top_shared = ty == part.first_row && part.first_row > 0;
     for (int64_t tx = 0; tx < nx; ++tx) {
       SampleWindow window, owned;
       TileWindows(reference.columns, reference.rows, options.tile, tx, ty, &window, &owned);
@@ -471,56 +464,50 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
           double d = dz[o], node_area = area[o];
           if (c == c0 || c == c1 || r == r0 || r == r1) {
             const auto it = border.find(key(c, r, reference.columns));
-            if (it == border.end()) continue;
-            d = it->second.dz;
-            node_area = it->second.area;
-            border.erase(it);
+            d = kNaN, node_area = 0.0;
+            if (it != border.end()) {
+              d = it->second.dz;
+              node_area = it->second.area;
+              border.erase(it);
+            }
           }
           const std::size_t out = static_cast<std::size_t>(r - owned.row) * owned.columns +
                                   (c - owned.column);
-          dod.dz[out] = d;
+          dod.dz[out] = d;  // on a shared top row, the merge may settle it (TiledDodPatch)
           dod.node_area[out] = node_area;
-          if (std::isfinite(d)) totals.AddNode(d, weight_at(a.xy[i]));
+          if (top_shared && r == r0) {
+            owned_top.push_back({c, r, d, node_area, weight_at(a.xy[i]), true});
+          } else if (std::isfinite(d)) {
+            totals.AddNode(d, weight_at(a.xy[i]));
+          }
         }
       }
       if (options.on_tile) options.on_tile(dod);
       ++progress.done;
       if (options.on_progress) options.on_progress(progress);
     }
-    FlushShared(&shared, ty, &totals);  // keeps the list to two rows of tiles
+    FlushShared(&shared, ty, keep, &totals);  // keeps the list to two rows of tiles
+    part.end_row = ty + 1;
+    if (options.on_row && part.end_row < part.band_end_row) {
+      snapshot(&part);
+      options.on_row(part);
+    }
   }
-  FlushShared(&shared, ny, &totals);
+  if (part.band_end_row == ny) FlushShared(&shared, ny, keep, &totals);
+  snapshot(&part);
+  if (options.on_row && part.band_end_row > part.first_row) options.on_row(part);
 
-  MovingPass(moving, options, &totals, &progress);
+  MovingPass(moving, options, part.moving_first_row, part.moving_end_row, &totals, &progress);
+  part.moving_done = true;
+  return part;
+}
 
-  MeasureSummary summary = totals.sum;
-  if (totals.complete_cells_a == 0) NoData(reference.source, "surface A");
-  if (totals.complete_cells_b == 0) NoData(moving.source, "surface B");
-  const double smaller = std::min(totals.domain_area_a, totals.domain_area_b);
-  const double overlap = summary.overlap_area;
-  if (!(overlap > options.measure.min_overlap_fraction * smaller) || summary.n_cells == 0) {
-    char numbers[160];
-    std::snprintf(numbers, sizeof numbers,
-                  " (overlap area %.3g, %.3g%% of the smaller data domain; the minimum is %.3g%%)",
-                  overlap, smaller > 0.0 ? 100.0 * overlap / smaller : 0.0,
-                  100.0 * options.measure.min_overlap_fraction);
-    throw InputError((reference.source.empty() ? std::string("surface A") : reference.source) +
-                     " and " + (moving.source.empty() ? std::string("surface B") : moving.source) +
-                     (overlap > 0.0 ? " overlap only in a sliver" : " do not overlap") + numbers);
-  }
-  summary.volume_mode = VolumeMode::kOverlay;
-  summary.domain_kind = DomainKind::kData;
-  summary.rho_d_axial = totals.node_weight > 0.0 ? totals.gap_sum / totals.node_weight : 0.0;
-  summary.rho_s = summary.rho_d > 0.0 ? 1.0 / summary.rho_d : 1.0;
-  summary.mean_abs_dz =
-      summary.weight_integral > 0.0 ? summary.rho_d / summary.weight_integral : 0.0;
-  summary.hull_area_a = PolygonArea(totals.hull_a);
-  summary.hull_area_b = PolygonArea(totals.hull_b);
-  summary.domain_area_a = totals.domain_area_a;
-  summary.domain_area_b = totals.domain_area_b;
-  summary.excluded_area_a = summary.hull_area_a - summary.domain_area_a;
-  summary.excluded_area_b = summary.hull_area_b - summary.domain_area_b;
-  summary.level_of_detection = options.measure.level_of_detection;
+MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRasterSource& moving,
+                            const TiledMeasureOptions& options, TiledMeasureStats* stats) {
+  const Clock::time_point start = Clock::now();
+  const TiledPartial part = MeasureTiledPart(reference, moving, options, 1, 1);
+  if (stats != nullptr) *stats = part.stats;
+  MeasureSummary summary = FinishTiled(part.sums, options.measure, reference.source, moving.source);
   summary.timings.total = std::chrono::duration<double>(Clock::now() - start).count();
   return summary;
 }
@@ -551,6 +538,11 @@ Surface RasterBlockToSurface(const std::array<double, 6>& gt, const SampleWindow
     }
   }
   return s;
+}
+
+std::array<double, 3> RasterOrigin(const std::array<double, 6>& g, int32_t columns, int32_t rows) {
+  return {std::round(g[0] + 0.5 * (columns * g[1] + rows * g[2])),
+          std::round(g[3] + 0.5 * (columns * g[4] + rows * g[5])), 0.0};
 }
 
 std::function<SampleWindow(const XyBox&)> AffineGridCover(const std::array<double, 6>& gt,

@@ -29,6 +29,9 @@
 // Tiles are processed in row-major order, so a block of the DoD is final
 // once its tile is done (on_tile); the bookkeeping is O(raster width + tile).
 //
+// A part of the tiles (tiled_partial.h) is measured by MeasureTiledPart,
+// and the parts merged by MergeTiledPartials.
+//
 // Limits: uniform or mask weights, the overlay volume, the data domain
 // (per-point weights, the union mode and the hull domain are not local and
 // are refused). A folded grid (grid_mesh.h) may differ at the folds: there
@@ -41,6 +44,7 @@
 
 #include "measure/measures.h"
 #include "measure/surface.h"
+#include "measure/tiled_partial.h"
 
 namespace surfreg {
 
@@ -86,6 +90,7 @@ struct TileDod {
 
 struct TiledProgress {
   int64_t done = 0, total = 0;  // tiles (the moving surface's area pass included)
+  int64_t resumed = 0;          // of `done`, done before a resume (not timed now)
 };
 
 struct TiledMeasureOptions {
@@ -96,14 +101,11 @@ struct TiledMeasureOptions {
   int32_t margin = 2;   // samples added around each moving window (>= 1)
   std::function<void(const TileDod&)> on_tile;
   std::function<void(const TiledProgress&)> on_progress;
+  // MeasureTiledPart: the part's state after each of its tile rows (once the
+  // DoD of its tiles went to on_tile), e.g. to checkpoint it for a resume.
+  std::function<void(const TiledPartial&)> on_row;
 };
 
-struct TiledMeasureStats {
-  int64_t tiles = 0;           // reference tiles
-  int64_t tiles_measured = 0;  // of them, with a Measure (data in both)
-  int64_t shared_moving_nodes = 0;  // moving nodes on tile borders (listed)
-  int64_t merged_moving_nodes = 0;  // of them, counted by two tiles (counted once)
-};
 
 // The measures of `moving` against `reference`, tile by tile: the
 // MeasureSummary of Measure(reference, moving, options.measure) on the
@@ -117,6 +119,18 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
                             const TiledMeasureOptions& options,
                             TiledMeasureStats* stats = nullptr);
 
+// Part `shard` of `shards` (1-based) of MeasureTiled: the band of the
+// tiles' rows TiledBand gives it (and of the moving raster's for its area
+// pass), complete. The DoD of its tiles goes to on_tile as MeasureTiled's;
+// but on the band's first sample row when another part measures the band
+// above: there the merge may settle a value (TiledDodPatch). With `resume`
+// (a state on_row gave for the same sources, options and part) it goes on
+// after that state's rows. Throws as MeasureTiled, but for the overlap
+// (FinishTiled checks it on the whole).
+TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRasterSource& moving,
+                              const TiledMeasureOptions& options, int32_t shard, int32_t shards,
+                              const TiledPartial* resume = nullptr);
+
 // The valid samples of a window of an affine raster grid (GDAL's
 // pixel-is-area geotransform: a sample at its cell's centre, as
 // tools/io/raster_io.h), computed as RasterToSurface does so that the
@@ -126,6 +140,12 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
 Surface RasterBlockToSurface(const std::array<double, 6>& geotransform, const SampleWindow& window,
                              const std::vector<double>& values, const std::array<double, 3>& origin,
                              const std::string& source = "");
+
+// The origin a tiled measure gives both rasters: the centre of the
+// reference's extent (columns x rows samples of pixel-is-area geotransform
+// `gt`), rounded to whole units as MakeSurface rounds, and z = 0 (a fixed
+// origin needs no pass over the heights).
+std::array<double, 3> RasterOrigin(const std::array<double, 6>& gt, int32_t columns, int32_t rows);
 
 // A `cover` for an affine raster grid of columns x rows samples: the
 // samples whose cells meet the box, plus one on each side for rounding.

@@ -29,3 +29,15 @@ has_part() {
     *) return 1 ;;
   esac
 }
+
+# expect_refused TEXT ARGS...: surfreg ARGS must exit 2 with one line on
+# stderr that contains TEXT.
+expect_refused() {
+  local text=$1
+  shift
+  run "$@"
+  checks=$((checks + 1))
+  if [[ $rc -ne 2 || $(wc -l <"$tmp/stderr") -ne 1 ]] || ! grep -qF -- "$text" "$tmp/stderr"; then
+    fail "surfreg $*: expected exit 2 and one line with: $text"
+  fi
+}

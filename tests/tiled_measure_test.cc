@@ -17,6 +17,7 @@
 
 #include "measure/input_error.h"
 #include "measure/measures.h"
+#include "measure/tiled_partial.h"
 
 namespace surfreg {
 namespace {
@@ -233,6 +234,43 @@ double Compare(const Grid& a, const Grid& b, const MeasureSummary& untiled, int3
 
 const std::array<double, 6> kGridA = {kX0, 1.0, 0.0, kY0, 0.0, -1.0};
 
+int64_t TileCount(const Grid& a, int32_t tile) {
+  return ((a.columns - 1 + tile - 1) / tile) * ((a.rows - 1 + tile - 1) / tile);
+}
+
+// Parts 1..N measured one by one (in reverse order), merged, their DoDs
+// settled by the merge's patches: the unsharded run's sums to 1e-9 and its
+// DoD bit for bit. Returns the merged summary.
+MeasureSummary Sharded(const Grid& a, const Grid& b, MeasureOptions measure, int32_t tile,
+                       int32_t shards, const Dod& unsharded) {
+  SCOPED_TRACE("tile " + std::to_string(tile) + ", " + std::to_string(shards) + " shards");
+  TiledMeasureOptions options;
+  options.measure = measure;
+  options.tile = tile;
+  Dod dod;
+  options = WithDod(options, a, &dod);
+  std::vector<TiledPartial> parts;
+  for (int32_t k = shards; k >= 1; --k) {
+    parts.push_back(MeasureTiledPart(a.Source(), b.Source(), options, k, shards));
+  }
+  std::vector<TiledDodPatch> patches;
+  const TiledPartial whole = MergeTiledPartials(parts, &patches);
+  for (const TiledDodPatch& p : patches) {
+    dod.dz[static_cast<std::size_t>(p.row) * a.columns + p.column] = p.dz;
+  }
+  int differ = 0;
+  for (std::size_t k = 0; k < dod.dz.size(); ++k) {
+    const double want = unsharded.dz[k], got = dod.dz[k];
+    if (!(std::isnan(want) ? std::isnan(got) : want == got) && ++differ <= 3) {
+      ADD_FAILURE() << "DoD sample " << k << ": unsharded " << want << ", sharded " << got;
+    }
+    EXPECT_EQ(dod.seen[k], 1) << "sample " << k;
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_EQ(whole.stats.tiles, TileCount(a, tile));
+  return FinishTiled(whole.sums, measure, a.name, b.name);
+}
+
 // A 400 x 300 reference and a moving raster on another grid (shifted by a
 // fraction of a cell, cells 1% larger and 1% smaller), with a 40-cell hole
 // (more than a tile of 37) and another origin.
@@ -313,8 +351,11 @@ TEST(TiledMeasureTest, MovingNodesOnTileBordersCountOnce) {
   const MeasureSummary untiled = Untiled(a, b, options);
   for (int32_t tile : {3, 8}) {
     TiledMeasureStats stats;
-    Compare(a, b, untiled, tile, options, &stats);
+    Dod dod;
+    Compare(a, b, untiled, tile, options, &stats, &dod);
     EXPECT_GT(stats.merged_moving_nodes, 0);
+    // And on the borders between shards' bands: counted once by the merge.
+    ExpectSame(untiled, Sharded(a, b, options, tile, 4, dod), a.Whole(), a, dod);
   }
 }
 
@@ -382,6 +423,111 @@ TEST(TiledMeasureTest, BlockSurfaceIsTheWholeOnesWindow) {
     EXPECT_EQ(part.xy[i].y, whole.xy[k].y);
     EXPECT_EQ(part.z[i], whole.z[k]);
   }
+}
+
+
+// --- parts: shards merged, a run resumed (measure/tiled_partial.h) ----------
+
+TEST(TiledPartialTest, ShardsMergeToTheUnshardedRun) {
+  const Grid a = MakeGrid(120, 97, kGridA, {kX0 + 60, kY0 - 48, 0}, false, {{50, 40, 14}}, 13u,
+                          "a.tif");
+  const Grid b = MakeGrid(126, 100, {kX0 + 0.5, 1.0, 0.0, kY0 - 0.31, 0.0, -1.0},
+                          {kX0 + 61, kY0 - 50, 0}, true, {{90, 70, 6}}, 14u, "b.tif");
+  MeasureOptions options = Options();
+  options.parallel = false;
+  const MeasureSummary untiled = Untiled(a, b, options);
+  for (int32_t tile : {9, 16, 40}) {
+    Dod unsharded;
+    Compare(a, b, untiled, tile, options, nullptr, &unsharded);
+    for (int32_t shards : {2, 3, 4, 13}) {  // 13 > the 11 tile rows of tiles of 9: empty bands
+      const MeasureSummary merged = Sharded(a, b, options, tile, shards, unsharded);
+      ExpectSame(untiled, merged, a.Whole(), a, unsharded);
+    }
+  }
+}
+
+TEST(TiledPartialTest, MaskedShardsMergeToTheUnshardedRun) {
+  const Grid a = MakeGrid(80, 70, kGridA, {kX0 + 40, kY0 - 35, 0}, false, {{30, 30, 8}}, 15u, "a.tif");
+  const Grid b = MakeGrid(82, 72, {kX0 - 0.61, 0.995, 0.0, kY0 + 0.4, 0.0, -1.005},
+                          {kX0 + 40, kY0 - 35, 0}, true, {}, 16u, "b.tif");
+  MeasureOptions options = Options();
+  options.parallel = false;
+  options.weight = WeightMode::kMask;
+  options.mask_mode = MaskMode::kExclude;
+  options.mask = {{{kX0 + 10.2, kY0 - 5.7}, {kX0 + 70.3, kY0 - 20.1}, {kX0 + 20.5, kY0 - 60.0}}};
+  const MeasureSummary untiled = Untiled(a, b, options);
+  Dod unsharded;
+  Compare(a, b, untiled, 12, options, nullptr, &unsharded);
+  ExpectSame(untiled, Sharded(a, b, options, 12, 3, unsharded), a.Whole(), a, unsharded);
+}
+
+// A part stopped after some tile rows and resumed from the state on_row
+// gave: the very sums (bit for bit) and DoD of an uninterrupted part.
+TEST(TiledPartialTest, ResumedPartEqualsUninterruptedBitForBit) {
+  const Grid a = MakeGrid(100, 90, kGridA, {kX0 + 50, kY0 - 45, 0}, false, {{40, 40, 12}}, 17u,
+                          "a.tif");
+  const Grid b = MakeGrid(104, 92, {kX0 + 0.37, 1.01, 0.0, kY0 - 0.23, 0.0, -0.99},
+                          {kX0 + 52, kY0 - 44, 0}, true, {}, 18u, "b.tif");
+  TiledMeasureOptions options;
+  options.measure = Options();
+  options.measure.parallel = false;
+  options.tile = 11;
+  for (int32_t shard : {1, 2}) {
+    Dod whole;
+    const TiledPartial full = MeasureTiledPart(a.Source(), b.Source(), WithDod(options, a, &whole),
+                                               shard, 2);
+    for (int64_t stop : {1, 3}) {
+      Dod dod;
+      TiledMeasureOptions killed = WithDod(options, a, &dod);
+      TiledPartial state;
+      killed.on_row = [&state, &full, stop](const TiledPartial& p) {
+        if (p.end_row == full.first_row + stop) {
+          state = p;
+          throw InputError("killed");
+        }
+      };
+      EXPECT_THROW(MeasureTiledPart(a.Source(), b.Source(), killed, shard, 2), InputError);
+      ASSERT_EQ(state.end_row, full.first_row + stop);
+      TiledMeasureOptions resumed = killed;  // the DoD gathered so far kept
+      resumed.on_row = nullptr;
+      const TiledPartial again = MeasureTiledPart(a.Source(), b.Source(), resumed, shard, 2, &state);
+      EXPECT_EQ(again.sums.sum.rho_d, full.sums.sum.rho_d);
+      EXPECT_EQ(again.sums.gap_sum, full.sums.gap_sum);
+      EXPECT_EQ(again.sums.sum.signed_volume, full.sums.sum.signed_volume);
+      EXPECT_EQ(again.sums.domain_area_a, full.sums.domain_area_a);
+      EXPECT_EQ(again.sums.sum.n_overlap_nodes, full.sums.sum.n_overlap_nodes);
+      EXPECT_EQ(again.border.size(), full.border.size());
+      EXPECT_EQ(again.shared.size(), full.shared.size());
+      for (std::size_t k = 0; k < dod.dz.size(); ++k) {
+        const double want = whole.dz[k], got = dod.dz[k];
+        ASSERT_TRUE(std::isnan(want) ? std::isnan(got) : want == got) << "sample " << k;
+      }
+    }
+  }
+}
+
+TEST(TiledPartialTest, MergeRefusesMissingRepeatedAndForeignParts) {
+  const Grid a = MakeGrid(40, 40, kGridA, {kX0 + 20, kY0 - 20, 0}, false, {}, 19u, "a.tif");
+  const Grid b = MakeGrid(40, 40, kGridA, {kX0 + 20, kY0 - 20, 0}, true, {}, 20u, "b.tif");
+  TiledMeasureOptions options;
+  options.measure = Options();
+  options.tile = 16;
+  std::vector<TiledPartial> parts;
+  for (int32_t k = 1; k <= 3; ++k) parts.push_back(MeasureTiledPart(a.Source(), b.Source(), options, k, 3));
+  auto message = [](std::vector<TiledPartial> p) {
+    try {
+      MergeTiledPartials(std::move(p), nullptr);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(message({parts[0], parts[2]}), "part 2/3 is missing");
+  EXPECT_EQ(message({parts[0], parts[1], parts[1], parts[2]}), "part 2/3 is given twice");
+  std::vector<TiledPartial> other = parts;
+  other[1].tile = 32;
+  EXPECT_NE(message(other).find("part 2/3 is of another run"), std::string::npos);
+  EXPECT_EQ(message(parts), "");
 }
 
 }  // namespace

@@ -39,6 +39,9 @@ constexpr Override kOverrides[] = {
     {"normalize", "output", "write the face's height field here (.xyz, .ply, .txt)"},
     {"asymmetry", "output", "write the asymmetry JSON here"},
     {"transform", "output", "the moved surface (.xyz, .txt, .ply; or .tif, resampled onto a grid)"},
+    {"measure", "shard", "K/N (with --tile or --max_memory and --partial): measure only the K-th of N bands of tile rows"},
+    {"measure", "resume", "continue a tiled measure that was interrupted, from its finished tile rows"},
+    {"merge", "dod", "join the tiled measure's shards' DoD bands into this GeoTIFF"},
 };
 
 // The top-level keys of a sweep's YAML (tools/sweep_config.h); the align

@@ -54,6 +54,12 @@ int RunSweep(const std::vector<std::string>& args);
 // header, rows keyed by run_id), sorted by run_id, written atomically.
 int RunMerge(const std::vector<std::string>& args);
 
+// merge OUT.json PART.json... [--dod=DOD.tif] [--json]: the shards of a
+// tiled measure (measure --shard=K/N --partial=P.json) as one measure's
+// report, OUT.json its --json document (tools/measure_parts.h). RunMerge
+// calls it when the inputs are JSON. tools/run_measure.cc.
+int RunMergeMeasureParts(const std::vector<std::string>& args);
+
 // normalize MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D]
 // [--output=FACE.xyz] [--json]: brings a face mesh or cloud into the standard
 // face frame (registration/face_frame.h) and writes its visible height field.

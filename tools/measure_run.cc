@@ -144,6 +144,26 @@ void CheckTileable(const MeasureOptions& options, bool sigma, const AlignConfig&
   if (!what.empty()) throw InputError(where + ": a tiled measure does not take " + what + " yet");
 }
 
+// What a part of a tiled measure was measured with, equal in every part of
+// one measure and in its checkpoint: the inputs (name and size in bytes),
+// the tile side and every setting given (but the outputs').
+std::string PartSettings(const MeasureReport& report, const std::vector<Setting>& settings) {
+  std::string text;
+  for (const std::string& file : {report.file_a, report.file_b}) {
+    std::error_code error;
+    const auto bytes = std::filesystem::file_size(file, error);
+    text += file + " (" + (error ? std::string("?") : std::to_string(bytes)) + " bytes); ";
+  }
+  text += "tile " + std::to_string(report.tile);
+  std::vector<std::string> given;
+  for (const Setting& s : settings) {
+    if (s.key != "dod" && s.key != "tile" && s.key != "max_memory") given.push_back(s.key + "=" + s.value);
+  }
+  std::sort(given.begin(), given.end());
+  for (const std::string& g : given) text += "; " + g;
+  return text;
+}
+
 }  // namespace
 
 const std::vector<std::string>& MeasureKeys() {
@@ -158,7 +178,8 @@ const std::vector<std::string>& MeasureKeys() {
 }
 
 MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<Setting>& settings,
-                              const std::function<void(const MeasureProgress&)>& on_progress) {
+                              const std::function<void(const MeasureProgress&)>& on_progress,
+                              const TiledParts* parts) {
   const Clock::time_point start = Clock::now();
   CheckKeys(settings);
   MeasureReport report;
@@ -231,8 +252,11 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   report.tile = TileSetting(settings, &tile_where);
   if (report.tile > 0) {
     CheckTileable(options, sigma, config, tile_where);
+    TiledParts tiled_parts = parts != nullptr ? *parts : TiledParts();
+    tiled_parts.checkpoint = parts != nullptr;  // the Python module cannot --resume
+    tiled_parts.settings = PartSettings(report, settings);
     const TiledMeasureRun run = MeasureRasterTiles(
-        config, options, report.mask_crs_wkt, report.mask_file, report.tile, tile_where,
+        config, options, report.mask_crs_wkt, report.mask_file, report.tile, tile_where, tiled_parts,
         [&on_progress, start, last = -1.0](const TiledProgress& p) mutable {
           // A line a second at most: there may be thousands of tiles.
           const double seconds = Seconds(Clock::now() - start);
@@ -242,7 +266,8 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
               "tiles, " + std::to_string(p.done) + " of " + std::to_string(p.total);
           MeasureProgress progress;
           progress.stage = stage.c_str();
-          progress.done = static_cast<double>(p.done) / p.total;
+          // The share of this run's work: its ETA then holds after a resume.
+          progress.done = static_cast<double>(p.done - p.resumed) / std::max<int64_t>(p.total - p.resumed, 1);
           progress.seconds = seconds;
           on_progress(progress);
         });
@@ -254,10 +279,22 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     report.metric = report.crs_a.kind == CrsKind::kProjected && report.crs_a.metres_per_unit == 1.0;
     report.config = config;
     report.total_s = Seconds(Clock::now() - start);
+    if (!tiled_parts.partial.empty()) {
+      WriteFileAtomically(tiled_parts.partial,
+                          PartJson(run.part, tiled_parts.settings, &report, run.dod, tiled_parts.partial),
+                          "flag '--partial'");
+    }
+    std::error_code ignored;  // the outputs are written: the state is not needed
+    std::filesystem::remove_all(run.state, ignored);
     return report;
   }
+  if (parts != nullptr && (parts->shards > 1 || !parts->partial.empty() || parts->resume)) {
+    throw InputError(std::string(parts->shards > 1 ? "flag '--shard'" : !parts->partial.empty()
+                                                         ? "flag '--partial'" : "flag '--resume'") +
+                     ": for a tiled measure (--tile=N or --max_memory=SIZE)");
+  }
   TerrainInputs inputs = ReadTerrainInputs(config, a.samples ? &*a.samples : nullptr,
-                                           b.samples ? &*b.samples : nullptr);
+                                           b.samples ? &*b.samples : nullptr, /*tiled_origin=*/true);
   a.samples.reset();  // copied into `inputs`
   b.samples.reset();
   report.frame = inputs.frame;

@@ -59,8 +59,12 @@ struct MeasureReport {
 // their samples), brings them into one frame and measures B against A.
 // A key given twice: the last one wins. `on_progress` is called at each
 // stage of the measure (MeasureOptions::on_progress).
+// `parts` (tiled measures only): a shard (its partial written to
+// parts->partial) or a resume (tools/measure_tiled.h).
+struct TiledParts;
 MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<Setting>& settings,
-                              const std::function<void(const MeasureProgress&)>& on_progress = nullptr);
+                              const std::function<void(const MeasureProgress&)>& on_progress = nullptr,
+                              const TiledParts* parts = nullptr);
 
 // Vertices of all the mask's rings.
 std::size_t MaskVertices(const MeasureOptions& options);

@@ -1,12 +1,18 @@
 #include "tools/measure_tiled.h"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "measure/input_error.h"
+#include "tools/atomic_file.h"
 #include "tools/interrupt.h"
 #include "tools/io/raster_io.h"
 #include "tools/terrain.h"
@@ -67,6 +73,11 @@ TiledRasterSource Source(const std::string& path, int band, const RasterShape& s
   return source;
 }
 
+bool Exists(const std::string& path) {
+  struct stat info;
+  return ::stat(path.c_str(), &info) == 0;
+}
+
 }  // namespace
 
 double TileBytes(int32_t tile) { return kBytesPerCell * static_cast<double>(tile) * tile; }
@@ -102,7 +113,7 @@ double ParseMemorySize(const std::string& text, const std::string& where) {
 
 TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions options,
                                    const std::string& mask_crs_wkt, const std::string& mask_where,
-                                   int32_t tile, const std::string& where,
+                                   int32_t tile, const std::string& where, const TiledParts& parts,
                                    const std::function<void(const TiledProgress&)>& on_progress) {
   for (const char* key : {"reference", "moving"}) {
     const std::string path = AlignConfigValue(config, key);
@@ -141,30 +152,116 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
   }
   // One origin for both, the centre of A's extent (rounded as MakeSurface
   // rounds): B is then in A's frame with no shift at all.
-  const auto& g = a.geotransform;
-  const std::array<double, 3> origin = {
-      std::round(g[0] + 0.5 * (a.columns * g[1] + a.rows * g[2])),
-      std::round(g[3] + 0.5 * (a.columns * g[4] + a.rows * g[5])), 0.0};
+  const std::array<double, 3> origin = RasterOrigin(a.geotransform, a.columns, a.rows);
   TiledMeasureOptions tiled;
   tiled.measure = options;
   tiled.measure.on_progress = nullptr;
   tiled.tile = tile;
   tiled.on_progress = on_progress;
-  std::unique_ptr<GeoTiffStreamWriter> dod;
-  if (!config.terrain.dod.empty()) {
-    dod = std::make_unique<GeoTiffStreamWriter>(config.terrain.dod, a.columns, a.rows, a.geotransform,
-                                                a.crs.wkt, config.Where("dod"));
-    tiled.on_tile = [&dod](const TileDod& t) {
-      dod->Write(t.window.column, t.window.row, t.window.columns, t.window.rows, t.dz);
+  const int64_t nx = (std::max(a.columns - 1, 0) + tile - 1) / tile;
+  const int64_t ny = (std::max(a.rows - 1, 0) + tile - 1) / tile;
+
+  // The state of an interrupted run of this part, if any.
+  run.state = StateDirectory(config.terrain.dod, parts);
+  if (!parts.checkpoint) run.state += ".tmp-" + std::to_string(::getpid());
+  const std::string state_file = run.state + "/state.json";
+  std::unique_ptr<PartFile> resumed;
+  if (parts.checkpoint && Exists(state_file)) {
+    if (!parts.resume) {
+      throw InputError("'" + run.state + "' holds an interrupted tiled measure: add --resume to "
+                       "continue it, or delete it");
+    }
+    resumed = std::make_unique<PartFile>(ReadPart(state_file));
+    if (resumed->settings != parts.settings || resumed->part.shard != parts.shard ||
+        resumed->part.shards != parts.shards) {
+      throw InputError("flag '--resume': '" + state_file + "' is of another measure (other inputs, "
+                       "settings or shard); delete '" + run.state + "' to start afresh");
+    }
+    std::fprintf(stderr, "measure: resuming: %lld of %lld tile rows already done (%s)\n",
+                 static_cast<long long>(resumed->part.end_row - resumed->part.first_row),
+                 static_cast<long long>(resumed->part.band_end_row - resumed->part.first_row),
+                 state_file.c_str());
+  }
+  std::error_code error;
+  std::filesystem::create_directories(run.state, error);
+  if (error) throw InputError("'" + run.state + "': cannot create it (" + error.message() + ")");
+  struct Scratch {  // without checkpoints the directory goes, whatever happens
+    const std::string* path;
+    ~Scratch() {
+      std::error_code ignored;
+      if (path != nullptr) std::filesystem::remove_all(*path, ignored);
+    }
+  } scratch{parts.checkpoint ? nullptr : &run.state};
+
+  // The DoD one tile row at a time, each row a GeoTIFF in the state
+  // directory, finished before the state that counts it is written.
+  const bool with_dod = !config.terrain.dod.empty();
+  auto row_band = [&](int64_t ty) {
+    DodBand band;
+    band.path = run.state + "/dod_row_" + std::to_string(ty) + ".tif";
+    band.first_row = static_cast<int32_t>(ty * tile);
+    band.rows = static_cast<int32_t>((ty + 1 == ny ? a.rows : (ty + 1) * tile) - ty * tile);
+    band.columns = a.columns;
+    band.raster_rows = a.rows;
+    band.geotransform = a.geotransform;
+    band.crs_wkt = a.crs.wkt;
+    return band;
+  };
+  std::unique_ptr<GeoTiffStreamWriter> row;
+  if (with_dod) {
+    tiled.on_tile = [&](const TileDod& t) {
+      if (!row) {
+        const DodBand band = row_band(t.tile / nx);
+        std::array<double, 6> gt = a.geotransform;
+        gt[0] += band.first_row * gt[2];
+        gt[3] += band.first_row * gt[5];
+        row = std::make_unique<GeoTiffStreamWriter>(band.path, a.columns, band.rows, gt, a.crs.wkt,
+                                                    config.Where("dod"));
+      }
+      row->Write(t.window.column, t.window.row - static_cast<int32_t>(t.tile / nx * tile),
+                 t.window.columns, t.window.rows, t.dz);
     };
   }
-  TiledMeasureStats stats;
-  run.summary = MeasureTiled(Source(config.reference, config.terrain.band, a, origin),
-                             Source(config.moving, config.terrain.band, b, origin), tiled, &stats);
-  if (dod) dod->Finish();
+  tiled.on_row = [&](const TiledPartial& part) {
+    if (row) row->Finish();
+    row.reset();
+    if (!parts.checkpoint) return;
+    WriteFileAtomically(state_file, PartJson(part, parts.settings, nullptr, {}, state_file),
+                        "the state of the tiled measure");
+  };
+  const TiledRasterSource source_a = Source(config.reference, config.terrain.band, a, origin);
+  const TiledRasterSource source_b = Source(config.moving, config.terrain.band, b, origin);
+  run.part = MeasureTiledPart(source_a, source_b, tiled, parts.shard, parts.shards,
+                              resumed ? &resumed->part : nullptr);
+  if (parts.shards == 1) {
+    run.summary = FinishTiled(run.part.sums, tiled.measure, source_a.source, source_b.source);
+  }
+  if (with_dod && run.part.band_end_row > run.part.first_row) {
+    std::vector<DodBand> rows;
+    for (int64_t ty = run.part.first_row; ty < run.part.band_end_row; ++ty) rows.push_back(row_band(ty));
+    JoinDodBands(rows, {}, config.terrain.dod, config.Where("dod"));
+    run.dod = rows.front();
+    run.dod.path = config.terrain.dod;
+    run.dod.rows = rows.back().first_row + rows.back().rows - rows.front().first_row;
+  } else if (with_dod) {  // an empty band: no rows, no file
+    run.dod = row_band(0);
+    run.dod.path = config.terrain.dod;
+    run.dod.rows = 0;
+  }
   run.tile = tile;
-  run.tiles = stats.tiles;
+  run.tiles = run.part.stats.tiles;
   return run;
+}
+
+std::string StateDirectory(const std::string& dod, const TiledParts& parts) {
+  if (!parts.partial.empty()) return parts.partial + ".resume";
+  if (!dod.empty()) return dod + ".resume";
+  uint64_t hash = 1469598103934665603ull;  // FNV-1a: a name per measure
+  for (const unsigned char c : parts.settings) hash = (hash ^ c) * 1099511628211ull;
+  char name[64];
+  std::snprintf(name, sizeof name, "surfreg-measure-%016llx.resume",
+                static_cast<unsigned long long>(hash));
+  return name;
 }
 
 }  // namespace surfreg

@@ -13,6 +13,7 @@
 #include "measure/tiled_measure.h"
 #include "tools/align_config.h"
 #include "tools/geo_frame.h"
+#include "tools/measure_parts.h"
 
 namespace surfreg {
 
@@ -26,8 +27,31 @@ int32_t TileForMemory(double bytes);
 // Throws InputError starting with `where`.
 double ParseMemorySize(const std::string& text, const std::string& where);
 
+// A tiled measure in parts (tools/measure_parts.h): shard K of N, its
+// partial's path, and whether to resume an interrupted run. Every tiled run
+// keeps its state in a directory (StateDirectory) while it runs: the state
+// after each tile row (state.json) and the DoD of the rows done
+// (dod_row_<tile row>.tif), removed once the outputs are written.
+struct TiledParts {
+  int32_t shard = 1, shards = 1;
+  std::string partial;   // --partial=P.json ("" = none)
+  bool resume = false;   // --resume
+  std::string settings;  // the inputs and settings, equal in every part and on resume
+  // false (the Python module): no state kept for a resume; the DoD rows go
+  // to a directory of this process's, removed in any case.
+  bool checkpoint = true;
+};
+
+// Where a tiled run keeps its state: P.json.resume/ with a partial, else
+// DOD.tif.resume/ with a DoD, else surfreg-measure-<hash of the settings>.resume/
+// in the current directory.
+std::string StateDirectory(const std::string& dod, const TiledParts& parts);
+
 struct TiledMeasureRun {
-  MeasureSummary summary;
+  MeasureSummary summary;  // a whole run's (shards == 1)
+  TiledPartial part;       // the part measured (the whole run for 1 of 1)
+  DodBand dod;             // the DoD written (a band for a shard); path "" without
+  std::string state;       // the state directory, to remove once the outputs are written
   Crs crs_a, crs_b;
   GeoFrame frame;  // the rasters' coordinates as given
   int32_t tile = 0;
@@ -41,10 +65,12 @@ struct TiledMeasureRun {
 // A mask (options.mask) is brought from its file's CRS (`mask_crs_wkt`, ""
 // = A's) into A's, as an untiled measure does.
 // With config.terrain.dod, the DoD (B − A at A's cells, nodata outside Ω)
-// is written tile by tile into that GeoTIFF on A's grid, never held whole.
+// is written tile by tile into GeoTIFFs of a tile row each, never held
+// whole, then joined into that GeoTIFF on A's grid (a shard's: its band of
+// rows, all final but its first, which the merge settles).
 TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions options,
                                    const std::string& mask_crs_wkt, const std::string& mask_where,
-                                   int32_t tile, const std::string& where,
+                                   int32_t tile, const std::string& where, const TiledParts& parts,
                                    const std::function<void(const TiledProgress&)>& on_progress);
 
 }  // namespace surfreg

@@ -14,11 +14,16 @@
 #include <utility>
 #include <vector>
 
+#include "measure/input_error.h"
+#include "tools/atomic_file.h"
 #include "tools/commands.h"
 #include "tools/interrupt.h"
 #include "tools/json_writer.h"
+#include "tools/measure_parts.h"
 #include "tools/measure_run.h"
+#include "tools/measure_tiled.h"
 #include "tools/progress_lines.h"
+#include "tools/sweep.h"
 #include "tools/terrain_uncertainty.h"
 
 // The run itself is tools/measure_run.cc (shared with the Python module);
@@ -38,6 +43,13 @@ DEFINE_string(weights, "uniform",
 DEFINE_int32(tile, 0,
              "measure: measure two DEMs in tiles of this many cells of A a side (16 to 32768; 0: "
              "untiled), each read as a window: memory bounded by the tile, the same results");
+DEFINE_string(partial, "",
+              "measure: with --shard=K/N (tiled), where the shard's partial result goes (P.json), "
+              "for 'surfreg merge OUT.json P1.json ...'");
+DECLARE_string(shard);  // tools/run_sweep.cc: "K/N"
+DECLARE_bool(resume);   // tools/run_sweep.cc
+DECLARE_string(dod);    // tools/run_align.cc (an align key)
+
 DEFINE_string(max_memory, "",
               "measure: a memory budget such as 512M or 2G, from which the tile side is chosen "
               "(two DEMs in one projected CRS; about 700 bytes per cell of a tile)");
@@ -166,10 +178,35 @@ int RunMeasure(const std::vector<std::string>& args) {
     CHECK(gflags::GetCommandLineFlagInfo(key.c_str(), &info)) << "no flag --" << key;
     if (!info.is_default) settings.push_back({key, info.current_value, "flag '--" + key + "'"});
   }
+  const Shard shard = ParseShard(FLAGS_shard, "flag '--shard'");
+  TiledParts parts;
+  parts.shard = shard.index;
+  parts.shards = shard.count;
+  parts.partial = FLAGS_partial;
+  parts.resume = FLAGS_resume;
+  if (!parts.partial.empty()) {
+    const std::string& p = parts.partial;
+    if (p.size() < 6 || p.compare(p.size() - 5, 5, ".json") != 0) {
+      throw InputError("flag '--partial' expects a file name ending in .json, got '" + p + "'");
+    }
+    CheckOutputPath(p, "flag '--partial'");
+  } else if (parts.shards > 1) {
+    throw InputError("flag '--shard': a shard's result is partial: give --partial=P.json, then "
+                     "join the shards with 'surfreg merge OUT.json P1.json ...'");
+  }
   if (!FLAGS_quiet && LargeInputs({args[0], args[1]})) PrintReadingLine("measure", {args[0], args[1]});
   const MeasureReport report =
-      MeasureSurfaces({args[0], {}}, {args[1], {}}, settings, PrintMeasureProgress);
+      MeasureSurfaces({args[0], {}}, {args[1], {}}, settings, PrintMeasureProgress, &parts);
   ThrowIfInterrupted();  // no report of an interrupted run
+  if (parts.shards > 1) {
+    if (FLAGS_quiet) return 0;
+    std::fprintf(stderr,
+                 "measure: shard %d/%d: %lld tiles in %s; join the %d shards with 'surfreg merge "
+                 "OUT.json P1.json ...' (and --dod=DOD.tif for their DoD bands)\n",
+                 parts.shard, parts.shards, static_cast<long long>(report.tiles),
+                 parts.partial.c_str(), parts.shards);
+    return 0;
+  }
   // A height field has one z per xy: repeated xy samples are merged with
   // their heights averaged, which users should know about.
   const std::pair<const std::string*, int64_t> merged[] = {
@@ -188,6 +225,10 @@ int RunMeasure(const std::vector<std::string>& args) {
     PrintText(report);
   }
   return 0;
+}
+
+int RunMergeMeasureParts(const std::vector<std::string>& args) {
+  return MergeMeasureParts(args, FLAGS_dod, FLAGS_json, PrintText);
 }
 
 }  // namespace surfreg

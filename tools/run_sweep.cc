@@ -23,6 +23,7 @@
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
 #include "tools/commands.h"
+#include "tools/measure_parts.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/plot.h"
 #include "tools/sweep.h"
@@ -346,7 +347,10 @@ int RunSweep(const std::vector<std::string>& args) {
 }
 
 int RunMerge(const std::vector<std::string>& args) {
-  if (args.size() < 2) throw UsageError("merge: expected OUT.csv and at least one IN.csv");
+  if (args.size() < 2) {
+    throw UsageError("merge: expected OUT.csv and at least one IN.csv (or OUT.json and PART.json...)");
+  }
+  if (LooksLikePart(args[1])) return RunMergeMeasureParts(args);  // JSON: a tiled measure's shards
   CheckOutputPath(args[0], "argument OUT");
   struct stat out;
   if (::stat(args[0].c_str(), &out) == 0) {

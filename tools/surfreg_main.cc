@@ -60,12 +60,13 @@ const Command kCommands[] = {
      "[--mask_mode=include|exclude] [--mask_layer=NAME] [--domain=data|hull] [--lod=L] [--reference_crs=CRS] [--moving_crs=CRS] "
      "[--frame=auto|enu|utm] [--band=N] [--window=C,R,W,H] [--sigma_reference=S|RASTER] "
      "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--classes=C,...] [--columns=X,Y,Z] "
-     "[--tile=N | --max_memory=SIZE] [--dod=DOD.tif] [--json] [--quiet]",
+     "[--tile=N | --max_memory=SIZE] [--shard=K/N --partial=P.json] [--resume] [--dod=DOD.tif] "
+     "[--json] [--quiet]",
      "compare surface B with A in one metric frame: volume between them (rho_d), mean gap, "
      "cut/fill (with propagated uncertainty when each DEM's sigma is given), timings",
      "json volume weights mask_mode mask_layer domain domain_max_edge_spacings domain_min_thinness "
      "reference_crs moving_crs frame band window lod sigma_reference sigma_moving lod_confidence "
-     "classes columns quiet tile max_memory dod",
+     "classes columns quiet tile max_memory dod shard partial resume",
      nullptr},
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json] [--quiet]",
@@ -92,8 +93,9 @@ const Command kCommands[] = {
      "apply a rigid transform (align's JSON or a 4x4 text matrix) to a cloud or raster; write "
      "a cloud, or a GeoTIFF on the input's grid or REF's",
      "transform output inverse grid classes columns quiet", nullptr},
-    {"merge", RunMerge, "OUT.csv IN.csv [IN.csv ...]",
-     "join the CSVs of sweep or align --manifest shards, sorted by run_id", "", nullptr},
+    {"merge", RunMerge, "OUT.csv IN.csv [IN.csv ...] | OUT.json PART.json [PART.json ...] [--dod=DOD.tif] [--json]",
+     "join the CSVs of sweep or align --manifest shards, sorted by run_id; or the partial "
+     "results of a tiled measure's shards into its report (and DoD)", "dod json", nullptr},
 };
 
 const Command* FindCommand(const std::string& name) {

@@ -4,10 +4,13 @@
 #include <glog/logging.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "measure/input_error.h"
+#include "measure/tiled_measure.h"
 #include "measure/weights.h"
 #include "tools/atomic_file.h"
 #include "tools/io/gdal_module.h"
@@ -34,7 +37,10 @@ struct Named : InputError {
   using InputError::InputError;
 };
 
-OneInput ReadOne(const AlignConfig& config, const std::string& key, const Surface* given) {
+// `origin` (may be null): a raster's samples are made relative to it, the
+// reference's first setting it (RasterOrigin), as a tiled measure does.
+OneInput ReadOne(const AlignConfig& config, const std::string& key, const Surface* given,
+                 std::optional<std::array<double, 3>>* origin) {
   const std::string path = AlignConfigValue(config, key);
   const std::string crs_key = key + "_crs";
   OneInput in;
@@ -53,6 +59,17 @@ OneInput ReadOne(const AlignConfig& config, const std::string& key, const Surfac
       in.grid = ReadRaster(path, options);
       in.is_raster = true;
       in.surface = RasterToSurface(in.grid, &in.cells);
+      if (origin != nullptr && (key == "reference" || origin->has_value())) {
+        if (!origin->has_value()) {
+          *origin = RasterOrigin(in.grid.geotransform, in.grid.columns, in.grid.rows);
+        }
+        // The same samples (both row-major, nodata skipped), other doubles.
+        Surface s = RasterBlockToSurface(in.grid.geotransform, {0, 0, in.grid.columns, in.grid.rows},
+                                         in.grid.values, **origin, in.surface.source);
+        in.surface.origin = s.origin;
+        in.surface.xy = std::move(s.xy);
+        in.surface.z = std::move(s.z);
+      }
       if (!in.grid.crs_wkt.empty()) file_crs = ParseCrs(in.grid.crs_wkt, path);
       in.grid.values.clear();
       in.grid.values.shrink_to_fit();
@@ -198,12 +215,13 @@ void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const
 }
 
 TerrainInputs ReadTerrainInputs(const AlignConfig& config, const Surface* given_reference,
-                                const Surface* given_moving) {
-  OneInput reference = ReadOne(config, "reference", given_reference);
+                                const Surface* given_moving, bool tiled_origin) {
+  std::optional<std::array<double, 3>> origin;
+  OneInput reference = ReadOne(config, "reference", given_reference, tiled_origin ? &origin : nullptr);
   if (!config.terrain.mask_raster.empty()) {
     reference.surface.weight = MaskRasterWeights(config, reference.surface, reference.crs);
   }
-  OneInput moving = ReadOne(config, "moving", given_moving);
+  OneInput moving = ReadOne(config, "moving", given_moving, tiled_origin ? &origin : nullptr);
   std::vector<double> sigma_reference =
       SigmaPerSample(config, "reference", reference.surface.size(), reference.grid, reference.cells);
   std::vector<double> sigma_moving =

@@ -48,8 +48,12 @@ Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::str
 // metric frame. Errors name the key or file. A non-null `reference` or
 // `moving` is used instead of reading that file (samples already in memory,
 // e.g. the Python module's arrays: no CRS of their own, the keys' apply).
+// `tiled_origin`: two rasters read from files both take the origin of the
+// reference's extent (RasterOrigin), as a tiled measure gives them, so that
+// the untiled measure computes with the very same doubles (its DoD is then
+// the tiled one to the bit).
 TerrainInputs ReadTerrainInputs(const AlignConfig& config, const Surface* reference = nullptr,
-                                const Surface* moving = nullptr);
+                                const Surface* moving = nullptr, bool tiled_origin = false);
 
 // Mask rings given in the mask file's CRS (`mask_crs_wkt`; "" = the
 // reference's) into the frame `in` works in: reprojected into the
