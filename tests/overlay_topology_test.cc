@@ -31,7 +31,9 @@ namespace {
 // once per kernel, tests/CMakeLists.txt), else the best.
 CellKernelChoice KernelUnderTest() {
   CellKernelChoice choice = CellKernelChoice::kBest;
-  if (const char* name = std::getenv("SURFREG_CELL_KERNEL")) EXPECT_TRUE(ParseCellKernel(name, &choice)) << name;
+  if (const char* name = std::getenv("SURFREG_CELL_KERNEL")) {
+    EXPECT_TRUE(ParseCellKernel(name, &choice)) << name;
+  }
   return choice;
 }
 
@@ -410,7 +412,9 @@ TEST(VolumeCostCacheTest, GradientBinsAreEachBTrianglesShare) {
       // A bin with cells of zero share may be used on one side only.
       EXPECT_LE((bins.d_abs[b] - want_abs[b]).norm(), 1e-10 * scale_abs) << "bin " << b;
       EXPECT_LE((bins.d_area[b] - want_area[b]).norm(), 1e-10 * scale_area) << "bin " << b;
-      if (want_abs[b].norm() > 1e-6 * scale_abs) EXPECT_TRUE(bins.used[b]) << "bin " << b;
+      if (want_abs[b].norm() > 1e-6 * scale_abs) {
+        EXPECT_TRUE(bins.used[b]) << "bin " << b;
+      }
     }
     std::printf("gradient bins%s: %d of 64 used\n", parallel ? " (2 threads)" : "", used);
     EXPECT_GE(used, 12);  // the overlap, [40, 100]² of [0, 100]², spans about 5 × 5 bins
