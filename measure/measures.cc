@@ -157,36 +157,31 @@ const char* WeightModeName(WeightMode mode) {
   return "?";
 }
 
-MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions& options) {
-  const Clock::time_point start = Clock::now();
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("measure options: " + error);
-  ValidateSurface(a);
-  ValidateSurface(b);
-  if (options.weight == WeightMode::kPerPoint && a.weight.empty() && b.weight.empty()) {
-    throw InputError("per-point weights requested, but neither surface has weights");
-  }
-  // Stage shares of a typical long run's time (two 1e6-point clouds, 2
-  // threads): sorting 5%, triangulating 22%, domains 18%, trees 12%,
-  // locating 5%, the volume (overlay) the other 40%.
-  const int64_t points = static_cast<int64_t>(a.size() + b.size());
-  const auto progress = [&options, start, points](const char* stage, double done) {
-    if (options.on_progress) options.on_progress({stage, done, Seconds(start), points});
-  };
-  MeasureSummary summary;
-  summary.volume_mode = options.volume;
-  summary.n_points_a = static_cast<int64_t>(a.size());
-  summary.n_points_b = static_cast<int64_t>(b.size());
+// Both surfaces in A's local frame, in Hilbert order (every later stage
+// then walks memory locally), meshed, their duplicates merged, their data
+// domains (each by its own rule) and spanning trees.
+struct PreparedPair {
+  Prepared a, b;
+  std::vector<int32_t> order_a, order_b;  // sorted index k holds input index order[k]
+};
 
-  // Both in A's local frame.
-  Prepared pa{a.xy, a.z, a.weight, {}, {}, {}, 0.0, {}}, pb{b.xy, b.z, b.weight, {}, {}, {}, 0.0, {}};
+template <typename Progress>
+void PreparePair(const Surface& a, const Surface& b, const MeasureOptions& options, const Progress& progress,
+                 PreparedPair* pair, MeasureSummary* out) {
+  MeasureSummary& summary = *out;
+  Prepared& pa = pair->a;
+  Prepared& pb = pair->b;
+  pa = Prepared{a.xy, a.z, a.weight, {}, {}, {}, 0.0, {}};
+  pb = Prepared{b.xy, b.z, b.weight, {}, {}, {}, 0.0, {}};
   const double shift[3] = {b.origin[0] - a.origin[0], b.origin[1] - a.origin[1],
                            b.origin[2] - a.origin[2]};
   for (Point2& p : pb.xy) p = {p.x + shift[0], p.y + shift[1]};
   for (double& z : pb.z) z += shift[2];
   // Work in Hilbert order: every later stage then walks memory locally.
-  const std::vector<int32_t> order_a = SortSpatially(pa);
-  const std::vector<int32_t> order_b = SortSpatially(pb);
+  pair->order_a = SortSpatially(pa);
+  pair->order_b = SortSpatially(pb);
+  const std::vector<int32_t>& order_a = pair->order_a;
+  const std::vector<int32_t>& order_b = pair->order_b;
 
   const bool parallel = options.parallel;
   progress("triangulating", 0.05);
@@ -220,27 +215,33 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
           [&] { pb.tree = EuclideanMst(pb.xy, pb.mesh); });
   summary.timings.spanning_tree = Seconds(stage);
 
-  progress("locating each cloud in the other", 0.57);
-  stage = Clock::now();
-  LocateAllStats stats_a, stats_b;
-  std::vector<Location> a_in_b, b_in_a;
-  RunBoth(parallel, [&] { a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a); },
-          [&] { b_in_a = LocateAll(pa.xy, pa.mesh, pb.xy, pb.mesh, pb.tree, &stats_b); });
-  summary.walk_steps = stats_a.steps + stats_b.steps;
-  summary.timings.locate = Seconds(stage);
+}
 
-  // Weight field μ, then the gap at every node inside Ω (each distinct
-  // vertex once): ρ'd. Interpolated in a canonical corner order, so that a
-  // node's gap is the same double in any window's mesh (tiled_measure.h).
-  stage = Clock::now();
-  const WeightField mu = MakeWeightField(options, a, pa.xy, pa.mesh, pa.weight, pb.xy, pb.mesh,
-                                         pb.weight, a_in_b, b_in_a);
+// Ω's nodes (a corner of its own domain lying in the other's closed
+// domain) and every located node's gap; ρ'd over Ω's distinct nodes.
+// Interpolated in a canonical corner order, so that a node's gap is the same
+// double in any window's mesh (tiled_measure.h).
+struct NodeStage {
   NodeGaps gaps;
+  std::vector<uint8_t> omega_a, omega_b;
+  std::vector<uint8_t> counted_b;  // B's nodes ρ'd counts (for dz_b), with keep_node_gaps
+};
+
+NodeStage GapsAtNodes(const Prepared& pa, const Prepared& pb, const std::vector<Location>& a_in_b,
+                      const std::vector<Location>& b_in_a, const WeightField& mu, bool keep_node_gaps,
+                      MeasureSummary* out) {
+  MeasureSummary& summary = *out;
+  NodeStage stage_out;
+  NodeGaps& gaps = stage_out.gaps;
+  std::vector<uint8_t>& omega_a = stage_out.omega_a;
+  std::vector<uint8_t>& omega_b = stage_out.omega_b;
+  std::vector<uint8_t>& counted_b = stage_out.counted_b;
   gaps.a.assign(pa.xy.size(), 0.0);
   gaps.b.assign(pb.xy.size(), 0.0);
   // A node is in Ω when it is a corner of its own domain and lies in the
   // other's (closed) domain.
-  std::vector<uint8_t> omega_a(pa.xy.size(), 0), omega_b(pb.xy.size(), 0);
+  omega_a.assign(pa.xy.size(), 0);
+  omega_b.assign(pb.xy.size(), 0);
   for (std::size_t i = 0; i < pa.xy.size(); ++i) {
     omega_a[i] = a_in_b[i].found() && pa.domain.vertices[pa.mesh.vertex_of_input[i]] &&
                  pb.domain.Contains(pb.mesh, a_in_b[i]);
@@ -250,8 +251,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
                  pa.domain.Contains(pa.mesh, b_in_a[j]);
   }
   double gap_sum = 0.0, node_weight = 0.0;
-  std::vector<uint8_t> counted_b;  // B's nodes ρ'd counts (for dz_b)
-  if (options.keep_node_gaps) counted_b.assign(pb.xy.size(), 0);
+  if (keep_node_gaps) counted_b.assign(pb.xy.size(), 0);
   for (std::size_t i = 0; i < pa.xy.size(); ++i) {
     if (!a_in_b[i].found()) continue;
     gaps.a[i] = InterpolateCanonical(pb.xy, pb.mesh, pb.z, a_in_b[i], pa.xy[i]) - pa.z[i];
@@ -273,20 +273,13 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
     ++summary.n_overlap_nodes;
   }
   summary.rho_d_axial = node_weight > 0.0 ? gap_sum / node_weight : 0.0;
-  summary.timings.interpolate = Seconds(stage);
 
-  progress("volume", 0.60);
-  stage = Clock::now();
-  VolumeResult volume;
-  const OmegaDomains omega{&pa.domain, &pb.domain, &omega_a, &omega_b};
-  if (options.volume == VolumeMode::kOverlay) {
-    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu, parallel,
-                           options.detect_change ? options.level_of_detection : -1.0, omega);
-  } else {
-    volume = UnionVolume(pa.xy, pa.mesh, a_in_b, gaps.a, pb.xy, pb.mesh, b_in_a, gaps.b, mu, omega);
-  }
-  summary.timings.volume = Seconds(stage);
+  return stage_out;
+}
 
+// Refuses an empty or sliver overlap (unless allowed), naming both surfaces.
+void CheckOverlap(const Surface& a, const Surface& b, const Prepared& pa, const Prepared& pb,
+                  const VolumeResult& volume, const MeasureOptions& options) {
   // The domains' areas: the hulls' with DomainKind::kHull.
   const double smaller = std::min(pa.domain.area, pb.domain.area);
   const char* what = options.domain.kind == DomainKind::kHull ? "hull" : "data domain";
@@ -302,6 +295,43 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
                      (volume.area > 0.0 ? " overlap only in a sliver" : " do not overlap") +
                      numbers);
   }
+}
+
+// dz and node areas at A's samples, dz at B's counted ones, in input order.
+void KeepNodeGaps(const PreparedPair& pair, const NodeStage& nodes, MeasureSummary* out) {
+  MeasureSummary& summary = *out;
+  const Prepared& pa = pair.a;
+  const Prepared& pb = pair.b;
+  const std::vector<int32_t>& order_a = pair.order_a;
+  const std::vector<int32_t>& order_b = pair.order_b;
+  const std::vector<uint8_t>& omega_a = nodes.omega_a;
+  const std::vector<uint8_t>& counted_b = nodes.counted_b;
+  const NodeGaps& gaps = nodes.gaps;
+  summary.dz_a.assign(pa.xy.size(), std::nan(""));
+  for (std::size_t k = 0; k < pa.xy.size(); ++k) {
+    if (omega_a[k]) summary.dz_a[order_a[k]] = gaps.a[k];
+  }
+  // Mesh corners are sorted indices (duplicates point at the kept one).
+  std::vector<double> area(pa.xy.size(), 0.0);
+  for (int32_t t = 0; t < pa.mesh.num_triangles(); ++t) {
+    if (!pa.domain.whole && !pa.domain.triangles[t]) continue;
+    const int32_t* v = &pa.mesh.triangles[3 * t];
+    if (!omega_a[v[0]] || !omega_a[v[1]] || !omega_a[v[2]]) continue;
+    const double third = Orient2D(pa.xy[v[0]], pa.xy[v[1]], pa.xy[v[2]]) / 6.0;
+    for (int i = 0; i < 3; ++i) area[v[i]] += third;
+  }
+  summary.node_area_a.assign(pa.xy.size(), 0.0);
+  for (std::size_t k = 0; k < pa.xy.size(); ++k) summary.node_area_a[order_a[k]] = area[k];
+  summary.dz_b.assign(pb.xy.size(), std::nan(""));
+  for (std::size_t k = 0; k < pb.xy.size(); ++k) {
+    if (counted_b[k]) summary.dz_b[order_b[k]] = gaps.b[k];
+  }
+}
+
+// The summary's volumes, areas and change from the volume stage.
+void SetVolumeFields(const VolumeResult& volume, const Prepared& pa, const Prepared& pb,
+                     const MeasureOptions& options, MeasureSummary* out) {
+  MeasureSummary& summary = *out;
   summary.rho_d = volume.gap.abs;
   summary.overlap_area = volume.area;
   summary.hull_area_a = pa.hull_area;
@@ -323,27 +353,69 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.cut_detected = volume.change.cut;
   summary.fill_area = volume.change.fill_area;
   summary.cut_area = volume.change.cut_area;
-  if (options.keep_node_gaps) {
-    summary.dz_a.assign(pa.xy.size(), std::nan(""));
-    for (std::size_t k = 0; k < pa.xy.size(); ++k) {
-      if (omega_a[k]) summary.dz_a[order_a[k]] = gaps.a[k];
-    }
-    // Mesh corners are sorted indices (duplicates point at the kept one).
-    std::vector<double> area(pa.xy.size(), 0.0);
-    for (int32_t t = 0; t < pa.mesh.num_triangles(); ++t) {
-      if (!pa.domain.whole && !pa.domain.triangles[t]) continue;
-      const int32_t* v = &pa.mesh.triangles[3 * t];
-      if (!omega_a[v[0]] || !omega_a[v[1]] || !omega_a[v[2]]) continue;
-      const double third = Orient2D(pa.xy[v[0]], pa.xy[v[1]], pa.xy[v[2]]) / 6.0;
-      for (int i = 0; i < 3; ++i) area[v[i]] += third;
-    }
-    summary.node_area_a.assign(pa.xy.size(), 0.0);
-    for (std::size_t k = 0; k < pa.xy.size(); ++k) summary.node_area_a[order_a[k]] = area[k];
-    summary.dz_b.assign(pb.xy.size(), std::nan(""));
-    for (std::size_t k = 0; k < pb.xy.size(); ++k) {
-      if (counted_b[k]) summary.dz_b[order_b[k]] = gaps.b[k];
-    }
+}
+
+MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions& options) {
+  const Clock::time_point start = Clock::now();
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("measure options: " + error);
+  ValidateSurface(a);
+  ValidateSurface(b);
+  if (options.weight == WeightMode::kPerPoint && a.weight.empty() && b.weight.empty()) {
+    throw InputError("per-point weights requested, but neither surface has weights");
   }
+  // Stage shares of a typical long run's time (two 1e6-point clouds, 2
+  // threads): sorting 5%, triangulating 22%, domains 18%, trees 12%,
+  // locating 5%, the volume (overlay) the other 40%.
+  const int64_t points = static_cast<int64_t>(a.size() + b.size());
+  const auto progress = [&options, start, points](const char* stage, double done) {
+    if (options.on_progress) options.on_progress({stage, done, Seconds(start), points});
+  };
+  MeasureSummary summary;
+  summary.volume_mode = options.volume;
+  summary.n_points_a = static_cast<int64_t>(a.size());
+  summary.n_points_b = static_cast<int64_t>(b.size());
+
+  PreparedPair pair;
+  PreparePair(a, b, options, progress, &pair, &summary);
+  const Prepared& pa = pair.a;
+  const Prepared& pb = pair.b;
+  const bool parallel = options.parallel;
+
+  progress("locating each cloud in the other", 0.57);
+  Clock::time_point stage = Clock::now();
+  LocateAllStats stats_a, stats_b;
+  std::vector<Location> a_in_b, b_in_a;
+  RunBoth(parallel, [&] { a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a); },
+          [&] { b_in_a = LocateAll(pa.xy, pa.mesh, pb.xy, pb.mesh, pb.tree, &stats_b); });
+  summary.walk_steps = stats_a.steps + stats_b.steps;
+  summary.timings.locate = Seconds(stage);
+
+  // Weight field μ, then the gap at every node inside Ω: ρ'd.
+  stage = Clock::now();
+  const WeightField mu = MakeWeightField(options, a, pa.xy, pa.mesh, pa.weight, pb.xy, pb.mesh,
+                                         pb.weight, a_in_b, b_in_a);
+  const NodeStage nodes = GapsAtNodes(pa, pb, a_in_b, b_in_a, mu, options.keep_node_gaps, &summary);
+  const NodeGaps& gaps = nodes.gaps;
+  const std::vector<uint8_t>& omega_a = nodes.omega_a;
+  const std::vector<uint8_t>& omega_b = nodes.omega_b;
+  summary.timings.interpolate = Seconds(stage);
+
+  progress("volume", 0.60);
+  stage = Clock::now();
+  VolumeResult volume;
+  const OmegaDomains omega{&pa.domain, &pb.domain, &omega_a, &omega_b};
+  if (options.volume == VolumeMode::kOverlay) {
+    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu, parallel,
+                           options.detect_change ? options.level_of_detection : -1.0, omega);
+  } else {
+    volume = UnionVolume(pa.xy, pa.mesh, a_in_b, gaps.a, pb.xy, pb.mesh, b_in_a, gaps.b, mu, omega);
+  }
+  summary.timings.volume = Seconds(stage);
+
+  CheckOverlap(a, b, pa, pb, volume, options);
+  SetVolumeFields(volume, pa, pb, options, &summary);
+  if (options.keep_node_gaps) KeepNodeGaps(pair, nodes, &summary);
   summary.timings.total = Seconds(start);
   return summary;
 }
