@@ -276,68 +276,47 @@ SampleWindow ClipWindow(SampleWindow w, int32_t margin, int32_t columns, int32_t
 
 }  // namespace
 
-TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRasterSource& moving,
-                              const TiledMeasureOptions& options, int32_t shard, int32_t shards,
-                              const TiledPartial* resume) {
-  CheckOptions(reference, moving, options);
-  if (shards < 1 || shard < 1 || shard > shards) {
-    throw InputError("tiled measure: part " + std::to_string(shard) + " of " +
-                     std::to_string(shards) + " does not exist");
+namespace {
+
+int64_t NodeKey(int32_t c, int32_t r, int32_t columns) { return static_cast<int64_t>(r) * columns + c; }
+
+// One part's run over its band of tiles: what every tile reads, and the
+// state that crosses tiles (reference nodes on tile borders, moving nodes
+// exactly on tile borders, the band's first sample row for the merge).
+struct PartRun {
+  PartRun(const TiledRasterSource& reference_source, const TiledRasterSource& moving_source,
+          const TiledMeasureOptions& tiled_options)
+      : reference(reference_source), moving(moving_source), options(tiled_options),
+        masked(tiled_options.measure.weight == WeightMode::kMask),
+        shift{moving_source.origin[0] - reference_source.origin[0],
+              moving_source.origin[1] - reference_source.origin[1]} {
+    tile_options = options.measure;
+    tile_options.keep_node_gaps = true;
+    tile_options.allow_empty_overlap = true;
+    tile_options.on_progress = nullptr;
   }
-  MeasureOptions tile_options = options.measure;
-  tile_options.keep_node_gaps = true;
-  tile_options.allow_empty_overlap = true;
-  tile_options.on_progress = nullptr;
+
   // μ at a node as Measure has it (weights.h): the mask in the reference's
   // local frame, the moving nodes shifted into it by the same sums. Made per
   // tile as Measure makes it: an exclude mask's enclosing ring goes around
   // the tile's reference samples, and every node weighed lies among them.
-  const bool masked = options.measure.weight == WeightMode::kMask;
-  MaskRegion tile_mask;
-  const double shift[2] = {moving.origin[0] - reference.origin[0],
-                           moving.origin[1] - reference.origin[1]};
-  auto weight_at = [&](const Point2& p) { return masked && !InsideMask(tile_mask, p) ? 0.0 : 1.0; };
+  double WeightAt(const Point2& p) const { return masked && !InsideMask(tile_mask, p) ? 0.0 : 1.0; }
 
-  const int64_t nx = Tiles(reference.columns, options.tile), ny = Tiles(reference.rows, options.tile);
-  TiledPartial part;
-  part.shard = shard;
-  part.shards = shards;
-  part.tile = options.tile;
-  part.tile_rows = ny;
-  part.moving_tile_rows = Tiles(moving.rows, options.tile);
-  TiledBand(ny, shard, shards, &part.first_row, &part.band_end_row);
-  TiledBand(part.moving_tile_rows, shard, shards, &part.moving_first_row, &part.moving_end_row);
-  part.end_row = part.first_row;
-  std::unordered_map<int64_t, BorderNode> border;  // reference nodes, by row * columns + column
-  std::unordered_map<int64_t, SharedNode> shared;  // moving nodes, likewise
-  std::vector<TiledBorderNode> owned_top;          // the band's first row, for the merge
-  const auto key = [](int32_t c, int32_t r, int32_t columns) {
-    return static_cast<int64_t>(r) * columns + c;
-  };
-  if (resume != nullptr) {
-    if (resume->shard != shard || resume->shards != shards || resume->tile != part.tile ||
-        resume->tile_rows != ny || resume->moving_tile_rows != part.moving_tile_rows ||
-        resume->first_row != part.first_row || resume->end_row < part.first_row ||
-        resume->end_row > part.band_end_row) {
-      throw InputError("tiled measure: the state to resume is of another run or part");
-    }
-    part.end_row = resume->end_row;
-    part.sums = resume->sums;
-    part.stats = resume->stats;
-    for (const TiledBorderNode& n : resume->border) {
+  void Resume(const TiledPartial& state) {
+    for (const TiledBorderNode& n : state.border) {
       if (n.owned) {
         owned_top.push_back(n);
       } else {
-        border[key(n.column, n.row, reference.columns)] = {n.dz, n.area};
+        border[NodeKey(n.column, n.row, reference.columns)] = {n.dz, n.area};
       }
     }
-    for (const TiledSharedNode& n : resume->shared) {
-      shared[key(n.column, n.row, moving.columns)] = {n.dz, n.weight, n.tile_row};
+    for (const TiledSharedNode& n : state.shared) {
+      shared[NodeKey(n.column, n.row, moving.columns)] = {n.dz, n.weight, n.tile_row};
     }
   }
-  const int64_t keep = part.first_row > 0 ? part.first_row : -1;  // FlushShared
+
   // The state after the rows done: the maps as lists (sorted: reproducible).
-  auto snapshot = [&](TiledPartial* out) {
+  void Snapshot(TiledPartial* out) const {
     out->border = owned_top;
     for (const auto& [k, node] : border) {
       out->border.push_back({static_cast<int32_t>(k % reference.columns),
@@ -356,148 +335,211 @@ TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRas
     std::sort(out->shared.begin(), out->shared.end(), [](const auto& p, const auto& q) {
       return std::make_pair(p.row, p.column) < std::make_pair(q.row, q.column);
     });
-  };
+  }
+
+  // The moving window under the tile's complete cells (plus the margin).
+  SampleWindow MovingWindow(const Surface& a, const WindowIndex& index, int32_t c0, int32_t c1, int32_t r0,
+                            int32_t r1) const {
+    XyBox box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+              -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    int32_t v[4];
+    for (int32_t r = r0; r < r1; ++r) {
+      for (int32_t c = c0; c < c1; ++c) {
+        if (!index.Corners(c, r, v)) continue;
+        for (int32_t i : v) {
+          const double x = a.xy[i].x + reference.origin[0], y = a.xy[i].y + reference.origin[1];
+          box = {std::min(box.x_min, x), std::min(box.y_min, y), std::max(box.x_max, x),
+                 std::max(box.y_max, y)};
+        }
+      }
+    }
+    return ClipWindow(moving.cover(box), options.margin, moving.columns, moving.rows);
+  }
+
+  // The tile's Measure against the moving window: its sums, the tile's dz
+  // and node-area parts, and the moving nodes (one tile each, but those
+  // exactly on its border edges, listed in `shared`).
+  void MeasureAgainstMoving(const Surface& a, const WindowIndex& index, const SampleWindow& window,
+                            const SampleWindow& wb, int64_t ty, std::vector<double>* dz, std::vector<double>* area,
+                            TiledPartial* part) {
+    const Surface b = ReadChecked(moving, wb);
+    const WindowIndex index_b(b, wb);
+    int64_t cells_b = 0;
+    CompleteCellArea(b, index_b, wb.column, wb.column + wb.columns - 1, wb.row, wb.row + wb.rows - 1,
+                     &cells_b);
+    if (cells_b == 0) return;
+    const MeasureSummary s = Measure(a, b, tile_options);
+    ++part->stats.tiles_measured;
+    part->sums.AddTile(s);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const std::size_t o = index.Offset(a.raster_cell[i].column, a.raster_cell[i].row);
+      (*dz)[o] = s.dz_a[i];
+      (*area)[o] = s.node_area_a[i];
+    }
+    const TileBorder edges(a, index, window);
+    for (std::size_t j = 0; j < b.size(); ++j) {
+      if (!std::isfinite(s.dz_b[j])) continue;
+      const Point2 p{b.xy[j].x + shift[0], b.xy[j].y + shift[1]};
+      const double w = WeightAt(p);
+      if (!edges.Holds(p)) {
+        part->sums.AddNode(s.dz_b[j], w);
+        continue;
+      }
+      const auto inserted = shared.emplace(NodeKey(b.raster_cell[j].column, b.raster_cell[j].row, moving.columns),
+                                           SharedNode{s.dz_b[j], w, ty});
+      ++(inserted.second ? part->stats.shared_moving_nodes : part->stats.merged_moving_nodes);
+    }
+  }
+
+  // The owned block's DoD, final now (border nodes gather the parts of every
+  // tile holding them; in row-major order the owned block is complete), and
+  // its nodes into the sums (the band's shared first row: listed instead).
+  TileDod OwnedDod(const Surface& a, const WindowIndex& index, const SampleWindow& window,
+                   const SampleWindow& owned, const std::vector<double>& dz, const std::vector<double>& area,
+                   bool top_shared, TiledSums* totals) {
+    const int32_t c0 = window.column, r0 = window.row;
+    const int32_t c1 = c0 + window.columns - 1, r1 = r0 + window.rows - 1;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      const RasterCell& cell = a.raster_cell[i];
+      if (cell.column != c0 && cell.column != c1 && cell.row != r0 && cell.row != r1) continue;
+      const std::size_t o = index.Offset(cell.column, cell.row);
+      if (!std::isfinite(dz[o]) && area[o] == 0.0) continue;
+      BorderNode& node = border[NodeKey(cell.column, cell.row, reference.columns)];
+      if (!std::isfinite(node.dz)) node.dz = dz[o];
+      node.area += area[o];
+    }
+    TileDod dod;
+    dod.window = owned;
+    dod.dz.assign(static_cast<std::size_t>(owned.columns) * owned.rows, kNaN);
+    dod.node_area.assign(dod.dz.size(), 0.0);
+    for (int32_t r = owned.row; r < owned.row + owned.rows; ++r) {
+      for (int32_t c = owned.column; c < owned.column + owned.columns; ++c) {
+        const int32_t i = index.At(c, r);
+        if (i < 0) continue;
+        ++totals->sum.n_points_a;
+        const std::size_t o = index.Offset(c, r);
+        double d = dz[o], node_area = area[o];
+        if (c == c0 || c == c1 || r == r0 || r == r1) {
+          const auto it = border.find(NodeKey(c, r, reference.columns));
+          d = kNaN, node_area = 0.0;
+          if (it != border.end()) {
+            d = it->second.dz;
+            node_area = it->second.area;
+            border.erase(it);
+          }
+        }
+        const std::size_t out = static_cast<std::size_t>(r - owned.row) * owned.columns + (c - owned.column);
+        dod.dz[out] = d;  // on a shared top row, the merge may settle it (TiledDodPatch)
+        dod.node_area[out] = node_area;
+        if (top_shared && r == r0) {
+          owned_top.push_back({c, r, d, node_area, WeightAt(a.xy[i]), true});
+        } else if (std::isfinite(d)) {
+          totals->AddNode(d, WeightAt(a.xy[i]));
+        }
+      }
+    }
+    return dod;
+  }
+
+  // Tile (tx, ty): its reference window, its measure and its DoD block.
+  void Tile(int64_t tx, int64_t ty, int64_t nx, bool top_shared, TiledPartial* part) {
+    SampleWindow window, owned;
+    TileWindows(reference.columns, reference.rows, options.tile, tx, ty, &window, &owned);
+    const int32_t c0 = window.column, r0 = window.row;
+    const int32_t c1 = c0 + window.columns - 1, r1 = r0 + window.rows - 1;
+    const Surface a = ReadChecked(reference, window);
+    const WindowIndex index(a, window);
+    if (masked && !a.xy.empty()) {
+      tile_mask = MakeMaskRegion(options.measure.mask, options.measure.mask_mode,
+                                 {reference.origin[0], reference.origin[1]}, a.xy);
+    }
+    TiledSums& totals = part->sums;
+    ++part->stats.tiles;
+    int64_t cells = 0;
+    totals.domain_area_a += CompleteCellArea(a, index, c0, c1, r0, r1, &cells);
+    totals.complete_cells_a += cells;
+    MergeHull(ConvexHull(a.xy), &totals.hull_a);
+    // The tile's own DoD: dz and its part of each node's area.
+    const std::size_t n = static_cast<std::size_t>(window.columns) * window.rows;
+    std::vector<double> dz(n, kNaN), area(n, 0.0);
+    const SampleWindow wb = cells > 0 ? MovingWindow(a, index, c0, c1, r0, r1) : SampleWindow{};
+    if (!wb.empty()) MeasureAgainstMoving(a, index, window, wb, ty, &dz, &area, part);
+    TileDod dod = OwnedDod(a, index, window, owned, dz, area, top_shared, &totals);
+    dod.tile = ty * nx + tx;
+    if (options.on_tile) options.on_tile(dod);
+  }
+
+  const TiledRasterSource& reference;
+  const TiledRasterSource& moving;
+  const TiledMeasureOptions& options;
+  MeasureOptions tile_options;
+  const bool masked;
+  MaskRegion tile_mask;
+  const double shift[2];
+  std::unordered_map<int64_t, BorderNode> border;  // reference nodes, by NodeKey
+  std::unordered_map<int64_t, SharedNode> shared;  // moving nodes, likewise
+  std::vector<TiledBorderNode> owned_top;          // the band's first row, for the merge
+};
+
+}  // namespace
+
+TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRasterSource& moving,
+                              const TiledMeasureOptions& options, int32_t shard, int32_t shards,
+                              const TiledPartial* resume) {
+  CheckOptions(reference, moving, options);
+  if (shards < 1 || shard < 1 || shard > shards) {
+    throw InputError("tiled measure: part " + std::to_string(shard) + " of " +
+                     std::to_string(shards) + " does not exist");
+  }
+  PartRun run(reference, moving, options);
+  const int64_t nx = Tiles(reference.columns, options.tile), ny = Tiles(reference.rows, options.tile);
+  TiledPartial part;
+  part.shard = shard;
+  part.shards = shards;
+  part.tile = options.tile;
+  part.tile_rows = ny;
+  part.moving_tile_rows = Tiles(moving.rows, options.tile);
+  TiledBand(ny, shard, shards, &part.first_row, &part.band_end_row);
+  TiledBand(part.moving_tile_rows, shard, shards, &part.moving_first_row, &part.moving_end_row);
+  part.end_row = part.first_row;
+  if (resume != nullptr) {
+    if (resume->shard != shard || resume->shards != shards || resume->tile != part.tile ||
+        resume->tile_rows != ny || resume->moving_tile_rows != part.moving_tile_rows ||
+        resume->first_row != part.first_row || resume->end_row < part.first_row ||
+        resume->end_row > part.band_end_row) {
+      throw InputError("tiled measure: the state to resume is of another run or part");
+    }
+    part.end_row = resume->end_row;
+    part.sums = resume->sums;
+    part.stats = resume->stats;
+    run.Resume(*resume);
+  }
+  const int64_t keep = part.first_row > 0 ? part.first_row : -1;  // FlushShared
   TiledProgress progress{(part.end_row - part.first_row) * nx,
                          (part.band_end_row - part.first_row) * nx +
                              (part.moving_end_row - part.moving_first_row) *
                                  Tiles(moving.columns, options.tile),
                          (part.end_row - part.first_row) * nx};
-  TiledSums& totals = part.sums;
-  TiledMeasureStats& st = part.stats;
-
   for (int64_t ty = part.end_row; ty < part.band_end_row; ++ty) {
     // The band's first sample row is another part's too: listed, not counted.
     const bool top_shared = ty == part.first_row && part.first_row > 0;
     for (int64_t tx = 0; tx < nx; ++tx) {
-      SampleWindow window, owned;
-      TileWindows(reference.columns, reference.rows, options.tile, tx, ty, &window, &owned);
-      const int32_t c0 = window.column, r0 = window.row;
-      const int32_t c1 = c0 + window.columns - 1, r1 = r0 + window.rows - 1;
-      const Surface a = ReadChecked(reference, window);
-      const WindowIndex index(a, window);
-      if (masked && !a.xy.empty()) {
-        tile_mask = MakeMaskRegion(options.measure.mask, options.measure.mask_mode,
-                                   {reference.origin[0], reference.origin[1]}, a.xy);
-      }
-      ++st.tiles;
-      int64_t cells = 0;
-      totals.domain_area_a += CompleteCellArea(a, index, c0, c1, r0, r1, &cells);
-      totals.complete_cells_a += cells;
-      MergeHull(ConvexHull(a.xy), &totals.hull_a);
-
-      // The tile's own DoD: dz and its part of each node's area.
-      const std::size_t n = static_cast<std::size_t>(window.columns) * window.rows;
-      std::vector<double> dz(n, kNaN), area(n, 0.0);
-      SampleWindow wb;
-      if (cells > 0) {
-        XyBox box{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                  -std::numeric_limits<double>::infinity(),
-                  -std::numeric_limits<double>::infinity()};
-        int32_t v[4];
-        for (int32_t r = r0; r < r1; ++r) {
-          for (int32_t c = c0; c < c1; ++c) {
-            if (!index.Corners(c, r, v)) continue;
-            for (int32_t i : v) {
-              const double x = a.xy[i].x + reference.origin[0], y = a.xy[i].y + reference.origin[1];
-              box = {std::min(box.x_min, x), std::min(box.y_min, y), std::max(box.x_max, x),
-                     std::max(box.y_max, y)};
-            }
-          }
-        }
-        wb = ClipWindow(moving.cover(box), options.margin, moving.columns, moving.rows);
-      }
-      if (!wb.empty()) {
-        const Surface b = ReadChecked(moving, wb);
-        const WindowIndex index_b(b, wb);
-        int64_t cells_b = 0;
-        CompleteCellArea(b, index_b, wb.column, wb.column + wb.columns - 1, wb.row,
-                         wb.row + wb.rows - 1, &cells_b);
-        if (cells_b > 0) {
-          const MeasureSummary s = Measure(a, b, tile_options);
-          ++st.tiles_measured;
-          totals.AddTile(s);
-          for (std::size_t i = 0; i < a.size(); ++i) {
-            const std::size_t o = index.Offset(a.raster_cell[i].column, a.raster_cell[i].row);
-            dz[o] = s.dz_a[i];
-            area[o] = s.node_area_a[i];
-          }
-          // Moving nodes: one tile each, but those exactly on its border edges.
-          const TileBorder edges(a, index, window);
-          for (std::size_t j = 0; j < b.size(); ++j) {
-            if (!std::isfinite(s.dz_b[j])) continue;
-            const Point2 p{b.xy[j].x + shift[0], b.xy[j].y + shift[1]};
-            const double w = weight_at(p);
-            if (!edges.Holds(p)) {
-              totals.AddNode(s.dz_b[j], w);
-              continue;
-            }
-            const auto inserted = shared.emplace(
-                key(b.raster_cell[j].column, b.raster_cell[j].row, moving.columns),
-                SharedNode{s.dz_b[j], w, ty});
-            ++(inserted.second ? st.shared_moving_nodes : st.merged_moving_nodes);
-          }
-        }
-      }
-
-      // Border nodes gather the parts of every tile holding them; in
-      // row-major order the owned block is then final.
-      for (std::size_t i = 0; i < a.size(); ++i) {
-        const RasterCell& cell = a.raster_cell[i];
-        if (cell.column != c0 && cell.column != c1 && cell.row != r0 && cell.row != r1) continue;
-        const std::size_t o = index.Offset(cell.column, cell.row);
-        if (!std::isfinite(dz[o]) && area[o] == 0.0) continue;
-        BorderNode& node = border[key(cell.column, cell.row, reference.columns)];
-        if (!std::isfinite(node.dz)) node.dz = dz[o];
-        node.area += area[o];
-      }
-      TileDod dod;
-      dod.tile = ty * nx + tx;
-      dod.window = owned;
-      dod.dz.assign(static_cast<std::size_t>(owned.columns) * owned.rows, kNaN);
-      dod.node_area.assign(dod.dz.size(), 0.0);
-      for (int32_t r = owned.row; r < owned.row + owned.rows; ++r) {
-        for (int32_t c = owned.column; c < owned.column + owned.columns; ++c) {
-          const int32_t i = index.At(c, r);
-          if (i < 0) continue;
-          ++totals.sum.n_points_a;
-          const std::size_t o = index.Offset(c, r);
-          double d = dz[o], node_area = area[o];
-          if (c == c0 || c == c1 || r == r0 || r == r1) {
-            const auto it = border.find(key(c, r, reference.columns));
-            d = kNaN, node_area = 0.0;
-            if (it != border.end()) {
-              d = it->second.dz;
-              node_area = it->second.area;
-              border.erase(it);
-            }
-          }
-          const std::size_t out = static_cast<std::size_t>(r - owned.row) * owned.columns +
-                                  (c - owned.column);
-          dod.dz[out] = d;  // on a shared top row, the merge may settle it (TiledDodPatch)
-          dod.node_area[out] = node_area;
-          if (top_shared && r == r0) {
-            owned_top.push_back({c, r, d, node_area, weight_at(a.xy[i]), true});
-          } else if (std::isfinite(d)) {
-            totals.AddNode(d, weight_at(a.xy[i]));
-          }
-        }
-      }
-      if (options.on_tile) options.on_tile(dod);
+      run.Tile(tx, ty, nx, top_shared, &part);
       ++progress.done;
       if (options.on_progress) options.on_progress(progress);
     }
-    FlushShared(&shared, ty, keep, &totals);  // keeps the list to two rows of tiles
+    FlushShared(&run.shared, ty, keep, &part.sums);  // keeps the list to two rows of tiles
     part.end_row = ty + 1;
     if (options.on_row && part.end_row < part.band_end_row) {
-      snapshot(&part);
+      run.Snapshot(&part);
       options.on_row(part);
     }
   }
-  if (part.band_end_row == ny) FlushShared(&shared, ny, keep, &totals);
-  snapshot(&part);
+  if (part.band_end_row == ny) FlushShared(&run.shared, ny, keep, &part.sums);
+  run.Snapshot(&part);
   if (options.on_row && part.band_end_row > part.first_row) options.on_row(part);
 
-  MovingPass(moving, options, part.moving_first_row, part.moving_end_row, &totals, &progress);
+  MovingPass(moving, options, part.moving_first_row, part.moving_end_row, &part.sums, &progress);
   part.moving_done = true;
   return part;
 }
