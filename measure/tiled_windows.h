@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "measure/input_error.h"
 #include "measure/predicates.h"
 #include "measure/surface.h"
 #include "measure/tiled_measure.h"
