@@ -24,7 +24,7 @@ target_compile_features(surfreg_measure PUBLIC cxx_std_17)
 # They keep the source layout under include/surfreg/, because they include
 # each other as "measure/x.h"; the io headers go to include/surfreg/io/.
 set(SURFREG_PUBLIC_MEASURE_HEADERS
-  change_budget.h delaunay.h domain.h dz_statistics.h grid_mesh.h
+  change_budget.h convex_hull.h delaunay.h domain.h dz_statistics.h grid_mesh.h
   input_error.h mask_region.h measures.h mesh.h surface.h tiled_measure.h tiled_partial.h volume.h)
 set(SURFREG_PUBLIC_REGISTRATION_HEADERS
   align.h face_frame.h holdout.h jaw.h rigid_motion.h symmetry.h)

@@ -15,14 +15,6 @@ namespace {
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double PolygonArea(const std::vector<Point2>& p) {
-  double twice = 0.0;
-  for (std::size_t k = 1; k + 1 < p.size(); ++k) {
-    twice += (p[k].x - p[0].x) * (p[k + 1].y - p[0].y) - (p[k].y - p[0].y) * (p[k + 1].x - p[0].x);
-  }
-  return 0.5 * twice;
-}
-
 std::vector<Point2> HullOfBoth(const std::vector<Point2>& a, const std::vector<Point2>& b) {
   std::vector<Point2> points = a;
   points.insert(points.end(), b.begin(), b.end());
@@ -81,27 +73,6 @@ void TiledSums::Add(const TiledSums& o) {
   complete_cells_b += o.complete_cells_b;
   hull_a = HullOfBoth(hull_a, o.hull_a);
   hull_b = HullOfBoth(hull_b, o.hull_b);
-}
-
-std::vector<Point2> ConvexHull(std::vector<Point2> points) {
-  std::sort(points.begin(), points.end(),
-            [](const Point2& p, const Point2& q) { return p.x < q.x || (p.x == q.x && p.y < q.y); });
-  points.erase(std::unique(points.begin(), points.end(),
-                           [](const Point2& p, const Point2& q) { return p.x == q.x && p.y == q.y; }),
-               points.end());
-  if (points.size() < 3) return points;
-  std::vector<Point2> hull(2 * points.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && Orient2D(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
-  }
-  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && Orient2D(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
-  }
-  hull.resize(k - 1);
-  return hull;
 }
 
 void TiledBand(int64_t rows, int32_t shard, int32_t shards, int64_t* first, int64_t* end) {

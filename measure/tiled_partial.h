@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "measure/convex_hull.h"  // the hulls the parts carry
 #include "measure/measures.h"
 #include "measure/surface.h"
 
@@ -102,8 +103,5 @@ TiledPartial MergeTiledPartials(std::vector<TiledPartial> parts, std::vector<Til
 // the overlap is empty or a sliver. Names are for messages ("" = "surface A").
 MeasureSummary FinishTiled(const TiledSums& sums, const MeasureOptions& options,
                            const std::string& name_a, const std::string& name_b);
-
-// Convex hull (counter-clockwise, no collinear corners; exact turns).
-std::vector<Point2> ConvexHull(std::vector<Point2> points);
 
 }  // namespace surfreg

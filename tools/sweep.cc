@@ -11,6 +11,7 @@
 #include <random>
 #include <thread>
 
+#include "measure/convex_hull.h"
 #include "measure/input_error.h"
 #include "registration/align.h"
 #include "tools/interrupt.h"
@@ -52,10 +53,6 @@ Eigen::Vector3d UnitVector(std::mt19937_64& rng) {
   const double z = 2 * Unit(rng) - 1, phi = 2 * kPi * Unit(rng);
   const double r = std::sqrt(std::max(0.0, 1 - z * z));
   return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
-double Cross(const Point2& o, const Point2& a, const Point2& b) {
-  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
 }
 
 double Median(std::vector<double> values) {
@@ -217,25 +214,8 @@ Eigen::Vector3d SurfaceCentroid(const Surface& s) {
 }
 
 double MeanSampleSpacing(const Surface& s) {
-  // Convex hull by Andrew's monotone chain, then the shoelace area.
-  std::vector<Point2> p = s.xy;
-  std::sort(p.begin(), p.end(), [](const Point2& a, const Point2& b) {
-    return a.x < b.x || (a.x == b.x && a.y < b.y);
-  });
-  std::vector<Point2> hull(2 * p.size());
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && Cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
-  }
-  for (std::size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && Cross(hull[k - 2], hull[k - 1], p[i]) <= 0) --k;
-    hull[k++] = p[i];
-  }
-  double area = 0;
-  for (std::size_t i = 0; i + 1 < k; ++i)
-    area += hull[i].x * hull[i + 1].y - hull[i + 1].x * hull[i].y;
-  return std::sqrt(0.5 * std::fabs(area) / static_cast<double>(s.size()));
+  const double area = std::fabs(PolygonArea(ConvexHull(s.xy)));
+  return std::sqrt(area / static_cast<double>(s.size()));
 }
 
 MotionErrors CompareToTruth(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& truth,
