@@ -15,17 +15,6 @@
 
 namespace surfreg {
 
-using volume_internal::FanSums;
-using volume_internal::SumFan;
-using volume_internal::TwiceArea;
-using volume_internal::VolumeAccumulator;
-using volume_internal::CellKernel;
-using volume_internal::ForEachCellOfState;
-using volume_internal::Gradient2;
-using volume_internal::Moment;
-using volume_internal::TriangleExtra;
-using volume_internal::TriangleRecord;
-
 VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
                                    const MaskRegion* mask) {
   VolumeAccumulator first(state, gradient, mask), second(state, gradient, mask);

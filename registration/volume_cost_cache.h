@@ -121,4 +121,16 @@ struct VolumeCostCache::Impl {
                int32_t lo, int32_t hi, VolumeCostValue* out);
 };
 
+// The internal names both of the cache's files use.
+using volume_internal::FanSums;
+using volume_internal::SumFan;
+using volume_internal::TwiceArea;
+using volume_internal::VolumeAccumulator;
+using volume_internal::CellKernel;
+using volume_internal::ForEachCellOfState;
+using volume_internal::Gradient2;
+using volume_internal::Moment;
+using volume_internal::TriangleExtra;
+using volume_internal::TriangleRecord;
+
 }  // namespace surfreg

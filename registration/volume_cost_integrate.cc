@@ -8,17 +8,6 @@
 
 namespace surfreg {
 
-using volume_internal::FanSums;
-using volume_internal::SumFan;
-using volume_internal::TwiceArea;
-using volume_internal::VolumeAccumulator;
-using volume_internal::CellKernel;
-using volume_internal::ForEachCellOfState;
-using volume_internal::Gradient2;
-using volume_internal::Moment;
-using volume_internal::TriangleExtra;
-using volume_internal::TriangleRecord;
-
 using volume_internal::HullSink;
 
 // One cell's integrals from its n corners (relative to T_B's corner 0, d
