@@ -11,10 +11,6 @@ namespace {
 
 double Length(const Point2& a, const Point2& b) { return std::hypot(b.x - a.x, b.y - a.y); }
 
-double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
-  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
-
 // The longest edge of a triangle, named by its opposite local vertex (0-2).
 int LongestEdge(const std::vector<Point2>& xy, const int32_t* v, double* length) {
   int best = 0;

@@ -10,10 +10,6 @@
 namespace surfreg {
 namespace {
 
-double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
-  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
-
 // Fan of a convex polygon with μ = 1 on it; returns the polygon's area.
 double FanUniform(const Point2* p, int n, const Plane& d, GapIntegrals* gap) {
   const double d0 = d.At(p[0]);

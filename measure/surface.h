@@ -15,6 +15,13 @@ struct Point2 {
   double y = 0.0;
 };
 
+// Twice the signed area of triangle abc, in floating point (positive
+// counter-clockwise): for areas and integrals; decisions of topology take
+// the exact sign, Orient2D (predicates.h).
+inline double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
+
 // A sample's cell in the raster it was read from (row 0 at the top, as GDAL).
 struct RasterCell {
   int32_t column = 0;

@@ -60,24 +60,17 @@ struct NodeContext {
   // Each node's share of the normalization, μ τ², and its derivative.
   std::vector<double> node_weight;
   std::vector<std::array<double, 6>> d_weight;
+
+  void ReferenceNode(std::size_t i);  // node i of A in Ω: its residual (and Jacobian, weight share)
+  void MovingNode(std::size_t j);     // node j of B in Ω: likewise
 };
 
-// Reference node i in Ω: its gap to the moved B (tapered, weighted).
-void ReferenceNodeResidual(NodeContext& ctx, std::size_t i) {
-  const Location& loc = ctx.state.a_in_b()[i];
-  const ReferenceSide& a = ctx.a;
-  const MaskRegion* mask = ctx.mask;
-  const bool weighted = ctx.weighted, normal = ctx.normal, jacobians = ctx.jacobians;
-  const std::vector<double>& mu = ctx.mu;
-  const auto& inner_b = ctx.inner_b;
-  const auto& bxy = ctx.bxy;
-  const auto& bz = ctx.bz;
-  const auto& bq = ctx.bq;
-  const Eigen::Matrix3d& mt = ctx.mt;
-  AxialResiduals* out = ctx.out;
+// Its gap to the moved B (tapered, weighted).
+void NodeContext::ReferenceNode(std::size_t i) {
+  const Location& loc = state.a_in_b()[i];
   if (mask != nullptr && !InsideMask(*mask, a.xy[i])) return;
   if (weighted && !(mu[i] > 0.0)) return;
-  const int32_t* v = &ctx.mesh_b.triangles[3 * loc.triangle];
+  const int32_t* v = &mesh_b.triangles[3 * loc.triangle];
   const auto& l = loc.barycentric;
   // The taper τ: B's inner-vertex flags interpolated on the moved triangle.
   const double taper = l[0] * inner_b[v[0]] + l[1] * inner_b[v[1]] + l[2] * inner_b[v[2]];
@@ -88,13 +81,13 @@ void ReferenceNodeResidual(NodeContext& ctx, std::size_t i) {
   double cosine = 1.0;
   Eigen::Vector3d u[3] = {Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ()};
   if (normal) {
-    for (int c = 0; c < 3; ++c) u[c] = ctx.rotation * ctx.b_normal[v[c]];
+    for (int c = 0; c < 3; ++c) u[c] = rotation * b_normal[v[c]];
     cosine = l[0] * u[0].z() + l[1] * u[1].z() + l[2] * u[2].z();
     if (!(cosine > 0.0)) return;  // overturned: the weight has reached 0
   }
   const double root = weighted ? std::sqrt(mu[i]) : 1.0;  // μ_i is fixed: a constant factor
   const double mu_i = weighted ? mu[i] : 1.0;
-  ctx.node_weight[i] = mu_i * taper * taper;
+  node_weight[i] = mu_i * taper * taper;
   const double gap = l[0] * bz[v[0]] + l[1] * bz[v[1]] + l[2] * bz[v[2]] - a.z[i];
   const double untapered = root * cosine * gap;
   out->r[i] = taper * untapered;
@@ -121,24 +114,12 @@ void ReferenceNodeResidual(NodeContext& ctx, std::size_t i) {
   const Eigen::Vector3d dt_rotation = -(mt * n_taper.cross(q));
   Store(taper * root * d_rotation + untapered * dt_rotation,
         taper * root * d_translation + untapered * n_taper, &out->jacobian[i]);
-  Store(2.0 * mu_i * taper * dt_rotation, 2.0 * mu_i * taper * n_taper, &ctx.d_weight[i]);
+  Store(2.0 * mu_i * taper * dt_rotation, 2.0 * mu_i * taper * n_taper, &d_weight[i]);
 }
 
-// Moving node j in Ω: its gap to A (tapered, weighted by μ where it lands).
-void MovingNodeResidual(NodeContext& ctx, std::size_t j) {
-  const Location& loc = ctx.state.b_in_a()[j];
-  const ReferenceSide& a = ctx.a;
-  const MaskRegion* mask = ctx.mask;
-  const bool weighted = ctx.weighted, normal = ctx.normal, jacobians = ctx.jacobians;
-  const std::vector<double>& mu = ctx.mu;
-  const auto& inner_a = ctx.inner_a;
-  const auto& a_cosine = ctx.a_cosine;
-  const auto& bxy = ctx.bxy;
-  const auto& bz = ctx.bz;
-  const auto& bq = ctx.bq;
-  const Eigen::Matrix3d& mt = ctx.mt;
-  AxialResiduals* out = ctx.out;
-  const std::size_t na = ctx.na;
+// Its gap to A (tapered, weighted by μ where it lands).
+void NodeContext::MovingNode(std::size_t j) {
+  const Location& loc = state.b_in_a()[j];
   if (mask != nullptr && !InsideMask(*mask, bxy[j])) return;
   const int32_t* v = &a.mesh.triangles[3 * loc.triangle];
   const auto& l = loc.barycentric;
@@ -160,7 +141,7 @@ void MovingNodeResidual(NodeContext& ctx, std::size_t j) {
   const double root = std::sqrt(w);
   out->r[k] = taper * root * r;
   out->active[k] = 1;
-  ctx.node_weight[k] = w * taper * taper;
+  node_weight[k] = w * taper * taper;
   if (!jacobians) return;
   const Eigen::Vector3d n = UpNormal(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
   // A field linear on the A triangle (μ, τ, the cosine) has a gradient g
@@ -190,7 +171,7 @@ void MovingNodeResidual(NodeContext& ctx, std::size_t j) {
         taper * d_translation + untapered * dt_translation, &out->jacobian[k]);
   const double t2 = taper * taper;
   Store(t2 * dw_rotation + 2.0 * w * taper * dt_rotation,
-        t2 * dw_translation + 2.0 * w * taper * dt_translation, &ctx.d_weight[k]);
+        t2 * dw_translation + 2.0 * w * taper * dt_translation, &d_weight[k]);
 }
 
 // trim_fraction: the largest |r| dropped; then the count of active nodes.
@@ -270,12 +251,12 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
     // Nodes of either surface's junk (measure/domain.h) are not in Ω.
     if (!ctx.a.domain_vertex[i] || !state.OnMovingSurface(state.a_in_b()[i])) continue;
     ++overlap;
-    ReferenceNodeResidual(ctx, i);
+    ctx.ReferenceNode(i);
   }
   for (std::size_t j = 0; j < nb; ++j) {
     if (!state.moving_node_active(j) || !state.OnReferenceSurface(state.b_in_a()[j])) continue;
     ++overlap;
-    MovingNodeResidual(ctx, j);
+    ctx.MovingNode(j);
   }
   out->overlap_count = overlap;
   Trim(settings, jacobians, out);

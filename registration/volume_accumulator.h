@@ -24,10 +24,6 @@ namespace volume_internal {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 
-inline double TwiceArea(const Point2& a, const Point2& b, const Point2& c) {
-  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
-
 // ∫ over a convex polygon (fan from corner 0) of μ, μd, μx and μy, with d
 // and μ linear (μ ≡ 1 unless kWeighted): per fan triangle of area S with
 // corner values f_i, g_i, ∫fg = S/12 (Σ f_i g_i + Σf_i Σg_i).

@@ -124,7 +124,6 @@ struct VolumeCostCache::Impl {
 // The internal names both of the cache's files use.
 using volume_internal::FanSums;
 using volume_internal::SumFan;
-using volume_internal::TwiceArea;
 using volume_internal::VolumeAccumulator;
 using volume_internal::CellKernel;
 using volume_internal::ForEachCellOfState;
