@@ -4,7 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <string>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <ceres/ceres.h>
@@ -19,29 +21,56 @@ namespace {
 // lowered by sliding almost all of it away).
 constexpr double kMinKeptOverlap = 0.25;
 
-// The free parameters as a vector of lengths: rotations × scale, translations.
+// The free parameters as the solver's vector x = T θ_free: by default T
+// scales rotations by a length (rotations × scale, translations), so x is
+// a vector of lengths; Whiten makes it a whitening of a curvature.
 struct ParameterMap {
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
   std::vector<int> free;  // indices into (rx, ry, rz, tx, ty, tz)
   double rotation_scale = 1.0;
   std::array<double, 6> fixed{};  // full θ supplying the locked values
+  Matrix to_x, from_x;            // T and T⁻¹
 
   ParameterMap(const AlignOptions& options, double scale, const std::array<double, 6>& theta0)
       : rotation_scale(scale), fixed(theta0) {
     for (int k = 0; k < 6; ++k) {
       if (options.free[k]) free.push_back(k);
     }
+    to_x = Matrix::Zero(size(), size());
+    from_x = Matrix::Zero(size(), size());
+    for (int i = 0; i < size(); ++i) to_x(i, i) = Factor(free[i]), from_x(i, i) = 1 / Factor(free[i]);
   }
   int size() const { return static_cast<int>(free.size()); }
   double Factor(int k) const { return k < 3 ? rotation_scale : 1.0; }
   std::array<double, 6> Full(const double* x) const {
     std::array<double, 6> theta = fixed;
-    for (int i = 0; i < size(); ++i) theta[free[i]] = x[i] / Factor(free[i]);
+    const Vector t = from_x * Eigen::Map<const Vector>(x, size());
+    for (int i = 0; i < size(); ++i) theta[free[i]] = t[i];
     return theta;
   }
   std::vector<double> Reduce(const std::array<double, 6>& theta) const {
-    std::vector<double> x(free.size());
-    for (int i = 0; i < size(); ++i) x[i] = theta[free[i]] * Factor(free[i]);
-    return x;
+    Vector t(size());
+    for (int i = 0; i < size(); ++i) t[i] = theta[free[i]];
+    const Vector x = to_x * t;
+    return std::vector<double>(x.data(), x.data() + size());
+  }
+  // d/dx of what has derivative `d` (all six) in θ.
+  void DerivativeOfX(const double* d, double* out) const {
+    Vector df(size());
+    for (int i = 0; i < size(); ++i) df[i] = d[free[i]];
+    Eigen::Map<Vector>(out, size()) = from_x.transpose() * df;
+  }
+  // T = Lᵀ with H = L Lᵀ (θ units): a solver that sees H as the identity.
+  // False (and T unchanged) if H is not positive definite.
+  bool Whiten(const Eigen::MatrixXd& h) {
+    Eigen::LLT<Eigen::MatrixXd> llt(h);
+    if (llt.info() != Eigen::Success) return false;
+    const Matrix upper = llt.matrixU();
+    const Matrix inverse = upper.inverse();
+    if (!upper.allFinite() || !inverse.allFinite()) return false;
+    to_x = upper, from_x = inverse;
+    return true;
   }
 };
 
@@ -137,13 +166,8 @@ class NodeResiduals : public ceres::CostFunction {
     for (std::size_t k = begin_; k < end_; ++k) residuals[k - begin_] = all.r[k];
     if (jacobians != nullptr && jacobians[0] != nullptr) {
       const int n = map_.size();
-      double inverse_factor[6];
-      for (int i = 0; i < n; ++i) inverse_factor[i] = 1.0 / map_.Factor(map_.free[i]);
       double* out = jacobians[0];
-      for (std::size_t k = begin_; k < end_; ++k, out += n) {
-        const std::array<double, 6>& row = all.jacobian[k];
-        for (int i = 0; i < n; ++i) out[i] = row[map_.free[i]] * inverse_factor[i];
-      }
+      for (std::size_t k = begin_; k < end_; ++k, out += n) map_.DerivativeOfX(all.jacobian[k].data(), out);
     }
     return true;
   }
@@ -292,7 +316,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
     *cost = value.PerArea();
     if (gradient != nullptr) {
       const Eigen::Matrix<double, 6, 1> g = value.PerAreaGradient();
-      for (int i = 0; i < map_.size(); ++i) gradient[i] = g[map_.free[i]] / map_.Factor(map_.free[i]);
+      map_.DerivativeOfX(g.data(), gradient);
     }
     return std::isfinite(*cost);
   }
@@ -311,12 +335,48 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   mutable int refused_folds_ = 0;
 };
 
+// The volume cost's Hessian in θ (free parameters) at the state's θ, as
+// the axial cost sees it: JᵀJ / N of the vertical gaps at the active nodes,
+// times 2φ(0)/σ = √(2/π)/σ for the L1 cost of gaps with a robust spread σ
+// (E|r + δ| grows as δ²φ(0)/σ). Only its shape and scale matter: the volume
+// solve runs in coordinates where it is the identity, since radians and
+// lengths, and rotations coupled with translations, left L-BFGS creeping
+// (on terrain 2-3× the iterations).
+Eigen::MatrixXd AxialCurvature(const PairState& state, const SolveContext& context, const ParameterMap& map) {
+  const int n = map.size();
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);
+  AxialResiduals residuals;
+  ComputeAxialResiduals(state, context.axial, true, &residuals);
+  std::vector<double> magnitudes;
+  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+    if (!residuals.active[k]) continue;
+    Eigen::VectorXd row(n);
+    for (int i = 0; i < n; ++i) row[i] = residuals.jacobian[k][map.free[i]];
+    h.noalias() += row * row.transpose();
+    magnitudes.push_back(std::fabs(residuals.r[k]));
+  }
+  if (magnitudes.empty()) return h;
+  h /= static_cast<double>(magnitudes.size());
+  std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
+  const double sigma = 1.4826 * magnitudes[magnitudes.size() / 2];
+  if (sigma > 0) h *= std::sqrt(2 / M_PI) / sigma;
+  // A floor, in units where rotation and translation weigh alike, for
+  // directions the gaps do not see (a plane's slide along itself).
+  Eigen::VectorXd s(n);
+  for (int i = 0; i < n; ++i) s[i] = map.Factor(map.free[i]);
+  Eigen::MatrixXd scaled = s.cwiseInverse().asDiagonal() * h * s.cwiseInverse().asDiagonal();
+  scaled += 1e-6 * scaled.trace() / n * Eigen::MatrixXd::Identity(n, n);
+  return s.asDiagonal() * scaled * s.asDiagonal();
+}
+
 }  // namespace
 
 SolveResult SolveVolume(PairState& state, const SolveContext& context,
                         const std::array<double, 6>& theta0) {
   const AlignOptions& options = *context.options;
   ParameterMap map(options, context.rotation_scale, theta0);
+  // Without a usable curvature (no gaps seen), the diagonal scaling.
+  if (state.Update(theta0)) map.Whiten(AxialCurvature(state, context, map));
   std::vector<double> x = map.Reduce(theta0);
   ceres::GradientProblemSolver::Options solver = options.volume_solver;
   // x holds the last accepted iterate even when a round ends in a failed line
