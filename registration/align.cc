@@ -83,8 +83,10 @@ namespace {
 // The information at the state's motion and, by default, the sandwich
 // covariance of the cost (registration/sandwich.h); `source` names the one
 // that holds.
+// `solved`, `cache`: the volume solve's state at θ and its overlay cache, for
+// the sandwich (else it uses `state`).
 Information StddevAt(PairState& state, const SolveContext& context, const AlignOptions& options,
-                     std::string* source) {
+                     std::string* source, PairState* solved = nullptr, VolumeCostCache* cache = nullptr) {
   Information info = AnalyseInformation(state, context, options.compute_covariance);
   *source = "information";
   const bool sandwich_wanted = options.stddev_method == AlignOptions::StddevMethod::kSandwich &&
@@ -99,7 +101,8 @@ Information StddevAt(PairState& state, const SolveContext& context, const AlignO
   for (int i = 0; i < 6; ++i) step[i] = std::sqrt(std::max(0.0, info.covariance(i, i)));
   const SandwichEstimate sandwich = options.cost == CostKind::kAxial
                                         ? AxialSandwichCovariance(state, context, step)
-                                        : SandwichCovariance(state, context, step);
+                                        : solved != nullptr ? SandwichCovariance(*solved, context, step, cache)
+                                                            : SandwichCovariance(state, context, step);
   if (sandwich.ok) {
     info.covariance = sandwich.covariance;
     *source = "sandwich over " + std::to_string(sandwich.tiles) + " tiles";
@@ -214,7 +217,9 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
   if (!failed) {
     std::future<MeasureSummary> after = MeasureLater(reference, moving, measure_options, theta, centre);
     const Clock::time_point information_start = Clock::now();
-    info = StddevAt(final_state, context, options, &result->stddev_source);
+    const bool at_solution = starts.best_state != nullptr && starts.best_state->theta() == theta;
+    info = StddevAt(final_state, context, options, &result->stddev_source,
+                    at_solution ? starts.best_state.get() : nullptr, starts.best_cache.get());
     result->covariance_seconds = Seconds(information_start);
     try {
       result->after = after.get();

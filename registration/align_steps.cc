@@ -134,11 +134,18 @@ namespace {
 
 // One start through every level (the prealignment first); false if a level
 // gave no usable solution.
+// The volume cost's finest state and cache go to `finest_state` and
+// `finest_cache`.
 bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const std::optional<Level>& prealign,
                    const AlignOptions& options, std::array<double, 6> theta, SolveContext& context,
-                   Clock::time_point start, SolveResult* solved, Starts* starts) {
+                   Clock::time_point start, SolveResult* solved, Starts* starts,
+                   std::shared_ptr<PairState>* finest_state, std::shared_ptr<VolumeCostCache>* finest_cache) {
   for (std::size_t l = 0; l < levels.size(); ++l) {
-    PairState state(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
+    const bool keep = options.cost == CostKind::kVolume && l + 1 == levels.size();
+    auto state_ptr = std::make_shared<PairState>(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
+    PairState& state = *state_ptr;
+    std::shared_ptr<VolumeCostCache> cache;
+    if (keep) cache = std::make_shared<VolumeCostCache>(0.25, options.cell_kernel);
     context.level = static_cast<int>(l);
     context.seconds_offset = Seconds(start);
     if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
@@ -154,10 +161,11 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const std:
     context.cost = options.cost == CostKind::kAxial ? "axial" : "volume";
     context.seconds_offset = Seconds(start);
     *solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
-                                               : SolveVolume(state, context, theta);
+                                               : SolveVolume(state, context, theta, cache.get());
     starts->iterations += std::max(0, solved->iterations);
     starts->remeshes += state.remeshes();
     if (!solved->usable) return false;
+    if (keep) *finest_state = state_ptr, *finest_cache = cache;
     theta = solved->theta;
   }
   return true;
@@ -187,11 +195,15 @@ Starts SolveFromStarts(const Surface& reference, const Surface& moving,
   for (int s = 0; s <= options.multi_start; ++s) {
     context.start = s;
     SolveResult solved;
+    std::shared_ptr<PairState> state;
+    std::shared_ptr<VolumeCostCache> cache;
     const bool usable = SolveOneStart(levels, prealign, options, Perturbed(start_theta, s, options, start_shift),
-                                      context, start, &solved, &starts);
+                                      context, start, &solved, &starts, &state, &cache);
     if (usable && (!starts.have_best || solved.final_cost < starts.best.final_cost)) {
       starts.best = solved;
       starts.have_best = true;
+      starts.best_state = std::move(state);
+      starts.best_cache = std::move(cache);
     }
   }
   return starts;

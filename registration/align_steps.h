@@ -48,6 +48,10 @@ void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const 
 struct Starts {
   SolveResult best;
   bool have_best = false;
+  // The volume cost's finest-level state at `best` and its overlay cache
+  // (B's surface fixed as the solve ended): the sandwich σ evaluates there.
+  std::shared_ptr<PairState> best_state;
+  std::shared_ptr<VolumeCostCache> best_cache;
   int iterations = 0;
   int remeshes = 0;
   bool wide_search_ran = false;

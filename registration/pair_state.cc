@@ -474,13 +474,21 @@ int PairState::FixSurface(double max_slope_deg) {
       for (int k = 0; k < 3; ++k) near_steep[v[k]] = 1;
     }
   }
-  kept_triangles_.clear();
+  std::vector<int32_t> previous;
+  previous.swap(kept_triangles_);
   for (int32_t t = 0; t < own.num_triangles(); ++t) {
     const int32_t* v = &own.triangles[3 * t];
     if (!moving_.domain[t] || near_steep[v[0]] || near_steep[v[1]] || near_steep[v[2]]) continue;
     kept_triangles_.insert(kept_triangles_.end(), v, v + 3);
   }
   const int steep_count = num_steep;
+  // Fixed again on the same triangles, all active in the current mesh: the
+  // same surface (an overlay cache of it stays valid).
+  if (fixed_ && previous == kept_triangles_) {
+    int32_t active = 0;
+    for (uint8_t a : active_) active += a;
+    if (static_cast<std::size_t>(active) == kept_triangles_.size() / 3) return steep_count;
+  }
   IndexKept();
   fixed_ = true;
   ++surface_version_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -177,7 +178,7 @@ std::vector<int> FreeParameters(const AlignOptions& options) {
 }  // namespace
 
 SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& context,
-                                    const std::array<double, 6>& step) {
+                                    const std::array<double, 6>& step, VolumeCostCache* given_cache) {
   SandwichEstimate out;
   const AlignOptions& options = *context.options;
   const MaskRegion* mask =
@@ -191,7 +192,9 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   // evaluation at θ that starts the bread's cache (each moved B triangle's
   // share, by its centroid); masked, from a pass over the cells.
   const bool parallel = options.num_threads > 1;
-  VolumeCostCache cache(0.25, options.cell_kernel);  // the bread's steps are small: repaired, not rebuilt
+  std::optional<VolumeCostCache> own_cache;  // the bread's steps are small: repaired, not rebuilt
+  if (given_cache == nullptr) own_cache.emplace(0.25, options.cell_kernel);
+  VolumeCostCache& cache = given_cache != nullptr ? *given_cache : *own_cache;
   std::vector<TileSums> fine;
   double abs = 0, area = 0;
   if (mask == nullptr) {

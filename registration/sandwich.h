@@ -34,8 +34,10 @@ struct SandwichEstimate {
 // information σ), shrunk where a step folds the moving surface. Not ok with
 // fewer tiles than 2 × free parameters, or an H that is not positive
 // definite (then the caller keeps the information estimate).
+// `cache`: an overlay cache bound to `state` (the volume solve's, at its
+// solution), else a new one.
 SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& context,
-                                    const std::array<double, 6>& step);
+                                    const std::array<double, 6>& step, VolumeCostCache* cache = nullptr);
 
 // The same for the axial cost at the state's θ: H by central differences
 // of Jᵀr, M the spread of the tiles' shares of Jᵀr (nodes binned where

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <Eigen/Cholesky>
@@ -301,9 +302,9 @@ namespace {
 
 class VolumeFunction : public ceres::FirstOrderFunction {
  public:
-  VolumeFunction(PairState& state, const ParameterMap& map, bool parallel,
-                 const MaskRegion* mask, CellKernelChoice kernel)
-      : state_(state), map_(map), parallel_(parallel), mask_(mask), cache_(0.25, kernel) {}
+  VolumeFunction(PairState& state, const ParameterMap& map, bool parallel, const MaskRegion* mask,
+                 VolumeCostCache& cache)
+      : state_(state), map_(map), parallel_(parallel), mask_(mask), cache_(cache) {}
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
     UpdateStats stats;
     if (!state_.Update(map_.Full(x), &stats)) {
@@ -331,7 +332,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
   const ParameterMap& map_;
   bool parallel_;
   const MaskRegion* mask_;
-  mutable VolumeCostCache cache_;  // bound to state_ (one state per solve)
+  VolumeCostCache& cache_;  // bound to state_ (one state per solve)
   mutable int refused_folds_ = 0;
 };
 
@@ -372,7 +373,7 @@ Eigen::MatrixXd AxialCurvature(const PairState& state, const SolveContext& conte
 }  // namespace
 
 SolveResult SolveVolume(PairState& state, const SolveContext& context,
-                        const std::array<double, 6>& theta0) {
+                        const std::array<double, 6>& theta0, VolumeCostCache* keep) {
   const AlignOptions& options = *context.options;
   ParameterMap map(options, context.rotation_scale, theta0);
   // Without a usable curvature (no gaps seen), the diagonal scaling.
@@ -402,11 +403,12 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   double initial_cost = 0;
   int iterations = 0, rounds = 0;
   bool moved = false;  // some round accepted a step
+  std::optional<VolumeCostCache> own_cache;
+  if (keep == nullptr) own_cache.emplace(0.25, options.cell_kernel);
+  VolumeCostCache& cache = keep != nullptr ? *keep : *own_cache;
   for (int round = 0; round < kMaxRounds; ++round) {
     ++rounds;
-    auto* function = new VolumeFunction(
-        state, map, options.num_threads > 1,
-        context.axial.mask.get(), options.cell_kernel);
+    auto* function = new VolumeFunction(state, map, options.num_threads > 1, context.axial.mask.get(), cache);
     ceres::GradientProblem problem(function);  // owns `function`
     log.set_iteration_offset(iterations, round > 0);
     ceres::Solve(solver, problem, x.data(), &summary);
@@ -424,7 +426,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
     state.FixSurface(kMaxSlopeDeg);
     if (function->refused_folds() == 0 && state.surface_key() == key) break;
   }
-  state.ReleaseSurface();
+  if (keep == nullptr) state.ReleaseSurface();
   // A failed line search after accepted steps leaves a usable (if not
   // converged) solution; a failure before any step does not.
   const bool usable = std::isfinite(summary.final_cost) &&

@@ -7,7 +7,8 @@
 // - volume: ceres::GradientProblem over ρd per unit overlap area, line search.
 // Only the free parameters are optimized; rotations are scaled by a length
 // (the moving cloud's RMS radius) so that all parameters are lengths, which
-// keeps line searches and trust regions well scaled.
+// keeps trust regions well scaled; the line search runs in coordinates that
+// whiten an estimate of the volume cost's curvature (solvers.cc).
 #include <array>
 #include <string>
 #include <vector>
@@ -17,6 +18,7 @@
 #include "registration/align.h"
 #include "registration/axial_cost.h"
 #include "registration/pair_state.h"
+#include "registration/volume_cost.h"
 
 namespace surfreg {
 
@@ -53,8 +55,12 @@ double AutomaticLossScale(const PairState& state, const AxialSettings& settings,
 
 SolveResult SolveAxial(PairState& state, const SolveContext& context,
                        const std::array<double, 6>& theta0);
+// With `keep`, the solve evaluates through that overlay cache and leaves
+// B's surface fixed as it ended (`keep` stays bound to `state`): what is
+// evaluated at the solution next (the sandwich σ) repairs the overlay
+// instead of building it again, which costs several evaluations.
 SolveResult SolveVolume(PairState& state, const SolveContext& context,
-                        const std::array<double, 6>& theta0);
+                        const std::array<double, 6>& theta0, VolumeCostCache* keep = nullptr);
 
 struct Information {
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
