@@ -145,7 +145,7 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const std:
     auto state_ptr = std::make_shared<PairState>(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
     PairState& state = *state_ptr;
     std::shared_ptr<VolumeCostCache> cache;
-    if (keep) cache = std::make_shared<VolumeCostCache>(0.25, options.cell_kernel);
+    if (keep) cache = std::make_shared<VolumeCostCache>(kSolveDirtyFraction, options.cell_kernel);
     context.level = static_cast<int>(l);
     context.seconds_offset = Seconds(start);
     if (options.cost == CostKind::kVolume && options.prealign && l == 0) {

@@ -404,7 +404,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   int iterations = 0, rounds = 0;
   bool moved = false;  // some round accepted a step
   std::optional<VolumeCostCache> own_cache;
-  if (keep == nullptr) own_cache.emplace(0.25, options.cell_kernel);
+  if (keep == nullptr) own_cache.emplace(kSolveDirtyFraction, options.cell_kernel);
   VolumeCostCache& cache = keep != nullptr ? *keep : *own_cache;
   for (int round = 0; round < kMaxRounds; ++round) {
     ++rounds;
