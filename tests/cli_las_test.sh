@@ -3,8 +3,9 @@
 # measure` and `align`: a LAS file made here (python3, standard library) from
 # the sample pair's points gives exactly the measures of the same points as
 # .xyz, `--classes` keeps the points of those classes only, `--columns`
-# picks x, y, z from a wider text file, and LAZ, a truncated LAS and classes
-# on a text cloud are exit 2 with one line.
+# picks x, y, z from a wider text file, `transform` and `align --aligned`
+# write LAS (a LAS input's records moved, attributes kept), and LAZ, a
+# truncated LAS and classes on a text cloud are exit 2 with one line.
 # Usage: cli_las_test.sh SURFREG_BINARY
 set -u
 source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
@@ -165,6 +166,80 @@ r = json.load(sys.stdin)
 sys.exit(max(abs(v) for v in r["translation"]) > 1e-6)' <"$tmp/stdout"; then
   fail "align a.las a14.las --classes=2: expected exit 0 and no shift"
 fi
+
+# LAS output. T: 1 degree about z and a shift, as a 4 x 4 text matrix.
+python3 - "$tmp/t.txt" <<'EOF2'
+import math, sys
+c, s = math.cos(math.radians(1)), math.sin(math.radians(1))
+rows = [[c, -s, 0, 12.5], [s, c, 0, -7.25], [0, 0, 1, 3.0], [0, 0, 0, 1]]
+open(sys.argv[1], "w").write("".join(" ".join(repr(float(v)) for v in r) + "\n" for r in rows))
+EOF2
+# las_check.py A.las B.las MODE: compares two LAS files record by record.
+# same-bytes: every byte but x, y, z alike and the coordinates within one
+# scale step; moved-by T.txt: B's coordinates are A's moved by T.
+cat >"$tmp/las_check.py" <<'EOF2'
+import struct, sys
+def read(path):
+    d = open(path, "rb").read()
+    minor, = struct.unpack_from("<B", d, 25)
+    at, = struct.unpack_from("<I", d, 96)
+    length, = struct.unpack_from("<H", d, 105)
+    count, = struct.unpack_from("<I", d, 107)
+    if minor >= 4 and count == 0:
+        count, = struct.unpack_from("<Q", d, 247)
+    scale = struct.unpack_from("<3d", d, 131)
+    offset = struct.unpack_from("<3d", d, 155)
+    bounds = struct.unpack_from("<6d", d, 179)
+    recs = []
+    for i in range(count):
+        r = d[at + i * length: at + (i + 1) * length]
+        xyz = [v * s + o for v, s, o in zip(struct.unpack_from("<3i", r, 0), scale, offset)]
+        recs.append((xyz, r[12:]))
+    return d[:at], recs, scale, bounds
+a_head, a, a_scale, _ = read(sys.argv[1])
+b_head, b, b_scale, b_bounds = read(sys.argv[2])
+assert len(a) == len(b), (len(a), len(b))
+assert all(ra[1] == rb[1] for ra, rb in zip(a, b)), "attributes differ"
+assert a_head[227:] == b_head[227:], "VLRs differ"
+step = max(max(a_scale), max(b_scale))
+if sys.argv[3] == "same":
+    worst = max(abs(p - q) for ra, rb in zip(a, b) for p, q in zip(ra[0], rb[0]))
+else:
+    m = [[float(v) for v in line.split()] for line in open(sys.argv[3]) if line.strip()]
+    worst = max(abs(sum(m[i][k] * ra[0][k] for k in range(3)) + m[i][3] - rb[0][i])
+                for ra, rb in zip(a, b) for i in range(3))
+assert worst <= step, (worst, step)
+lo = [min(r[0][k] for r in b) for k in range(3)]
+hi = [max(r[0][k] for r in b) for k in range(3)]
+assert all(abs(b_bounds[2 * k] - hi[k]) <= step and abs(b_bounds[2 * k + 1] - lo[k]) <= step for k in range(3)), "bounds"
+EOF2
+run transform "$tmp/a.las" --transform="$tmp/t.txt" --output="$tmp/moved.las"
+checks=$((checks + 1))
+[[ $rc -eq 0 ]] && python3 "$tmp/las_check.py" "$tmp/a.las" "$tmp/moved.las" "$tmp/t.txt" ||
+  fail "transform a.las -> moved.las: expected every record moved by T, attributes and VLRs kept"
+run transform "$tmp/moved.las" --transform="$tmp/t.txt" --inverse --output="$tmp/back.las"
+checks=$((checks + 1))
+[[ $rc -eq 0 ]] && python3 "$tmp/las_check.py" "$tmp/a.las" "$tmp/back.las" same ||
+  fail "transform --inverse: expected a.las back within one scale step"
+run transform "$tmp/a14.las" --transform="$tmp/t.txt" --output="$tmp/moved14.las"
+checks=$((checks + 1))
+[[ $rc -eq 0 ]] && python3 "$tmp/las_check.py" "$tmp/a14.las" "$tmp/moved14.las" "$tmp/t.txt" ||
+  fail "transform a14.las (LAS 1.4, format 6, extra bytes): expected every record moved by T"
+# A text cloud written as LAS: the points of the .xyz output to 1e-9 of the
+# extent (the mean gap at the nodes; the volume is not compared: on this
+# grid the quantization flips Delaunay diagonals of co-circular cells).
+run transform "$tmp/a.xyz" --transform="$tmp/t.txt" --output="$tmp/fresh.las"
+run transform "$tmp/a.xyz" --transform="$tmp/t.txt" --output="$tmp/fresh.xyz"
+run measure "$tmp/fresh.las" "$tmp/fresh.xyz" --json
+checks=$((checks + 1))
+python3 -c 'import json,sys; r = json.load(sys.stdin); sys.exit(not (r["rho_d_axial"] < 1e-5 and r["n_points_a"] == 5307))' \
+  <"$tmp/stdout" || fail "fresh.las: expected the points of fresh.xyz"
+# align --aligned=X.las from a LAS moving file: all its records (class 7
+# too) moved by the matrix, attributes kept.
+run align "$tmp/b.xyz" "$tmp/a.las" --classes=2 --aligned="$tmp/aligned.las" --matrix_txt="$tmp/m.txt"
+checks=$((checks + 1))
+[[ $rc -eq 0 ]] && python3 "$tmp/las_check.py" "$tmp/a.las" "$tmp/aligned.las" "$tmp/m.txt" ||
+  fail "align --aligned=aligned.las: expected a.las's records moved by the matrix"
 
 # expect_error EXPECTED ARGS...: exit 2 and exactly one stderr line with EXPECTED.
 expect_error() {

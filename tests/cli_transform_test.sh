@@ -226,8 +226,8 @@ expect_error "mirror.txt: not a rigid motion: the 3 x 3 part is a reflection" \
   transform "$ref" --transform="$tmp/mirror.txt" --output="$out/x.xyz"
 expect_error "short.txt: 15 numbers" transform "$ref" --transform="$tmp/short.txt" --output="$out/x.xyz"
 expect_error "nothere.txt: cannot open" transform "$ref" --transform="$tmp/nothere.txt" --output="$out/x.xyz"
-expect_error "expected a name ending in .xyz, .txt, .ply, or .tif" \
-  transform "$ref" --transform="$tmp/m.txt" --output="$out/x.las"
+expect_error "expected a name ending in .xyz, .txt, .ply, .las or .tif" \
+  transform "$ref" --transform="$tmp/m.txt" --output="$out/x.obj"
 expect_error "needs a grid: give --grid=REF.tif" transform "$ref" --transform="$tmp/m.txt" --output="$out/x.tif"
 expect_error "flag '--grid': a grid is only for a .tif output" \
   transform "$dem" --transform="$tmp/m.txt" --grid="$dem" --output="$out/x.xyz"

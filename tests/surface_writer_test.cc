@@ -17,6 +17,7 @@
 #include "measure/input_error.h"
 #include "tests/testing/file_checks.h"
 #include "tools/atomic_file.h"
+#include "tools/io/las_writer.h"
 #include "tools/io/surface_reader.h"
 #include "tools/io/surface_writer.h"
 
@@ -74,6 +75,61 @@ TEST(SurfaceWriter, XyzText) {
   const std::string weighted = SurfaceToXyz(SampleSurface(true));
   EXPECT_TRUE(Contains(weighted, "\n500010 4100000 -0.1"));
   EXPECT_TRUE(Contains(weighted, " 0.5\n500000 4100012.75 1.00000001"));  // not 5e+05
+}
+
+// LAS: steps of the power of ten that spans each axis' extent in at most
+// 2^30 (the sample's x, y extents ~10: 1e-8; z 123.35: 1e-6), half a step
+// at most from the input.
+TEST(SurfaceWriter, LasRoundTripsToTheQuantization) {
+  TempDir dir;
+  const Surface surface = SampleSurface(true);
+  const std::string path = dir.path() + "/s.LAS";
+  WriteSurface(path, surface, "test");
+  const Surface back = ReadSurface(path);
+  ASSERT_EQ(back.size(), surface.size());
+  EXPECT_TRUE(back.weight.empty());  // LAS has no field for weights
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    EXPECT_NEAR(back.xy[i].x + back.origin[0], surface.xy[i].x + surface.origin[0], 0.5e-8 + 1e-12) << i;
+    EXPECT_NEAR(back.xy[i].y + back.origin[1], surface.xy[i].y + surface.origin[1], 0.5e-8 + 1e-12) << i;
+    EXPECT_NEAR(back.z[i] + back.origin[2], surface.z[i] + surface.origin[2], 0.5e-6 + 1e-12) << i;
+  }
+}
+
+// Every record moved, the other bytes kept; then back with the inverse.
+TEST(SurfaceWriter, MovedLasKeepsAttributesAndInverts) {
+  const Surface surface = SampleSurface(false);
+  std::string las = SurfaceToLas(surface, "test");
+  for (std::size_t i = 0; i < surface.size(); ++i) las[227 + 20 * i + 15] = static_cast<char>(2 + i);  // classes
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  // A turn of 0.3 rad and a shift of 2e7 (the offsets follow the points).
+  const LasMotion turn = {c, -s, 0, 2e7, s, c, 0, -5, 0, 0, 1, 0.5, 0, 0, 0, 1};
+  const LasMotion inverse = {c, s, 0, -c * 2e7 + 5 * s, -s, c, 0, s * 2e7 + 5 * c, 0, 0, 1, -0.5, 0, 0, 0, 1};
+  const std::string moved = MovedLas(las, turn, "s.las");
+  ASSERT_EQ(moved.size(), las.size());
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    EXPECT_EQ(moved.substr(227 + 20 * i + 12, 8), las.substr(227 + 20 * i + 12, 8)) << i;
+  }
+  TempDir dir;
+  WriteFileAtomically(dir.path() + "/m.las", moved, "test");
+  const Surface m = ReadSurface(dir.path() + "/m.las");
+  WriteFileAtomically(dir.path() + "/b.las", MovedLas(moved, inverse, "m.las"), "test");
+  const Surface b = ReadSurface(dir.path() + "/b.las");
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    const double x = surface.xy[i].x + surface.origin[0], y = surface.xy[i].y + surface.origin[1];
+    EXPECT_NEAR(m.xy[i].x + m.origin[0], c * x - s * y + 2e7, 1e-7) << i;
+    EXPECT_NEAR(m.xy[i].y + m.origin[1], s * x + c * y - 5, 1e-7) << i;
+    EXPECT_NEAR(b.xy[i].x + b.origin[0], x, 1e-7) << i;
+    EXPECT_NEAR(b.xy[i].y + b.origin[1], y, 1e-7) << i;
+    EXPECT_NEAR(b.z[i] + b.origin[2], surface.z[i] + surface.origin[2], 1e-6) << i;
+  }
+}
+
+TEST(SurfaceWriter, MovedLasRejectsARecordsOverrun) {
+  const std::string las = SurfaceToLas(SampleSurface(false), "test");
+  const LasMotion identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  EXPECT_TRUE(Contains(ErrorOf([&] { MovedLas(las.substr(0, las.size() - 5), identity, "cut.las"); }),
+                       "cut.las: 4 point records of 20 bytes from byte 227 do not fit the file's"));
+  EXPECT_TRUE(Contains(ErrorOf([&] { MovedLas("LASF", identity, "tiny.las"); }), "tiny.las: not a LAS file"));
 }
 
 TEST(SurfaceWriter, UnknownExtension) {

@@ -244,9 +244,9 @@ const std::vector<KeyEntry>& Table() {
         "the moving -> reference matrix as text: 4 lines of 4 numbers"},
        [](const Value& v, C* c) { c->matrix_txt = Path(v, false); },
        [](const C& c) { return c.matrix_txt; }},
-      {{"aligned", "a file name ending in .ply, .xyz or .txt (or .tif, raster reference), or nothing",
+      {{"aligned", "a file name ending in .ply, .xyz, .txt or .las (or .tif, raster reference), or nothing",
         "the moving surface after the motion (input coordinates; .tif: resampled onto the "
-        "reference's grid)"},
+        "reference's grid; .las from a LAS moving file: all its points, attributes kept)"},
        [](const Value& v, C* c) { c->aligned = Path(v, false); },
        [](const C& c) { return c.aligned; }},
       {{"log", "a file name, or nothing", "per-iteration CSV"},
@@ -355,7 +355,7 @@ void CheckAlignedPath(const std::string& path, const std::string& reference,
   }
   if (!IsGeoTiffPath(path) && !IsWritableSurfacePath(path)) {
     throw InputError(where + ": cannot write a surface as '" + path +
-                     "' (expected a name ending in .ply, .xyz or .txt, or .tif for a raster reference)");
+                     "' (expected a name ending in .ply, .xyz, .txt or .las, or .tif for a raster reference)");
   }
 }
 

@@ -6,6 +6,7 @@
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
 #include "tools/interrupt.h"
+#include "tools/io/las_writer.h"
 #include "tools/io/raster_io.h"
 #include "tools/io/raster_resample.h"
 #include "tools/io/surface_writer.h"
@@ -143,6 +144,9 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     WriteGeoTiff(config.aligned,
                  ResampleOntoGrid(TransformSurface(inputs.moving, result.matrix), inputs.reference_grid),
                  config.Where("aligned"));
+  } else if (IsLasPath(config.aligned) && IsLasPath(config.moving) && inputs.frame.kind == GeoFrame::kAsGiven) {
+    // The moving file's own records moved: every class and attribute kept.
+    WriteMovedLas(config.moving, RowMajor(result.matrix), config.aligned, config.Where("aligned"));
   } else if (!config.aligned.empty()) {
     WriteSurface(config.aligned, TransformSurface(inputs.moving, result.matrix),
                  config.Where("aligned"), AlignedComments(config, result, inputs.frame));

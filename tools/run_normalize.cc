@@ -124,7 +124,7 @@ int RunNormalize(const std::vector<std::string>& args) {
   if (!FLAGS_output.empty()) {
     if (!IsWritableSurfacePath(FLAGS_output)) {
       throw InputError("flag '--output': " + FLAGS_output +
-                       ": unknown output format (expected .xyz, .txt or .ply)");
+                       ": unknown output format (expected .xyz, .txt, .ply or .las)");
     }
     CheckOutputPath(FLAGS_output, "flag '--output'");
   }

@@ -18,6 +18,7 @@
 #include "tools/align_config.h"
 #include "tools/atomic_file.h"
 #include "tools/commands.h"
+#include "tools/io/las_writer.h"
 #include "tools/io/raster_io.h"
 #include "tools/io/raster_resample.h"
 #include "tools/io/surface_reader.h"
@@ -55,7 +56,7 @@ void CheckFlags(const std::string& input, bool raster_out, bool raster_in) {
   if (FLAGS_output.empty()) throw InputError("flag '--output' is required: the file to write");
   if (!raster_out && !IsWritableSurfacePath(FLAGS_output)) {
     throw InputError("flag '--output': cannot write '" + FLAGS_output +
-                     "' (expected a name ending in .xyz, .txt, .ply, or .tif)");
+                     "' (expected a name ending in .xyz, .txt, .ply, .las or .tif)");
   }
   if (raster_out && !raster_in && FLAGS_grid.empty()) {
     throw InputError("flag '--output': a cloud written as GeoTIFF needs a grid: give --grid=REF.tif");
@@ -118,6 +119,9 @@ int RunTransform(const std::vector<std::string>& args) {
   }
   if (raster_out) {
     WriteGeoTiff(FLAGS_output, ResampleOntoGrid(moved, grid), "flag '--output'");
+  } else if (IsLasPath(input) && IsLasPath(FLAGS_output)) {
+    // The file's own records moved: every class and attribute kept.
+    WriteMovedLas(input, RowMajor(m), FLAGS_output, "flag '--output'");
   } else {
     std::vector<std::string> comments = {
         input + " moved by " + (FLAGS_inverse ? "the inverse of " : "") + FLAGS_transform +

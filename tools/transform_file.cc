@@ -161,6 +161,12 @@ std::string MatrixText(const Eigen::Matrix4d& m) {
   return text;
 }
 
+std::array<double, 16> RowMajor(const Eigen::Matrix4d& m) {
+  std::array<double, 16> out{};
+  for (int k = 0; k < 16; ++k) out[k] = m(k / 4, k % 4);
+  return out;
+}
+
 std::string MatrixOneLine(const Eigen::Matrix4d& m) {
   std::string text;
   for (int k = 0; k < 16; ++k) text += (k ? " " : "") + Format("%.17g", m(k / 4, k % 4));

@@ -18,6 +18,7 @@
 // Errors throw InputError "LABEL: FILE[:LINE]: reason" (one line), LABEL
 // saying where the file was named ("flag '--transform'").
 #include <Eigen/Core>
+#include <array>
 #include <string>
 
 namespace surfreg {
@@ -36,5 +37,8 @@ std::string MatrixText(const Eigen::Matrix4d& m);
 // The 16 numbers row-major on one line, separated by single blanks: the
 // `matrix` option of PDAL's filters.transformation.
 std::string MatrixOneLine(const Eigen::Matrix4d& m);
+
+// The 16 numbers row-major (what tools/io/las_writer.h takes).
+std::array<double, 16> RowMajor(const Eigen::Matrix4d& m);
 
 }  // namespace surfreg

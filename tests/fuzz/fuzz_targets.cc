@@ -17,6 +17,7 @@
 #include "tools/io/mesh_reader.h"
 #include "tools/jaw_config.h"
 #include "tools/sweep_config.h"
+#include "tools/io/las_writer.h"
 #include "tools/io/polygon_reader.h"
 #include "tools/io/surface_reader.h"
 
@@ -247,6 +248,12 @@ void FuzzLas(std::string_view data) {
               return ReadLas(in, name, options);
             },
             data, "fuzz.las");
+  // The LAS writer's rewrite of the same bytes, moved by a rigid motion.
+  try {
+    const LasMotion motion = {0.6, -0.8, 0, 1e3, 0.8, 0.6, 0, -2, 0, 0, 1, 5, 0, 0, 0, 1};
+    if (MovedLas(data, motion, "fuzz.las").size() != data.size()) Finding("MovedLas changed the file's size");
+  } catch (const InputError&) {
+  }
 }
 
 void FuzzPolygon(std::string_view data) {

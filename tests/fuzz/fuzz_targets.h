@@ -29,7 +29,8 @@ void FuzzXyz(std::string_view data);
 void FuzzPly(std::string_view data);
 void FuzzOff(std::string_view data);
 void FuzzObj(std::string_view data);
-// The LAS reader (ReadLas): all points with their CRS, then class 2 only.
+// The LAS reader (ReadLas): all points with their CRS, then class 2 only;
+// and the LAS writer's MovedLas of the same bytes.
 void FuzzLas(std::string_view data);
 // The mask polygon reader (tools/io/polygon_reader.h).
 void FuzzPolygon(std::string_view data);

@@ -10,6 +10,7 @@
 
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
+#include "tools/io/las_writer.h"
 #include "tools/io/surface_reader_internal.h"
 
 namespace surfreg {
@@ -62,7 +63,7 @@ void AppendLittleEndian(double value, bool swap, std::string* out) {
 
 bool IsWritableSurfacePath(const std::string& path) {
   const std::string ext = io_internal::Extension(path);
-  return ext == ".xyz" || ext == ".txt" || ext == ".ply";
+  return ext == ".xyz" || ext == ".txt" || ext == ".ply" || ext == ".las";
 }
 
 std::string SurfaceToXyz(const Surface& surface, const std::vector<std::string>& comments) {
@@ -107,10 +108,11 @@ void WriteSurface(const std::string& path, const Surface& surface, const std::st
   const std::string ext = io_internal::Extension(path);
   if (!IsWritableSurfacePath(path)) {
     throw InputError(label + ": cannot write a surface as '" + path +
-                     "': unknown extension (expected .xyz, .txt or .ply)");
+                     "': unknown extension (expected .xyz, .txt, .ply or .las)");
   }
-  const std::string data =
-      ext == ".ply" ? SurfaceToPly(surface, comments) : SurfaceToXyz(surface, comments);
+  const std::string data = ext == ".ply"   ? SurfaceToPly(surface, comments)
+                           : ext == ".las" ? SurfaceToLas(surface, label)
+                                           : SurfaceToXyz(surface, comments);
   WriteFileAtomically(path, data, label);
 }
 

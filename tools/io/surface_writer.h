@@ -9,6 +9,8 @@
 //   .ply       binary_little_endian 1.0, element vertex with properties
 //              double x, y, z (and double weight when present); comments
 //              in the header.
+//   .las       LAS 1.2, point format 0 (tools/io/las_writer.h): no comments,
+//              no weights.
 #include <string>
 #include <vector>
 
