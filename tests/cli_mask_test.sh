@@ -64,6 +64,49 @@ for key in ('rho_d', 'weight_integral', 'signed_volume'):
     assert close(p[key], t[key] + p2[key], 1e-9), (key, p[key], t[key], p2[key])
 "
 fi
+# The same holed polygon as a GeoPackage (an SQLite file by the GeoPackage
+# 1.3 tables, written with Python's sqlite3; no CRS: the reference's), as
+# an exclude mask: the same measures as the text rings excluded.
+python3 - "$tmp/holed.gpkg" <<'PY'
+import sqlite3, struct, sys
+db = sqlite3.connect(sys.argv[1])
+db.execute("PRAGMA application_id = 1196444487")  # 'GPKG'
+db.execute("PRAGMA user_version = 10300")
+db.executescript("""
+CREATE TABLE gpkg_spatial_ref_sys (srs_name TEXT NOT NULL, srs_id INTEGER PRIMARY KEY,
+  organization TEXT NOT NULL, organization_coordsys_id INTEGER NOT NULL, definition TEXT NOT NULL,
+  description TEXT);
+INSERT INTO gpkg_spatial_ref_sys VALUES ('Undefined cartesian SRS', -1, 'NONE', -1, 'undefined', NULL);
+INSERT INTO gpkg_spatial_ref_sys VALUES ('Undefined geographic SRS', 0, 'NONE', 0, 'undefined', NULL);
+CREATE TABLE gpkg_contents (table_name TEXT NOT NULL PRIMARY KEY, data_type TEXT NOT NULL,
+  identifier TEXT UNIQUE, description TEXT DEFAULT '', last_change DATETIME NOT NULL DEFAULT
+  (strftime('%Y-%m-%dT%H:%M:%fZ','now')), min_x DOUBLE, min_y DOUBLE, max_x DOUBLE, max_y DOUBLE,
+  srs_id INTEGER);
+CREATE TABLE gpkg_geometry_columns (table_name TEXT NOT NULL, column_name TEXT NOT NULL,
+  geometry_type_name TEXT NOT NULL, srs_id INTEGER NOT NULL, z TINYINT NOT NULL, m TINYINT NOT NULL,
+  CONSTRAINT pk_geom_cols PRIMARY KEY (table_name, column_name));
+CREATE TABLE slides (fid INTEGER PRIMARY KEY AUTOINCREMENT, geom POLYGON);
+INSERT INTO gpkg_contents (table_name, data_type, identifier, srs_id) VALUES ('slides', 'features', 'slides', -1);
+INSERT INTO gpkg_geometry_columns VALUES ('slides', 'geom', 'POLYGON', -1, 0, 0);
+""")
+rings = [[(20, 20), (430, 20), (430, 580), (20, 580), (20, 20)],
+         [(100, 100), (100, 300), (300, 300), (300, 100), (100, 100)]]
+wkb = struct.pack("<BII", 1, 3, len(rings))
+for ring in rings:
+    wkb += struct.pack("<I", len(ring)) + b"".join(struct.pack("<dd", x, y) for x, y in ring)
+header = b"GP" + bytes([0, 1]) + struct.pack("<i", -1)  # version 0, little endian, no envelope
+db.execute("INSERT INTO slides (geom) VALUES (?)", (header + wkb,))
+db.commit()
+PY
+if measure_json holed_txt_out "$a" "$b" --weights=mask:"$tmp/holed.txt" --mask_mode=exclude --domain=hull &&
+   measure_json holed_gpkg_out "$a" "$b" --weights=mask:"$tmp/holed.gpkg" --mask_mode=exclude --domain=hull; then
+  check "a GeoPackage exclude mask with a hole = the same text rings excluded" "
+t, g = r('holed_txt_out'), r('holed_gpkg_out')
+assert g['mask_rings'] == 2 and g['mask_mode'] == 'exclude', g
+for key in ('rho_d', 'weight_integral', 'signed_volume', 'volume_above'):
+    assert close(g[key], t[key], 1e-12), (key, g[key], t[key])
+"
+fi
 cat >"$tmp/lines.geojson" <<'JSON'
 {"type": "FeatureCollection", "features": [
  {"type": "Feature", "properties": {}, "geometry": {"type": "LineString", "coordinates": [[0, 0], [1, 1]]}},
