@@ -213,6 +213,59 @@ worst = max(abs(aligned[k] - truth[k]) for k in aligned)
 assert worst < 0.2, worst  # the known-motion error is ~0.01 cell: a few cm on these slopes
 PY
 
+# --- the same for lon/lat DEMs (align works in UTM): on the reference's lon/lat grid ---
+# A: a 50 m Gaussian hill on 80 x 80 cells of 0.0005 deg near Auckland; B:
+# the hill 0.0013 deg east, 0.0009 deg south and 2 m higher. The aligned B
+# on A's grid is A again (to the alignment's and the sampling's error).
+python3 - "$tmp" <<'PY' || fail "cannot make the lon/lat DEMs"
+import math, sys
+tmp = sys.argv[1]
+wgs84 = ('GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",SPHEROID["WGS_1984",6378137.0,'
+         '298.257223563]],PRIMEM["Greenwich",0.0],UNIT["Degree",0.0174532925199433]]')
+n, cell, west, south = 80, 0.0005, 174.75, -36.90
+def write(name, dlon, dlat, dz):
+    with open(f"{tmp}/{name}.asc", "w") as f:
+        f.write(f"ncols {n}\nnrows {n}\nxllcorner {west!r}\nyllcorner {south!r}\n"
+                f"cellsize {cell!r}\nNODATA_value -9999\n")
+        for r in range(n):
+            lat = south + (n - r - 0.5) * cell
+            row = []
+            for c in range(n):
+                lon = west + (c + 0.5) * cell
+                u = (lon - dlon - (west + 0.02)) / 0.008
+                v = (lat - dlat - (south + 0.02)) / 0.006
+                row.append(repr(100 + dz + 50 * math.exp(-(u * u + v * v)) + 5 * u))
+            f.write(" ".join(row) + "\n")
+    open(f"{tmp}/{name}.prj", "w").write(wgs84)
+write("hill_a", 0, 0, 0)
+write("hill_b", 0.0013, -0.0009, 2)
+PY
+run align "$tmp/hill_a.asc" "$tmp/hill_b.asc" --covariance=false --aligned="$tmp/hill_al.tif" --json
+checks=$((checks + 1))
+if [[ $rc -ne 0 ]] || ! grep -q '"frame": "UTM zone 60S' "$tmp/stdout"; then
+  fail "align of lon/lat DEMs --aligned=x.tif: expected exit 0 in the UTM 60S frame"
+else
+  for f in hill_a hill_al; do
+    src="$tmp/$f.asc"; [[ $f == hill_al ]] && src="$tmp/hill_al.tif"
+    run transform "$src" --transform="$tmp/id.txt" --output="$tmp/${f}_cells.xyz"
+  done
+  python3 - "$tmp/hill_al_cells.xyz" "$tmp/hill_a_cells.xyz" <<'PY' || fail "aligned lon/lat GeoTIFF is not the reference again"
+import sys
+def cells(path):
+    out = {}
+    for line in open(path):
+        line = line.split("#")[0].split()
+        if line:
+            out[(round(float(line[0]), 9), round(float(line[1]), 9))] = float(line[2])
+    return out
+aligned, reference = (cells(p) for p in sys.argv[1:3])
+assert set(aligned) <= set(reference) and len(aligned) > 0.8 * len(reference), (len(aligned), len(reference))
+worst = max(abs(aligned[k] - reference[k]) for k in aligned)
+assert worst < 0.3, worst  # 50 m hill, ~50 m cells: sampling error ~0.1 m
+print("lon/lat aligned GeoTIFF: %d of %d cells, worst |dz| %.3f m" % (len(aligned), len(reference), worst))
+PY
+fi
+
 fi  # has_part gdal
 
 # --- bad input: exit 2, one line, nothing written ---

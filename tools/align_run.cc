@@ -100,13 +100,11 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     inputs.reference = reference ? std::move(*reference) : ReadAlignSurface(config, "reference");
     inputs.moving = moving ? std::move(*moving) : ReadAlignSurface(config, "moving");
   }
-  // An aligned GeoTIFF is on the reference raster's grid, in its CRS: only
-  // when Align works in those coordinates. Checked before the long work.
-  if (IsGeoTiffPath(config.aligned) &&
-      (!inputs.reference_is_raster || inputs.frame.kind != GeoFrame::kAsGiven)) {
-    throw InputError(config.Where("aligned") + ": a GeoTIFF needs the reference's grid in the "
-                     "coordinates align works in, but the inputs were moved into " +
-                     inputs.frame.Describe() + "; write .ply or .xyz instead");
+  // An aligned GeoTIFF is on the reference raster's grid, in its CRS.
+  // Checked before the long work.
+  if (IsGeoTiffPath(config.aligned) && !inputs.reference_is_raster) {
+    throw InputError(config.Where("aligned") + ": a GeoTIFF is resampled onto the reference's grid, "
+                     "but the reference is no raster; write .ply, .xyz or .las instead");
   }
   ApplyInitialTransform(config, &config.options);
   std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
@@ -141,8 +139,15 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     WriteFileAtomically(config.matrix_txt, MatrixText(result.matrix), config.Where("matrix_txt"));
   }
   if (IsGeoTiffPath(config.aligned)) {
+    const Surface aligned = TransformSurface(inputs.moving, result.matrix);
+    // A lon/lat grid: its cells' centres (and heights) found in the metric
+    // frame align worked in.
+    const auto to_frame = [&inputs](std::vector<std::array<double, 3>>* points) {
+      PointsToFrame(inputs.frame, inputs.reference_crs, points);
+    };
     WriteGeoTiff(config.aligned,
-                 ResampleOntoGrid(TransformSurface(inputs.moving, result.matrix), inputs.reference_grid),
+                 inputs.frame.kind == GeoFrame::kAsGiven ? ResampleOntoGrid(aligned, inputs.reference_grid)
+                                                         : ResampleOntoGrid(aligned, inputs.reference_grid, to_frame),
                  config.Where("aligned"));
   } else if (IsLasPath(config.aligned) && IsLasPath(config.moving) && inputs.frame.kind == GeoFrame::kAsGiven) {
     // The moving file's own records moved: every class and attribute kept.

@@ -11,7 +11,10 @@
 // (measure/domain.h: not in the triangles that bridge voids, nodata holes
 // or concave outlines), NaN (nodata) elsewhere. The surface and the grid
 // must be in the same coordinates (no reprojection here).
+#include <array>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "measure/surface.h"
 #include "tools/io/raster_io.h"
@@ -22,6 +25,17 @@ namespace surfreg {
 // values are not used). `moved` must hold at least 3 points not on a line
 // (InputError otherwise, from the triangulation).
 Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template);
+
+// Moves points (x, y, h) in place from the grid's coordinates (h a height)
+// into the surface's (e.g. lon, lat, h into a metric frame).
+using GridToSurface = std::function<void(std::vector<std::array<double, 3>>*)>;
+
+// The same for a grid in other coordinates than the surface's: each cell
+// gets the height h at which the line of the cell's centre (x, y fixed, h
+// varying) meets the surface, found by h ← h + (z_surface − z) over the
+// mapped points (one step when the map keeps heights, as UTM does; a few
+// when it tilts them, as a tangent plane does; at most 4, to 1e-9 of h).
+Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const GridToSurface& to_surface);
 
 // True if `path` ends in .tif or .tiff (any case): what WriteGeoTiff writes.
 bool IsGeoTiffPath(const std::string& path);
