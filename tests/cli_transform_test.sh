@@ -6,7 +6,9 @@
 # --aligned writes; initial_transform from a previous align starts at the
 # solution; a DEM moved by whole cells onto its own grid is the shifted DEM
 # with nodata where nothing moved in; align --aligned=x.tif of two DEMs is
-# the moving DEM on the reference's grid; bad input is exit 2 with one line.
+# the moving DEM on the reference's grid (projected, and lon/lat aligned in
+# UTM); a UTM cloud against a lon/lat reference aligns to the motion of the
+# pair given in UTM both; bad input is exit 2 with one line.
 # Usage: cli_transform_test.sh SURFREG_BINARY
 set -u
 source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
@@ -214,8 +216,8 @@ assert worst < 0.2, worst  # the known-motion error is ~0.01 cell: a few cm on t
 PY
 
 # --- the same for lon/lat DEMs (align works in UTM): on the reference's lon/lat grid ---
-# A: a 50 m Gaussian hill on 80 x 80 cells of 0.0005 deg near Auckland; B:
-# the hill 0.0013 deg east, 0.0009 deg south and 2 m higher. The aligned B
+# A: five Gaussian hills (20-50 m) on a slope, 80 x 80 cells of 0.0005 deg
+# near Auckland; B: the same 0.0013 deg east, 0.0009 deg south, 2 m higher. The aligned B
 # on A's grid is A again (to the alignment's and the sampling's error).
 python3 - "$tmp" <<'PY' || fail "cannot make the lon/lat DEMs"
 import math, sys
@@ -223,6 +225,8 @@ tmp = sys.argv[1]
 wgs84 = ('GEOGCS["GCS_WGS_1984",DATUM["D_WGS_1984",SPHEROID["WGS_1984",6378137.0,'
          '298.257223563]],PRIMEM["Greenwich",0.0],UNIT["Degree",0.0174532925199433]]')
 n, cell, west, south = 80, 0.0005, 174.75, -36.90
+# Hills of several sizes: every motion, rotation about z too, well determined.
+bumps = [(0, 0, 50, 1), (1.5, 1, 30, 0.5), (-1.2, 1.3, 25, 0.6), (1, -1.5, 20, 0.4), (-1.5, -1, 35, 0.7)]
 def write(name, dlon, dlat, dz):
     with open(f"{tmp}/{name}.asc", "w") as f:
         f.write(f"ncols {n}\nnrows {n}\nxllcorner {west!r}\nyllcorner {south!r}\n"
@@ -234,7 +238,10 @@ def write(name, dlon, dlat, dz):
                 lon = west + (c + 0.5) * cell
                 u = (lon - dlon - (west + 0.02)) / 0.008
                 v = (lat - dlat - (south + 0.02)) / 0.006
-                row.append(repr(100 + dz + 50 * math.exp(-(u * u + v * v)) + 5 * u))
+                z = 100 + dz + 5 * u
+                for (bu, bv, height, width) in bumps:
+                    z += height * math.exp(-((u - bu) ** 2 + (v - bv) ** 2) / width ** 2)
+                row.append(repr(z))
             f.write(" ".join(row) + "\n")
     open(f"{tmp}/{name}.prj", "w").write(wgs84)
 write("hill_a", 0, 0, 0)
@@ -261,10 +268,63 @@ def cells(path):
 aligned, reference = (cells(p) for p in sys.argv[1:3])
 assert set(aligned) <= set(reference) and len(aligned) > 0.8 * len(reference), (len(aligned), len(reference))
 worst = max(abs(aligned[k] - reference[k]) for k in aligned)
-assert worst < 0.3, worst  # 50 m hill, ~50 m cells: sampling error ~0.1 m
+assert worst < 0.5, worst  # hills 280 m wide sampled every ~45 m: sampling error ~0.2 m
 print("lon/lat aligned GeoTIFF: %d of %d cells, worst |dz| %.3f m" % (len(aligned), len(reference), worst))
 PY
 fi
+
+# --- mixed CRSs: a UTM moving cloud against a lon/lat reference ---
+# B's samples in UTM 60S (Krüger's series, 3 terms: sub-millimetre) and A's
+# both in lon/lat and in UTM 60S: B (UTM) against A (lon/lat) is brought
+# into A's CRS and then into UTM 60S, so it must align to the motion of the
+# pair given in UTM 60S both.
+python3 - "$tmp" <<'PY' || fail "cannot make the mixed-CRS clouds"
+import math, sys
+tmp = sys.argv[1]
+a, f = 6378137.0, 1 / 298.257223563
+n = f / (2 - f)
+big_a = a / (1 + n) * (1 + n * n / 4 + n ** 4 / 64)
+alpha = [n / 2 - 2 * n * n / 3 + 5 * n ** 3 / 16, 13 * n * n / 48 - 3 * n ** 3 / 5, 61 * n ** 3 / 240]
+c = 2 * math.sqrt(n) / (1 + n)
+def utm60s(lon, lat):
+    phi, lam = math.radians(lat), math.radians(lon - 177.0)
+    t = math.sinh(math.atanh(math.sin(phi)) - c * math.atanh(c * math.sin(phi)))
+    xi, eta = math.atan2(t, math.cos(lam)), math.atanh(math.sin(lam) / math.sqrt(1 + t * t))
+    e = eta + sum(al * math.cos(2 * j * xi) * math.sinh(2 * j * eta) for j, al in enumerate(alpha, 1))
+    nn = xi + sum(al * math.sin(2 * j * xi) * math.cosh(2 * j * eta) for j, al in enumerate(alpha, 1))
+    return 500000 + 0.9996 * big_a * e, 10000000 + 0.9996 * big_a * nn
+def cells(name):
+    rows = open(f"{tmp}/{name}.asc").read().split("\n")[6:]
+    n_cells, cell, west, south = 80, 0.0005, 174.75, -36.90
+    for r, row in enumerate(rows[:n_cells]):
+        for col, z in enumerate(row.split()):
+            yield west + (col + 0.5) * cell, south + (n_cells - r - 0.5) * cell, float(z)
+for name in ("hill_a", "hill_b"):
+    with open(f"{tmp}/{name}_ll.xyz", "w") as ll, open(f"{tmp}/{name}_utm.xyz", "w") as utm:
+        for lon, lat, z in cells(name):
+            ll.write(f"{lon!r} {lat!r} {z!r}\n")
+            x, y = utm60s(lon, lat)
+            utm.write(f"{x!r} {y!r} {z!r}\n")
+PY
+run align "$tmp/hill_a_ll.xyz" "$tmp/hill_b_utm.xyz" --reference_crs=EPSG:4326 --moving_crs=EPSG:32760 \
+  --covariance=false --matrix_txt="$tmp/mixed.txt" --json
+cp "$tmp/stdout" "$tmp/mixed.json"
+run align "$tmp/hill_a_utm.xyz" "$tmp/hill_b_utm.xyz" --reference_crs=EPSG:32760 --moving_crs=EPSG:32760 \
+  --covariance=false --matrix_txt="$tmp/utm.txt"
+checks=$((checks + 1))
+python3 - "$tmp/mixed.txt" "$tmp/utm.txt" "$tmp/mixed.json" <<'PY' || fail "mixed CRSs: expected the motion of the pair in UTM 60S"
+import json, math, sys
+m, u = ([[float(v) for v in line.split()] for line in open(p) if line.strip()] for p in sys.argv[1:3])
+frame = json.load(open(sys.argv[3]))["terrain"]["frame"]
+assert frame.startswith("UTM zone 60S"), frame
+rot = max(abs(m[i][k] - u[i][k]) for i in range(3) for k in range(3))
+# Translations compared at the data (about 1.76e6, 5.91e6): R c + t.
+cx, cy = 300000.0, 5915000.0
+shift = max(abs(sum(m[i][k] * p for k, p in enumerate((cx, cy, 100))) + m[i][3]
+                - sum(u[i][k] * p for k, p in enumerate((cx, cy, 100))) - u[i][3]) for i in range(3))
+print("mixed CRSs against UTM: rotation entries within %.2g, shift at the data within %.3g m" % (rot, shift))
+assert rot < 2e-5 and shift < 0.05, (rot, shift)  # sigma here: 1e-5 rad, 0.012 m
+PY
 
 fi  # has_part gdal
 
