@@ -186,6 +186,27 @@ assert worst <= 1e-9, worst
 PY
 run transform "$ref" --transform="$tmp/shift.txt" --grid="$dem" --output="$tmp/cloud.tif"
 [[ $rc -eq 0 && -s $tmp/cloud.tif ]] || fail "transform of a cloud onto --grid"
+# --band and --window read a part of a raster INPUT (as measure and align
+# do), and that part's grid is the output's: by the identity, those cells.
+run transform "$dem" --transform="$tmp/id.txt" --band=1 --window=10,5,20,15 --output="$tmp/part.tif"
+[[ $rc -eq 0 ]] || fail "transform --band --window"
+run transform "$tmp/part.tif" --transform="$tmp/id.txt" --output="$tmp/part_cells.xyz"
+checks=$((checks + 1))
+python3 - "$tmp/part_cells.xyz" "$tmp/dem_cells.xyz" <<'PY' || fail "transform --window: expected the window's cells of the DEM"
+import sys
+def cells(path):
+    out = {}
+    for line in open(path):
+        line = line.split("#")[0].split()
+        if line:
+            out[(float(line[0]), float(line[1]))] = float(line[2])
+    return out
+part, dem = cells(sys.argv[1]), cells(sys.argv[2])
+assert 0 < len(part) <= 20 * 15 and all(part[k] == dem[k] for k in part), len(part)
+PY
+expect_error "band 2 of 1" transform "$dem" --transform="$tmp/id.txt" --band=2 --output="$tmp/x.tif"
+expect_error "flag '--window': INPUT is a cloud, not a raster" \
+  transform "$ref" --transform="$tmp/id.txt" --window=0,0,5,5 --output="$tmp/x.xyz"
 
 # --- align --aligned=x.tif: the moving DEM on the reference's grid ---
 # It equals the moving DEM moved by the known motion onto that grid (transform

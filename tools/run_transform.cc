@@ -36,6 +36,8 @@ DEFINE_string(grid, "",
 DECLARE_string(output);  // tools/run_align.cc
 DECLARE_string(classes);
 DECLARE_string(columns);
+DECLARE_string(band);    // tools/run_align.cc
+DECLARE_string(window);
 DECLARE_bool(quiet);  // tools/run_measure.cc
 
 namespace surfreg {
@@ -87,6 +89,22 @@ ReadOptions CloudReadOptions(bool raster_in) {
   return options;
 }
 
+// --band and --window as align reads them, for a raster INPUT.
+RasterReadOptions RasterOptions(bool raster_in) {
+  AlignConfig settings;
+  for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"band", FLAGS_band},
+                                   {"window", FLAGS_window}}) {
+    if (value.empty()) continue;
+    if (!raster_in) throw InputError(std::string("flag '--") + key + "': INPUT is a cloud, not a raster");
+    ApplyAlignFlag(key, value, &settings);
+  }
+  RasterReadOptions options;
+  options.band = settings.terrain.band;
+  const auto& w = settings.terrain.window;
+  options.window = {w[0], w[1], w[2], w[3]};
+  return options;
+}
+
 }  // namespace
 
 int RunTransform(const std::vector<std::string>& args) {
@@ -97,6 +115,7 @@ int RunTransform(const std::vector<std::string>& args) {
   const bool raster_out = IsGeoTiffPath(FLAGS_output);
   CheckFlags(input, raster_out, raster_in);
   const ReadOptions read_options = CloudReadOptions(raster_in);
+  const RasterReadOptions raster_options = RasterOptions(raster_in);
   Eigen::Matrix4d m = ReadTransformFile(FLAGS_transform, "flag '--transform'");
   if (FLAGS_inverse) m = m.inverse().eval();
 
@@ -106,7 +125,7 @@ int RunTransform(const std::vector<std::string>& args) {
   Raster grid;  // the input raster's: its grid is the default output grid
   Surface surface;
   if (raster_in) {
-    grid = ReadRaster(input);
+    grid = ReadRaster(input, raster_options);
     surface = RasterToSurface(grid, nullptr);
   } else {
     surface = ReadSurface(input, read_options);
