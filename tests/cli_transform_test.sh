@@ -8,7 +8,8 @@
 # with nodata where nothing moved in; align --aligned=x.tif of two DEMs is
 # the moving DEM on the reference's grid (projected, and lon/lat aligned in
 # UTM); a UTM cloud against a lon/lat reference aligns to the motion of the
-# pair given in UTM both; bad input is exit 2 with one line.
+# pair given in UTM both, and a lon/lat GeoJSON mask over UTM surfaces is
+# the same rings in UTM; bad input is exit 2 with one line.
 # Usage: cli_transform_test.sh SURFREG_BINARY
 set -u
 source "$(dirname -- "$(realpath -- "$0")")/cli_harness.sh"  # fail, run
@@ -295,13 +296,8 @@ PY
 fi
 
 # --- mixed CRSs: a UTM moving cloud against a lon/lat reference ---
-# B's samples in UTM 60S (Krüger's series, 3 terms: sub-millimetre) and A's
-# both in lon/lat and in UTM 60S: B (UTM) against A (lon/lat) is brought
-# into A's CRS and then into UTM 60S, so it must align to the motion of the
-# pair given in UTM 60S both.
-python3 - "$tmp" <<'PY' || fail "cannot make the mixed-CRS clouds"
-import math, sys
-tmp = sys.argv[1]
+cat >"$tmp/utm60s.py" <<'PY'
+import math
 a, f = 6378137.0, 1 / 298.257223563
 n = f / (2 - f)
 big_a = a / (1 + n) * (1 + n * n / 4 + n ** 4 / 64)
@@ -314,6 +310,16 @@ def utm60s(lon, lat):
     e = eta + sum(al * math.cos(2 * j * xi) * math.sinh(2 * j * eta) for j, al in enumerate(alpha, 1))
     nn = xi + sum(al * math.sin(2 * j * xi) * math.cosh(2 * j * eta) for j, al in enumerate(alpha, 1))
     return 500000 + 0.9996 * big_a * e, 10000000 + 0.9996 * big_a * nn
+PY
+# B's samples in UTM 60S (Krüger's series, 3 terms: sub-millimetre) and A's
+# both in lon/lat and in UTM 60S: B (UTM) against A (lon/lat) is brought
+# into A's CRS and then into UTM 60S, so it must align to the motion of the
+# pair given in UTM 60S both.
+python3 - "$tmp" <<'PY' || fail "cannot make the mixed-CRS clouds"
+import math, sys
+tmp = sys.argv[1]
+sys.path.insert(0, tmp)
+from utm60s import utm60s
 def cells(name):
     rows = open(f"{tmp}/{name}.asc").read().split("\n")[6:]
     n_cells, cell, west, south = 80, 0.0005, 174.75, -36.90
@@ -345,6 +351,43 @@ shift = max(abs(sum(m[i][k] * p for k, p in enumerate((cx, cy, 100))) + m[i][3]
                 - sum(u[i][k] * p for k, p in enumerate((cx, cy, 100))) - u[i][3]) for i in range(3))
 print("mixed CRSs against UTM: rotation entries within %.2g, shift at the data within %.3g m" % (rot, shift))
 assert rot < 2e-5 and shift < 0.05, (rot, shift)  # sigma here: 1e-5 rad, 0.012 m
+PY
+
+# --- a vector mask in another CRS than the surfaces' ---
+# A GeoJSON polygon with a hole (lon/lat, as GeoJSON always is) over the UTM
+# pair, and the same rings with their vertices in UTM 60S as text: the
+# mask's vertices are reprojected into the surfaces' CRS, so the measures
+# agree (the vertices to a micrometre).
+python3 - "$tmp" <<'PY' || fail "cannot make the lon/lat mask"
+import json, sys
+tmp = sys.argv[1]
+sys.path.insert(0, tmp)
+from utm60s import utm60s
+outer = [(174.755, -36.895), (174.785, -36.895), (174.785, -36.865), (174.755, -36.865)]
+hole = [(174.765, -36.885), (174.765, -36.875), (174.775, -36.875), (174.775, -36.885)]
+rings = [outer + outer[:1], hole + hole[:1]]
+json.dump({"type": "FeatureCollection", "features": [{"type": "Feature", "properties": {},
+           "geometry": {"type": "Polygon", "coordinates": rings}}]}, open(f"{tmp}/ll_mask.geojson", "w"))
+with open(f"{tmp}/utm_mask.txt", "w") as f:
+    for k, ring in enumerate((outer, hole)):
+        if k:
+            f.write(">\n")
+        for lon, lat in ring:
+            f.write("%r %r\n" % utm60s(lon, lat))
+PY
+run measure "$tmp/hill_a_utm.xyz" "$tmp/hill_b_utm.xyz" --reference_crs=EPSG:32760 --moving_crs=EPSG:32760 \
+  --weights=mask:"$tmp/ll_mask.geojson" --json
+cp "$tmp/stdout" "$tmp/mask_ll.json"
+run measure "$tmp/hill_a_utm.xyz" "$tmp/hill_b_utm.xyz" --reference_crs=EPSG:32760 --moving_crs=EPSG:32760 \
+  --weights=mask:"$tmp/utm_mask.txt" --json
+checks=$((checks + 1))
+python3 - "$tmp/mask_ll.json" "$tmp/stdout" <<'PY' || fail "a lon/lat mask over UTM surfaces: expected the UTM rings' measures"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["mask_rings"] == 2 and b["mask_rings"] == 2, (a.get("mask_rings"), b.get("mask_rings"))
+for key in ("weight_integral", "rho_d", "signed_volume"):
+    assert abs(a[key] - b[key]) <= 1e-6 * abs(b[key]), (key, a[key], b[key])
+print("lon/lat mask over UTM: weight integral %.6g m2 (text rings %.6g)" % (a["weight_integral"], b["weight_integral"]))
 PY
 
 fi  # has_part gdal
