@@ -188,6 +188,25 @@ printf 'pairs: [{reference: a, moving: b}]\nsettings: {cots: axial}\noutput: o.c
 expect_error "bad.yaml:2: key 'settings.cots': unknown key 'cots' (did you mean 'cost'?)" sweep --config "$tmp/bad.yaml"
 sed 's/^run_id,/id,/' "$tmp/full.csv" >"$tmp/other.csv"
 expect_error "header differs" merge "$tmp/m.csv" "$tmp/full.csv" "$tmp/other.csv"
+# `columns` under settings reads the pairs as align does: a wide CSV pair
+# (x, y, z in columns 2-4 of 5) is the .xyz pair; sweeping it is refused.
+for f in grid moved; do
+  awk '!/^#/ && NF { print NR "," $1 "," $2 "," $3 ",7" }' "$tmp/$f.xyz" >"$tmp/${f}_wide.csv"
+done
+cat >"$tmp/columns.yaml" <<EOF
+pairs:
+  - {name: moved, reference: $tmp/grid_wide.csv, moving: $tmp/moved_wide.csv, truth: {matrix: $matrix}}
+settings: {cost: axial, max_iterations: 40, covariance: false, columns: "2,3,4"}
+perturbations: {rotation_deg: [1], shift_spacings: [2], directions: 1, seed: 5}
+output: $tmp/columns.csv
+EOF
+run sweep --config "$tmp/columns.yaml" --jobs=1
+checks=$((checks + 1))
+[[ $rc -eq 0 && $(($(wc -l <"$tmp/columns.csv") - 1)) -eq 1 ]] && grep -q ',true,converged_improved,' "$tmp/columns.csv" ||
+  fail "a sweep with settings.columns: expected one successful run ($(tail -1 "$tmp/columns.csv" 2>/dev/null | head -c 300))"
+printf 'pairs: [{reference: a.las, moving: b.las}]\nsweep: {classes: [2, "2,9"]}\noutput: o.csv\n' >"$tmp/swept.yaml"
+expect_error "swept.yaml:2: key 'sweep.classes': cannot be swept: it decides how the pairs are read (once); set it under 'settings:'" \
+  sweep --config "$tmp/swept.yaml"
 sed '2s/,moved,/,other,/' "$tmp/full.csv" >"$tmp/conflict.csv"
 expect_error "run_id 0 appears twice" merge "$tmp/m.csv" "$tmp/full.csv" "$tmp/conflict.csv"
 run merge "$tmp/m.csv" "$tmp/full.csv" "$tmp/full.csv"  # identical duplicates are fine

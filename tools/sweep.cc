@@ -313,8 +313,15 @@ void LoadSweepPairs(SweepPlan* plan) {
   for (const SweepPair& pair : plan->config.pairs) {
     SweepPairData data;
     try {
-      // Rasters as a single align reads them: lon/lat DEMs in one metric frame.
+      // As a single align reads them: lon/lat DEMs in one metric frame, LAS
+      // and text clouds by the settings' classes and columns.
       AlignConfig paths;
+      paths.classes = plan->config.base.classes;
+      paths.columns = plan->config.base.columns;
+      for (const char* key : {"classes", "columns"}) {
+        const auto given = plan->config.base.origin.find(key);
+        if (given != plan->config.base.origin.end()) paths.origin[key] = given->second;
+      }
       ApplyAlignArguments(pair.reference, pair.moving, &paths);
       paths.origin["reference"] = "reference";  // messages: "<pair>: reference: <file>: ..."
       paths.origin["moving"] = "moving";
@@ -323,8 +330,8 @@ void LoadSweepPairs(SweepPlan* plan) {
         data.reference = std::move(inputs.reference);
         data.moving = std::move(inputs.moving);
       } else {
-        data.reference = ReadSurface(pair.reference);
-        data.moving = ReadSurface(pair.moving);
+        data.reference = ReadAlignSurface(paths, "reference");
+        data.moving = ReadAlignSurface(paths, "moving");
       }
     } catch (const InputError& e) {
       throw InputError(pair.where + ": " + e.what());

@@ -304,6 +304,9 @@ void ParseSweep(const YAML::Node& key, const YAML::Node& node, SweepConfig* conf
     SweptKey swept;
     swept.key = name;
     swept.where = Where(config->file, entry.first, "sweep." + name);
+    if (name == "classes" || name == "columns") {
+      Fail(swept.where, "cannot be swept: it decides how the pairs are read (once); set it under 'settings:'");
+    }
     if (config->base.origin.count(name)) {
       Fail(swept.where, "is also set under 'settings:' (" + config->base.origin.at(name) + ")");
     }
