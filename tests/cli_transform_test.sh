@@ -163,20 +163,26 @@ PY
 done
 
 if has_part gdal; then  # rasters and CRSs: not in a build without GDAL
+# cells(path[, digits]): a written cloud's {(x, y): z} (x, y rounded to digits).
+cat >"$tmp/cells.py" <<'PY'
+def cells(path, digits=None):
+    out = {}
+    for line in open(path):
+        line = line.split("#")[0].split()
+        if line:
+            x, y = float(line[0]), float(line[1])
+            out[(x, y) if digits is None else (round(x, digits), round(y, digits))] = float(line[2])
+    return out
+PY
 # --- a DEM moved by whole cells, on its own grid: the shifted DEM ---
 run transform "$dem" --transform="$tmp/shift.txt" --output="$tmp/shift.tif"
 [[ $rc -eq 0 ]] || fail "transform of a DEM"
 run transform "$tmp/shift.tif" --transform="$tmp/id.txt" --output="$tmp/shift_cells.xyz"
 run transform "$dem" --transform="$tmp/id.txt" --output="$tmp/dem_cells.xyz"
 python3 - "$tmp/dem_cells.xyz" "$tmp/shift_cells.xyz" <<'PY' || fail "the shifted DEM is not the DEM shifted by whole cells"
-import sys
-def cells(path):
-    out = {}
-    for line in open(path):
-        line = line.split("#")[0].split()
-        if line:
-            out[(float(line[0]), float(line[1]))] = float(line[2])
-    return out
+import os, sys
+sys.path.insert(0, os.path.dirname(sys.argv[1]))
+from cells import cells
 dem, moved = cells(sys.argv[1]), cells(sys.argv[2])
 # Every cell of the grid whose source cell (20 m west, 10 m north) is data.
 expected = {(x + 20, y - 10): z for (x, y), z in dem.items() if (x + 20, y - 10) in dem}
@@ -194,14 +200,9 @@ run transform "$dem" --transform="$tmp/id.txt" --band=1 --window=10,5,20,15 --ou
 run transform "$tmp/part.tif" --transform="$tmp/id.txt" --output="$tmp/part_cells.xyz"
 checks=$((checks + 1))
 python3 - "$tmp/part_cells.xyz" "$tmp/dem_cells.xyz" <<'PY' || fail "transform --window: expected the window's cells of the DEM"
-import sys
-def cells(path):
-    out = {}
-    for line in open(path):
-        line = line.split("#")[0].split()
-        if line:
-            out[(float(line[0]), float(line[1]))] = float(line[2])
-    return out
+import os, sys
+sys.path.insert(0, os.path.dirname(sys.argv[1]))
+from cells import cells
 part, dem = cells(sys.argv[1]), cells(sys.argv[2])
 assert 0 < len(part) <= 20 * 15 and all(part[k] == dem[k] for k in part), len(part)
 PY
@@ -222,14 +223,9 @@ for f in al truth; do
   run transform "$tmp/$f.tif" --transform="$tmp/id.txt" --output="$tmp/${f}_cells.xyz"
 done
 python3 - "$tmp/al_cells.xyz" "$tmp/truth_cells.xyz" "$tmp/dem_cells.xyz" <<'PY' || fail "aligned GeoTIFF is not the moving DEM on the reference's grid"
-import sys
-def cells(path):
-    out = {}
-    for line in open(path):
-        line = line.split("#")[0].split()
-        if line:
-            out[(float(line[0]), float(line[1]))] = float(line[2])
-    return out
+import os, sys
+sys.path.insert(0, os.path.dirname(sys.argv[1]))
+from cells import cells
 aligned, truth, reference = (cells(p) for p in sys.argv[1:4])
 assert set(aligned) == set(truth) and set(aligned) <= set(reference), (len(aligned), len(truth))
 assert len(aligned) > 0.9 * len(reference), len(aligned)
@@ -279,15 +275,10 @@ else
     run transform "$src" --transform="$tmp/id.txt" --output="$tmp/${f}_cells.xyz"
   done
   python3 - "$tmp/hill_al_cells.xyz" "$tmp/hill_a_cells.xyz" <<'PY' || fail "aligned lon/lat GeoTIFF is not the reference again"
-import sys
-def cells(path):
-    out = {}
-    for line in open(path):
-        line = line.split("#")[0].split()
-        if line:
-            out[(round(float(line[0]), 9), round(float(line[1]), 9))] = float(line[2])
-    return out
-aligned, reference = (cells(p) for p in sys.argv[1:3])
+import os, sys
+sys.path.insert(0, os.path.dirname(sys.argv[1]))
+from cells import cells
+aligned, reference = (cells(p, 9) for p in sys.argv[1:3])
 assert set(aligned) <= set(reference) and len(aligned) > 0.8 * len(reference), (len(aligned), len(reference))
 worst = max(abs(aligned[k] - reference[k]) for k in aligned)
 assert worst < 0.5, worst  # hills 280 m wide sampled every ~45 m: sampling error ~0.2 m
