@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
 #include <thread>
 
 #include "measure/delaunay.h"
@@ -157,64 +158,75 @@ const char* WeightModeName(WeightMode mode) {
   return "?";
 }
 
-// Both surfaces in A's local frame, in Hilbert order (every later stage
-// then walks memory locally), meshed, their duplicates merged, their data
-// domains (each by its own rule) and spanning trees.
+// One surface in A's local frame (B shifted by the origins' difference), in
+// Hilbert order (every later stage then walks memory locally), meshed, its
+// duplicates merged, its data domain (by its own rule: raster samples, cells)
+// and spanning tree. `progress` and `timings` (may be null) follow its stages.
+template <typename Progress>
+void PrepareSide(const Surface& s, const double shift[3], DomainRule rule, const Progress& progress,
+                 MeasureTimings* timings, Prepared* p, std::vector<int32_t>* order) {
+  *p = Prepared{s.xy, s.z, s.weight, {}, {}, {}, 0.0, {}};
+  if (shift[0] != 0.0 || shift[1] != 0.0 || shift[2] != 0.0) {
+    for (Point2& q : p->xy) q = {q.x + shift[0], q.y + shift[1]};
+    for (double& z : p->z) z += shift[2];
+  }
+  *order = SortSpatially(*p);
+  progress("triangulating", 0.05);
+  Clock::time_point stage = Clock::now();
+  MeshOf(s, *order, *p);
+  MergeDuplicateHeights(*p);
+  p->hull_area = MeshArea(p->xy, p->mesh);
+  if (timings != nullptr) timings->triangulate = Seconds(stage);
+  progress("data domains", 0.27);
+  stage = Clock::now();
+  rule.grid = s.raster_grid();
+  p->domain = MakeMeshDomain(p->xy, p->mesh, rule, &p->in_grid);
+  if (timings != nullptr) timings->domain = Seconds(stage);
+  progress("spanning trees", 0.45);
+  stage = Clock::now();
+  p->tree = EuclideanMst(p->xy, p->mesh);
+  if (timings != nullptr) timings->spanning_tree = Seconds(stage);
+}
+
+struct MeasureReference::Impl {
+  const Surface* surface = nullptr;
+  DomainRule rule;
+  Prepared prepared;
+  std::vector<int32_t> order;
+};
+
 struct PreparedPair {
   Prepared a, b;
   std::vector<int32_t> order_a, order_b;  // sorted index k holds input index order[k]
 };
 
+// Both surfaces prepared (PrepareSide), on two threads when parallel; A
+// copied from `given` if it was prepared before (MeasureReference).
+
 template <typename Progress>
 void PreparePair(const Surface& a, const Surface& b, const MeasureOptions& options, const Progress& progress,
-                 PreparedPair* pair, MeasureSummary* out) {
-  MeasureSummary& summary = *out;
-  Prepared& pa = pair->a;
-  Prepared& pb = pair->b;
-  pa = Prepared{a.xy, a.z, a.weight, {}, {}, {}, 0.0, {}};
-  pb = Prepared{b.xy, b.z, b.weight, {}, {}, {}, 0.0, {}};
-  const double shift[3] = {b.origin[0] - a.origin[0], b.origin[1] - a.origin[1],
-                           b.origin[2] - a.origin[2]};
-  for (Point2& p : pb.xy) p = {p.x + shift[0], p.y + shift[1]};
-  for (double& z : pb.z) z += shift[2];
-  // Work in Hilbert order: every later stage then walks memory locally.
-  pair->order_a = SortSpatially(pa);
-  pair->order_b = SortSpatially(pb);
-  const std::vector<int32_t>& order_a = pair->order_a;
-  const std::vector<int32_t>& order_b = pair->order_b;
-
-  const bool parallel = options.parallel;
-  progress("triangulating", 0.05);
-  Clock::time_point stage = Clock::now();
-  RunBoth(parallel, [&] { MeshOf(a, order_a, pa); }, [&] { MeshOf(b, order_b, pb); });
-  summary.timings.triangulate = Seconds(stage);
-  summary.n_duplicates_a = pa.mesh.num_duplicates;
-  summary.n_duplicates_b = pb.mesh.num_duplicates;
-  MergeDuplicateHeights(pa);
-  MergeDuplicateHeights(pb);
-  pa.hull_area = MeshArea(pa.xy, pa.mesh);
-  pb.hull_area = MeshArea(pb.xy, pb.mesh);
-
-  // Each surface's data domain, by its own rule (raster samples: cells).
-  progress("data domains", 0.27);
-  stage = Clock::now();
-  DomainRule rule_a = options.domain, rule_b = options.domain;
-  rule_a.grid = a.raster_grid();
-  rule_b.grid = b.raster_grid();
-  RunBoth(parallel, [&] { pa.domain = MakeMeshDomain(pa.xy, pa.mesh, rule_a, &pa.in_grid); },
-          [&] { pb.domain = MakeMeshDomain(pb.xy, pb.mesh, rule_b, &pb.in_grid); });
-  summary.timings.domain = Seconds(stage);
-  if (!options.allow_empty_overlap) {
-    CheckDomain(a, pa, rule_a, "surface A");
-    CheckDomain(b, pb, rule_b, "surface B");
+                 const MeasureReference::Impl* given, PreparedPair* pair, MeasureSummary* summary) {
+  const double no_shift[3] = {0.0, 0.0, 0.0};
+  const double shift[3] = {b.origin[0] - a.origin[0], b.origin[1] - a.origin[1], b.origin[2] - a.origin[2]};
+  const auto quiet = [](const char*, double) {};
+  if (given != nullptr) {
+    pair->a = given->prepared;
+    pair->order_a = given->order;
+    PrepareSide(b, shift, options.domain, progress, &summary->timings, &pair->b, &pair->order_b);
+  } else {
+    RunBoth(options.parallel,
+            [&] { PrepareSide(b, shift, options.domain, progress, &summary->timings, &pair->b, &pair->order_b); },
+            [&] { PrepareSide(a, no_shift, options.domain, quiet, nullptr, &pair->a, &pair->order_a); });
   }
-
-  progress("spanning trees", 0.45);
-  stage = Clock::now();
-  RunBoth(parallel, [&] { pa.tree = EuclideanMst(pa.xy, pa.mesh); },
-          [&] { pb.tree = EuclideanMst(pb.xy, pb.mesh); });
-  summary.timings.spanning_tree = Seconds(stage);
-
+  summary->n_duplicates_a = pair->a.mesh.num_duplicates;
+  summary->n_duplicates_b = pair->b.mesh.num_duplicates;
+  if (!options.allow_empty_overlap) {
+    DomainRule rule_a = options.domain, rule_b = options.domain;
+    rule_a.grid = a.raster_grid();
+    rule_b.grid = b.raster_grid();
+    CheckDomain(a, pair->a, rule_a, "surface A");
+    CheckDomain(b, pair->b, rule_b, "surface B");
+  }
 }
 
 // Ω's nodes (a corner of its own domain lying in the other's closed
@@ -355,11 +367,36 @@ void SetVolumeFields(const VolumeResult& volume, const Prepared& pa, const Prepa
   summary.cut_area = volume.change.cut_area;
 }
 
-MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions& options) {
-  const Clock::time_point start = Clock::now();
+MeasureReference::MeasureReference(const Surface& a, const MeasureOptions& options) : impl_(new Impl) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("measure options: " + error);
   ValidateSurface(a);
+  impl_->surface = &a;
+  impl_->rule = options.domain;
+  const double no_shift[3] = {0.0, 0.0, 0.0};
+  PrepareSide(a, no_shift, options.domain, [](const char*, double) {}, nullptr, &impl_->prepared, &impl_->order);
+  DomainRule rule = options.domain;
+  rule.grid = a.raster_grid();
+  if (!options.allow_empty_overlap) CheckDomain(a, impl_->prepared, rule, "surface A");
+}
+
+MeasureReference::~MeasureReference() = default;
+
+const Surface& MeasureReference::surface() const { return *impl_->surface; }
+
+namespace {
+
+bool SameRule(const DomainRule& x, const DomainRule& y) {
+  return x.kind == y.kind && x.max_edge_spacings == y.max_edge_spacings &&
+         x.min_boundary_thinness == y.min_boundary_thinness && x.grid == y.grid;
+}
+
+MeasureSummary MeasureWith(const Surface& a, const Surface& b, const MeasureOptions& options,
+                           const MeasureReference::Impl* given) {
+  const Clock::time_point start = Clock::now();
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("measure options: " + error);
+  if (given == nullptr) ValidateSurface(a);
   ValidateSurface(b);
   if (options.weight == WeightMode::kPerPoint && a.weight.empty() && b.weight.empty()) {
     throw InputError("per-point weights requested, but neither surface has weights");
@@ -377,7 +414,7 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   summary.n_points_b = static_cast<int64_t>(b.size());
 
   PreparedPair pair;
-  PreparePair(a, b, options, progress, &pair, &summary);
+  PreparePair(a, b, options, progress, given, &pair, &summary);
   const Prepared& pa = pair.a;
   const Prepared& pb = pair.b;
   const bool parallel = options.parallel;
@@ -418,6 +455,19 @@ MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions&
   if (options.keep_node_gaps) KeepNodeGaps(pair, nodes, &summary);
   summary.timings.total = Seconds(start);
   return summary;
+}
+
+}  // namespace
+
+MeasureSummary Measure(const Surface& a, const Surface& b, const MeasureOptions& options) {
+  return MeasureWith(a, b, options, nullptr);
+}
+
+MeasureSummary Measure(const MeasureReference& a, const Surface& b, const MeasureOptions& options) {
+  if (!SameRule(a.impl().rule, options.domain)) {
+    throw std::invalid_argument("Measure: the reference was prepared for another domain rule");
+  }
+  return MeasureWith(a.surface(), b, options, &a.impl());
 }
 
 std::string MeasureSummary::BriefReport() const {

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -158,6 +159,32 @@ struct MeasureSummary {
 // (see ValidateSurface), invalid options, a surface with an empty data
 // domain, or an empty or sliver overlap.
 MeasureSummary Measure(const Surface& a, const Surface& b,
+                       const MeasureOptions& options = MeasureOptions());
+
+// Surface A prepared once for several measures against it (an alignment's
+// before and after): its spatial order, mesh, data domain and spanning
+// tree, by options.domain. Keeps a reference to `a`, which must outlive it.
+// Throws InputError as Measure does for A alone (an invalid surface or
+// options; an empty data domain unless allow_empty_overlap).
+class MeasureReference {
+ public:
+  MeasureReference(const Surface& a, const MeasureOptions& options);
+  ~MeasureReference();
+  MeasureReference(const MeasureReference&) = delete;
+  MeasureReference& operator=(const MeasureReference&) = delete;
+
+  const Surface& surface() const;
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Measure(a.surface(), b, options), with A's preparation reused (the same
+// summary; the timings then cover B's preparation only). options.domain
+// must be the rule `a` was prepared with (std::invalid_argument if not).
+MeasureSummary Measure(const MeasureReference& a, const Surface& b,
                        const MeasureOptions& options = MeasureOptions());
 
 const char* VolumeModeName(VolumeMode mode);  // "overlay" | "union"

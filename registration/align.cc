@@ -185,11 +185,15 @@ bool Judge(const Starts& starts, const AlignOptions& options, bool failed, Align
   return false;
 }
 
-std::future<MeasureSummary> MeasureLater(const Surface& reference, const Surface& moving,
-                                         const MeasureOptions& options, const std::array<double, 6>& theta,
-                                         const Eigen::Vector3d& centre) {
-  return std::async(std::launch::async, [&reference, &moving, &options, theta, centre] {
-    return Measure(reference, TransformSurface(moving, RigidOfTheta(theta, centre, reference.origin).ToMatrix()),
+// The measure of `moving` at θ against A, on another thread; A is prepared
+// there first if `reference` is still empty (the measure before the motion
+// prepares it, the one after reuses it).
+std::future<MeasureSummary> MeasureLater(std::unique_ptr<MeasureReference>& reference, const Surface& a,
+                                         const Surface& moving, const MeasureOptions& options,
+                                         const std::array<double, 6>& theta, const Eigen::Vector3d& centre) {
+  return std::async(std::launch::async, [&reference, &a, &moving, &options, theta, centre] {
+    if (!reference) reference = std::make_unique<MeasureReference>(a, options);
+    return Measure(*reference, TransformSurface(moving, RigidOfTheta(theta, centre, a.origin).ToMatrix()),
                    options);
   });
 }
@@ -199,8 +203,8 @@ std::future<MeasureSummary> MeasureLater(const Surface& reference, const Surface
 // verdict keeps it, and the motion in every form.
 void Finish(const Surface& reference, const Surface& moving, const Level& finest, const Starts& starts,
             const std::array<double, 6>& theta0, const Eigen::Vector3d& centre,
-            const MeasureOptions& measure_options, const AlignOptions& options, const SolveContext& context,
-            AlignResult* result) {
+            std::unique_ptr<MeasureReference>& measure_reference, const MeasureOptions& measure_options,
+            const AlignOptions& options, const SolveContext& context, AlignResult* result) {
   std::array<double, 6> theta = starts.have_best ? starts.best.theta : theta0;
   PairState final_state(finest.reference, finest.moving, options.max_fold_fraction);
   UpdateStats stats;
@@ -215,7 +219,8 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
   // the solution (needed again only if the verdict keeps the start).
   Information info;
   if (!failed) {
-    std::future<MeasureSummary> after = MeasureLater(reference, moving, measure_options, theta, centre);
+    std::future<MeasureSummary> after =
+        MeasureLater(measure_reference, reference, moving, measure_options, theta, centre);
     const Clock::time_point information_start = Clock::now();
     const bool at_solution = starts.best_state != nullptr && starts.best_state->theta() == theta;
     info = StddevAt(final_state, context, options, &result->stddev_source,
@@ -269,7 +274,8 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   // The measure before the motion is needed only for the verdict: it runs
   // beside the solve, whose prealignment keeps one core busy.
   std::future<MeasureSummary> before;
-  if (!motion_only) before = MeasureLater(reference, moving, measure_options, theta0, centre);
+  std::unique_ptr<MeasureReference> measure_reference;  // A prepared once for both measures
+  if (!motion_only) before = MeasureLater(measure_reference, reference, moving, measure_options, theta0, centre);
   if (options.on_stage) options.on_stage("solving", Seconds(start));
   Starts starts;
   try {
@@ -292,7 +298,8 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   result.before = before.get();
   result.termination = starts.have_best ? starts.best.message : "no usable solution";
   if (options.on_stage) options.on_stage("measuring the result", Seconds(start));
-  Finish(reference, moving, finest, starts, theta0, centre, measure_options, options, context, &result);
+  Finish(reference, moving, finest, starts, theta0, centre, measure_reference, measure_options, options, context,
+         &result);
   result.seconds = Seconds(start);
   return result;
 }

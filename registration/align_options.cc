@@ -13,7 +13,8 @@ namespace surfreg {
 namespace {
 
 // What both solvers stop on: 100 iterations per level and start, a relative
-// cost decrease of 1e-12, no gradient tolerance; silent.
+// cost decrease of 1e-12 (the volume solver's: below), no gradient
+// tolerance; silent.
 template <typename CeresOptions>
 CeresOptions WithAlignStops(CeresOptions o, double parameter_tolerance) {
   o.max_num_iterations = 100;
@@ -37,7 +38,14 @@ ceres::Solver::Options DefaultAxialSolverOptions() {
 ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions() {
   ceres::GradientProblemSolver::Options o;
   o.line_search_direction_type = ceres::LBFGS;
-  return WithAlignStops(o, 1e-14);
+  o = WithAlignStops(o, 1e-14);
+  // Near the minimum a change of the motion by 1% of its standard deviation
+  // changes the cost by about 1e-4 / N relatively (N nodes), more than this
+  // on any cloud up to 1e5 points: the last iterations below it moved the
+  // motion by far less than its uncertainty (on the 120 peer pairs 15% of
+  // the volume evaluations, errors unchanged).
+  o.function_tolerance = 1e-9;
+  return o;
 }
 
 bool ParseCellKernel(const std::string& name, CellKernelChoice* choice) {

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <random>
 #include <string>
 
@@ -37,6 +38,26 @@ std::array<double, 6> Perturbed(const std::array<double, 6>& theta, int s,
   return out;
 }
 
+// The reference's side on another thread while this one prepares the
+// moving side (the two are independent); an exception from either is
+// rethrown once both are done.
+template <typename Reference, typename Moving>
+void BothSides(bool parallel, Reference&& prepare_reference, Moving&& prepare_moving) {
+  if (!parallel) {
+    prepare_reference();
+    prepare_moving();
+    return;
+  }
+  std::future<void> other = std::async(std::launch::async, std::forward<Reference>(prepare_reference));
+  try {
+    prepare_moving();
+  } catch (...) {
+    other.wait();
+    throw;
+  }
+  other.get();
+}
+
 }  // namespace
 
 void CheckPerPointWeights(const Surface& reference, const AlignOptions& options) {
@@ -62,13 +83,15 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
   for (int l = 0; l < options.levels; ++l) {
     const double keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1 - l));
     auto level = std::make_unique<Level>();
-    level->reference = PrepareReference(reference, keep, options.domain);  // weights kept per point
-    if (options.weight != WeightMode::kPerPoint) level->reference.weight.clear();
-    if (options.cost == CostKind::kVolume) {
-      ApplySlopeWeight(options.slope_weight, &level->reference);
-      ApplyGapWeight(options.gap_weight, &level->reference);
-    }
-    level->moving = PrepareMoving(moving, shift, keep, options.domain);
+    Level* out = level.get();
+    BothSides(options.num_threads > 1, [&] {
+      out->reference = PrepareReference(reference, keep, options.domain);  // weights kept per point
+      if (options.weight != WeightMode::kPerPoint) out->reference.weight.clear();
+      if (options.cost == CostKind::kVolume) {
+        ApplySlopeWeight(options.slope_weight, &out->reference);
+        ApplyGapWeight(options.gap_weight, &out->reference);
+      }
+    }, [&] { out->moving = PrepareMoving(moving, shift, keep, options.domain); });
     levels.push_back(std::move(level));
   }
   Level& finest = *levels.back();
@@ -122,9 +145,10 @@ std::optional<Level> PrealignSides(const Surface& reference, const Surface& movi
   if (options.cost != CostKind::kVolume || !options.prealign || std::min(keep_a, keep_b) >= 1) return sides;
   const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
   sides.emplace();
-  sides->reference = PrepareReference(reference, level_keep * keep_a, options.domain);
-  if (options.weight != WeightMode::kPerPoint) sides->reference.weight.clear();
-  sides->moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain);
+  BothSides(options.num_threads > 1, [&] {
+    sides->reference = PrepareReference(reference, level_keep * keep_a, options.domain);
+    if (options.weight != WeightMode::kPerPoint) sides->reference.weight.clear();
+  }, [&] { sides->moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain); });
   sides->moving.centroid = levels.back()->moving.centroid;
   return sides;
 }

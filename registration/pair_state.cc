@@ -312,7 +312,7 @@ PairState::PairState(const ReferenceSide& reference, const MovingSide& moving,
   IndexKept();
 }
 
-bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
+void PairState::MoveTo(const std::array<double, 6>& theta) {
   theta_ = theta;
   derivative_ = DifferentiateMotion({theta[0], theta[1], theta[2]});
   const Eigen::Matrix3d& rotation = derivative_.rotation;
@@ -324,6 +324,11 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
     moved_xy_[j] = {q.x() + offset.x(), q.y() + offset.y()};
     moved_z_[j] = q.z() + offset.z();
   }
+}
+
+bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
+  MoveTo(theta);
+  const std::size_t n = moving_.points.size();
   // A fold turns a triangle's projection over; walking and the overlay
   // assume a valid planar mesh, so nothing is located then.
   int32_t folded = 0, folded_active = 0;

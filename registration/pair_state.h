@@ -138,6 +138,11 @@ class PairState {
   // locations. Returns false, with locations left untouched, if B folds
   // beyond max_fold_fraction.
   bool Update(const std::array<double, 6>& theta, UpdateStats* stats = nullptr);
+  // Only moves B's points to θ: no fold test, nothing located. For
+  // FixSurface at a new pose before the Update there, which then re-meshes
+  // at most once (around the fixed surface), instead of a free re-mesh
+  // first and the fixed surface's after it.
+  void MoveTo(const std::array<double, 6>& theta);
 
   const ReferenceSide& reference() const { return reference_; }
   const MovingSide& moving() const { return moving_; }
@@ -153,8 +158,9 @@ class PairState {
   // domain triangles (of its mesh at θ = 0, whatever re-meshes came before)
   // less those whose slope at the current pose exceeds `max_slope_deg`.
   // Until ReleaseSurface, a fold of an active triangle makes Update fail,
-  // and re-meshes keep the active triangles exactly. Update must have
-  // succeeded. Returns the number of domain triangles left out as too steep.
+  // and re-meshes keep the active triangles exactly. Update (or MoveTo,
+  // then Update) at the pose first. Returns the number of domain triangles
+  // left out as too steep.
   int FixSurface(double max_slope_deg);
   void ReleaseSurface() { fixed_ = false; }
   // Which triangles FixSurface kept (a hash of their vertex triples): the

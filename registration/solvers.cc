@@ -179,6 +179,21 @@ class NodeResiduals : public ceres::CostFunction {
   std::size_t begin_, end_;
 };
 
+// B's surface fixed at θ0 and located there (false if it folds there
+// beyond the limit). A level or start begins on B's own mesh, which may fold
+// at θ0 (junk, or steep triangles): fixed first, it re-meshes once, around
+// the kept triangles, not freely and then again around them.
+bool FixAt(PairState& state, const std::array<double, 6>& theta0, double max_slope_deg) {
+  state.MoveTo(theta0);
+  state.FixSurface(max_slope_deg);
+  if (state.Update(theta0)) return true;
+  // The kept triangles overlap at θ0: B's own Delaunay there first.
+  state.ReleaseSurface();
+  if (!state.Update(theta0)) return false;
+  state.FixSurface(max_slope_deg);
+  return true;
+}
+
 std::unique_ptr<ceres::LossFunction> MakeLoss(LossKind kind, double scale) {
   switch (kind) {
     case LossKind::kNone: return nullptr;
@@ -271,7 +286,7 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
   // there and goes on.
   constexpr int kMaxRounds = 6;
   constexpr double kMaxSlopeDeg = 80.0;
-  if (state.Update(theta0)) state.FixSurface(kMaxSlopeDeg);
+  FixAt(state, theta0, kMaxSlopeDeg);
   ceres::Solver::Summary summary;
   double initial_cost = 0;
   int iterations = 0, rounds = 0;
@@ -376,15 +391,6 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
                         const std::array<double, 6>& theta0, VolumeCostCache* keep) {
   const AlignOptions& options = *context.options;
   ParameterMap map(options, context.rotation_scale, theta0);
-  // Without a usable curvature (no gaps seen), the diagonal scaling.
-  if (state.Update(theta0)) map.Whiten(AxialCurvature(state, context, map));
-  std::vector<double> x = map.Reduce(theta0);
-  ceres::GradientProblemSolver::Options solver = options.volume_solver;
-  // x holds the last accepted iterate even when a round ends in a failed line
-  // search (against a fold): the next round goes on from there.
-  solver.update_state_every_iteration = true;
-  LogCallback log(context);
-  solver.callbacks.push_back(&log);
   // B's surface is fixed for the solve (PairState::FixSurface): the line
   // search compares values, and another surface is another function (on a
   // face with noise a mid-search re-mesh of the whole of B changed the cost
@@ -396,9 +402,16 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   // fixes the surface again there and goes on.
   constexpr int kMaxRounds = 6;
   constexpr double kMaxSlopeDeg = 80.0;
-  // At the start B may still re-mesh freely: each level and start begins on
-  // B's own mesh, which may fold there. (If it cannot, the first evaluation fails.)
-  if (state.Update(theta0)) state.FixSurface(kMaxSlopeDeg);
+  // (If B folds at θ0 beyond the limit, the first evaluation fails.)
+  // Without a usable curvature (no gaps seen), the diagonal scaling.
+  if (FixAt(state, theta0, kMaxSlopeDeg)) map.Whiten(AxialCurvature(state, context, map));
+  std::vector<double> x = map.Reduce(theta0);
+  ceres::GradientProblemSolver::Options solver = options.volume_solver;
+  // x holds the last accepted iterate even when a round ends in a failed line
+  // search (against a fold): the next round goes on from there.
+  solver.update_state_every_iteration = true;
+  LogCallback log(context);
+  solver.callbacks.push_back(&log);
   ceres::GradientProblemSolver::Summary summary;
   double initial_cost = 0;
   int iterations = 0, rounds = 0;

@@ -15,6 +15,7 @@
 #include "measure/input_error.h"
 #include "measure/locator.h"
 #include "measure/volume.h"
+#include "tests/testing/hull_golden_pairs.h"
 #include "tests/testing/point_sets.h"
 
 namespace surfreg {
@@ -369,6 +370,75 @@ TEST(MeasureTest, DuplicatePointsAreAveraged) {
   const MeasureSummary s = Measure(a, b);
   EXPECT_EQ(s.n_duplicates_a, 204);
   EXPECT_LT(s.rho_d, 1e-10);
+}
+
+// A prepared once (MeasureReference) gives, for every B, the very summary
+// Measure(a, b) gives: every golden case (serial and parallel, union, per
+// point weights, a mask, nodata lattices), on the data domain and the hull,
+// B also from another origin and as a raster, and one A for two Bs.
+TEST(MeasureTest, PreparedReferenceGivesTheSameSummary) {
+  std::vector<testing::GoldenCase> cases = testing::GoldenCases();
+  testing::GoldenCase shifted = cases[0];
+  shifted.b.origin = {0.25, -0.5, 0.125};
+  cases.push_back(shifted);
+  testing::GoldenCase raster{{}, {}, MeasureOptions()};
+  std::vector<std::array<double, 3>> points;
+  std::vector<RasterCell> cells;
+  for (int r = 0; r < 15; ++r) {
+    for (int c = 0; c < 20; ++c) {
+      if ((3 * c + 5 * r) % 17 == 0) continue;  // nodata
+      points.push_back({0.5 * c, 0.5 * r, std::sin(0.3 * c) + 0.02 * r});
+      cells.push_back({c, r});
+    }
+  }
+  raster.a = MakeSurface(points, {}, "raster");
+  raster.a.raster_cell = cells;
+  raster.b = testing::GoldenCloud(400, 0.2, 9.3, 0.1, 6.8, 1, 5, false);
+  raster.options.keep_node_gaps = true;
+  cases.push_back(raster);
+  std::swap(raster.a, raster.b);
+  cases.push_back(raster);
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    for (DomainKind kind : {DomainKind::kData, DomainKind::kHull}) {
+      MeasureOptions options = cases[k].options;
+      options.domain.kind = kind;
+      const MeasureReference prepared(cases[k].a, options);
+      for (int repeat = 0; repeat < 2; ++repeat) {
+        const MeasureSummary direct = Measure(cases[k].a, cases[k].b, options);
+        const MeasureSummary reused = Measure(prepared, cases[k].b, options);
+        EXPECT_EQ(testing::GoldenFingerprint(direct), testing::GoldenFingerprint(reused)) << "case " << k;
+        EXPECT_EQ(direct.domain_area_a, reused.domain_area_a) << "case " << k;
+        EXPECT_EQ(direct.domain_area_b, reused.domain_area_b) << "case " << k;
+        EXPECT_EQ(direct.n_duplicates_a, reused.n_duplicates_a) << "case " << k;
+        ASSERT_EQ(direct.dz_a.size(), reused.dz_a.size());
+        for (std::size_t i = 0; i < direct.dz_a.size(); ++i) {
+          if (!(std::isnan(direct.dz_a[i]) && std::isnan(reused.dz_a[i]))) {
+            EXPECT_EQ(direct.dz_a[i], reused.dz_a[i]) << "case " << k << " node " << i;
+          }
+        }
+        ASSERT_EQ(direct.dz_b.size(), reused.dz_b.size());
+      }
+    }
+  }
+}
+
+// The reference is prepared for one domain rule; another is refused, and an
+// A without data domain is refused when it is prepared, as Measure would.
+TEST(MeasureTest, PreparedReferenceRefusesAnotherRuleAndAnEmptyDomain) {
+  const testing::GoldenCase c = testing::GoldenCases()[0];
+  MeasureOptions options;
+  const MeasureReference prepared(c.a, options);
+  MeasureOptions hull = options;
+  hull.domain.kind = DomainKind::kHull;
+  EXPECT_THROW(Measure(prepared, c.b, hull), std::invalid_argument);
+  MeasureOptions longer = options;
+  longer.domain.max_edge_spacings = 6.0;
+  EXPECT_THROW(Measure(prepared, c.b, longer), std::invalid_argument);
+  // One sliver of a triangle: an outline sliver, no data domain.
+  const Surface empty = MakeSurface({{0, 0, 0}, {4, 0, 0}, {2, 0.05, 0}}, {}, "sliver");
+  MeasureOptions data;
+  EXPECT_THROW(MeasureReference(empty, data), InputError);
+  EXPECT_THROW(Measure(empty, c.b, data), InputError);
 }
 
 }  // namespace
