@@ -208,7 +208,11 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
   std::array<double, 6> theta = starts.have_best ? starts.best.theta : theta0;
   PairState final_state(finest.reference, finest.moving, options.max_fold_fraction);
   UpdateStats stats;
-  const bool unfolded = final_state.Update(theta, &stats);
+  // At the volume solve's own state the information is taken there (its
+  // surface is B's fixed for the solve); B's own mesh need only be checked
+  // for folds then, not re-meshed and located.
+  const bool at_solution = starts.best_state != nullptr && starts.best_state->theta() == theta;
+  const bool unfolded = at_solution ? final_state.FoldsAt(theta, &stats) : final_state.Update(theta, &stats);
   result->folded_triangles = stats.folded;
   result->folded_area_fraction = stats.folded_area_fraction;
   bool failed = !starts.have_best || !unfolded;
@@ -222,8 +226,7 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
     std::future<MeasureSummary> after =
         MeasureLater(measure_reference, reference, moving, measure_options, theta, centre);
     const Clock::time_point information_start = Clock::now();
-    const bool at_solution = starts.best_state != nullptr && starts.best_state->theta() == theta;
-    info = StddevAt(final_state, context, options, &result->stddev_source,
+    info = StddevAt(at_solution ? *starts.best_state : final_state, context, options, &result->stddev_source,
                     at_solution ? starts.best_state.get() : nullptr, starts.best_cache.get());
     result->covariance_seconds = Seconds(information_start);
     try {

@@ -326,11 +326,7 @@ void PairState::MoveTo(const std::array<double, 6>& theta) {
   }
 }
 
-bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
-  MoveTo(theta);
-  const std::size_t n = moving_.points.size();
-  // A fold turns a triangle's projection over; walking and the overlay
-  // assume a valid planar mesh, so nothing is located then.
+bool PairState::CountFolds(UpdateStats* stats, int32_t* active_folded) {
   int32_t folded = 0, folded_active = 0;
   double folded_area = 0;
   for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
@@ -348,7 +344,24 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
     stats->folded_active = folded_active;
     stats->folded_area_fraction = fraction;
   }
-  if (folded > 0 && fraction > max_fold_fraction_) return false;
+  if (active_folded != nullptr) *active_folded = folded_active;
+  return folded == 0 || fraction <= max_fold_fraction_;
+}
+
+bool PairState::FoldsAt(const std::array<double, 6>& theta, UpdateStats* stats) {
+  MoveTo(theta);
+  located_ = false;  // the locations are another pose's now
+  return CountFolds(stats, nullptr);
+}
+
+bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
+  MoveTo(theta);
+  const std::size_t n = moving_.points.size();
+  // A fold turns a triangle's projection over; walking and the overlay
+  // assume a valid planar mesh, so nothing is located then.
+  int32_t folded_active = 0;
+  if (!CountFolds(stats, &folded_active)) return false;
+  const int32_t folded = folded_;
   if (folded > 0 && folded_active == 0) {
     // Only junk turned over: re-mesh around the active triangles, which
     // stay as they are, so the surface does not change.

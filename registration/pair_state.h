@@ -143,6 +143,10 @@ class PairState {
   // at most once (around the fixed surface), instead of a free re-mesh
   // first and the fixed surface's after it.
   void MoveTo(const std::array<double, 6>& theta);
+  // Moves B to θ and counts the folds of its current mesh there (into
+  // `stats`), without re-meshing or locating (Update must follow before
+  // locations are used): false if they pass max_fold_fraction, as Update.
+  bool FoldsAt(const std::array<double, 6>& theta, UpdateStats* stats);
 
   const ReferenceSide& reference() const { return reference_; }
   const MovingSide& moving() const { return moving_; }
@@ -204,6 +208,9 @@ class PairState {
   // keeping the active triangles (false if they cannot all be kept), or
   // (keep = false) with the domain found again by B's rule.
   bool RemeshAndLocate(bool keep, UpdateStats* stats);
+  // Folds of mesh_ at the moved points (folded_, stats, how many of them
+  // active); false beyond max_fold_fraction.
+  bool CountFolds(UpdateStats* stats, int32_t* active_folded);
   void SetActiveFlags();  // active_ for mesh_ from the kept triangles
   void IndexKept();       // kept_begin_ and kept_rest_ from kept_triangles_
   // Both ways from scratch, in spanning-tree order.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -391,6 +393,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
                         const std::array<double, 6>& theta0, VolumeCostCache* keep) {
   const AlignOptions& options = *context.options;
   ParameterMap map(options, context.rotation_scale, theta0);
+  // Without a usable curvature (no gaps seen), the diagonal scaling.
   // B's surface is fixed for the solve (PairState::FixSurface): the line
   // search compares values, and another surface is another function (on a
   // face with noise a mid-search re-mesh of the whole of B changed the cost
@@ -403,7 +406,6 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   constexpr int kMaxRounds = 6;
   constexpr double kMaxSlopeDeg = 80.0;
   // (If B folds at θ0 beyond the limit, the first evaluation fails.)
-  // Without a usable curvature (no gaps seen), the diagonal scaling.
   if (FixAt(state, theta0, kMaxSlopeDeg)) map.Whiten(AxialCurvature(state, context, map));
   std::vector<double> x = map.Reduce(theta0);
   ceres::GradientProblemSolver::Options solver = options.volume_solver;
