@@ -9,7 +9,12 @@
 namespace surfreg {
 namespace {
 
-double Length(const Point2& a, const Point2& b) { return std::hypot(b.x - a.x, b.y - a.y); }
+// Not std::hypot: coordinates are in a local frame, far from overflow, and
+// hypot's care was 2.4% of a face alignment's time.
+double Length(const Point2& a, const Point2& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  return std::sqrt(dx * dx + dy * dy);
+}
 
 // The longest edge of a triangle, named by its opposite local vertex (0-2).
 int LongestEdge(const std::vector<Point2>& xy, const int32_t* v, double* length) {

@@ -126,11 +126,14 @@ void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const 
                 const SolveContext& context, AlignOptions* options) {
   PairState check(finest.reference, finest.moving, options->max_fold_fraction);
   UpdateStats stats;
-  if (!check.Update(theta0, &stats)) {
+  const bool loss_scale_wanted =
+      options->cost == CostKind::kAxial && options->loss != LossKind::kNone && !(options->loss_scale > 0);
+  // Only the loss scale needs B located there.
+  if (!(loss_scale_wanted ? check.Update(theta0, &stats) : check.FoldsAt(theta0, &stats))) {
     throw InputError("the initial motion folds " + moving.source + ": " + std::to_string(stats.folded) +
                      " triangles turn over in the xy projection (tilt too large for a height field)");
   }
-  if (options->cost == CostKind::kAxial && options->loss != LossKind::kNone && !(options->loss_scale > 0)) {
+  if (loss_scale_wanted) {
     options->loss_scale = AutomaticLossScale(check, context.axial, 1e-9 * context.rotation_scale);
   }
 }
@@ -172,6 +175,7 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const std:
     const bool keep = options.cost == CostKind::kVolume && l + 1 == levels.size();
     auto state_ptr = std::make_shared<PairState>(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
     PairState& state = *state_ptr;
+    state.set_parallel(options.num_threads > 1);
     std::shared_ptr<VolumeCostCache> cache;
     if (keep) cache = std::make_shared<VolumeCostCache>(kSolveDirtyFraction, options.cell_kernel);
     context.level = static_cast<int>(l);
@@ -179,7 +183,10 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const std:
     if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
       context.cost = "axial";
       std::optional<PairState> subsampled;  // each start from the sides' own meshes
-      if (prealign) subsampled.emplace(prealign->reference, prealign->moving, options.max_fold_fraction);
+      if (prealign) {
+        subsampled.emplace(prealign->reference, prealign->moving, options.max_fold_fraction);
+        subsampled->set_parallel(options.num_threads > 1);
+      }
       context.prealignment = true;
       const SolveResult rough = SolveAxial(subsampled ? *subsampled : state, context, theta);
       context.prealignment = false;

@@ -1,6 +1,7 @@
 #include "registration/pair_state.h"
 
 #include <algorithm>
+#include <future>
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -383,20 +384,38 @@ bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {
   }
   const Triangulation& mesh_b = mesh_;
   // Steps of a solver are small: most walks end within a triangle or two.
-  int64_t steps_total = 0;
-  for (std::size_t i = 0; i < reference_.xy.size(); ++i) {
-    int steps = 0;
-    a_in_b_[i] = LocatePoint(moved_xy_, mesh_b, reference_.xy[i], a_in_b_[i].triangle, &steps);
-    steps_total += steps;
-  }
-  for (std::size_t j = 0; j < n; ++j) {
-    int steps = 0;
-    b_in_a_[j] = LocatePoint(reference_.xy, reference_.mesh, moved_xy_[j], b_in_a_[j].triangle,
-                             &steps);
-    steps_total += steps;
-  }
-  if (stats != nullptr) stats->walk_steps = steps_total;
+  int64_t steps_a = 0, steps_b = 0;
+  BothWays(
+      [&] {
+        for (std::size_t i = 0; i < reference_.xy.size(); ++i) {
+          int steps = 0;
+          a_in_b_[i] = LocatePoint(moved_xy_, mesh_b, reference_.xy[i], a_in_b_[i].triangle, &steps);
+          steps_a += steps;
+        }
+      },
+      [&] {
+        for (std::size_t j = 0; j < n; ++j) {
+          int steps = 0;
+          b_in_a_[j] = LocatePoint(reference_.xy, reference_.mesh, moved_xy_[j], b_in_a_[j].triangle, &steps);
+          steps_b += steps;
+        }
+      });
+  if (stats != nullptr) stats->walk_steps = steps_a + steps_b;
   return true;
+}
+
+template <typename AInB, typename BInA>
+void PairState::BothWays(AInB&& a_in_b, BInA&& b_in_a) const {
+  // A thread costs tens of microseconds: worth it on large clouds only.
+  constexpr std::size_t kParallelPoints = 20000;
+  if (!parallel_ || reference_.xy.size() + moved_xy_.size() < kParallelPoints) {
+    a_in_b();
+    b_in_a();
+    return;
+  }
+  std::future<void> other = std::async(std::launch::async, std::forward<BInA>(b_in_a));
+  a_in_b();
+  other.get();
 }
 
 bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
@@ -558,8 +577,8 @@ bool PairState::OnReferenceSurface(const Location& l) const {
 
 void PairState::LocateEverything(UpdateStats* stats) {
   LocateAllStats all_a, all_b;
-  a_in_b_ = LocateAll(moved_xy_, mesh_, reference_.xy, reference_.mesh, reference_.tree, &all_a);
-  b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_, moving_.tree, &all_b);
+  BothWays([&] { a_in_b_ = LocateAll(moved_xy_, mesh_, reference_.xy, reference_.mesh, reference_.tree, &all_a); },
+           [&] { b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_, moving_.tree, &all_b); });
   located_ = true;
   if (stats != nullptr) stats->walk_steps = all_a.steps + all_b.steps;
 }

@@ -147,6 +147,8 @@ class PairState {
   // `stats`), without re-meshing or locating (Update must follow before
   // locations are used): false if they pass max_fold_fraction, as Update.
   bool FoldsAt(const std::array<double, 6>& theta, UpdateStats* stats);
+  // Locate A in B and B in A on two threads (large clouds only).
+  void set_parallel(bool parallel) { parallel_ = parallel; }
 
   const ReferenceSide& reference() const { return reference_; }
   const MovingSide& moving() const { return moving_; }
@@ -211,6 +213,9 @@ class PairState {
   // Folds of mesh_ at the moved points (folded_, stats, how many of them
   // active); false beyond max_fold_fraction.
   bool CountFolds(UpdateStats* stats, int32_t* active_folded);
+  // Runs both location passes, on two threads if parallel_ and large.
+  template <typename AInB, typename BInA>
+  void BothWays(AInB&& a_in_b, BInA&& b_in_a) const;
   void SetActiveFlags();  // active_ for mesh_ from the kept triangles
   void IndexKept();       // kept_begin_ and kept_rest_ from kept_triangles_
   // Both ways from scratch, in spanning-tree order.
@@ -231,6 +236,7 @@ class PairState {
   std::vector<Location> a_in_b_, b_in_a_;
   bool located_ = false;
   bool fixed_ = false;
+  bool parallel_ = false;
   int32_t folded_ = 0;
   std::vector<uint8_t> active_;           // per triangle of mesh_
   std::vector<uint8_t> active_vertex_;    // per B node: a corner of an active triangle
