@@ -18,10 +18,6 @@ namespace {
 // The axial prealignment runs on at most about this many points of each
 // surface (AlignOptions::prealign).
 constexpr double kPrealignPoints = 5000.0;
-// ... unless that would keep more than this share of both: preparing a
-// near-full subsample costs more than it saves (a 5160-point volcano pair:
-// 9 of 140 ms).
-constexpr double kPrealignMaxShare = 0.8;
 
 // The deterministic perturbation of multi-start s ≥ 1: a random axis and
 // direction (seeded by s), of the configured magnitudes, free parameters only.
@@ -149,7 +145,7 @@ std::optional<Level> PrealignSides(const Surface& reference, const Surface& movi
   const Level& coarsest = *levels.front();
   const double keep_a = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.reference.xy.size()));
   const double keep_b = std::min(1.0, kPrealignPoints / static_cast<double>(coarsest.moving.points.size()));
-  if (options.cost != CostKind::kVolume || !options.prealign || std::min(keep_a, keep_b) > kPrealignMaxShare) return sides;
+  if (options.cost != CostKind::kVolume || !options.prealign || std::min(keep_a, keep_b) >= 1) return sides;
   const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
   sides.emplace();
   BothSides(options.num_threads > 1, [&] {

@@ -97,12 +97,13 @@ const std::vector<KeyEntry>& Table() {
        },
        [](const C& c) { return std::to_string(c.options.axial_solver.max_num_iterations); }},
       {{"function_tolerance", "a number in (0, 1)",
-        "the solver stops when the cost decreases by less than this fraction"},
+        "a solve stops when an iteration lowers its cost by less than this fraction of it (both solvers; "
+        "unset, the axial cost's is 1e-12)"},
        [](const Value& v, C* c) {
          c->options.axial_solver.function_tolerance = c->options.volume_solver.function_tolerance =
              Number(v, 0, 1, "()");
        },
-       [](const C& c) { return Text(c.options.axial_solver.function_tolerance); }},
+       [](const C& c) { return Text(c.options.volume_solver.function_tolerance); }},
       {{"trim_fraction", "a number in [0, 0.5)",
         "fraction of the largest axial residuals dropped at each evaluation"},
        [](const Value& v, C* c) { c->options.trim_fraction = Number(v, 0, 0.5, "[)"); },
