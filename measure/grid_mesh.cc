@@ -84,33 +84,32 @@ void RemapGridTriangles(const std::vector<int32_t>& new_index, std::vector<int32
   t.resize(kept);
 }
 
-std::vector<uint8_t> EnforceGrid(const std::vector<Point2>& xy,
-                                 const std::vector<int32_t>& cell_triangles, Triangulation* mesh,
-                                 GridMeshStats* stats) {
-  if (cell_triangles.size() % 6 != 0) {
-    throw std::invalid_argument("EnforceGrid: cell_triangles.size() is not a multiple of 6");
-  }
+namespace {
+
+// The cells' triangles to enforce, counter-clockwise: all cells but the
+// folded ones (a triangle against the orientation most grid triangles have;
+// a mirrored or upside-down grid has the other; a merged duplicate corner
+// makes its cell degenerate) and every cell sharing a corner with one.
+std::vector<int32_t> UnfoldedCellTriangles(const std::vector<Point2>& xy, const std::vector<int32_t>& cell_triangles,
+                                           const Triangulation& mesh, int64_t* folded) {
   const std::size_t num_cells = cell_triangles.size() / 6;
-  // The orientation most grid triangles have (a mirrored or upside-down grid
-  // has the other); a merged duplicate corner makes its cell degenerate.
   std::vector<int8_t> sign(2 * num_cells, 0);
   int64_t positive = 0, negative = 0;
   for (std::size_t k = 0; k < 2 * num_cells; ++k) {
     const int32_t* v = &cell_triangles[3 * k];
     bool own = true;
-    for (int i = 0; i < 3; ++i) own = own && mesh->vertex_of_input[v[i]] == v[i];
+    for (int i = 0; i < 3; ++i) own = own && mesh.vertex_of_input[v[i]] == v[i];
     const double o = own ? Orient2D(xy[v[0]], xy[v[1]], xy[v[2]]) : 0.0;
     sign[k] = o > 0.0 ? 1 : o < 0.0 ? -1 : 0;
     positive += sign[k] > 0;
     negative += sign[k] < 0;
   }
   const int8_t want = negative > positive ? -1 : 1;
-  // Folded cells and every cell sharing a corner with one are left out.
   std::vector<uint8_t> near_fold(xy.size(), 0);
-  int64_t folded = 0;
+  *folded = 0;
   for (std::size_t c = 0; c < num_cells; ++c) {
     if (sign[2 * c] == want && sign[2 * c + 1] == want) continue;
-    ++folded;
+    ++*folded;
     for (int k = 0; k < 6; ++k) near_fold[cell_triangles[6 * c + k]] = 1;
   }
   std::vector<int32_t> required;
@@ -120,7 +119,7 @@ std::vector<uint8_t> EnforceGrid(const std::vector<Point2>& xy,
     bool clear = true;
     for (int k = 0; k < 6; ++k) clear = clear && !near_fold[v[k]];
     if (!clear) continue;
-    for (int t = 0; t < 2; ++t) {  // counter-clockwise at xy
+    for (int t = 0; t < 2; ++t) {
       const int32_t* w = v + 3 * t;
       if (want > 0) {
         required.insert(required.end(), {w[0], w[1], w[2]});
@@ -129,32 +128,51 @@ std::vector<uint8_t> EnforceGrid(const std::vector<Point2>& xy,
       }
     }
   }
-  EnforceTriangles(xy, required, mesh);
+  return required;
+}
 
-  // Which kept cells are faces now (all of them unless enforcement failed):
-  // the required triangles indexed by their smallest vertex.
+// Per required triangle, the mesh triangle with its corners (−1 if it is
+// not a face: enforcement failed there), by indexing the required ones by
+// their smallest vertex.
+std::vector<int32_t> FacesOf(const std::vector<int32_t>& required, std::size_t num_vertices,
+                             const Triangulation& mesh) {
   const std::size_t num_required = required.size() / 3;
-  std::vector<int32_t> begin(xy.size() + 1, 0);
+  std::vector<int32_t> begin(num_vertices + 1, 0);
   for (std::size_t r = 0; r < num_required; ++r) ++begin[Sorted(&required[3 * r])[0] + 1];
-  for (std::size_t v = 0; v < xy.size(); ++v) begin[v + 1] += begin[v];
+  for (std::size_t v = 0; v < num_vertices; ++v) begin[v + 1] += begin[v];
   std::vector<int32_t> by_vertex(num_required);
-  {
-    std::vector<int32_t> fill(begin.begin(), begin.end() - 1);
-    for (std::size_t r = 0; r < num_required; ++r) {
-      by_vertex[fill[Sorted(&required[3 * r])[0]]++] = static_cast<int32_t>(r);
-    }
+  std::vector<int32_t> fill(begin.begin(), begin.end() - 1);
+  for (std::size_t r = 0; r < num_required; ++r) {
+    by_vertex[fill[Sorted(&required[3 * r])[0]]++] = static_cast<int32_t>(r);
   }
-  std::vector<int32_t> face(num_required, -1);  // the mesh triangle that is required r
-  for (int32_t t = 0; t < mesh->num_triangles(); ++t) {
-    const std::array<int32_t, 3> s = Sorted(&mesh->triangles[3 * t]);
+  std::vector<int32_t> face(num_required, -1);
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const std::array<int32_t, 3> s = Sorted(&mesh.triangles[3 * t]);
     for (int32_t k = begin[s[0]]; k < begin[s[0] + 1]; ++k) {
       const int32_t r = by_vertex[k];
       if (Sorted(&required[3 * r]) == s) face[r] = t;
     }
   }
+  return face;
+}
+
+}  // namespace
+
+std::vector<uint8_t> EnforceGrid(const std::vector<Point2>& xy,
+                                 const std::vector<int32_t>& cell_triangles, Triangulation* mesh,
+                                 GridMeshStats* stats) {
+  if (cell_triangles.size() % 6 != 0) {
+    throw std::invalid_argument("EnforceGrid: cell_triangles.size() is not a multiple of 6");
+  }
+  const std::size_t num_cells = cell_triangles.size() / 6;
+  int64_t folded = 0;
+  const std::vector<int32_t> required = UnfoldedCellTriangles(xy, cell_triangles, *mesh, &folded);
+  EnforceTriangles(xy, required, mesh);
+  // Which kept cells are faces now (all of them unless enforcement failed).
+  const std::vector<int32_t> face = FacesOf(required, xy.size(), *mesh);
   std::vector<uint8_t> in_grid(mesh->num_triangles(), 0);
   int64_t kept = 0;
-  for (std::size_t c = 0; 2 * c + 1 < num_required; ++c) {
+  for (std::size_t c = 0; 2 * c + 1 < face.size(); ++c) {
     const int32_t t0 = face[2 * c], t1 = face[2 * c + 1];
     if (t0 < 0 || t1 < 0) continue;
     in_grid[t0] = in_grid[t1] = 1;

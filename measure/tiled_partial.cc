@@ -80,10 +80,10 @@ void TiledBand(int64_t rows, int32_t shard, int32_t shards, int64_t* first, int6
   *end = rows * shard / shards;
 }
 
-TiledPartial MergeTiledPartials(std::vector<TiledPartial> parts, std::vector<TiledDodPatch>* patches) {
-  if (parts.empty()) throw InputError("merge: no parts");
-  std::sort(parts.begin(), parts.end(),
-            [](const TiledPartial& p, const TiledPartial& q) { return p.shard < q.shard; });
+namespace {
+
+// The parts (sorted by shard) are parts 1..n of one run, each finished.
+void CheckPartsOfOneRun(const std::vector<TiledPartial>& parts) {
   const TiledPartial& first = parts.front();
   const int32_t n = first.shards;
   for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -109,7 +109,16 @@ TiledPartial MergeTiledPartials(std::vector<TiledPartial> parts, std::vector<Til
   if (static_cast<int32_t>(parts.size()) != n) {
     throw InputError("part " + std::to_string(parts.size() + 1) + "/" + std::to_string(n) + " is missing");
   }
+}
 
+}  // namespace
+
+TiledPartial MergeTiledPartials(std::vector<TiledPartial> parts, std::vector<TiledDodPatch>* patches) {
+  if (parts.empty()) throw InputError("merge: no parts");
+  std::sort(parts.begin(), parts.end(),
+            [](const TiledPartial& p, const TiledPartial& q) { return p.shard < q.shard; });
+  CheckPartsOfOneRun(parts);
+  const TiledPartial& first = parts.front();
   TiledPartial whole = first;
   whole.shard = whole.shards = 1;
   whole.first_row = whole.moving_first_row = 0;
