@@ -16,6 +16,7 @@
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
 #include "tools/align_config_values.h"
+#include "tools/config_table.h"
 #include "tools/config_value.h"
 #include "tools/io/raster_io.h"
 #include "tools/io/raster_resample.h"
@@ -55,7 +56,7 @@ const Names<ceres::LinearSolverType> kLinearSolvers = {
     {"dense_qr", ceres::DENSE_QR}, {"dense_normal_cholesky", ceres::DENSE_NORMAL_CHOLESKY}, {"cgnr", ceres::CGNR}};
 
 using C = AlignConfig;
-const std::vector<KeyEntry>& Table() {
+const config_table::Table<AlignConfig>& Table() {
   static const std::vector<KeyEntry> table = {
       {{"reference", "a surface file (.xyz .txt .csv .ply .off .obj .las, or a GDAL raster)",
         "the fixed surface"},
@@ -257,44 +258,12 @@ const std::vector<KeyEntry>& Table() {
        [](const Value& v, C* c) { c->progress = Boolean(v); },
        [](const C& c) { return Text(c.progress); }},
   };
-  static const std::vector<KeyEntry> all = [] {
+  static const config_table::Table<AlignConfig> all = [] {
     std::vector<KeyEntry> keys = table;
     keys.insert(keys.end(), TerrainKeyTable().begin(), TerrainKeyTable().end());
-    return keys;
+    return config_table::Table<AlignConfig>(std::move(keys));
   }();
   return all;
-}
-
-const KeyEntry* FindEntry(const std::string& name) {
-  for (const KeyEntry& entry : Table()) {
-    if (name == entry.key.name) return &entry;
-  }
-  return nullptr;
-}
-
-std::string UnknownKeyMessage(const std::string& name) {
-  const std::string nearest = NearestAlignKey(name);
-  if (!nearest.empty()) {
-    return "unknown key " + io_internal::Quote(name) + " (did you mean '" + nearest + "'?)";
-  }
-  std::string known;
-  for (const KeyEntry& entry : Table()) {
-    known += std::string(known.empty() ? "" : ", ") + entry.key.name;
-  }
-  return "unknown key " + io_internal::Quote(name) + " (known keys: " + known + ")";
-}
-
-void Apply(const KeyEntry& entry, Value value, const std::string& where, AlignConfig* config) {
-  value.where = where;
-  value.expected = entry.key.type;
-  entry.set(value, config);
-  config->origin[entry.key.name] = where;
-}
-
-const char* KindName(const YAML::Node& node) {
-  if (node.IsSequence()) return "a list";
-  if (node.IsScalar()) return "a single value";
-  return "nothing (an empty file)";
 }
 
 
@@ -304,8 +273,7 @@ std::string FirstKeyIn(const std::string& message) {
   const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
   std::size_t first = std::string::npos;
   std::string found;
-  for (const KeyEntry& entry : Table()) {
-    const std::string key = entry.key.name;
+  for (const std::string& key : Table().names()) {
     for (std::size_t at = message.find(key); at != std::string::npos && at < first;
          at = message.find(key, at + 1)) {
       const std::size_t end = at + key.size();
@@ -324,27 +292,6 @@ bool SameFile(const std::string& a, const std::string& b) {
   struct stat sa, sb;
   return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
                     sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
-}
-
-// The pairs of a parsed mapping, checked and applied in file order.
-void ApplyMapping(const YAML::Node& root, const std::string& file, AlignConfig* config) {
-  std::map<std::string, int> seen;  // key -> line
-  for (const auto& pair : root) {
-    const int line = pair.first.Mark().line + 1;
-    const std::string at = config_value::YamlAt(file, pair.first.Mark());
-    if (!pair.first.IsScalar()) {
-      throw InputError(at + "expected a key name, found a list or mapping");
-    }
-    const std::string name = pair.first.Scalar();
-    const KeyEntry* entry = FindEntry(name);
-    if (entry == nullptr) throw InputError(at + UnknownKeyMessage(name));
-    const auto [previous, inserted] = seen.emplace(name, line);
-    if (!inserted) {
-      throw InputError(at + "key '" + name + "' given twice (also at line " +
-                       std::to_string(previous->second) + ")");
-    }
-    Apply(*entry, config_value::FromYaml(pair.second), at + "key '" + name + "'", config);
-  }
 }
 
 // A surface format, or a GeoTIFF on a raster reference's grid.
@@ -383,26 +330,13 @@ std::string AlignConfig::Where(const std::string& key) const {
   return found != origin.end() ? found->second : "key '" + key + "'";
 }
 
-const std::vector<AlignConfigKey>& AlignConfigKeys() {
-  static const std::vector<AlignConfigKey> keys = [] {
-    std::vector<AlignConfigKey> out;
-    for (const KeyEntry& entry : Table()) out.push_back(entry.key);
-    return out;
-  }();
-  return keys;
-}
+const std::vector<AlignConfigKey>& AlignConfigKeys() { return Table().keys(); }
 
 std::string AlignConfigValue(const AlignConfig& config, const std::string& key) {
-  const KeyEntry* entry = FindEntry(key);
-  if (entry == nullptr) throw InputError(UnknownKeyMessage(key));
-  return entry->get(config);
+  return Table().Get(config, key);
 }
 
-std::string NearestAlignKey(const std::string& name) {
-  std::vector<std::string> keys;
-  for (const KeyEntry& entry : Table()) keys.push_back(entry.key.name);
-  return NearestKey(name, keys);
-}
+std::string NearestAlignKey(const std::string& name) { return Table().Nearest(name); }
 
 std::string NearestKey(const std::string& name, const std::vector<std::string>& keys) {
   std::string wanted = name;
@@ -426,54 +360,24 @@ std::string NearestKey(const std::string& name, const std::vector<std::string>& 
 }
 
 void ApplyAlignYaml(const std::string& yaml_text, const std::string& file, AlignConfig* config) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(config_value::YamlAt(file, e.mark) + "not valid YAML: " + e.msg);
-  }
-  if (!root.IsMap()) {
-    throw InputError(file + ": expected a YAML mapping of 'key: value' lines, found " +
-                     KindName(root));
-  }
-  try {
-    ApplyMapping(root, file, config);
-  } catch (const YAML::Exception& e) {  // not expected once parsed; kept one line all the same
-    throw InputError(config_value::YamlAt(file, e.mark) + e.msg);
-  }
+  Table().ApplyYaml(yaml_text, file, config);
 }
 
-void ApplyAlignConfigFile(const std::string& path, AlignConfig* config) {
-  std::string text;
-  try {
-    text = io_internal::ReadFile(path);
-  } catch (const InputError& e) {
-    throw InputError(std::string("flag '--config': ") + e.what());
-  }
-  config->config_file = path;
-  ApplyAlignYaml(text, path, config);
-}
+void ApplyAlignConfigFile(const std::string& path, AlignConfig* config) { Table().ApplyFile(path, config); }
 
 void ApplyAlignFlag(const std::string& key, const std::string& value, AlignConfig* config) {
-  ApplyAlignSetting(key, value, "flag '--" + key + "'", config);
+  Table().ApplyFlag(key, value, config);
 }
 
 void ApplyAlignSetting(const std::string& key, const std::string& value, const std::string& where,
                        AlignConfig* config) {
-  const KeyEntry* entry = FindEntry(key);
-  if (entry == nullptr) throw InputError(where + ": " + UnknownKeyMessage(key));
-  Value v;
-  v.text = value;
-  Apply(*entry, v, where, config);
+  Table().Set(key, value, where, config);
 }
 
 void ApplyAlignArguments(const std::string& reference, const std::string& moving,
                          AlignConfig* config) {
-  Value v;
-  v.text = reference;
-  Apply(*FindEntry("reference"), v, "argument REFERENCE", config);
-  v.text = moving;
-  Apply(*FindEntry("moving"), v, "argument MOVING", config);
+  Table().Set("reference", reference, "argument REFERENCE", config);
+  Table().Set("moving", moving, "argument MOVING", config);
 }
 
 void FinishAlignConfig(AlignConfig* config) {

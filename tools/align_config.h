@@ -17,6 +17,7 @@
 
 #include "measure/surface.h"
 #include "registration/align.h"
+#include "tools/config_key.h"
 #include "tools/io/surface_reader.h"
 
 namespace surfreg {
@@ -78,11 +79,7 @@ struct AlignConfig {
   std::string Where(const std::string& key) const;
 };
 
-struct AlignConfigKey {
-  const char* name;
-  const char* type;  // what a value looks like ("an integer >= 1"), for messages and docs
-  const char* help;  // one line
-};
+using AlignConfigKey = ConfigKey;
 
 // Whether `key` is one of the terrain keys (docs/terrain.md): settings that
 // only a single `align` run uses (not sweeps or manifests).

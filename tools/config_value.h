@@ -1,8 +1,9 @@
 #pragma once
-// The values of config keys, shared by the tables of `surfreg align`'s keys
-// (align_config.cc, align_config_terrain.cc): one value from a YAML node or
-// a flag's text, parsed and checked with the same messages either way
-// ("t.yaml:3: key 'cost' expects one of axial, volume, got 'fast'").
+// The values of config keys, shared by every command's key table
+// (config_table.h: align_config.cc, align_config_terrain.cc, jaw_config.cc):
+// one value from a YAML node or a flag's text, parsed and checked with the
+// same messages either way ("t.yaml:3: key 'cost' expects one of axial,
+// volume, got 'fast'").
 // Internal to tools/.
 #include <algorithm>
 #include <array>
@@ -165,12 +166,16 @@ inline std::string Text(const std::array<double, 3>& v, double scale = 1.0) {
 
 inline std::string Text(bool value) { return value ? "true" : "false"; }
 
-// One key: its documentation, how to set it from a value, how to show it.
-struct KeyEntry {
-  AlignConfigKey key;
-  void (*set)(const Value&, AlignConfig*);
-  std::string (*get)(const AlignConfig&);
+// One key of a command's config: its documentation row, how a value sets
+// it, how it reads back as YAML text ("" for a file key naming no file).
+template <typename Config>
+struct Entry {
+  ConfigKey key;
+  void (*set)(const Value&, Config*);
+  std::string (*get)(const Config&);
 };
+
+using KeyEntry = Entry<AlignConfig>;  // align's keys (and the terrain keys)
 
 using C = AlignConfig;
 

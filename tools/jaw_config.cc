@@ -6,12 +6,11 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "measure/input_error.h"
 #include "tools/plot.h"
 #include "tools/atomic_file.h"
+#include "tools/config_table.h"
 #include "tools/config_value.h"
 #include "tools/yaml_value.h"
 #include "tools/face_orientation.h"
@@ -24,11 +23,7 @@ namespace {
 using config_value::Value;
 namespace cv = config_value;
 
-struct Entry {
-  JawConfigKey key;
-  void (*set)(const Value&, JawConfig*);
-  std::string (*get)(const JawConfig&);
-};
+using Entry = cv::Entry<JawConfig>;
 
 std::string Join(const std::vector<std::string>& items) {
   if (items.size() == 1) return items[0];
@@ -39,9 +34,9 @@ std::string Join(const std::vector<std::string>& items) {
 
 const cv::Names<JawCost> kCosts = {{"axial", JawCost::kAxial}, {"volume", JawCost::kVolume}};
 
-const std::vector<Entry>& Table() {
+const config_table::Table<JawConfig>& Table() {
   using C = JawConfig;
-  static const std::vector<Entry> table = {
+  static const config_table::Table<JawConfig> table(std::vector<Entry>{
       {{"frames", "a folder or a list of surface files", "the sequence"},
        [](const Value& v, C* c) {
          c->frames = cv::Items(v);
@@ -114,35 +109,9 @@ const std::vector<Entry>& Table() {
       {{"progress", "true or false", "one line per frame on stderr"},
        [](const Value& v, C* c) { c->progress = cv::Boolean(v); },
        [](const C& c) { return cv::Text(c.progress); }},
-  };
+  });
   return table;
 }
-
-const Entry* Find(const std::string& name) {
-  for (const Entry& entry : Table()) {
-    if (name == entry.key.name) return &entry;
-  }
-  return nullptr;
-}
-
-[[noreturn]] void Unknown(const std::string& at, const std::string& name) {
-  const std::string nearest = NearestJawKey(name);
-  if (!nearest.empty()) {
-    throw InputError(at + "unknown key '" + name + "' (did you mean '" + nearest + "'?)");
-  }
-  std::string known;
-  for (const Entry& entry : Table()) known += std::string(known.empty() ? "" : ", ") + entry.key.name;
-  throw InputError(at + "unknown key '" + name + "' (known keys: " + known + ")");
-}
-
-void Apply(const Entry& entry, Value value, const std::string& where, JawConfig* config) {
-  value.where = where;
-  value.expected = entry.key.type;
-  entry.set(value, config);
-  config->origin[entry.key.name] = where;
-}
-
-
 
 bool IsSurfaceFile(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
@@ -252,79 +221,20 @@ std::string JawConfig::Where(const std::string& key) const {
   return (config_file.empty() ? "" : config_file + ": ") + "key '" + key + "'";
 }
 
-const std::vector<JawConfigKey>& JawConfigKeys() {
-  static const std::vector<JawConfigKey> keys = [] {
-    std::vector<JawConfigKey> out;
-    for (const Entry& entry : Table()) out.push_back(entry.key);
-    return out;
-  }();
-  return keys;
-}
+const std::vector<JawConfigKey>& JawConfigKeys() { return Table().keys(); }
 
-std::string JawConfigValue(const JawConfig& config, const std::string& key) {
-  const Entry* entry = Find(key);
-  if (entry == nullptr) Unknown("", key);
-  return entry->get(config);
-}
+std::string JawConfigValue(const JawConfig& config, const std::string& key) { return Table().Get(config, key); }
 
-std::string NearestJawKey(const std::string& name) {
-  std::string best;
-  std::size_t best_distance = std::max<std::size_t>(2, name.size() / 3) + 1;
-  for (const Entry& entry : Table()) {
-    const std::string key = entry.key.name;
-    std::size_t d = cv::EditDistance(name, key);
-    if (name.size() >= 4 && (key.find(name) != std::string::npos || name.find(key) != std::string::npos)) d = 1;
-    if (d < best_distance) {
-      best_distance = d;
-      best = key;
-    }
-  }
-  return best;
-}
+std::string NearestJawKey(const std::string& name) { return Table().Nearest(name); }
 
 void ApplyJawYaml(const std::string& yaml_text, const std::string& file, JawConfig* config) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(cv::YamlAt(file, e.mark) + "not valid YAML: " + e.msg);
-  }
-  if (!root.IsMap()) throw InputError(file + ": expected a YAML mapping of 'key: value' lines");
-  try {
-    std::map<std::string, int> seen;
-    for (const auto& pair : root) {
-      const std::string at = cv::YamlAt(file, pair.first.Mark());
-      if (!pair.first.IsScalar()) throw InputError(at + "expected a key name, found a list or mapping");
-      const std::string name = pair.first.Scalar();
-      const Entry* entry = Find(name);
-      if (entry == nullptr) Unknown(at, name);
-      const auto [previous, inserted] = seen.emplace(name, pair.first.Mark().line + 1);
-      if (!inserted) {
-        throw InputError(at + "key '" + name + "' given twice (also at line " +
-                         std::to_string(previous->second) + ")");
-      }
-      Apply(*entry, cv::FromYaml(pair.second), at + "key '" + name + "'", config);
-    }
-  } catch (const YAML::Exception& e) {
-    throw InputError(cv::YamlAt(file, e.mark) + e.msg);
-  }
+  Table().ApplyYaml(yaml_text, file, config);
 }
 
-void ApplyJawConfigFile(const std::string& path, JawConfig* config) {
-  std::ifstream in(path);
-  if (!in) throw InputError("flag '--config': cannot read '" + path + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  config->config_file = path;
-  ApplyJawYaml(text.str(), path, config);
-}
+void ApplyJawConfigFile(const std::string& path, JawConfig* config) { Table().ApplyFile(path, config); }
 
 void ApplyJawFlag(const std::string& key, const std::string& value, JawConfig* config) {
-  const Entry* entry = Find(key);
-  if (entry == nullptr) Unknown("flag '--" + key + "': ", key);
-  Value v;
-  v.text = value;
-  Apply(*entry, v, "flag '--" + key + "'", config);
+  Table().ApplyFlag(key, value, config);
 }
 
 void FinishJawConfig(JawConfig* config) {

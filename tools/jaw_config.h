@@ -35,6 +35,7 @@
 
 #include "registration/face_frame.h"
 #include "registration/jaw.h"
+#include "tools/config_key.h"
 
 namespace surfreg {
 
@@ -58,11 +59,7 @@ struct JawConfig {
   static FaceFrameOptions AsIsOrientation();
 };
 
-struct JawConfigKey {
-  const char* name;
-  const char* type;  // what a value looks like, for messages
-  const char* help;  // one line
-};
+using JawConfigKey = ConfigKey;
 
 // Every key, in the order of the documentation above.
 const std::vector<JawConfigKey>& JawConfigKeys();
