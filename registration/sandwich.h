@@ -3,10 +3,11 @@
 // sandwich (Huber–White) estimate clustered over tiles of the overlap,
 //   C = H⁻¹ M H⁻¹,
 // with H the Hessian of the per-area cost f(θ) at the solution (central
-// differences of its exact gradient, over steps of about the motion's own
-// uncertainty: the L1 cost has a kink at every cell whose gap changes sign,
-// so only a step that spans many of them sees the curvature that governs
-// the estimate), and M the spread of the gradient's contributions of the
+// differences of its exact gradient over the given steps: the exact
+// overlay integral of |gap| is smooth enough that small steps give its
+// curvature at the solution, the line integral along the gap's zero set,
+// which governs the estimate as the density of residuals at 0 does an L1
+// regression's), and M the spread of the gradient's contributions of the
 // tiles, Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − 1). Whole tiles, not cells,
 // so that residuals correlated within a tile (a shared triangle's error,
 // a sampling pattern) count as they do; the information estimate sees
@@ -30,8 +31,8 @@ struct SandwichEstimate {
 };
 
 // At the state's θ (state.Update must have succeeded; the state is left at
-// θ). `step`: the central-difference step per parameter (θ units; e.g. the
-// information σ), shrunk where a step folds the moving surface. Not ok with
+// θ). `step`: the central-difference step per parameter (θ units; Align
+// uses 1% of the information σ), shrunk where a step folds the moving surface. Not ok with
 // fewer tiles than 2 × free parameters, or an H that is not positive
 // definite (then the caller keeps the information estimate).
 // `cache`: an overlay cache bound to `state` (the volume solve's, at its
