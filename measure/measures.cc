@@ -4,9 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <stdexcept>
-#include <thread>
 
 #include "measure/delaunay.h"
 #include "measure/gap_volume.h"
@@ -14,6 +12,7 @@
 #include "measure/input_error.h"
 #include "measure/locator.h"
 #include "measure/predicates.h"
+#include "measure/run_both.h"
 #include "measure/overlay.h"
 #include "measure/spanning_tree.h"
 #include "measure/spatial_sort.h"
@@ -93,33 +92,6 @@ void CheckDomain(const Surface& s, const Prepared& p, const DomainRule& rule, co
                    (rule.grid ? "no raster cell has all four corners valid"
                               : "every triangle bridges a gap or is an outline sliver") +
                    "); 'domain: hull' measures over the convex hull instead");
-}
-
-// Runs first() here and second() on another thread (or both here when not
-// parallel); an exception from either is rethrown after both finished.
-template <typename First, typename Second>
-void RunBoth(bool parallel, First&& first, Second&& second) {
-  if (!parallel) {
-    first();
-    second();
-    return;
-  }
-  std::exception_ptr error;
-  std::thread worker([&] {
-    try {
-      second();
-    } catch (...) {
-      error = std::current_exception();
-    }
-  });
-  try {
-    first();
-  } catch (...) {
-    worker.join();
-    throw;
-  }
-  worker.join();
-  if (error) std::rethrow_exception(error);
 }
 
 }  // namespace

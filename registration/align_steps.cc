@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 #include <random>
 #include <string>
 
 #include "measure/input_error.h"
+#include "measure/run_both.h"
 #include "measure/weights.h"
 #include "registration/wide_search.h"
 
@@ -38,26 +38,6 @@ std::array<double, 6> Perturbed(const std::array<double, 6>& theta, int s,
   return out;
 }
 
-// The reference's side on another thread while this one prepares the
-// moving side (the two are independent); an exception from either is
-// rethrown once both are done.
-template <typename Reference, typename Moving>
-void BothSides(bool parallel, Reference&& prepare_reference, Moving&& prepare_moving) {
-  if (!parallel) {
-    prepare_reference();
-    prepare_moving();
-    return;
-  }
-  std::future<void> other = std::async(std::launch::async, std::forward<Reference>(prepare_reference));
-  try {
-    prepare_moving();
-  } catch (...) {
-    other.wait();
-    throw;
-  }
-  other.get();
-}
-
 }  // namespace
 
 void CheckPerPointWeights(const Surface& reference, const AlignOptions& options) {
@@ -84,7 +64,7 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
     const double keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1 - l));
     auto level = std::make_unique<Level>();
     Level* out = level.get();
-    BothSides(options.num_threads > 1, [&] {
+    RunBoth(options.num_threads > 1, [&] {
       out->reference = PrepareReference(reference, keep, options.domain);  // weights kept per point
       if (options.weight != WeightMode::kPerPoint) out->reference.weight.clear();
       if (options.cost == CostKind::kVolume) {
@@ -148,7 +128,7 @@ std::optional<Level> PrealignSides(const Surface& reference, const Surface& movi
   if (options.cost != CostKind::kVolume || !options.prealign || std::min(keep_a, keep_b) >= 1) return sides;
   const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
   sides.emplace();
-  BothSides(options.num_threads > 1, [&] {
+  RunBoth(options.num_threads > 1, [&] {
     sides->reference = PrepareReference(reference, level_keep * keep_a, options.domain);
     if (options.weight != WeightMode::kPerPoint) sides->reference.weight.clear();
   }, [&] { sides->moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain); });

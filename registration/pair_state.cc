@@ -1,8 +1,8 @@
 #include "registration/pair_state.h"
 
 #include <algorithm>
-#include <future>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -10,6 +10,7 @@
 #include "measure/grid_mesh.h"
 #include "measure/input_error.h"
 #include "measure/predicates.h"
+#include "measure/run_both.h"
 #include "measure/spatial_sort.h"
 
 namespace surfreg {
@@ -408,14 +409,8 @@ template <typename AInB, typename BInA>
 void PairState::BothWays(AInB&& a_in_b, BInA&& b_in_a) const {
   // A thread costs tens of microseconds: worth it on large clouds only.
   constexpr std::size_t kParallelPoints = 20000;
-  if (!parallel_ || reference_.xy.size() + moved_xy_.size() < kParallelPoints) {
-    a_in_b();
-    b_in_a();
-    return;
-  }
-  std::future<void> other = std::async(std::launch::async, std::forward<BInA>(b_in_a));
-  a_in_b();
-  other.get();
+  RunBoth(parallel_ && reference_.xy.size() + moved_xy_.size() >= kParallelPoints, std::forward<AInB>(a_in_b),
+          std::forward<BInA>(b_in_a));
 }
 
 bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
