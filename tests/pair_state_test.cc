@@ -275,6 +275,76 @@ TEST(PairStateTest, FixedSurfaceKeepsItsTrianglesThroughJunkFolds) {
   CheckLocations(state);
 }
 
+// FoldsAt counts what Update would (the same stats on a fresh state) without
+// re-meshing; an Update after it locates as a fresh state does.
+TEST(PairStateTest, FoldsAtCountsWithoutRemeshing) {
+  const auto sides = TerrainSides(1500, 1500, 0, 100, nullptr, DomainRule());
+  const Theta tilted = {5 * M_PI / 180, 0, 0, 0.5, -0.5, 0};
+  PairState counted(sides->reference, sides->moving), updated(sides->reference, sides->moving);
+  UpdateStats only_count, full;
+  ASSERT_TRUE(counted.FoldsAt(tilted, &only_count));
+  ASSERT_TRUE(updated.Update(tilted, &full));
+  EXPECT_GT(full.folded, 0) << "nothing folded: the test lost its point";
+  EXPECT_EQ(only_count.folded, full.folded);
+  EXPECT_EQ(only_count.folded_active, full.folded_active);
+  EXPECT_EQ(only_count.folded_area_fraction, full.folded_area_fraction);
+  EXPECT_EQ(counted.remeshes(), 0);
+  EXPECT_EQ(updated.remeshes(), 1);
+  ASSERT_TRUE(counted.Update(tilted));
+  ExpectUnfolded(counted);
+  CheckLocations(counted);
+  // Beyond the fold limit it fails as Update does.
+  PairState steep(sides->reference, sides->moving, 0.01);
+  EXPECT_FALSE(steep.FoldsAt({100 * M_PI / 180, 0, 0, 0, 0, 0}, nullptr));
+}
+
+// Fixed before its first Update at a pose where a steep band of B's data
+// turns over, B re-meshes once, around the same surface that a free
+// re-mesh (B's Delaunay there) followed by FixSurface keeps with two, and
+// is located there.
+TEST(PairStateTest, FixedBeforeTheFirstUpdateRemeshesOnce) {
+  const auto cliff = [](double x, double) { return 30.0 * std::tanh((x - 50.0) / 0.4); };  // up to 89.8°
+  const auto sides = MakeSides(testing::SampleUniform(cliff, 1500, 0, 100, 0, 100, 11),
+                               testing::SampleUniform(cliff, 1500, 0, 100, 0, 100, 23), nullptr, DomainRule());
+  const Theta tilted = {0, -5 * M_PI / 180, 0, 0.5, -0.5, 0};
+  PairState fixed_first(sides->reference, sides->moving, 0.5), free_first(sides->reference, sides->moving, 0.5);
+  UpdateStats stats;
+  PairState probe(sides->reference, sides->moving, 0.5);
+  ASSERT_TRUE(probe.FoldsAt(tilted, &stats));
+  ASSERT_GT(stats.folded_active, 0) << "no data triangle turns over: the test lost its point";
+  fixed_first.MoveTo(tilted);
+  fixed_first.FixSurface(80.0);
+  ASSERT_TRUE(fixed_first.Update(tilted));
+  ASSERT_TRUE(free_first.Update(tilted));
+  free_first.FixSurface(80.0);
+  EXPECT_EQ(fixed_first.remeshes(), 1);
+  EXPECT_EQ(free_first.remeshes(), 2);
+  EXPECT_EQ(ActiveTriples(fixed_first), ActiveTriples(free_first));
+  EXPECT_EQ(fixed_first.surface_key(), free_first.surface_key());
+  ExpectUnfolded(fixed_first);
+  CheckLocations(fixed_first);
+}
+
+// Located on two threads (large clouds), every location is the one found on
+// one thread, from scratch and walking.
+TEST(PairStateTest, TwoThreadLocationsEqualOneThreads) {
+  const auto sides = TerrainSides(15000, 12000, 0, 100);
+  PairState one(sides->reference, sides->moving), two(sides->reference, sides->moving);
+  two.set_parallel(true);
+  for (const Theta& theta : {Theta{0.002, -0.001, 0.01, 1.0, 0.5, 0.1}, Theta{0.0021, -0.001, 0.0102, 1.01, 0.49, 0.1}}) {
+    UpdateStats stats_one, stats_two;
+    ASSERT_TRUE(one.Update(theta, &stats_one));
+    ASSERT_TRUE(two.Update(theta, &stats_two));
+    EXPECT_EQ(stats_one.walk_steps, stats_two.walk_steps);
+    for (std::size_t i = 0; i < one.a_in_b().size(); ++i) {
+      ASSERT_EQ(one.a_in_b()[i].triangle, two.a_in_b()[i].triangle) << i;
+    }
+    for (std::size_t j = 0; j < one.b_in_a().size(); ++j) {
+      ASSERT_EQ(one.b_in_a()[j].triangle, two.b_in_a()[j].triangle) << j;
+    }
+  }
+}
+
 // A fixed surface is one function of θ: the axial residuals and the volume
 // cost at a pose are the same before and after B went through junk folds
 // and re-meshes elsewhere (a solver compares values across its steps; a
