@@ -92,27 +92,18 @@ Information StddevAt(PairState& state, const SolveContext& context, const AlignO
   const bool sandwich_wanted = options.stddev_method == AlignOptions::StddevMethod::kSandwich &&
                                options.compute_covariance && options.stddev_subsamples == 0 && info.covariance_ok;
   if (!sandwich_wanted) return info;
-  // The bread's central differences: for the volume cost over 1% of the
-  // information σ, for the axial cost over all of it. The volume cost is
-  // an exact integral over the overlay, smooth enough that small steps give
-  // its curvature at the solution itself (the line integral along the
-  // gap's zero set), which sets the estimate's spread; over the information
-  // σ, 10-100 × wider than the actual errors on clean surfaces, it was
-  // averaged far from the solution and made clean faces' σ 30 × too
-  // cautious. On the 120 peer pairs, steps of 1, 0.3, 0.1, 0.03, 0.01 and
-  // 0.003 × gave faces a median |error| / σ of 0.16, 0.21, 0.28, 0.37, 0.43
-  // and 0.46 and left every terrain family as it was (their costs curve
-  // alike at both scales). The axial cost jumps as nodes enter and leave Ω:
-  // small steps there see those jumps (1.15 → 1.81 RMS error / σ under
-  // Gaussian noise, stddev_calibration_test).
-  constexpr double kVolumeBreadStep = 0.01;
-  const double factor = options.cost == CostKind::kAxial ? 1.0 : kVolumeBreadStep;
-  std::array<double, 6> step{};
-  for (int i = 0; i < 6; ++i) step[i] = factor * std::sqrt(std::max(0.0, info.covariance(i, i)));
-  const SandwichEstimate sandwich = options.cost == CostKind::kAxial
-                                        ? AxialSandwichCovariance(state, context, step)
-                                        : solved != nullptr ? SandwichCovariance(*solved, context, step, cache)
-                                                            : SandwichCovariance(state, context, step);
+  // The axial bread's central differences span the information σ: the
+  // axial cost jumps as nodes enter and leave Ω, and small steps there see
+  // those jumps (1.15 → 1.81 RMS error / σ under Gaussian noise,
+  // stddev_calibration_test). The volume cost's bread is in closed form.
+  const SandwichEstimate sandwich = [&] {
+    if (options.cost != CostKind::kAxial) {
+      return solved != nullptr ? SandwichCovariance(*solved, context, cache) : SandwichCovariance(state, context);
+    }
+    std::array<double, 6> step{};
+    for (int i = 0; i < 6; ++i) step[i] = std::sqrt(std::max(0.0, info.covariance(i, i)));
+    return AxialSandwichCovariance(state, context, step);
+  }();
   if (sandwich.ok) {
     info.covariance = sandwich.covariance;
     *source = "sandwich over " + std::to_string(sandwich.tiles) + " tiles";

@@ -13,6 +13,7 @@
 #include "registration/axial_cost.h"
 #include "registration/volume_accumulator.h"
 #include "registration/volume_cost.h"
+#include "registration/volume_hessian.h"
 
 namespace surfreg {
 namespace {
@@ -177,13 +178,12 @@ std::vector<int> FreeParameters(const AlignOptions& options) {
 
 }  // namespace
 
-SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& context,
-                                    const std::array<double, 6>& step, VolumeCostCache* given_cache) {
+SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& context,
+                                    VolumeCostCache* given_cache) {
   SandwichEstimate out;
   const AlignOptions& options = *context.options;
   const MaskRegion* mask =
       context.axial.mask.get();
-  const std::array<double, 6> theta = state.theta();
   const std::vector<int> free = FreeParameters(options);
   const int n = static_cast<int>(free.size());
   if (n == 0) return out;
@@ -192,7 +192,7 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   // evaluation at θ that starts the bread's cache (each moved B triangle's
   // share, by its centroid); masked, from a pass over the cells.
   const bool parallel = options.num_threads > 1;
-  std::optional<VolumeCostCache> own_cache;  // the bread's steps are small: repaired, not rebuilt
+  std::optional<VolumeCostCache> own_cache;
   if (given_cache == nullptr) own_cache.emplace(0.25, options.cell_kernel);
   VolumeCostCache& cache = given_cache != nullptr ? *given_cache : *own_cache;
   std::vector<TileSums> fine;
@@ -218,32 +218,11 @@ SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& contex
   for (const TileSums& t : tiles) scores.push_back((t.d_abs - f * t.d_area) / area);
   const Matrix6 meat = ScoreSpread(scores);
 
-  // The bread: central differences of the exact gradient (forward ones
-  // from the solution are not symmetric enough on a kinked cost: on a face
-  // they gave an H with a negative eigenvalue).
-  Matrix6 hessian = Matrix6::Zero();
-  for (int k : free) {
-    bool done = false;
-    for (double h = step[k]; !done && h > 0 && std::isfinite(h) && h > 1e-6 * step[k]; h *= 0.25) {
-      Vector6 g[2];
-      done = true;
-      for (int side = 0; side < 2 && done; ++side) {
-        std::array<double, 6> at = theta;
-        at[k] += side == 0 ? h : -h;
-        const VolumeCostValue value = state.Update(at) ? cache.Evaluate(state, true, parallel, mask)
-                                                       : VolumeCostValue{};  // folds B: a shorter step
-        done = value.area > 0;
-        g[side] = value.PerAreaGradient();
-      }
-      if (done) hessian.col(k) = (g[0] - g[1]) / (2 * h);
-    }
-    if (!done) {
-      state.Update(theta);
-      return out;
-    }
-  }
-  state.Update(theta);
-
+  // The bread: the cost's curvature from its zero set and B's kinks
+  // (registration/volume_hessian.h), one pass over the cells at θ.
+  const Matrix6 hessian =
+      (mask == nullptr ? cache.InteriorHessian(state, parallel) : InteriorVolumeHessian(state, parallel, mask)) /
+      area;
   out.ok = Sandwich(hessian, meat, free, context.rotation_scale, &out.covariance);
   return out;
 }

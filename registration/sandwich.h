@@ -2,13 +2,11 @@
 // The motion's covariance for the volume cost actually minimized: a
 // sandwich (Huber–White) estimate clustered over tiles of the overlap,
 //   C = H⁻¹ M H⁻¹,
-// with H the Hessian of the per-area cost f(θ) at the solution (central
-// differences of its exact gradient over the given steps: the exact
-// overlay integral of |gap| is smooth enough that small steps give its
-// curvature at the solution, the line integral along the gap's zero set,
-// which governs the estimate as the density of residuals at 0 does an L1
-// regression's), and M the spread of the gradient's contributions of the
-// tiles, Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − 1). Whole tiles, not cells,
+// with H the curvature of the per-area cost f(θ) at the solution (its line
+// integral along the gap's zero set and its kinks along B's edges,
+// registration/volume_hessian.h: what governs the estimate as the density
+// of residuals at 0 does an L1 regression's), and M the spread of the
+// gradient's contributions of the tiles, Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − 1). Whole tiles, not cells,
 // so that residuals correlated within a tile (a shared triangle's error,
 // a sampling pattern) count as they do; the information estimate sees
 // neither the L1 cost nor that correlation.
@@ -30,15 +28,12 @@ struct SandwichEstimate {
   int tiles = 0;  // tiles that held overlap
 };
 
-// At the state's θ (state.Update must have succeeded; the state is left at
-// θ). `step`: the central-difference step per parameter (θ units; Align
-// uses 1% of the information σ), shrunk where a step folds the moving surface. Not ok with
-// fewer tiles than 2 × free parameters, or an H that is not positive
-// definite (then the caller keeps the information estimate).
-// `cache`: an overlay cache bound to `state` (the volume solve's, at its
-// solution), else a new one.
-SandwichEstimate SandwichCovariance(PairState& state, const SolveContext& context,
-                                    const std::array<double, 6>& step, VolumeCostCache* cache = nullptr);
+// At the state's θ (state.Update must have succeeded). Not ok with fewer tiles than 2 × free parameters, or an H that
+// is not positive definite (then the caller keeps the information
+// estimate). `cache`: an overlay cache bound to `state` (the volume
+// solve's, at its solution), else a new one.
+SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& context,
+                                    VolumeCostCache* cache = nullptr);
 
 // The same for the axial cost at the state's θ: H by central differences
 // of Jᵀr, M the spread of the tiles' shares of Jᵀr (nodes binned where

@@ -111,6 +111,10 @@ class VolumeCostCache {
   // shares too, at no extra pass over the cells.
   VolumeCostValue Evaluate(const PairState& state, bool gradient, bool parallel,
                            const MaskRegion* mask = nullptr, GradientBins* bins = nullptr);
+  // InteriorVolumeHessian (registration/volume_hessian.h) without a mask,
+  // from the overlay the last Evaluate kept: call it right after an
+  // unmasked Evaluate of `state` at its current θ.
+  Eigen::Matrix<double, 6, 6> InteriorHessian(const PairState& state, bool parallel) const;
   void Reset();  // the next Evaluate builds the whole overlay
   const VolumeCostCacheStats& stats() const;
 

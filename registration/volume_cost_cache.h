@@ -3,7 +3,9 @@
 // keeps between evaluations, shared by volume_cost.cc (binding, dirty
 // marking, the evaluation) and volume_cost_integrate.cc (the cell loops).
 // Not a public interface.
+#include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -70,6 +72,47 @@ inline Gradient2 GradientOf(const Point2& p0, const Point2& p1, const Point2& p2
 
 }  // namespace volume_internal
 
+// The cell loops' corners (volume_cost_integrate.cc, volume_cost_hessian.cc).
+// The endpoints of edge i (opposite corner i) in global index order, as
+// CellCorners orders them (so a crossing is the same point in every cell).
+constexpr int kFirst[3] = {1, 2, 0}, kSecond[3] = {2, 0, 1};
+
+// What a cell's corners are computed from: T_A's corners (0-2) and the
+// current T_B's (3-5), and T_A's edges in global index order.
+struct CellFrame {
+  double cx6[6], cy6[6];
+  double e0x[3], e0y[3], ex[3], ey[3];
+};
+
+inline CellFrame FrameOfA(const int32_t* ia, const std::vector<Point2>& xa) {
+  CellFrame f;
+  for (int k = 0; k < 3; ++k) f.cx6[k] = xa[ia[k]].x, f.cy6[k] = xa[ia[k]].y;
+  for (int i = 0; i < 3; ++i) {
+    int p0 = kFirst[i], p1 = kSecond[i];
+    if (ia[p0] > ia[p1]) std::swap(p0, p1);
+    f.e0x[i] = f.cx6[p0], f.e0y[i] = f.cy6[p0];
+    f.ex[i] = f.cx6[p1] - f.cx6[p0], f.ey[i] = f.cy6[p1] - f.cy6[p0];
+  }
+  return f;
+}
+
+// A cell's corner from its topology code (q0, q1: T_B's edges in global
+// index order): every corner computed as if a crossing (cheap, no branch),
+// then the vertex corners picked instead, as CellCorners without its switch.
+inline Point2 CornerOf(uint8_t code, const CellFrame& f, const int* q0, const int* q1) {
+  const int i = (code >> 2) & 3, j = (code >> 4) & 3, kind = code & 3;
+  const int r = q0[j], w = q1[j];
+  const double vr = f.ex[i] * (f.cy6[r] - f.e0y[i]) - f.ey[i] * (f.cx6[r] - f.e0x[i]);
+  const double vs = f.ex[i] * (f.cy6[w] - f.e0y[i]) - f.ey[i] * (f.cx6[w] - f.e0x[i]);
+  const double denominator = vr - vs;
+  double t = denominator != 0.0 ? vr / denominator : 0.5;
+  t = std::min(1.0, std::max(0.0, t));
+  const int vertex = kind == kCornerB ? 3 + i : i;
+  const bool cross = kind == kCornerCross;
+  return {cross ? f.cx6[r] + t * (f.cx6[w] - f.cx6[r]) : f.cx6[vertex],
+          cross ? f.cy6[r] + t * (f.cy6[w] - f.cy6[r]) : f.cy6[vertex]};
+}
+
 struct VolumeCostCache::Impl {
   double max_dirty_fraction;
   VolumeCostCacheStats stats;
@@ -119,6 +162,8 @@ struct VolumeCostCache::Impl {
                      int part, VolumeCostValue* out);
   void Generic(const PairState& s, bool gradient, const MaskRegion* mask,
                int32_t lo, int32_t hi, VolumeCostValue* out);
+  template <bool kWeighted>
+  void Curvature(const PairState& s, int32_t lo, int32_t hi, Eigen::Matrix<double, 6, 6>* out) const;
 };
 
 // The internal names both of the cache's files use.

@@ -1,0 +1,224 @@
+// VolumeCostCache::InteriorHessian: the two line terms of
+// registration/volume_hessian.h over the overlay the cache keeps, cell by
+// cell as the scalar kernel walks them (volume_cost_integrate.cc).
+#include <cmath>
+#include <thread>
+
+#include <Eigen/Geometry>
+
+#include "registration/volume_cost_cache.h"
+#include "registration/volume_hessian.h"
+
+namespace surfreg {
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
+
+// The edges of T_B (bit j: edge j, opposite corner j) a cell corner lies on.
+inline int EdgesOfCorner(uint8_t code) {
+  const int i = (code >> 2) & 3, j = (code >> 4) & 3;
+  switch (code & 3) {
+    case kCornerB: return 7 & ~(1 << i);  // a vertex of T_B: its two edges
+    case kCornerCross: return 1 << j;
+    default: return 0;  // a vertex of T_A
+  }
+}
+
+// The moved B triangle's material point q and velocity rows, affine in xy
+// relative to its corner 0.
+struct MovedFrame {
+  double inv[4];
+  Eigen::Vector3d q0, dq1, dq2, normal;
+  Eigen::Matrix3d mt;
+  Eigen::Vector3d Q(double x, double y) const {
+    return q0 + (inv[0] * x + inv[1] * y) * dq1 + (inv[2] * x + inv[3] * y) * dq2;
+  }
+  // g = ∂_θF̂_B' (rows: −Mᵀ(n × q), n).
+  Vector6 G(double x, double y) const {
+    Vector6 g;
+    g.head<3>() = -(mt * normal.cross(Q(x, y)));
+    g.tail<3>() = normal;
+    return g;
+  }
+  // w = ν·u_xy for an edge of normal ν (rows: Mᵀ(q × ν), ν).
+  Vector6 W(double x, double y, const Eigen::Vector3d& nu) const {
+    Vector6 w;
+    w.head<3>() = mt * Q(x, y).cross(nu);
+    w.tail<3>() = nu;
+    return w;
+  }
+};
+
+}  // namespace
+
+template <bool kWeighted>
+void VolumeCostCache::Impl::Curvature(const PairState& s, int32_t lo, int32_t hi, Matrix6* out) const {
+  const Triangulation& mesh_a = reference->mesh;
+  const Triangulation& mesh_b = s.moving_mesh();
+  const auto& xa = reference->xy;
+  const auto& za = reference->z;
+  const auto& xb = s.moved_xy();
+  const auto& zb = s.moved_z();
+  const auto& q = s.moved_q();
+  const std::vector<uint8_t>& active_b = s.active_b();
+  MovedFrame frame_b;
+  frame_b.mt = s.derivative().m.transpose();
+  Matrix6 h = Matrix6::Zero();
+  for (int32_t ta = lo; ta < hi; ++ta) {
+    const int32_t count = topology.count_of(ta);
+    if (count == 0) continue;
+    const TopologyCell* list = topology.cells_of(ta);
+    const int32_t* ia = &mesh_a.triangles[3 * ta];
+    CellFrame frame = FrameOfA(ia, xa);
+    double* cx6 = frame.cx6;
+    double* cy6 = frame.cy6;
+    const Gradient2 ga = {record_a[ta].gx, record_a[ta].gy};
+    const double za0 = za[ia[0]];
+    const volume_internal::WeightPlane mu = kWeighted ? weight_a[ta] : volume_internal::WeightPlane{};
+    for (int32_t c = 0; c < count; ++c) {
+      const TopologyCell& tc = list[c];
+      const int32_t tb = tc.triangle_b;
+      const int32_t* ib = &mesh_b.triangles[3 * tb];
+      for (int k = 0; k < 3; ++k) cx6[3 + k] = xb[ib[k]].x, cy6[3 + k] = xb[ib[k]].y;
+      int q0[3], q1[3];
+      for (int j = 0; j < 3; ++j) {
+        const bool swap = ib[kFirst[j]] > ib[kSecond[j]];
+        q0[j] = 3 + (swap ? kSecond[j] : kFirst[j]);
+        q1[j] = 3 + (swap ? kFirst[j] : kSecond[j]);
+      }
+      const int n = tc.num_corners;
+      const TriangleRecord& fb = record_b[tb];
+      const double bx = cx6[3], by = cy6[3];
+      const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
+      const double dgx = fb.gx - ga.gx, dgy = fb.gy - ga.gy;
+      const double mu0 = kWeighted ? mu.m0 + mu.gx * (bx - cx6[0]) + mu.gy * (by - cy6[0]) : 1.0;
+      auto mu_at = [&](double x, double y) { return kWeighted ? mu0 + mu.gx * x + mu.gy * y : 1.0; };
+      double x[8], y[8], d[8];
+      bool positive = false, negative = false;
+      int zeros = 0;
+      for (int k = 0; k < n; ++k) {
+        const Point2 p = CornerOf(tc.corner[k], frame, q0, q1);
+        x[k] = p.x - bx;
+        y[k] = p.y - by;
+        d[k] = d0 + dgx * x[k] + dgy * y[k];
+        positive |= d[k] > 0;
+        negative |= d[k] < 0;
+        zeros += d[k] == 0;
+      }
+      // Which of T_B's edges the cell's sides lie on, and whether any of
+      // them is an inner edge this cell counts (the one with the lower B
+      // triangle index takes an edge between two cells).
+      int sides = 0;
+      for (int j = 0; j < 3; ++j) {
+        const int32_t next = mesh_b.neighbors[3 * tb + j];
+        if (next > tb && active_b[next]) sides |= 1 << j;
+      }
+      // d = 0 crosses the cell, or lies along a side of it: that side is
+      // taken by the cell on its d > 0 side only (once).
+      const bool zero_line = positive && (negative || zeros >= 2);
+      if (!zero_line && sides == 0) continue;
+      bool frame_set = false;
+      auto set_frame = [&] {
+        if (frame_set) return;
+        frame_set = true;
+        const double ax = cx6[4] - bx, ay = cy6[4] - by, ex = cx6[5] - bx, ey = cy6[5] - by;
+        const double det = ax * ey - ay * ex;
+        frame_b.inv[0] = ey / det, frame_b.inv[1] = -ex / det;
+        frame_b.inv[2] = -ay / det, frame_b.inv[3] = ax / det;
+        frame_b.q0 = q[ib[0]];
+        frame_b.dq1 = q[ib[1]] - q[ib[0]];
+        frame_b.dq2 = q[ib[2]] - q[ib[0]];
+        frame_b.normal = Eigen::Vector3d(-fb.gx, -fb.gy, 1.0);
+      };
+      if (zero_line) {
+        double ex[2], ey[2];
+        int ends = 0;
+        for (int k = 0; k < n && ends < 2; ++k) {
+          const int l = k + 1 == n ? 0 : k + 1;
+          if (d[k] == 0) {
+            ex[ends] = x[k], ey[ends] = y[k], ++ends;
+          } else if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
+            const double t = d[k] / (d[k] - d[l]);
+            ex[ends] = x[k] + t * (x[l] - x[k]), ey[ends] = y[k] + t * (y[l] - y[k]), ++ends;
+          }
+        }
+        const double length = ends == 2 ? std::hypot(ex[1] - ex[0], ey[1] - ey[0]) : 0.0;
+        if (length > 0) {
+          set_frame();
+          const double mx = 0.5 * (ex[0] + ex[1]), my = 0.5 * (ey[0] + ey[1]);
+          const Vector6 g0 = frame_b.G(ex[0], ey[0]), gm = frame_b.G(mx, my), g1 = frame_b.G(ex[1], ey[1]);
+          const double scale = 2.0 * length / (6.0 * std::hypot(dgx, dgy));
+          h.noalias() += scale * (mu_at(ex[0], ey[0]) * g0 * g0.transpose() +
+                                  4.0 * mu_at(mx, my) * gm * gm.transpose() +
+                                  mu_at(ex[1], ey[1]) * g1 * g1.transpose());
+        }
+      }
+      if (sides == 0) continue;
+      for (int k = 0; k < n; ++k) {
+        const int l = k + 1 == n ? 0 : k + 1;
+        const int on = EdgesOfCorner(tc.corner[k]) & EdgesOfCorner(tc.corner[l]) & sides;
+        if (on == 0) continue;
+        const int j = (on & 1) ? 0 : (on & 2) ? 1 : 2;
+        const double sx = x[l] - x[k], sy = y[l] - y[k];
+        const double length = std::hypot(sx, sy);
+        if (!(length > 0)) continue;
+        set_frame();
+        // ν pointing out of T_B (away from its corner j), and the kink κ.
+        Eigen::Vector3d nu(sy / length, -sx / length, 0.0);
+        if ((cx6[3 + j] - bx - x[k]) * nu.x() + (cy6[3 + j] - by - y[k]) * nu.y() > 0) nu = -nu;
+        const TriangleRecord& other = record_b[mesh_b.neighbors[3 * tb + j]];
+        const double kink = (other.gx - fb.gx) * nu.x() + (other.gy - fb.gy) * nu.y();
+        if (kink == 0) continue;
+        double cuts[3] = {0.0, 1.0, 1.0};
+        int pieces = 1;
+        if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
+          cuts[1] = d[k] / (d[k] - d[l]);
+          pieces = 2;
+        }
+        for (int p = 0; p < pieces; ++p) {
+          const double a0 = cuts[p], a1 = cuts[p + 1], am = 0.5 * (a0 + a1);
+          const double dm = d[k] + am * (d[l] - d[k]);
+          if (dm == 0) continue;
+          const double px[3] = {x[k] + a0 * sx, x[k] + am * sx, x[k] + a1 * sx};
+          const double py[3] = {y[k] + a0 * sy, y[k] + am * sy, y[k] + a1 * sy};
+          const Vector6 w0 = frame_b.W(px[0], py[0], nu), wm = frame_b.W(px[1], py[1], nu),
+                        w1 = frame_b.W(px[2], py[2], nu);
+          const double scale = (dm > 0 ? 1.0 : -1.0) * kink * (a1 - a0) * length / 6.0;
+          h.noalias() += scale * (mu_at(px[0], py[0]) * w0 * w0.transpose() +
+                                  4.0 * mu_at(px[1], py[1]) * wm * wm.transpose() +
+                                  mu_at(px[2], py[2]) * w1 * w1.transpose());
+        }
+      }
+    }
+  }
+  *out = h;
+}
+
+Matrix6 VolumeCostCache::InteriorHessian(const PairState& s, bool parallel) const {
+  const Impl& m = *impl_;
+  if (!m.built || m.fell_back || m.state != &s || m.reference != &s.reference() ||
+      m.remeshes != s.surface_version()) {
+    return InteriorVolumeHessian(s, parallel);  // no overlay kept for this state here
+  }
+  const int32_t na = m.reference->mesh.num_triangles();
+  const bool weighted = !m.weight_a.empty();
+  Matrix6 parts[2] = {Matrix6::Zero(), Matrix6::Zero()};
+  auto run = [&](int32_t lo, int32_t hi, int part) {
+    if (weighted) {
+      m.Curvature<true>(s, lo, hi, &parts[part]);
+    } else {
+      m.Curvature<false>(s, lo, hi, &parts[part]);
+    }
+  };
+  if (parallel) {
+    std::thread worker([&] { run(na / 2, na, 1); });
+    run(0, na / 2, 0);
+    worker.join();
+  } else {
+    run(0, na, 0);
+  }
+  return parts[0] + parts[1];
+}
+
+}  // namespace surfreg
