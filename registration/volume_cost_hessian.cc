@@ -25,28 +25,56 @@ inline int EdgesOfCorner(uint8_t code) {
   }
 }
 
-// The moved B triangle's material point q and velocity rows, affine in xy
-// relative to its corner 0.
+// The moved B triangle's material point q, affine in xy relative to its
+// corner 0, and the rows of g and w before the rotation rows' Mᵀ (applied
+// once to the sum: H = T K Tᵀ, T = diag(Mᵀ, I)).
 struct MovedFrame {
   double inv[4];
   Eigen::Vector3d q0, dq1, dq2, normal;
-  Eigen::Matrix3d mt;
   Eigen::Vector3d Q(double x, double y) const {
     return q0 + (inv[0] * x + inv[1] * y) * dq1 + (inv[2] * x + inv[3] * y) * dq2;
   }
-  // g = ∂_θF̂_B' (rows: −Mᵀ(n × q), n).
+  // g = ∂_θF̂_B' (rows: −n × q, n).
   Vector6 G(double x, double y) const {
     Vector6 g;
-    g.head<3>() = -(mt * normal.cross(Q(x, y)));
+    g.head<3>() = -normal.cross(Q(x, y));
     g.tail<3>() = normal;
     return g;
   }
-  // w = ν·u_xy for an edge of normal ν (rows: Mᵀ(q × ν), ν).
+  // w = ν·u_xy for an edge of normal ν (rows: q × ν, ν).
   Vector6 W(double x, double y, const Eigen::Vector3d& nu) const {
     Vector6 w;
-    w.head<3>() = mt * Q(x, y).cross(nu);
+    w.head<3>() = Q(x, y).cross(nu);
     w.tail<3>() = nu;
     return w;
+  }
+};
+
+// The upper triangle of a symmetric 6 × 6 sum.
+struct Symmetric6 {
+  double v[6][6] = {};
+  void AddOuter(const Vector6& a, double scale) {
+    for (int j = 0; j < 6; ++j) {
+      const double s = scale * a[j];
+      for (int i = 0; i <= j; ++i) v[i][j] += s * a[i];
+    }
+  }
+  // ∫₀¹ μ(t) v vᵀ dt · scale with v = a + t b and μ = μ0 + t dμ ≥ 0 (times
+  // a length): M0 (a + c b)(a + c b)ᵀ + (M2 − M1²/M0) b bᵀ, c = M1/M0,
+  // Mk = ∫ μ t^k; exact, two rank-one updates.
+  void AddSegment(const Vector6& a, const Vector6& b, double mu0, double dmu, double scale) {
+    const double m0 = mu0 + 0.5 * dmu, m1 = 0.5 * mu0 + dmu / 3.0, m2 = mu0 / 3.0 + 0.25 * dmu;
+    if (!(m0 > 0)) return;
+    const double c = m1 / m0;
+    AddOuter(a + c * b, scale * m0);
+    AddOuter(b, scale * (m2 - m1 * c));
+  }
+  Matrix6 Full() const {
+    Matrix6 out;
+    for (int j = 0; j < 6; ++j) {
+      for (int i = 0; i <= j; ++i) out(i, j) = out(j, i) = v[i][j];
+    }
+    return out;
   }
 };
 
@@ -63,8 +91,7 @@ void VolumeCostCache::Impl::Curvature(const PairState& s, int32_t lo, int32_t hi
   const auto& q = s.moved_q();
   const std::vector<uint8_t>& active_b = s.active_b();
   MovedFrame frame_b;
-  frame_b.mt = s.derivative().m.transpose();
-  Matrix6 h = Matrix6::Zero();
+  Symmetric6 h;
   for (int32_t ta = lo; ta < hi; ++ta) {
     const int32_t count = topology.count_of(ta);
     if (count == 0) continue;
@@ -143,15 +170,14 @@ void VolumeCostCache::Impl::Curvature(const PairState& s, int32_t lo, int32_t hi
             ex[ends] = x[k] + t * (x[l] - x[k]), ey[ends] = y[k] + t * (y[l] - y[k]), ++ends;
           }
         }
-        const double length = ends == 2 ? std::hypot(ex[1] - ex[0], ey[1] - ey[0]) : 0.0;
+        const double dx = ends == 2 ? ex[1] - ex[0] : 0.0, dy = ends == 2 ? ey[1] - ey[0] : 0.0;
+        const double length = std::sqrt(dx * dx + dy * dy);
         if (length > 0) {
           set_frame();
-          const double mx = 0.5 * (ex[0] + ex[1]), my = 0.5 * (ey[0] + ey[1]);
-          const Vector6 g0 = frame_b.G(ex[0], ey[0]), gm = frame_b.G(mx, my), g1 = frame_b.G(ex[1], ey[1]);
-          const double scale = 2.0 * length / (6.0 * std::hypot(dgx, dgy));
-          h.noalias() += scale * (mu_at(ex[0], ey[0]) * g0 * g0.transpose() +
-                                  4.0 * mu_at(mx, my) * gm * gm.transpose() +
-                                  mu_at(ex[1], ey[1]) * g1 * g1.transpose());
+          const Vector6 g0 = frame_b.G(ex[0], ey[0]);
+          const double mu_0 = mu_at(ex[0], ey[0]);
+          h.AddSegment(g0, frame_b.G(ex[1], ey[1]) - g0, mu_0, mu_at(ex[1], ey[1]) - mu_0,
+                       2.0 * length / std::sqrt(dgx * dgx + dgy * dgy));
         }
       }
       if (sides == 0) continue;
@@ -161,7 +187,7 @@ void VolumeCostCache::Impl::Curvature(const PairState& s, int32_t lo, int32_t hi
         if (on == 0) continue;
         const int j = (on & 1) ? 0 : (on & 2) ? 1 : 2;
         const double sx = x[l] - x[k], sy = y[l] - y[k];
-        const double length = std::hypot(sx, sy);
+        const double length = std::sqrt(sx * sx + sy * sy);
         if (!(length > 0)) continue;
         set_frame();
         // ν pointing out of T_B (away from its corner j), and the kink κ.
@@ -177,22 +203,22 @@ void VolumeCostCache::Impl::Curvature(const PairState& s, int32_t lo, int32_t hi
           pieces = 2;
         }
         for (int p = 0; p < pieces; ++p) {
-          const double a0 = cuts[p], a1 = cuts[p + 1], am = 0.5 * (a0 + a1);
-          const double dm = d[k] + am * (d[l] - d[k]);
+          const double a0 = cuts[p], a1 = cuts[p + 1];
+          const double dm = d[k] + 0.5 * (a0 + a1) * (d[l] - d[k]);
           if (dm == 0) continue;
-          const double px[3] = {x[k] + a0 * sx, x[k] + am * sx, x[k] + a1 * sx};
-          const double py[3] = {y[k] + a0 * sy, y[k] + am * sy, y[k] + a1 * sy};
-          const Vector6 w0 = frame_b.W(px[0], py[0], nu), wm = frame_b.W(px[1], py[1], nu),
-                        w1 = frame_b.W(px[2], py[2], nu);
-          const double scale = (dm > 0 ? 1.0 : -1.0) * kink * (a1 - a0) * length / 6.0;
-          h.noalias() += scale * (mu_at(px[0], py[0]) * w0 * w0.transpose() +
-                                  4.0 * mu_at(px[1], py[1]) * wm * wm.transpose() +
-                                  mu_at(px[2], py[2]) * w1 * w1.transpose());
+          const double x0 = x[k] + a0 * sx, y0 = y[k] + a0 * sy, x1 = x[k] + a1 * sx, y1 = y[k] + a1 * sy;
+          const Vector6 w0 = frame_b.W(x0, y0, nu);
+          const double mu_0 = mu_at(x0, y0);
+          h.AddSegment(w0, frame_b.W(x1, y1, nu) - w0, mu_0, mu_at(x1, y1) - mu_0,
+                       (dm > 0 ? kink : -kink) * (a1 - a0) * length);
         }
       }
     }
   }
-  *out = h;
+  // T K Tᵀ, T = diag(Mᵀ, I).
+  Matrix6 t = Matrix6::Identity();
+  t.topLeftCorner<3, 3>() = s.derivative().m.transpose();
+  *out = t * h.Full() * t.transpose();
 }
 
 Matrix6 VolumeCostCache::InteriorHessian(const PairState& s, bool parallel) const {
