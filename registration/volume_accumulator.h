@@ -93,6 +93,23 @@ inline Eigen::Matrix2d SecondMoment(const Point2* p, int n, const Point2& c) {
   return total;
 }
 
+// The part [s0, s1] of the segment e0 → e1 inside the counter-clockwise
+// triangle `t` (and `also`, if given); false when nothing of it is.
+inline bool ClipSegment(const Point2& e0, const Point2& e1, const Point2* t,
+                        const std::array<Point2, 3>* also, double* s0, double* s1) {
+  const int clip_edges = also != nullptr ? 6 : 3;
+  for (int k = 0; k < clip_edges && *s0 < *s1; ++k) {
+    const Point2& c0 = k < 3 ? t[k] : (*also)[k - 3];
+    const Point2& c1 = k < 3 ? t[(k + 1) % 3] : (*also)[(k - 2) % 3];
+    const double f0 = TwiceArea(c0, c1, e0), f1 = TwiceArea(c0, c1, e1);
+    if (f0 >= 0 && f1 >= 0) continue;
+    if (f0 < 0 && f1 < 0) return false;
+    const double s = f0 / (f0 - f1);
+    if (f0 < 0) *s0 = std::max(*s0, s); else *s1 = std::min(*s1, s);
+  }
+  return *s1 > *s0;
+}
+
 // The moved B triangle as a linear map: height, and the material point q
 // (relative to c + t) above any xy.
 struct MovedTriangle {
@@ -291,20 +308,7 @@ class VolumeAccumulator {
       const int32_t va = v[(i + 1) % 3], vb = v[(i + 2) % 3];  // interior on the left
       const Point2 e0 = xy[va], e1 = xy[vb];
       double s0 = 0.0, s1 = 1.0;
-      const int clip_edges = mask_triangle != nullptr ? 6 : 3;
-      for (int k = 0; k < clip_edges && s0 < s1; ++k) {  // clip to T_A (and the mask), counter-clockwise
-        const Point2& c0 = k < 3 ? ta_[k] : (*mask_triangle)[k - 3];
-        const Point2& c1 = k < 3 ? ta_[(k + 1) % 3] : (*mask_triangle)[(k - 2) % 3];
-        const double f0 = TwiceArea(c0, c1, e0), f1 = TwiceArea(c0, c1, e1);
-        if (f0 >= 0 && f1 >= 0) continue;
-        if (f0 < 0 && f1 < 0) {
-          s1 = s0;
-          break;
-        }
-        const double s = f0 / (f0 - f1);
-        if (f0 < 0) s0 = std::max(s0, s); else s1 = std::min(s1, s);
-      }
-      if (!(s1 > s0)) continue;
+      if (!ClipSegment(e0, e1, ta_, mask_triangle, &s0, &s1)) continue;
       const double ex = e1.x - e0.x, ey = e1.y - e0.y;
       const double length = std::hypot(ex, ey);
       const Eigen::Vector3d m(ey / length, -ex / length, 0.0);  // outward normal

@@ -156,20 +156,7 @@ class ZeroLineSum {
       const int32_t va = v[(i + 1) % 3], vb = v[(i + 2) % 3];
       const Point2 e0 = xy[va], e1 = xy[vb];
       double s0 = 0.0, s1 = 1.0;
-      const int clip_edges = mask_triangle != nullptr ? 6 : 3;
-      for (int k = 0; k < clip_edges && s0 < s1; ++k) {  // counter-clockwise clip polygons
-        const Point2& c0 = k < 3 ? ta_[k] : (*mask_triangle)[k - 3];
-        const Point2& c1 = k < 3 ? ta_[(k + 1) % 3] : (*mask_triangle)[(k - 2) % 3];
-        const double f0 = TwiceArea(c0, c1, e0), f1 = TwiceArea(c0, c1, e1);
-        if (f0 >= 0 && f1 >= 0) continue;
-        if (f0 < 0 && f1 < 0) {
-          s1 = s0;
-          break;
-        }
-        const double s = f0 / (f0 - f1);
-        if (f0 < 0) s0 = std::max(s0, s); else s1 = std::min(s1, s);
-      }
-      if (!(s1 > s0)) continue;
+      if (!volume_internal::ClipSegment(e0, e1, ta_, mask_triangle, &s0, &s1)) continue;
       const double ex = e1.x - e0.x, ey = e1.y - e0.y;
       const double length = std::hypot(ex, ey);
       const Eigen::Vector3d nu(ey / length, -ex / length, 0.0);
