@@ -61,13 +61,18 @@ struct Symmetric6 {
   }
   // ∫₀¹ μ(t) v vᵀ dt · scale with v = a + t b and μ = μ0 + t dμ ≥ 0 (times
   // a length): M0 (a + c b)(a + c b)ᵀ + (M2 − M1²/M0) b bᵀ, c = M1/M0,
-  // Mk = ∫ μ t^k; exact, two rank-one updates.
+  // Mk = ∫ μ t^k; exact, two rank-one updates (the second in the rotation
+  // rows only: along a segment only q changes).
   void AddSegment(const Vector6& a, const Vector6& b, double mu0, double dmu, double scale) {
     const double m0 = mu0 + 0.5 * dmu, m1 = 0.5 * mu0 + dmu / 3.0, m2 = mu0 / 3.0 + 0.25 * dmu;
     if (!(m0 > 0)) return;
     const double c = m1 / m0;
     AddOuter(a + c * b, scale * m0);
-    AddOuter(b, scale * (m2 - m1 * c));
+    // b's translation rows are 0 (n and ν are constant along the segment).
+    const double s = scale * (m2 - m1 * c);
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i <= j; ++i) v[i][j] += s * b[i] * b[j];
+    }
   }
   Matrix6 Full() const {
     Matrix6 out;
