@@ -20,8 +20,10 @@
 //     make it re-triangulate B first: counter remeshes_per_update);
 //   BM_Measure/<threads>/<N>: Measure(A, B moved by θ_true + δ_large),
 //     default options (2t) and parallel = false (1t);
-//   BM_Align/<cost>/<N>: Align from the identity, axial cost or the
-//     defaults (volume cost after an axial prealign).
+//   BM_Align/<cost>/<N>: Align from the identity, axial cost, the
+//     defaults (volume cost after an axial prealign), or the defaults with
+//     the information standard deviations (`information`: the sandwich's
+//     own cost is the difference from `default`).
 // <work>: update (Update only), axial (+ ComputeAxialResiduals with
 // Jacobians), volume_1t / volume_2t (+ EvaluateVolumeCost with gradient),
 // volinc_1t / volinc_2t (+ VolumeCostCache::Evaluate with gradient: the
@@ -411,12 +413,20 @@ void BM_Measure(benchmark::State& state, int64_t n, bool parallel) {
   state.counters["t_total"] = m.timings.total;
 }
 
-void BM_Align(benchmark::State& state, int64_t n, bool axial) {
+// The BM_Align variants.
+enum class AlignVariant { kAxial, kDefault, kInformation };
+const char* VariantName(AlignVariant v) {
+  return v == AlignVariant::kAxial ? "axial" : v == AlignVariant::kDefault ? "default" : "information";
+}
+
+void BM_Align(benchmark::State& state, int64_t n, AlignVariant variant) {
+  const bool axial = variant == AlignVariant::kAxial;
   Pair* p = Setup(state, n);
   if (!p) return;
   AlignOptions options;
   options.cell_kernel = BenchKernel();
   if (axial) options.cost = CostKind::kAxial;
+  if (variant == AlignVariant::kInformation) options.stddev_method = AlignOptions::StddevMethod::kInformation;
   AlignResult result;
   try {
     for (auto _ : state) {
@@ -463,7 +473,7 @@ void BM_Align(benchmark::State& state, int64_t n, bool axial) {
   std::snprintf(text, sizeof text,
                 "N=%lld %s Align: verdict %s (%s), rotation error %.3g deg, translation error "
                 "%.3g spacings",
-                static_cast<long long>(n), axial ? "axial" : "default", VerdictName(result.verdict),
+                static_cast<long long>(n), VariantName(variant), VerdictName(result.verdict),
                 result.verdict_reason.c_str(), error.rotation_deg, error.translation / p->spacing);
   // Far from the known motion is an error; a verdict other than converged
   // (e.g. the iteration limit) with an accurate answer is only a note.
@@ -513,10 +523,9 @@ void RegisterAll(bool with_1e6) {
                 n);
     }
     if (n == 100000) {
-      for (bool axial : {true, false}) {
-        auto* b = benchmark::RegisterBenchmark(
-            (std::string("BM_Align/") + (axial ? "axial" : "default") + ns).c_str(), BM_Align, n,
-            axial);
+      for (AlignVariant variant : {AlignVariant::kAxial, AlignVariant::kDefault, AlignVariant::kInformation}) {
+        auto* b = benchmark::RegisterBenchmark((std::string("BM_Align/") + VariantName(variant) + ns).c_str(),
+                                               BM_Align, n, variant);
         // Seconds each: one run.
         b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
       }

@@ -161,12 +161,21 @@ if aligns:
         if key[1] == "axial" and r is not None:
             targets.append((n, "-", "align_axial", r, a.get("full_measures")))
         print("| %s | %s | %s | %s | %s | %.1f | %d | %s | %.3g° | %.3g spacings | %.1f / %.1f / %.1f s |" % (
-            fmt_n(n), "axial" if key[1] == "axial" else "default (volume, axial prealign)",
+            fmt_n(n), {"axial": "axial", "default": "default (volume, axial prealign)",
+                       "information": "default, `stddev: information`"}.get(key[1], key[1]),
             ms(a["real"]), ms(m2["real"]) if m2 else "-", ratio(r) if r else "-",
             a.get("full_measures", 0), a.get("iterations", 0),
             "yes" if a.get("converged", 0) else "no", a.get("rotation_error_deg", 0),
             a.get("translation_error_spacings", 0), a.get("t_before_solve", 0),
             a.get("t_solve", 0), a.get("t_after_solve", 0)))
+
+    for n in sorted({key[3] for key in aligns}):
+        d, i = rows.get(("Align", "default", "", n)), rows.get(("Align", "information", "", n))
+        if d and i:
+            print()
+            print("%s: the sandwich standard deviations' own cost (default − information) %.0f ms, "
+                  "%.1f%% of the default alignment" % (fmt_n(n), 1e3 * (d["real"] - i["real"]),
+                                                       100 * (d["real"] - i["real"]) / d["real"]))
 
 print()
 for n, step, work, wall, cpu in targets:
