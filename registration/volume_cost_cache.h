@@ -113,6 +113,23 @@ inline Point2 CornerOf(uint8_t code, const CellFrame& f, const int* q0, const in
           cross ? f.cy6[r] + t * (f.cy6[w] - f.cy6[r]) : f.cy6[vertex]};
 }
 
+// A cell of the kept overlay at the current points, as the scalar cell
+// loops see it: corners, d and μ relative to T_B's corner 0 (bx, by).
+struct PosedCell {
+  int32_t ta = -1, tb = -1;
+  const int32_t* ib = nullptr;        // T_B's vertices
+  const TopologyCell* cell = nullptr;  // its corner codes
+  const CellFrame* frame = nullptr;    // T_A's corners 0-2, T_B's 3-5
+  int n = 0;
+  double bx = 0, by = 0;
+  double dgx = 0, dgy = 0;  // ∇d
+  double mu0 = 1;           // μ at T_B's corner 0 (1 without weights); ∇μ is the A triangle's
+  double mu_gx = 0, mu_gy = 0;
+  double x[8], y[8], d[8], m[8];  // m only with weights
+  double d_lo = 0, d_hi = 0;
+  double Mu(double px, double py) const { return mu0 + mu_gx * px + mu_gy * py; }
+};
+
 struct VolumeCostCache::Impl {
   double max_dirty_fraction;
   VolumeCostCacheStats stats;
@@ -155,6 +172,9 @@ struct VolumeCostCache::Impl {
   bool UpdateTopology(const PairState& s, bool parallel);
   void RecordMovedTriangles(const PairState& s, bool parallel, const GradientBins* bins);
   void AddInteriorGradient(const PairState& s, bool parallel, GradientBins* bins, VolumeCostValue* total);
+  // Calls visit(const PosedCell&) for every cell of A's triangles [lo, hi).
+  template <bool kWeighted, class Visit>
+  void ForEachPosedCell(const PairState& s, int32_t lo, int32_t hi, Visit&& visit) const;
   template <bool kWeighted>
   void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
                  VolumeCostValue* out);
@@ -165,6 +185,62 @@ struct VolumeCostCache::Impl {
   template <bool kWeighted>
   void Curvature(const PairState& s, int32_t lo, int32_t hi, Eigen::Matrix<double, 6, 6>* out) const;
 };
+
+template <bool kWeighted, class Visit>
+void VolumeCostCache::Impl::ForEachPosedCell(const PairState& s, int32_t lo, int32_t hi, Visit&& visit) const {
+  const Triangulation& mesh_a = reference->mesh;
+  const int32_t* triangles_b = s.moving_mesh().triangles.data();
+  const auto& xa = reference->xy;
+  const auto& za = reference->z;
+  const auto& xb = s.moved_xy();
+  const auto& zb = s.moved_z();
+  PosedCell c;
+  for (int32_t ta = lo; ta < hi; ++ta) {
+    const int32_t count = topology.count_of(ta);
+    if (count == 0) continue;
+    const TopologyCell* list = topology.cells_of(ta);
+    const int32_t* ia = &mesh_a.triangles[3 * ta];
+    CellFrame frame = FrameOfA(ia, xa);
+    const double* cx6 = frame.cx6;
+    const double* cy6 = frame.cy6;
+    const double ga_x = record_a[ta].gx, ga_y = record_a[ta].gy;
+    const double za0 = za[ia[0]];
+    // μ relative to T_A's corner 0 (Bind's plane).
+    const volume_internal::WeightPlane mu = kWeighted ? weight_a[ta] : volume_internal::WeightPlane{};
+    c.ta = ta;
+    c.frame = &frame;
+    c.mu_gx = mu.gx, c.mu_gy = mu.gy;
+    for (int32_t k = 0; k < count; ++k) {
+      const TopologyCell& tc = list[k];
+      const int32_t tb = tc.triangle_b;
+      const int32_t* ib = triangles_b + 3 * tb;
+      for (int v = 0; v < 3; ++v) frame.cx6[3 + v] = xb[ib[v]].x, frame.cy6[3 + v] = xb[ib[v]].y;
+      int q0[3], q1[3];
+      for (int j = 0; j < 3; ++j) {
+        const bool swap = ib[kFirst[j]] > ib[kSecond[j]];
+        q0[j] = 3 + (swap ? kSecond[j] : kFirst[j]);
+        q1[j] = 3 + (swap ? kFirst[j] : kSecond[j]);
+      }
+      c.tb = tb, c.ib = ib, c.cell = &tc, c.n = tc.num_corners;
+      const volume_internal::TriangleRecord& fb = record_b[tb];
+      // Relative to T_B's corner 0: d = d0 + ∇d · (x, y), μ = μ0 + ∇μ · (x, y).
+      c.bx = cx6[3], c.by = cy6[3];
+      const double d0 = zb[ib[0]] - (za0 + ga_x * (c.bx - cx6[0]) + ga_y * (c.by - cy6[0]));
+      c.dgx = fb.gx - ga_x, c.dgy = fb.gy - ga_y;
+      c.mu0 = kWeighted ? mu.m0 + mu.gx * (c.bx - cx6[0]) + mu.gy * (c.by - cy6[0]) : 1.0;
+      for (int v = 0; v < c.n; ++v) {
+        const Point2 p = CornerOf(tc.corner[v], frame, q0, q1);
+        c.x[v] = p.x - c.bx;
+        c.y[v] = p.y - c.by;
+        c.d[v] = d0 + c.dgx * c.x[v] + c.dgy * c.y[v];
+        if (kWeighted) c.m[v] = c.mu0 + mu.gx * c.x[v] + mu.gy * c.y[v];
+        c.d_lo = v == 0 ? c.d[v] : std::min(c.d_lo, c.d[v]);
+        c.d_hi = v == 0 ? c.d[v] : std::max(c.d_hi, c.d[v]);
+      }
+      visit(static_cast<const PosedCell&>(c));
+    }
+  }
+}
 
 // The internal names both of the cache's files use.
 using volume_internal::FanSums;

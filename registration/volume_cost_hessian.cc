@@ -87,139 +87,103 @@ struct Symmetric6 {
 
 template <bool kWeighted>
 void VolumeCostCache::Impl::Curvature(const PairState& s, int32_t lo, int32_t hi, Matrix6* out) const {
-  const Triangulation& mesh_a = reference->mesh;
   const Triangulation& mesh_b = s.moving_mesh();
-  const auto& xa = reference->xy;
-  const auto& za = reference->z;
-  const auto& xb = s.moved_xy();
-  const auto& zb = s.moved_z();
   const auto& q = s.moved_q();
   const std::vector<uint8_t>& active_b = s.active_b();
   MovedFrame frame_b;
   Symmetric6 h;
-  for (int32_t ta = lo; ta < hi; ++ta) {
-    const int32_t count = topology.count_of(ta);
-    if (count == 0) continue;
-    const TopologyCell* list = topology.cells_of(ta);
-    const int32_t* ia = &mesh_a.triangles[3 * ta];
-    CellFrame frame = FrameOfA(ia, xa);
-    double* cx6 = frame.cx6;
-    double* cy6 = frame.cy6;
-    const Gradient2 ga = {record_a[ta].gx, record_a[ta].gy};
-    const double za0 = za[ia[0]];
-    const volume_internal::WeightPlane mu = kWeighted ? weight_a[ta] : volume_internal::WeightPlane{};
-    for (int32_t c = 0; c < count; ++c) {
-      const TopologyCell& tc = list[c];
-      const int32_t tb = tc.triangle_b;
-      const int32_t* ib = &mesh_b.triangles[3 * tb];
-      for (int k = 0; k < 3; ++k) cx6[3 + k] = xb[ib[k]].x, cy6[3 + k] = xb[ib[k]].y;
-      int q0[3], q1[3];
-      for (int j = 0; j < 3; ++j) {
-        const bool swap = ib[kFirst[j]] > ib[kSecond[j]];
-        q0[j] = 3 + (swap ? kSecond[j] : kFirst[j]);
-        q1[j] = 3 + (swap ? kFirst[j] : kSecond[j]);
-      }
-      const int n = tc.num_corners;
-      const TriangleRecord& fb = record_b[tb];
-      const double bx = cx6[3], by = cy6[3];
-      const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
-      const double dgx = fb.gx - ga.gx, dgy = fb.gy - ga.gy;
-      const double mu0 = kWeighted ? mu.m0 + mu.gx * (bx - cx6[0]) + mu.gy * (by - cy6[0]) : 1.0;
-      auto mu_at = [&](double x, double y) { return kWeighted ? mu0 + mu.gx * x + mu.gy * y : 1.0; };
-      double x[8], y[8], d[8];
-      bool positive = false, negative = false;
-      int zeros = 0;
-      for (int k = 0; k < n; ++k) {
-        const Point2 p = CornerOf(tc.corner[k], frame, q0, q1);
-        x[k] = p.x - bx;
-        y[k] = p.y - by;
-        d[k] = d0 + dgx * x[k] + dgy * y[k];
-        positive |= d[k] > 0;
-        negative |= d[k] < 0;
-        zeros += d[k] == 0;
-      }
-      // Which of T_B's edges the cell's sides lie on, and whether any of
-      // them is an inner edge this cell counts (the one with the lower B
-      // triangle index takes an edge between two cells).
-      int sides = 0;
-      for (int j = 0; j < 3; ++j) {
-        const int32_t next = mesh_b.neighbors[3 * tb + j];
-        if (next > tb && active_b[next]) sides |= 1 << j;
-      }
-      // d = 0 crosses the cell, or lies along a side of it: that side is
-      // taken by the cell on its d > 0 side only (once).
-      const bool zero_line = positive && (negative || zeros >= 2);
-      if (!zero_line && sides == 0) continue;
-      bool frame_set = false;
-      auto set_frame = [&] {
-        if (frame_set) return;
-        frame_set = true;
-        const double ax = cx6[4] - bx, ay = cy6[4] - by, ex = cx6[5] - bx, ey = cy6[5] - by;
-        const double det = ax * ey - ay * ex;
-        frame_b.inv[0] = ey / det, frame_b.inv[1] = -ex / det;
-        frame_b.inv[2] = -ay / det, frame_b.inv[3] = ax / det;
-        frame_b.q0 = q[ib[0]];
-        frame_b.dq1 = q[ib[1]] - q[ib[0]];
-        frame_b.dq2 = q[ib[2]] - q[ib[0]];
-        frame_b.normal = Eigen::Vector3d(-fb.gx, -fb.gy, 1.0);
-      };
-      if (zero_line) {
-        double ex[2], ey[2];
-        int ends = 0;
-        for (int k = 0; k < n && ends < 2; ++k) {
-          const int l = k + 1 == n ? 0 : k + 1;
-          if (d[k] == 0) {
-            ex[ends] = x[k], ey[ends] = y[k], ++ends;
-          } else if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
-            const double t = d[k] / (d[k] - d[l]);
-            ex[ends] = x[k] + t * (x[l] - x[k]), ey[ends] = y[k] + t * (y[l] - y[k]), ++ends;
-          }
-        }
-        const double dx = ends == 2 ? ex[1] - ex[0] : 0.0, dy = ends == 2 ? ey[1] - ey[0] : 0.0;
-        const double length = std::sqrt(dx * dx + dy * dy);
-        if (length > 0) {
-          set_frame();
-          const Vector6 g0 = frame_b.G(ex[0], ey[0]);
-          const double mu_0 = mu_at(ex[0], ey[0]);
-          h.AddSegment(g0, frame_b.G(ex[1], ey[1]) - g0, mu_0, mu_at(ex[1], ey[1]) - mu_0,
-                       2.0 * length / std::sqrt(dgx * dgx + dgy * dgy));
-        }
-      }
-      if (sides == 0) continue;
-      for (int k = 0; k < n; ++k) {
+  ForEachPosedCell<kWeighted>(s, lo, hi, [&](const PosedCell& c) {
+    const int32_t tb = c.tb;
+    const int n = c.n;
+    const double* x = c.x;
+    const double* y = c.y;
+    const double* d = c.d;
+    const double* cx6 = c.frame->cx6;
+    const double* cy6 = c.frame->cy6;
+    const TriangleRecord& fb = record_b[tb];
+    auto mu_at = [&](double px, double py) { return kWeighted ? c.Mu(px, py) : 1.0; };
+    int zeros = 0;
+    for (int k = 0; k < n; ++k) zeros += d[k] == 0;
+    // Which of T_B's inner edges this cell counts (of an edge between two
+    // cells, the one with the lower B triangle index takes it).
+    int sides = 0;
+    for (int j = 0; j < 3; ++j) {
+      const int32_t next = mesh_b.neighbors[3 * tb + j];
+      if (next > tb && active_b[next]) sides |= 1 << j;
+    }
+    // d = 0 crosses the cell, or lies along a side of it: that side is
+    // taken by the cell on its d > 0 side only (once).
+    const bool zero_line = c.d_hi > 0 && (c.d_lo < 0 || zeros >= 2);
+    if (!zero_line && sides == 0) return;
+    bool frame_set = false;
+    auto set_frame = [&] {
+      if (frame_set) return;
+      frame_set = true;
+      const double ax = cx6[4] - c.bx, ay = cy6[4] - c.by, ex = cx6[5] - c.bx, ey = cy6[5] - c.by;
+      const double det = ax * ey - ay * ex;
+      frame_b.inv[0] = ey / det, frame_b.inv[1] = -ex / det;
+      frame_b.inv[2] = -ay / det, frame_b.inv[3] = ax / det;
+      frame_b.q0 = q[c.ib[0]];
+      frame_b.dq1 = q[c.ib[1]] - q[c.ib[0]];
+      frame_b.dq2 = q[c.ib[2]] - q[c.ib[0]];
+      frame_b.normal = Eigen::Vector3d(-fb.gx, -fb.gy, 1.0);
+    };
+    if (zero_line) {
+      double ex[2], ey[2];
+      int ends = 0;
+      for (int k = 0; k < n && ends < 2; ++k) {
         const int l = k + 1 == n ? 0 : k + 1;
-        const int on = EdgesOfCorner(tc.corner[k]) & EdgesOfCorner(tc.corner[l]) & sides;
-        if (on == 0) continue;
-        const int j = (on & 1) ? 0 : (on & 2) ? 1 : 2;
-        const double sx = x[l] - x[k], sy = y[l] - y[k];
-        const double length = std::sqrt(sx * sx + sy * sy);
-        if (!(length > 0)) continue;
+        if (d[k] == 0) {
+          ex[ends] = x[k], ey[ends] = y[k], ++ends;
+        } else if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
+          const double t = d[k] / (d[k] - d[l]);
+          ex[ends] = x[k] + t * (x[l] - x[k]), ey[ends] = y[k] + t * (y[l] - y[k]), ++ends;
+        }
+      }
+      const double dx = ends == 2 ? ex[1] - ex[0] : 0.0, dy = ends == 2 ? ey[1] - ey[0] : 0.0;
+      const double length = std::sqrt(dx * dx + dy * dy);
+      if (length > 0) {
         set_frame();
-        // ν pointing out of T_B (away from its corner j), and the kink κ.
-        Eigen::Vector3d nu(sy / length, -sx / length, 0.0);
-        if ((cx6[3 + j] - bx - x[k]) * nu.x() + (cy6[3 + j] - by - y[k]) * nu.y() > 0) nu = -nu;
-        const TriangleRecord& other = record_b[mesh_b.neighbors[3 * tb + j]];
-        const double kink = (other.gx - fb.gx) * nu.x() + (other.gy - fb.gy) * nu.y();
-        if (kink == 0) continue;
-        double cuts[3] = {0.0, 1.0, 1.0};
-        int pieces = 1;
-        if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
-          cuts[1] = d[k] / (d[k] - d[l]);
-          pieces = 2;
-        }
-        for (int p = 0; p < pieces; ++p) {
-          const double a0 = cuts[p], a1 = cuts[p + 1];
-          const double dm = d[k] + 0.5 * (a0 + a1) * (d[l] - d[k]);
-          if (dm == 0) continue;
-          const double x0 = x[k] + a0 * sx, y0 = y[k] + a0 * sy, x1 = x[k] + a1 * sx, y1 = y[k] + a1 * sy;
-          const Vector6 w0 = frame_b.W(x0, y0, nu);
-          const double mu_0 = mu_at(x0, y0);
-          h.AddSegment(w0, frame_b.W(x1, y1, nu) - w0, mu_0, mu_at(x1, y1) - mu_0,
-                       (dm > 0 ? kink : -kink) * (a1 - a0) * length);
-        }
+        const Vector6 g0 = frame_b.G(ex[0], ey[0]);
+        const double mu_0 = mu_at(ex[0], ey[0]);
+        h.AddSegment(g0, frame_b.G(ex[1], ey[1]) - g0, mu_0, mu_at(ex[1], ey[1]) - mu_0,
+                     2.0 * length / std::sqrt(c.dgx * c.dgx + c.dgy * c.dgy));
       }
     }
-  }
+    if (sides == 0) return;
+    for (int k = 0; k < n; ++k) {
+      const int l = k + 1 == n ? 0 : k + 1;
+      const int on = EdgesOfCorner(c.cell->corner[k]) & EdgesOfCorner(c.cell->corner[l]) & sides;
+      if (on == 0) continue;
+      const int j = (on & 1) ? 0 : (on & 2) ? 1 : 2;
+      const double sx = x[l] - x[k], sy = y[l] - y[k];
+      const double length = std::sqrt(sx * sx + sy * sy);
+      if (!(length > 0)) continue;
+      set_frame();
+      // ν pointing out of T_B (away from its corner j), and the kink κ.
+      Eigen::Vector3d nu(sy / length, -sx / length, 0.0);
+      if ((cx6[3 + j] - c.bx - x[k]) * nu.x() + (cy6[3 + j] - c.by - y[k]) * nu.y() > 0) nu = -nu;
+      const TriangleRecord& other = record_b[mesh_b.neighbors[3 * tb + j]];
+      const double kink = (other.gx - fb.gx) * nu.x() + (other.gy - fb.gy) * nu.y();
+      if (kink == 0) continue;
+      double cuts[3] = {0.0, 1.0, 1.0};
+      int pieces = 1;
+      if ((d[k] > 0 && d[l] < 0) || (d[k] < 0 && d[l] > 0)) {
+        cuts[1] = d[k] / (d[k] - d[l]);
+        pieces = 2;
+      }
+      for (int p = 0; p < pieces; ++p) {
+        const double a0 = cuts[p], a1 = cuts[p + 1];
+        const double dm = d[k] + 0.5 * (a0 + a1) * (d[l] - d[k]);
+        if (dm == 0) continue;
+        const double x0 = x[k] + a0 * sx, y0 = y[k] + a0 * sy, x1 = x[k] + a1 * sx, y1 = y[k] + a1 * sy;
+        const Vector6 w0 = frame_b.W(x0, y0, nu);
+        const double mu_0 = mu_at(x0, y0);
+        h.AddSegment(w0, frame_b.W(x1, y1, nu) - w0, mu_0, mu_at(x1, y1) - mu_0,
+                     (dm > 0 ? kink : -kink) * (a1 - a0) * length);
+      }
+    }
+  });
   // T K Tᵀ, T = diag(Mᵀ, I).
   Matrix6 t = Matrix6::Identity();
   t.topLeftCorner<3, 3>() = s.derivative().m.transpose();

@@ -76,14 +76,6 @@ inline void AddCell(const double* x, const double* y, const double* d, const dou
 template <bool kWeighted>
 void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi,
                                       int part, VolumeCostValue* out) {
-  const Triangulation& mesh_a = reference->mesh;
-  const Triangulation& mesh_b = s.moving_mesh();
-  const auto& xa = reference->xy;
-  const auto& za = reference->z;
-  const auto& xb = s.moved_xy();
-  const auto& zb = s.moved_z();
-  const int32_t* triangles_b = mesh_b.triangles.data();
-  const TriangleRecord* records_b = record_b.data();
   const TriangleExtra* extras_b = extra_b.data();
   Moment* moment = moments[part].data();
   VolumeAccumulator boundary(s, gradient, nullptr);
@@ -91,57 +83,16 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
   OverlayCell cell;
   double abs = 0, area_sum = 0;
   int64_t cells = 0;
-  for (int32_t ta = lo; ta < hi; ++ta) {
-    const int32_t count = topology.count_of(ta);
-    if (count == 0) continue;
-    const TopologyCell* list = topology.cells_of(ta);
-    const int32_t* ia = &mesh_a.triangles[3 * ta];
-    CellFrame frame = FrameOfA(ia, xa);
-    double* cx6 = frame.cx6;
-    double* cy6 = frame.cy6;
-    const Gradient2 ga = {record_a[ta].gx, record_a[ta].gy};
-    const double za0 = za[ia[0]];
-    // μ relative to T_A's corner 0 (Bind's plane).
-    const volume_internal::WeightPlane mu = kWeighted ? weight_a[ta] : volume_internal::WeightPlane{};
-    cells += count;
-    for (int32_t c = 0; c < count; ++c) {
-      const TopologyCell& tc = list[c];
-      const int32_t tb = tc.triangle_b;
-      const int32_t* ib = triangles_b + 3 * tb;
-      for (int k = 0; k < 3; ++k) cx6[3 + k] = xb[ib[k]].x, cy6[3 + k] = xb[ib[k]].y;
-      int q0[3], q1[3];
-      for (int j = 0; j < 3; ++j) {
-        const bool swap = ib[kFirst[j]] > ib[kSecond[j]];
-        q0[j] = 3 + (swap ? kSecond[j] : kFirst[j]);
-        q1[j] = 3 + (swap ? kFirst[j] : kSecond[j]);
-      }
-      const int n = tc.num_corners;
-      const TriangleRecord& fb = records_b[tb];
-      // Relative to T_B's corner 0: d = d0 + ∇d · (x, y), μ = μ0 + ∇μ · (x, y).
-      const double bx = cx6[3], by = cy6[3];
-      const double d0 = zb[ib[0]] - (za0 + ga.gx * (bx - cx6[0]) + ga.gy * (by - cy6[0]));
-      const double dgx = fb.gx - ga.gx, dgy = fb.gy - ga.gy;
-      const double mu0 = kWeighted ? mu.m0 + mu.gx * (bx - cx6[0]) + mu.gy * (by - cy6[0]) : 1.0;
-      double x[8], y[8], d[8], m[8];
-      double d_lo = 0, d_hi = 0;
-      for (int k = 0; k < n; ++k) {
-        const Point2 p = CornerOf(tc.corner[k], frame, q0, q1);
-        x[k] = p.x - bx;
-        y[k] = p.y - by;
-        d[k] = d0 + dgx * x[k] + dgy * y[k];
-        if (kWeighted) m[k] = mu0 + mu.gx * x[k] + mu.gy * y[k];
-        d_lo = k == 0 ? d[k] : std::min(d_lo, d[k]);
-        d_hi = k == 0 ? d[k] : std::max(d_hi, d[k]);
-      }
-      AddCell<kWeighted>(x, y, d, m, n, d_lo, d_hi, gradient, &abs, &area_sum, &moment[tb]);
-      if (gradient && (extras_b[tb].bits & volume_internal::kHullBit) != 0) {
-        cell.triangle_a = ta;
-        cell.triangle_b = tb;
-        cell.num_vertices = n;
-        sink.Add(cell);
-      }
+  ForEachPosedCell<kWeighted>(s, lo, hi, [&](const PosedCell& c) {
+    ++cells;
+    AddCell<kWeighted>(c.x, c.y, c.d, c.m, c.n, c.d_lo, c.d_hi, gradient, &abs, &area_sum, &moment[c.tb]);
+    if (gradient && (extras_b[c.tb].bits & volume_internal::kHullBit) != 0) {
+      cell.triangle_a = c.ta;
+      cell.triangle_b = c.tb;
+      cell.num_vertices = c.n;
+      sink.Add(cell);
     }
-  }
+  });
   out->abs = abs;
   out->area = area_sum;
   out->cells = cells;
