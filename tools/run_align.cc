@@ -66,7 +66,7 @@ DEFINE_string(domain_max_edge_spacings, "",
 DEFINE_string(domain_min_thinness, "",
               "measure, align, triangulate: data domain: outline slivers thinner are peeled (0.1)");
 DEFINE_bool(covariance, true, "align: compute the parameters' standard deviations");
-DEFINE_string(stddev, "", "align: standard deviations of the volume cost's motion: sandwich | information");
+DEFINE_string(stddev, "", "align: standard deviations of the motion: sandwich | information");
 DEFINE_string(stddev_subsamples, "", "align: standard deviations from this many block half-sample alignments (0: as --stddev says)");
 DEFINE_string(holdout, "", "align: fit on the reference less this share of its tiles; report dz there before/after");
 DEFINE_string(holdout_seed, "", "align: which tiles are held out (integer seed)");
