@@ -110,6 +110,15 @@ inline bool ClipSegment(const Point2& e0, const Point2& e1, const Point2* t,
   return *s1 > *s0;
 }
 
+// [s0, s1] cut where a linear d (d0 at s0, d1 at s1) changes sign: writes
+// the pieces' ends to cuts[0..pieces] and returns the number of pieces.
+inline int SignPieces(double d0, double d1, double s0, double s1, double cuts[3]) {
+  cuts[0] = s0, cuts[1] = s1, cuts[2] = s1;
+  if (!((d0 > 0 && d1 < 0) || (d0 < 0 && d1 > 0))) return 1;
+  cuts[1] = s0 + (s1 - s0) * d0 / (d0 - d1);
+  return 2;
+}
+
 // The moved B triangle as a linear map: height, and the material point q
 // (relative to c + t) above any xy.
 struct MovedTriangle {
@@ -332,14 +341,8 @@ class VolumeAccumulator {
                         (mu(s0) * g(s0) + 4.0 * mu(sm) * g(sm) + mu(s1) * g(s1));
       }
       // ∫|d| g ds, split where d changes sign; Simpson is exact for the quadratic.
-      const double d0 = d(s0), d1 = d(s1);
-      double cuts[3] = {s0, s1, s1};
-      int pieces = 1;
-      if ((d0 > 0 && d1 < 0) || (d0 < 0 && d1 > 0)) {
-        cuts[1] = s0 + (s1 - s0) * d0 / (d0 - d1);
-        cuts[2] = s1;
-        pieces = 2;
-      }
+      double cuts[3];
+      const int pieces = volume_internal::SignPieces(d(s0), d(s1), s0, s1, cuts);
       for (int k = 0; k < pieces; ++k) {
         const double a0 = cuts[k], a1 = cuts[k + 1], am = 0.5 * (a0 + a1);
         value.d_abs += sign_ * (a1 - a0) * length / 6.0 *

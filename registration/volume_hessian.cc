@@ -168,14 +168,8 @@ class ZeroLineSum {
         out.tail<3>() = nu;
         return out;
       };
-      const double d0 = d(s0), d1 = d(s1);
-      double cuts[3] = {s0, s1, s1};
-      int pieces = 1;
-      if ((d0 > 0 && d1 < 0) || (d0 < 0 && d1 > 0)) {
-        cuts[1] = s0 + (s1 - s0) * d0 / (d0 - d1);
-        cuts[2] = s1;
-        pieces = 2;
-      }
+      double cuts[3];
+      const int pieces = volume_internal::SignPieces(d(s0), d(s1), s0, s1, cuts);
       for (int k = 0; k < pieces; ++k) {
         const double a0 = cuts[k], a1 = cuts[k + 1], am = 0.5 * (a0 + a1);
         const double side = d(am) > 0 ? 1.0 : d(am) < 0 ? -1.0 : 0.0;
