@@ -8,7 +8,8 @@
 // Only the free parameters are optimized; rotations are scaled by a length
 // (the moving cloud's RMS radius) so that all parameters are lengths, which
 // keeps trust regions well scaled; the line search runs in coordinates that
-// whiten an estimate of the volume cost's curvature (solvers.cc).
+// whiten the volume cost's curvature at its start (registration/volume_hessian.h;
+// the axial cost's under a mask).
 #include <array>
 #include <string>
 #include <vector>
