@@ -136,6 +136,39 @@ struct MovedTriangle {
   }
 };
 
+// Moved B triangle t at the state's pose.
+inline MovedTriangle MovedTriangleOf(const PairState& state, int32_t t) {
+  const int32_t* v = &state.moving_mesh().triangles[3 * t];
+  const auto& xy = state.moved_xy();
+  const auto& z = state.moved_z();
+  const auto& q = state.moved_q();
+  MovedTriangle tb;
+  tb.p0 = xy[v[0]];
+  const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
+  const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
+  const double det = ax * by - ay * bx;
+  tb.inv[0] = by / det, tb.inv[1] = -bx / det, tb.inv[2] = -ay / det, tb.inv[3] = ax / det;
+  tb.q0 = q[v[0]];
+  tb.dq1 = q[v[1]] - q[v[0]];
+  tb.dq2 = q[v[2]] - q[v[0]];
+  tb.height = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+  tb.normal = Eigen::Vector3d(-tb.height.gx, -tb.height.gy, 1.0);
+  return tb;
+}
+
+// A's triangle t: its height plane, its corners, and μ's plane (μ is linear
+// on A's triangle and fixed with it; left as is without weights).
+inline void ReferenceTriangle(const ReferenceSide& a, const std::vector<double>* weight, int32_t t, Plane* height,
+                              Point2 corners[3], Plane* mu) {
+  const int32_t* v = &a.mesh.triangles[3 * t];
+  *height = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
+  for (int k = 0; k < 3; ++k) corners[k] = a.xy[v[k]];
+  if (weight != nullptr) {
+    const std::vector<double>& w = *weight;
+    *mu = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
+  }
+}
+
 class VolumeAccumulator {
  public:
   VolumeAccumulator(const PairState& state, bool gradient,
@@ -174,16 +207,9 @@ class VolumeAccumulator {
   }
 
   void SetContext(const OverlayCell& cell) {
-    const ReferenceSide& a = state_.reference();
     if (cell.triangle_a != last_a_) {
       last_a_ = cell.triangle_a;
-      const int32_t* v = &a.mesh.triangles[3 * cell.triangle_a];
-      fa_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
-      for (int k = 0; k < 3; ++k) ta_[k] = a.xy[v[k]];
-      if (weight_ != nullptr) {  // μ is linear on A's triangle and fixed with it
-        const std::vector<double>& w = *weight_;
-        mu_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
-      }
+      ReferenceTriangle(state_.reference(), weight_, cell.triangle_a, &fa_, ta_, &mu_);
     }
     if (cell.triangle_b != last_b_) {
       last_b_ = cell.triangle_b;
@@ -215,21 +241,7 @@ class VolumeAccumulator {
   }
 
   void SetMovedTriangle(int32_t t) {
-    const Triangulation& mesh_b = state_.moving_mesh();
-    const int32_t* v = &mesh_b.triangles[3 * t];
-    const auto& xy = state_.moved_xy();
-    const auto& z = state_.moved_z();
-    const auto& q = state_.moved_q();
-    tb_.p0 = xy[v[0]];
-    const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
-    const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
-    const double det = ax * by - ay * bx;
-    tb_.inv[0] = by / det, tb_.inv[1] = -bx / det, tb_.inv[2] = -ay / det, tb_.inv[3] = ax / det;
-    tb_.q0 = q[v[0]];
-    tb_.dq1 = q[v[1]] - q[v[0]];
-    tb_.dq2 = q[v[2]] - q[v[0]];
-    tb_.height = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
-    tb_.normal = Eigen::Vector3d(-tb_.height.gx, -tb_.height.gy, 1.0);
+    tb_ = MovedTriangleOf(state_, t);
     has_hull_edge_ = false;
     for (int k = 0; k < 3; ++k) has_hull_edge_ |= state_.MovingBoundaryEdge(t, k);
   }

@@ -49,33 +49,13 @@ class ZeroLineSum {
 
  private:
   void SetTriangles(const OverlayCell& cell) {
-    const ReferenceSide& a = state_.reference();
     if (cell.triangle_a != last_a_) {
       last_a_ = cell.triangle_a;
-      const int32_t* v = &a.mesh.triangles[3 * cell.triangle_a];
-      fa_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], a.z[v[0]], a.z[v[1]], a.z[v[2]]);
-      for (int k = 0; k < 3; ++k) ta_[k] = a.xy[v[k]];
-      if (weight_ != nullptr) {
-        const std::vector<double>& w = *weight_;
-        mu_ = PlaneThrough(a.xy[v[0]], a.xy[v[1]], a.xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
-      }
+      volume_internal::ReferenceTriangle(state_.reference(), weight_, cell.triangle_a, &fa_, ta_, &mu_);
     }
     if (cell.triangle_b == last_b_) return;
     last_b_ = cell.triangle_b;
-    const int32_t* v = &state_.moving_mesh().triangles[3 * cell.triangle_b];
-    const auto& xy = state_.moved_xy();
-    const auto& z = state_.moved_z();
-    const auto& q = state_.moved_q();
-    const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
-    const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
-    const double det = ax * by - ay * bx;
-    tb_.p0 = xy[v[0]];
-    tb_.inv[0] = by / det, tb_.inv[1] = -bx / det, tb_.inv[2] = -ay / det, tb_.inv[3] = ax / det;
-    tb_.q0 = q[v[0]];
-    tb_.dq1 = q[v[1]] - q[v[0]];
-    tb_.dq2 = q[v[2]] - q[v[0]];
-    tb_.height = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
-    tb_.normal = Eigen::Vector3d(-tb_.height.gx, -tb_.height.gy, 1.0);
+    tb_ = volume_internal::MovedTriangleOf(state_, cell.triangle_b);
     for (int i = 0; i < 3; ++i) kink_[i] = Kink(cell.triangle_b, i);
   }
 
