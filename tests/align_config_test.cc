@@ -156,6 +156,8 @@ initial_transform: start.txt
 matrix_txt: matrix.txt
 mask_mode: exclude
 mask_layer: slides
+max_memory: 1.5G
+tile_stats: tiles.csv
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -233,6 +235,8 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(c.columns, (std::vector<std::string>{"E", "N", "H", "5"}));
   EXPECT_EQ(o.mask_mode, MaskMode::kExclude);
   EXPECT_EQ(c.mask_layer, "slides");
+  EXPECT_EQ(t.max_memory, "1.5G");
+  EXPECT_EQ(t.tile_stats, "tiles.csv");
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
   EXPECT_EQ(c.Where("progress"), "t.yaml:29: key 'progress'");

@@ -39,6 +39,10 @@ struct TerrainSettings {
   std::string sigma_reference, sigma_moving;
   double lod_confidence = 0;              // (0, 1): threshold t(confidence) · σ_DoD; 0 = none
   std::string dod_sigma, dod_thresholded;  // GeoTIFFs on the reference raster's grid
+  // Two DEMs too large to hold (tools/align_tiled.h): a memory budget such
+  // as "2G" ("" = untiled), and the per-tile dz statistics CSV.
+  std::string max_memory;
+  std::string tile_stats;
   // Whether any terrain output or setting is asked for (or an input is a
   // raster or LAS): then `align` also reports change and dz statistics.
   bool Active(const std::string& reference, const std::string& moving) const;

@@ -7,6 +7,7 @@
 
 #include "tools/config_value.h"
 #include "tools/io/raster_io.h"
+#include "tools/measure_tiled.h"
 #include "tools/plot.h"
 
 namespace surfreg {
@@ -169,6 +170,19 @@ const std::vector<KeyEntry>& TerrainKeyTable() {
         "the true moving -> reference matrix (row-major), when known: the errors are reported"},
        [](const Value& v, C* c) { c->terrain.known_matrix = Matrix(v); },
        [](const C& c) { return MatrixText(c.terrain.known_matrix); }},
+      {{"max_memory", "a memory size such as 512M or 2G, or nothing",
+        "two DEMs aligned at bounded memory: the motion solved on full-resolution patches "
+        "spread over the reference, the change measured tile by tile; nothing = untiled"},
+       [](const Value& v, C* c) {
+         const std::string text = v.kind == Value::kNull ? std::string() : Scalar(v);
+         if (!text.empty()) ParseMemorySize(text, v.where);
+         c->terrain.max_memory = text;
+       },
+       [](const C& c) { return c.terrain.max_memory; }},
+      {{"tile_stats", "a .csv file name, or nothing",
+        "with max_memory: dz after alignment per tile (median, NMAD, RMSE), where the fit is worse"},
+       [](const Value& v, C* c) { c->terrain.tile_stats = Path(v, false); },
+       [](const C& c) { return c.terrain.tile_stats; }},
       {{"mask_raster", "a raster file name, or nothing",
         "stable terrain as a raster in the reference's CRS: weight 1 at reference samples on "
         "non-zero valid cells, 0 elsewhere (not with 'mask')"},

@@ -54,11 +54,49 @@ std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignR
 std::string OutputList(const AlignConfig& config) {
   std::string list;
   for (const char* key : {"output", "matrix_txt", "aligned", "log", "dod", "dod_png", "histogram_png",
-                          "change_csv", "dod_sigma", "dod_thresholded"}) {
+                          "change_csv", "dod_sigma", "dod_thresholded", "tile_stats"}) {
     const std::string path = AlignConfigValue(config, key);
     if (!path.empty()) list += (list.empty() ? "" : ", ") + path;
   }
   return list.empty() ? "nothing (no output key)" : list;
+}
+
+// Two DEMs at bounded memory (tools/align_tiled.h).
+AlignRun AlignTiled(AlignConfig config,
+                    const std::function<void(const AlignOptions::Iteration&)>& on_iteration) {
+  AlignRun run;
+  run.terrain = true;
+  std::vector<AlignOptions::Iteration> seen;  // the log, should the solve be interrupted
+  TiledAlignRun tiled;
+  try {
+    tiled = AlignRasterTiles(config, [&seen, &on_iteration](const AlignOptions::Iteration& it) {
+      seen.push_back(it);
+      if (on_iteration) on_iteration(it);
+    });
+  } catch (const Interrupted&) {
+    if (!config.log.empty() && !seen.empty()) {
+      WriteFileAtomically(config.log, LogCsv(seen), config.Where("log"));
+    }
+    throw;
+  }
+  run.result = std::move(tiled.result);
+  run.json = std::move(tiled.json);
+  if (config.options.on_stage) config.options.on_stage(("writing " + OutputList(config)).c_str(), 0);
+  if (!config.output.empty()) WriteFileAtomically(config.output, run.json, config.Where("output"));
+  if (!config.matrix_txt.empty()) {
+    WriteFileAtomically(config.matrix_txt, MatrixText(run.result.matrix), config.Where("matrix_txt"));
+  }
+  if (!config.terrain.tile_stats.empty()) {
+    WriteFileAtomically(config.terrain.tile_stats, TileStatsCsv(tiled.report.tile_rows),
+                        config.Where("tile_stats"));
+  }
+  if (!config.log.empty()) {
+    WriteFileAtomically(config.log, LogCsv(run.result.log.empty() ? seen : run.result.log),
+                        config.Where("log"));
+  }
+  run.tiled = std::move(tiled.report);
+  run.config = std::move(config);
+  return run;
 }
 
 }  // namespace
@@ -84,6 +122,10 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
                        std::optional<Surface> moving,
                        const std::function<void(const AlignOptions::Iteration&)>& on_iteration) {
   AlignRun run;
+  if (!config.terrain.max_memory.empty()) return AlignTiled(std::move(config), on_iteration);
+  if (!config.terrain.tile_stats.empty()) {
+    throw InputError(config.Where("tile_stats") + ": per-tile statistics need max_memory");
+  }
   // Terrain inputs (rasters, CRSs, change outputs) go through tools/terrain.h.
   run.terrain = config.terrain.Active(config.reference, config.moving);
   TerrainInputs& inputs = run.inputs;

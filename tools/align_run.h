@@ -11,6 +11,7 @@
 
 #include "registration/align.h"
 #include "tools/align_config.h"
+#include "tools/align_tiled.h"
 #include "tools/terrain.h"
 
 namespace surfreg {
@@ -22,6 +23,9 @@ struct AlignRun {
   AlignResult result;
   TerrainReport report;  // when `terrain`
   std::string json;      // the transform JSON, newline-terminated (tools/transform_json.h)
+  // With max_memory (tools/align_tiled.h): the sample and the whole pair
+  // after the motion; `inputs` then holds no surfaces.
+  std::optional<TiledAlignReport> tiled;
 };
 
 // Aligns config.moving onto config.reference with `config` (already through

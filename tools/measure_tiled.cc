@@ -25,15 +25,14 @@ namespace {
 // of tiles of 100-512 cells (600-650 bytes), with room to spare.
 constexpr double kBytesPerCell = 700;
 
-// What tiling needs of one raster: its size and geotransform (read from its
-// first row and column, not its values) and its CRS.
-struct RasterShape {
-  int32_t columns = 0, rows = 0;
-  std::array<double, 6> geotransform{};
-  Crs crs;
-};
+bool Exists(const std::string& path) {
+  struct stat info;
+  return ::stat(path.c_str(), &info) == 0;
+}
 
-RasterShape ReadShape(const AlignConfig& config, const std::string& key) {
+}  // namespace
+
+RasterShape ReadRasterShape(const AlignConfig& config, const std::string& key) {
   const std::string path = AlignConfigValue(config, key);
   RasterReadOptions options;
   options.band = config.terrain.band;
@@ -51,7 +50,7 @@ RasterShape ReadShape(const AlignConfig& config, const std::string& key) {
   return shape;
 }
 
-TiledRasterSource Source(const std::string& path, int band, const RasterShape& shape,
+TiledRasterSource RasterTileSource(const std::string& path, int band, const RasterShape& shape,
                          const std::array<double, 3>& origin) {
   TiledRasterSource source;
   source.columns = shape.columns;
@@ -72,13 +71,6 @@ TiledRasterSource Source(const std::string& path, int band, const RasterShape& s
   source.cover = AffineGridCover(geotransform, shape.columns, shape.rows);
   return source;
 }
-
-bool Exists(const std::string& path) {
-  struct stat info;
-  return ::stat(path.c_str(), &info) == 0;
-}
-
-}  // namespace
 
 double TileBytes(int32_t tile) { return kBytesPerCell * static_cast<double>(tile) * tile; }
 
@@ -114,7 +106,8 @@ double ParseMemorySize(const std::string& text, const std::string& where) {
 TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions options,
                                    const std::string& mask_crs_wkt, const std::string& mask_where,
                                    int32_t tile, const std::string& where, const TiledParts& parts,
-                                   const std::function<void(const TiledProgress&)>& on_progress) {
+                                   const std::function<void(const TiledProgress&)>& on_progress,
+                                   const MovedRaster* moved, const std::function<void(const TileDod&)>& on_tile) {
   for (const char* key : {"reference", "moving"}) {
     const std::string path = AlignConfigValue(config, key);
     if (!IsRasterPath(path)) {
@@ -129,8 +122,8 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
                      "(gdal_translate -srcwin)");
   }
   TiledMeasureRun run;
-  const RasterShape a = ReadShape(config, "reference");
-  const RasterShape b = ReadShape(config, "moving");
+  const RasterShape a = ReadRasterShape(config, "reference");
+  const RasterShape b = ReadRasterShape(config, "moving");
   run.crs_a = a.crs;
   run.crs_b = b.crs;
   if (a.crs.kind == CrsKind::kGeographic || b.crs.kind == CrsKind::kGeographic) {
@@ -208,8 +201,10 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
     return band;
   };
   std::unique_ptr<GeoTiffStreamWriter> row;
-  if (with_dod) {
+  if (with_dod || on_tile) {
     tiled.on_tile = [&](const TileDod& t) {
+      if (on_tile) on_tile(t);
+      if (!with_dod) return;
       if (!row) {
         const DodBand band = row_band(t.tile / nx);
         std::array<double, 6> gt = a.geotransform;
@@ -229,8 +224,9 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
     WriteFileAtomically(state_file, PartJson(part, parts.settings, nullptr, {}, state_file),
                         "the state of the tiled measure");
   };
-  const TiledRasterSource source_a = Source(config.reference, config.terrain.band, a, origin);
-  const TiledRasterSource source_b = Source(config.moving, config.terrain.band, b, origin);
+  const TiledRasterSource source_a = RasterTileSource(config.reference, config.terrain.band, a, origin);
+  TiledRasterSource source_b = RasterTileSource(config.moving, config.terrain.band, b, origin);
+  if (moved != nullptr) source_b = MovedRasterSource(std::move(source_b), moved->matrix, moved->z_min, moved->z_max);
   run.part = MeasureTiledPart(source_a, source_b, tiled, parts.shard, parts.shards,
                               resumed ? &resumed->part : nullptr);
   if (parts.shards == 1) {

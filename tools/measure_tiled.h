@@ -11,6 +11,7 @@
 
 #include "measure/measures.h"
 #include "measure/tiled_measure.h"
+#include "measure/tiled_motion.h"
 #include "tools/align_config.h"
 #include "tools/geo_frame.h"
 #include "tools/measure_parts.h"
@@ -47,6 +48,30 @@ struct TiledParts {
 // in the current directory.
 std::string StateDirectory(const std::string& dod, const TiledParts& parts);
 
+// What tiling needs of one raster: its size and geotransform (read from its
+// first row and column, not its values) and its CRS.
+struct RasterShape {
+  int32_t columns = 0, rows = 0;
+  std::array<double, 6> geotransform{};
+  Crs crs;
+};
+
+// The shape of the raster config names under `key` ("reference" or
+// "moving"), its CRS resolved with the key's _crs setting.
+RasterShape ReadRasterShape(const AlignConfig& config, const std::string& key);
+
+// The raster at `path` (band `band`, shape `shape`) read a window at a time
+// through GDAL, with the samples relative to `origin`.
+TiledRasterSource RasterTileSource(const std::string& path, int band, const RasterShape& shape,
+                                   const std::array<double, 3>& origin);
+
+// The moving raster measured after a rigid motion (measure/tiled_motion.h):
+// the matrix in the rasters' coordinates and the range of its heights.
+struct MovedRaster {
+  RowMajorMatrix4 matrix = kIdentityMatrix4;
+  double z_min = 0, z_max = 0;
+};
+
 struct TiledMeasureRun {
   MeasureSummary summary;  // a whole run's (shards == 1)
   TiledPartial part;       // the part measured (the whole run for 1 of 1)
@@ -67,10 +92,14 @@ struct TiledMeasureRun {
 // With config.terrain.dod, the DoD (B − A at A's cells, nodata outside Ω)
 // is written tile by tile into GeoTIFFs of a tile row each, never held
 // whole, then joined into that GeoTIFF on A's grid (a shard's: its band of
-// rows, all final but its first, which the merge settles).
+// rows, all final but its first, which the merge settles). With `moved`,
+// the moving raster is measured after that motion; `on_tile` (may be empty)
+// sees each tile's DoD as it is done.
 TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions options,
                                    const std::string& mask_crs_wkt, const std::string& mask_where,
                                    int32_t tile, const std::string& where, const TiledParts& parts,
-                                   const std::function<void(const TiledProgress&)>& on_progress);
+                                   const std::function<void(const TiledProgress&)>& on_progress,
+                                   const MovedRaster* moved = nullptr,
+                                   const std::function<void(const TileDod&)>& on_tile = nullptr);
 
 }  // namespace surfreg

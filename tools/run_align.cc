@@ -95,6 +95,7 @@ DEFINE_string(histogram_png, "", "align: write dz histograms before/after on sta
 DEFINE_string(change_csv, "", "align: write x,y,z,dz_before,dz_after,stable per reference sample");
 DEFINE_string(known_matrix, "", "align: the true moving->reference matrix (16 numbers), to report errors");
 DEFINE_string(mask_raster, "", "align: stable-terrain raster (reference CRS): weight 1 on non-zero cells");
+DEFINE_string(tile_stats, "", "align (with --max_memory): write dz after alignment per tile as CSV");
 DEFINE_string(manifest, "", "align: CSV of pairs (reference,moving,output[,aligned]) to align in turn");
 
 namespace surfreg {
@@ -146,8 +147,12 @@ void PrintProgress(const AlignOptions::Iteration& it, const AlignConfig& config,
 
 void PrintSummary(const AlignConfig& config, const Surface& reference, const Surface& moving,
                   const AlignResult& r) {
-  std::printf("reference:    %s  (%zu points)\n", config.reference.c_str(), reference.size());
-  std::printf("moving:       %s  (%zu points)\n", config.moving.c_str(), moving.size());
+  // A tiled run holds no whole surface: its sample's sizes are in its own lines.
+  const auto points = [](const Surface& s) {
+    return s.size() > 0 ? "  (" + std::to_string(s.size()) + " points)" : std::string();
+  };
+  std::printf("reference:    %s%s\n", config.reference.c_str(), points(reference).c_str());
+  std::printf("moving:       %s%s\n", config.moving.c_str(), points(moving).c_str());
   std::printf("cost:         %s, free %s\n", AlignConfigValue(config, "cost").c_str(),
               AlignConfigValue(config, "free").c_str());
   std::fputs(r.FullReport().c_str(), stdout);
@@ -185,7 +190,11 @@ int RunAlign(const std::vector<std::string>& args) {
     std::printf("%s", run.json.c_str());
   } else {
     PrintSummary(run.config, run.inputs.reference, run.inputs.moving, result);
-    if (run.terrain) std::printf("%s\n", TerrainSummary(run.config, run.inputs, run.report).c_str());
+    if (run.tiled) {
+      std::fputs(TiledAlignSummary(*run.tiled).c_str(), stdout);
+    } else if (run.terrain) {
+      std::printf("%s\n", TerrainSummary(run.config, run.inputs, run.report).c_str());
+    }
   }
   // A script must be able to tell a failed alignment (e.g. a mask outside
   // the data) from a good one; the outputs above are written all the same.

@@ -31,13 +31,7 @@ std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in
       .Object("stable_before", DzStatisticsJson(r.stable_before))
       .Object("stable_after", DzStatisticsJson(r.stable_after))
       .Object("change", change);
-  if (r.known) {
-    JsonObject known;
-    known.Number("rotation_error_deg", r.rotation_error_deg)
-        .Number("translation_error", r.translation_error)
-        .Number("translation_error_cells", r.translation_error / r.spacing);
-    terrain.Object("known", known);
-  }
+  if (r.known) terrain.Object("known", KnownErrorJson({r.rotation_error_deg, r.translation_error}, r.spacing));
   return "\"terrain\": " + terrain.str();
 }
 

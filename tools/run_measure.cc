@@ -51,8 +51,9 @@ DECLARE_bool(resume);   // tools/run_sweep.cc
 DECLARE_string(dod);    // tools/run_align.cc (an align key)
 
 DEFINE_string(max_memory, "",
-              "measure: a memory budget such as 512M or 2G, from which the tile side is chosen "
-              "(two DEMs in one projected CRS; about 700 bytes per cell of a tile)");
+              "measure, align: a memory budget such as 512M or 2G, from which the tile side is chosen "
+              "(two DEMs in one projected CRS; about 700 bytes per cell of a tile); align: the "
+              "motion solved on patches within it");
 
 namespace surfreg {
 namespace {

@@ -318,16 +318,32 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
   if (k.size() == 16) {
     Eigen::Matrix4d known;
     for (int i = 0; i < 16; ++i) known(i / 4, i % 4) = k[i];
-    const Eigen::Matrix3d difference =
-        result.matrix.topLeftCorner<3, 3>() * known.topLeftCorner<3, 3>().transpose();
-    report.rotation_error_deg = Eigen::AngleAxisd(difference).angle() * kDegrees;
+    const KnownMotionError error = ErrorAgainstKnown(result.matrix, k, Centroid(in.moving));
+    report.rotation_error_deg = error.rotation_deg;
+    report.translation_error = error.translation;
     const Eigen::Vector4d c = Centroid(in.moving).homogeneous();
-    report.translation_error = (result.matrix * c - known * c).head<3>().norm();
     const Eigen::Vector3d shift = (known * c).head<3>() - c.head<3>();
     report.known_translation = {shift[0], shift[1], shift[2]};
     report.known = true;
   }
   return report;
+}
+
+KnownMotionError ErrorAgainstKnown(const Eigen::Matrix4d& matrix, const std::vector<double>& k,
+                                   const Eigen::Vector3d& centroid) {
+  Eigen::Matrix4d known;
+  for (int i = 0; i < 16; ++i) known(i / 4, i % 4) = k[i];
+  const Eigen::Matrix3d difference = matrix.topLeftCorner<3, 3>() * known.topLeftCorner<3, 3>().transpose();
+  const Eigen::Vector4d c = centroid.homogeneous();
+  return {Eigen::AngleAxisd(difference).angle() * kDegrees, (matrix * c - known * c).head<3>().norm()};
+}
+
+JsonObject KnownErrorJson(const KnownMotionError& error, double cell_size) {
+  JsonObject known;
+  known.Number("rotation_error_deg", error.rotation_deg)
+      .Number("translation_error", error.translation)
+      .Number("translation_error_cells", error.translation / cell_size);
+  return known;
 }
 
 void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,

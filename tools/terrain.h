@@ -14,6 +14,7 @@
 #include "registration/align.h"
 #include "tools/align_config.h"
 #include "tools/geo_frame.h"
+#include "tools/json_writer.h"
 #include "tools/io/raster_io.h"
 #include "tools/terrain_uncertainty.h"
 
@@ -73,6 +74,19 @@ struct TerrainReport {
   std::array<double, 3> known_translation = {0, 0, 0};   // the truth's shift of the centroid
   ChangeUncertainty uncertainty;    // with sigma_reference / sigma_moving
 };
+
+// The error of `matrix` against config.terrain.known_matrix (16 numbers,
+// moving -> reference): the angle of the rotations' difference, and the
+// distance between where the two matrices take the moving centroid
+// `centroid` (input coordinates).
+struct KnownMotionError {
+  double rotation_deg = 0, translation = 0;
+};
+KnownMotionError ErrorAgainstKnown(const Eigen::Matrix4d& matrix, const std::vector<double>& known,
+                                   const Eigen::Vector3d& centroid);
+
+// {"rotation_error_deg", "translation_error", "translation_error_cells"}.
+JsonObject KnownErrorJson(const KnownMotionError& error, double cell_size);
 
 // The change before and after `result` (measures with config.terrain.lod,
 // the mask of config.options as stable terrain), and the errors against a

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# `surfreg align --max_memory=SIZE` (issue 24): two DEMs with a known rigid
+# motion and nodata holes (make_moved_pair.py), aligned on a sample of
+# patches within the budget, recover the motion (1e-4 degrees, 1e-3 cells);
+# the whole pair is then measured tile by tile (DoD, per-tile dz statistics
+# that add up to the whole); a budget the pair fits is solved on the whole
+# pair; what a tiled alignment does not take is refused with one line.
+# Usage: cli_tiled_align_test.sh SURFREG_BINARY   (needs python3, standard library)
+set -u
+here=$(dirname -- "$(realpath -- "$0")")
+source "$here/cli_harness.sh"  # fail, run, expect_refused
+if [[ $# -ne 1 ]]; then
+  echo "usage: $0 SURFREG_BINARY" >&2
+  exit 2
+fi
+bin=$(realpath -- "$1") || exit 2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+cd "$tmp" || exit 2
+failures=0
+checks=0
+
+# 400 x 400 cells (1.6e5): 340M holds four patches of 128 x 128, 2G the whole pair.
+python3 "$here/make_moved_pair.py" . 400 || exit 2
+known=$(tr ' ' ',' <known.txt)
+
+run align a.bil b.bil --max_memory=340M --known_matrix="$known" --output=t.json --dod=dod.tif \
+  --tile_stats=tiles.csv --matrix_txt=m.txt
+[[ $rc -eq 0 ]] || fail "tiled align: exit $rc"
+checks=$((checks + 1))
+python3 - t.json tiles.csv <<'PY' || fail "tiled align: the motion, the sample or the tiles"
+import csv, json, sys
+j = json.load(open(sys.argv[1]))
+t = j["tiled"]
+s, k = t["sample"], t["known"]
+assert j["verdict"] == "converged_improved", j["verdict"]
+assert s["whole"] is False and s["patches"] == 4 and s["patch"] == 128, s
+assert s["reference_samples"] <= 4 * 128 * 128 < 400 * 400, s
+assert k["rotation_error_deg"] < 1e-4 and k["translation_error_cells"] < 1e-3, k
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert len(rows) == t["tiles"] >= 1, (len(rows), t["tiles"])
+assert sum(int(r["samples"]) for r in rows) == t["after"]["dz_count"] > 0.9 * 400 * 400
+assert all(abs(float(r["dz_median"])) < 0.01 for r in rows if int(r["samples"]) > 0), rows
+assert t["after"]["dz_rmse"] < 0.01 and abs(t["after"]["net"]) < 1e-3 * t["after"]["overlap_area"], t["after"]
+print("  tiled: %d patches, rotation error %.2g deg, translation %.2g cells, %d tiles" % (
+    s["patches"], k["rotation_error_deg"], k["translation_error_cells"], t["tiles"]))
+PY
+[[ -s dod.tif && -s m.txt ]] || fail "tiled align: no DoD or matrix written"
+
+run align a.bil b.bil --max_memory=2G --known_matrix="$known" --json --quiet
+[[ $rc -eq 0 ]] || fail "tiled align with a budget the pair fits: exit $rc"
+checks=$((checks + 1))
+python3 -c '
+import json, sys
+t = json.load(sys.stdin)["tiled"]
+assert t["sample"]["whole"] is True and t["sample"]["reference_samples"] > 0.9 * 400 * 400, t["sample"]
+assert t["known"]["rotation_error_deg"] < 1e-4 and t["known"]["translation_error_cells"] < 1e-3, t["known"]
+' <"$tmp/stdout" || fail "tiled align, whole pair: sample or motion"
+
+# The least budget: one patch, several tiles whose statistics add up.
+run align a.bil b.bil --max_memory=128M --known_matrix="$known" --output=small.json --tile_stats=small.csv
+[[ $rc -eq 0 ]] || fail "tiled align at 128M: exit $rc"
+checks=$((checks + 1))
+python3 - small.json small.csv <<'PY' || fail "tiled align at 128M: the tiles"
+import csv, json, sys
+t = json.load(open(sys.argv[1]))["tiled"]
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert t["sample"]["patches"] == 1 and t["tiles"] == len(rows) > 1, (t["sample"], t["tiles"], len(rows))
+assert sum(int(r["samples"]) for r in rows) == t["after"]["dz_count"] > 0.9 * 400 * 400
+assert t["known"]["rotation_error_deg"] < 1e-3 and t["known"]["translation_error_cells"] < 1e-2, t["known"]
+PY
+
+# What is refused, each with one line naming the key.
+echo "400000 5199600 300" >cloud.xyz
+echo "400001 5199600 300" >>cloud.xyz
+echo "400000 5199601 301" >>cloud.xyz
+expect_refused "a tiled alignment is for two rasters" align a.bil cloud.xyz --max_memory=1G
+expect_refused "flag '--aligned': not with flag '--max_memory'" align a.bil b.bil --max_memory=1G --aligned=out.tif
+expect_refused "at least 128M" align a.bil b.bil --max_memory=64M
+expect_refused "flag '--max_memory' expects a memory size" align a.bil b.bil --max_memory=lots
+expect_refused "per-tile statistics need max_memory" align a.bil b.bil --tile_stats=t.csv
+expect_refused "data domain only" align a.bil b.bil --max_memory=1G --domain=hull
+[[ ! -e out.tif && ! -e t.csv ]] || fail "a refused run wrote an output"
+
+echo "$checks checks, $failures failures"
+[[ $failures -eq 0 ]]

@@ -1,0 +1,299 @@
+#include "tools/align_tiled.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+#include "measure/dz_statistics.h"
+#include "measure/input_error.h"
+#include "measure/tiled_motion.h"
+#include "tools/align_run.h"
+#include "tools/interrupt.h"
+#include "tools/json_writer.h"
+#include "tools/measure_tiled.h"
+#include "tools/terrain.h"
+#include "tools/terrain_uncertainty.h"
+#include "tools/transform_json.h"
+
+namespace surfreg {
+namespace {
+
+// Peak memory of the solve per reference sample of a patch sample (the
+// moving side has about 1.6 times as many: its windows' margins), and of
+// the program around it (GDAL loaded): whole-process peak RSS (GNU time) of
+// samples of 6e4 to 2.6e5 was 64 MB + 2.8 to 3.4 KB per sample.
+constexpr double kAlignBytesPerSample = 3500, kProgramBytes = 64.0 * 1024 * 1024;
+// The least budget worth a tiled alignment: the program and 1e4 samples.
+constexpr double kMinAlignBudget = 128.0 * 1024 * 1024;
+// The solve's time grows with the sample, and 3e5 samples in patches
+// spread over the whole DEM determine a rigid motion to 1e-5 cells on
+// clean terrain (tests/bench/run_tiled_align_bench.sh).
+constexpr int64_t kMaxSample = 300000, kMinSample = 10000;
+constexpr int32_t kPatch = 128, kMargin = 16;
+constexpr uint64_t kSeed = 1;
+
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+RowMajorMatrix4 RowMajor(const Eigen::Matrix4d& m) {
+  RowMajorMatrix4 out;
+  for (int k = 0; k < 16; ++k) out[k] = m(k / 4, k % 4);
+  return out;
+}
+
+TileDzRow RowOf(const TileDod& t, const std::array<double, 6>& gt) {
+  TileDzRow row;
+  row.tile = t.tile;
+  row.column = t.window.column, row.row = t.window.row;
+  row.columns = t.window.columns, row.rows = t.window.rows;
+  const double u = t.window.column + 0.5 * t.window.columns, v = t.window.row + 0.5 * t.window.rows;
+  row.x = gt[0] + u * gt[1] + v * gt[2];
+  row.y = gt[3] + u * gt[4] + v * gt[5];
+  const DzStatistics s = ComputeDzStatistics(t.dz);
+  row.count = s.count;
+  row.median = s.count > 0 ? s.median : kNaN;
+  row.nmad = s.count > 0 ? s.nmad : kNaN;
+  row.mean = s.count > 0 ? s.mean : kNaN;
+  row.rmse = s.count > 0 ? s.rmse : kNaN;
+  return row;
+}
+
+}  // namespace
+
+void CheckTiledAlign(const AlignConfig& config) {
+  const std::string where = config.Where("max_memory");
+  for (const char* key : {"reference", "moving"}) {
+    const std::string path = AlignConfigValue(config, key);
+    if (!IsRasterPath(path)) {
+      throw InputError(where + ": a tiled alignment is for two rasters, but " + config.Where(key) +
+                       " is '" + path + "', a cloud");
+    }
+  }
+  const auto& w = config.terrain.window;
+  if (w[0] != 0 || w[1] != 0 || w[2] != 0 || w[3] != 0) {
+    throw InputError(where + " and " + config.Where("window") +
+                     ": a window and tiles do not go together yet: cut the window out first "
+                     "(gdal_translate -srcwin)");
+  }
+  for (const char* key : {"aligned", "dod_png", "histogram_png", "change_csv", "dod_sigma",
+                          "dod_thresholded", "sigma_reference", "sigma_moving", "mask_raster"}) {
+    if (!AlignConfigValue(config, key).empty()) {
+      throw InputError(config.Where(key) + ": not with " + where +
+                       " yet (it needs the whole surfaces); a tiled alignment writes output, "
+                       "matrix_txt, log, dod and tile_stats");
+    }
+  }
+  if (config.per_point_weights) {
+    throw InputError(config.Where("weights") + ": per_point weights are not with " + where + " yet");
+  }
+  if (config.options.domain.kind == DomainKind::kHull) {
+    throw InputError(config.Where("domain") + ": a tiled alignment measures on the data domain only");
+  }
+  if (!config.terrain.tile_stats.empty() && config.terrain.max_memory.empty()) {
+    throw InputError(config.Where("tile_stats") + ": per-tile statistics need max_memory");
+  }
+}
+
+TiledAlignRun AlignRasterTiles(const AlignConfig& given,
+                               const std::function<void(const AlignOptions::Iteration&)>& on_iteration) {
+  CheckTiledAlign(given);
+  AlignConfig config = given;
+  const std::string where = config.Where("max_memory");
+  const auto stage = [&config](const std::string& what) {
+    if (config.options.on_stage) config.options.on_stage(what.c_str(), 0);
+  };
+  TiledAlignRun run;
+  TiledAlignReport& report = run.report;
+  report.budget = ParseMemorySize(config.terrain.max_memory, where);
+  if (report.budget < kMinAlignBudget) {
+    throw InputError(where + ": a tiled alignment needs at least 128M (the program and the solve on "
+                     "10000 samples), got " + config.terrain.max_memory);
+  }
+  const RasterShape a = ReadRasterShape(config, "reference");
+  const RasterShape b = ReadRasterShape(config, "moving");
+  if (a.crs.kind == CrsKind::kGeographic || b.crs.kind == CrsKind::kGeographic) {
+    throw InputError(where + ": a tiled alignment needs both DEMs in one projected CRS (A: " +
+                     DescribeCrs(a.crs) + ", B: " + DescribeCrs(b.crs) +
+                     "); project them first, e.g. gdalwarp -t_srs EPSG:32633");
+  }
+  {  // the CRS checks of an untiled run (two projected or CRS-less DEMs)
+    Surface frame_a, frame_b;
+    frame_a.source = config.reference;
+    frame_b.source = config.moving;
+    ToCommonMetricFrame(&frame_a, a.crs, &frame_b, b.crs, FrameChoice::kAuto);
+  }
+  report.cell_size = std::sqrt(std::fabs(a.geotransform[1] * a.geotransform[5] -
+                                         a.geotransform[2] * a.geotransform[4]));
+  const std::array<double, 3> origin = RasterOrigin(a.geotransform, a.columns, a.rows);
+  const TiledRasterSource source_a = RasterTileSource(config.reference, config.terrain.band, a, origin);
+  const TiledRasterSource source_b = RasterTileSource(config.moving, config.terrain.band, b, origin);
+
+  // The moving DEM's height range (a tilted motion's cover needs it), in
+  // bands of rows a quarter of the budget holds (~64 bytes per sample read).
+  stage("height range of " + config.moving);
+  const double band_rows = report.budget / 4 / (64.0 * std::max(b.columns, 1));
+  const std::array<double, 2> range =
+      HeightRange(source_b, static_cast<int32_t>(std::clamp(band_rows, 1.0, double(b.rows))));
+
+  // The sample.
+  stage("sampling patches");
+  PatchSampleOptions sampling;
+  sampling.max_reference_samples = std::clamp(
+      static_cast<int64_t>(0.85 * (report.budget - kProgramBytes) / kAlignBytesPerSample), kMinSample,
+      kMaxSample);
+  sampling.patch = kPatch;
+  sampling.margin = kMargin;
+  sampling.seed = kSeed;
+  if (!config.initial_matrix.empty()) {
+    std::copy(config.initial_matrix.begin(), config.initial_matrix.end(), sampling.initial.begin());
+  }
+  sampling.moving_z_min = range[0], sampling.moving_z_max = range[1];
+  PatchSample sample = SampleRasterPatches(source_a, source_b, sampling);
+  report.patches = static_cast<int64_t>(sample.patches.size());
+  report.patch = sample.whole ? 0 : sampling.patch;
+  report.whole = sample.whole;
+  report.reference_samples = static_cast<int64_t>(sample.reference.size());
+  report.moving_samples = static_cast<int64_t>(sample.moving.size());
+
+  // The solve, on the sample (a mask in its file's CRS brought into A's).
+  ApplyInitialTransform(config, &config.options);
+  if (config.options.weight == WeightMode::kMask) {
+    TerrainInputs frame;
+    frame.reference_crs = a.crs;
+    frame.moving_crs = b.crs;
+    MaskToFrame(frame, config.mask_crs_wkt, config.Where("mask"), &config.options.mask);
+  }
+  config.options.on_iteration = [&on_iteration](const AlignOptions::Iteration& it) {
+    if (on_iteration) on_iteration(it);
+    ThrowIfInterrupted();
+  };
+  run.result = Align(sample.reference, sample.moving, config.options);
+  config.options.on_iteration = nullptr;
+  double sum_xyz[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < sample.moving.size(); ++i) {
+    sum_xyz[0] += sample.moving.xy[i].x, sum_xyz[1] += sample.moving.xy[i].y, sum_xyz[2] += sample.moving.z[i];
+  }
+  const double count = static_cast<double>(std::max<std::size_t>(sample.moving.size(), 1));
+  const Eigen::Vector3d centroid(sample.moving.origin[0] + sum_xyz[0] / count,
+                                 sample.moving.origin[1] + sum_xyz[1] / count,
+                                 sample.moving.origin[2] + sum_xyz[2] / count);
+  sample = PatchSample();  // its memory is the tiles' now
+
+  // The whole pair after the motion, tile by tile.
+  MeasureOptions measure;
+  measure.domain = config.options.domain;
+  measure.detect_change = true;
+  measure.level_of_detection = config.terrain.lod;
+  measure.parallel = config.options.num_threads > 1;
+  MovedRaster moved;
+  moved.matrix = RowMajor(run.result.matrix);
+  moved.z_min = range[0], moved.z_max = range[1];
+  TiledParts parts;
+  parts.checkpoint = false;
+  const auto start = std::chrono::steady_clock::now();
+  double last = -1;
+  const TiledMeasureRun after = MeasureRasterTiles(
+      config, measure, "", config.Where("mask"), TileForMemory(report.budget - kProgramBytes), where, parts,
+      [&](const TiledProgress& p) {
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (p.total == 0 || (seconds < last + 1.0 && p.done < p.total)) return;
+        last = seconds;
+        char line[160];
+        const double eta = p.done > 0 ? seconds * (p.total - p.done) / p.done : 0.0;
+        std::snprintf(line, sizeof line, "measuring after the motion: tiles, %lld of %lld, ETA %.0f s",
+                      static_cast<long long>(p.done), static_cast<long long>(p.total), eta);
+        stage(line);
+      },
+      &moved, [&report, &a](const TileDod& t) { report.tile_rows.push_back(RowOf(t, a.geotransform)); });
+  report.after = after.summary;
+  report.tile = after.tile;
+  report.tiles = after.tiles;
+  double sum = 0, sum_squares = 0;
+  for (const TileDzRow& row : report.tile_rows) {
+    if (row.count == 0) continue;
+    report.dz_count += row.count;
+    sum += row.mean * row.count;
+    sum_squares += row.rmse * row.rmse * row.count;
+  }
+  report.dz_mean = report.dz_count > 0 ? sum / report.dz_count : kNaN;
+  report.dz_rmse = report.dz_count > 0 ? std::sqrt(sum_squares / report.dz_count) : kNaN;
+
+  if (config.terrain.known_matrix.size() == 16) {
+    const KnownMotionError error = ErrorAgainstKnown(run.result.matrix, config.terrain.known_matrix, centroid);
+    report.rotation_error_deg = error.rotation_deg;
+    report.translation_error = error.translation;
+    report.known = true;
+  }
+
+  const MeasureSummary& s = report.after;
+  JsonObject sampled;
+  sampled.Int("patches", report.patches)
+      .Int("patch", report.patch)
+      .Raw("whole", report.whole ? "true" : "false")
+      .Int("reference_samples", report.reference_samples)
+      .Int("moving_samples", report.moving_samples)
+      .Int("seed", static_cast<int64_t>(kSeed));
+  JsonObject whole = DetectedChangeJson(s);
+  whole.Number("rho_d", s.rho_d)
+      .Number("rho_d_axial", s.rho_d_axial)
+      .Number("mean_abs_dz", s.mean_abs_dz)
+      .Number("overlap_area", s.overlap_area)
+      .Number("signed_volume", s.signed_volume)
+      .Number("domain_area_reference", s.domain_area_a)
+      .Number("domain_area_moving", s.domain_area_b)
+      .Int("n_overlap_nodes", s.n_overlap_nodes)
+      .Int("dz_count", report.dz_count)
+      .Number("dz_mean", report.dz_mean)
+      .Number("dz_rmse", report.dz_rmse);
+  JsonObject tiled;
+  tiled.Number("max_memory_bytes", report.budget)
+      .Object("sample", sampled)
+      .Int("tile", report.tile)
+      .Int("tiles", report.tiles)
+      .Number("cell_size", report.cell_size)
+      .Object("after", whole);
+  if (report.known) {
+    tiled.Object("known", KnownErrorJson({report.rotation_error_deg, report.translation_error}, report.cell_size));
+  }
+  run.json = TransformJson(config, run.result, "\"tiled\": " + tiled.str());
+  return run;
+}
+
+std::string TileStatsCsv(const std::vector<TileDzRow>& rows) {
+  std::string csv = "tile,column,row,columns,rows,x,y,samples,dz_median,dz_nmad,dz_mean,dz_rmse\n";
+  char line[320];
+  for (const TileDzRow& r : rows) {
+    std::snprintf(line, sizeof line, "%lld,%d,%d,%d,%d,%.17g,%.17g,%lld,%.9g,%.9g,%.9g,%.9g\n",
+                  static_cast<long long>(r.tile), r.column, r.row, r.columns, r.rows, r.x, r.y,
+                  static_cast<long long>(r.count), r.median, r.nmad, r.mean, r.rmse);
+    csv += line;
+  }
+  return csv;
+}
+
+std::string TiledAlignSummary(const TiledAlignReport& r) {
+  char text[1024];
+  int n = std::snprintf(
+      text, sizeof text,
+      "tiled:        %s, %lld reference and %lld moving samples solved on; after the motion, "
+      "%lld tiles of %d cells:\n"
+      "  whole pair: rho_d %.9g, overlap %.9g, dz over %lld samples: mean %.4g, RMSE %.4g\n",
+      r.whole ? "the whole pair fitted the budget"
+              : ("" + std::to_string(r.patches) + " patches of " + std::to_string(r.patch) + " cells").c_str(),
+      static_cast<long long>(r.reference_samples), static_cast<long long>(r.moving_samples),
+      static_cast<long long>(r.tiles), r.tile, r.after.rho_d, r.after.overlap_area,
+      static_cast<long long>(r.dz_count), r.dz_mean, r.dz_rmse);
+  std::string out(text, std::min<std::size_t>(n, sizeof text - 1));
+  if (r.known) {
+    std::snprintf(text, sizeof text, "  error against the known motion: rotation %.3g deg, translation %.3g (%.3g cells)\n",
+                  r.rotation_error_deg, r.translation_error, r.translation_error / r.cell_size);
+    out += text;
+  }
+  return out;
+}
+
+}  // namespace surfreg

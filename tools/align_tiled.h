@@ -1,0 +1,72 @@
+#pragma once
+// `surfreg align --max_memory=SIZE`: two DEMs too large to hold, aligned at
+// bounded memory (issue 24). The motion is solved on a sample of
+// full-resolution patches spread over the reference and the moving data
+// around them (measure/tiled_motion.h), as many samples as the budget holds;
+// then the moving DEM is measured after that motion tile by tile, with the
+// DoD streamed into its GeoTIFF and dz statistics per tile. Neither DEM is
+// ever read whole. Both must be rasters in one projected CRS (or none).
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "measure/measures.h"
+#include "registration/align.h"
+#include "tools/align_config.h"
+
+namespace surfreg {
+
+// dz after the motion over one tile's reference samples.
+struct TileDzRow {
+  int64_t tile = 0;
+  int32_t column = 0, row = 0, columns = 0, rows = 0;  // the tile's samples
+  double x = 0, y = 0;                                  // its centre (input coordinates)
+  int64_t count = 0;                                    // samples in the overlap
+  double median = 0, nmad = 0, mean = 0, rmse = 0;      // NaN without samples
+};
+
+struct TiledAlignReport {
+  double budget = 0;  // bytes
+  // The sample the motion was solved on.
+  int64_t patches = 0;
+  int32_t patch = 0;  // side in reference cells
+  bool whole = false;  // the pair fitted the budget: the sample is the pair
+  int64_t reference_samples = 0, moving_samples = 0;
+  // The whole pair after the motion, tile by tile.
+  MeasureSummary after;
+  int32_t tile = 0;
+  int64_t tiles = 0;
+  std::vector<TileDzRow> tile_rows;
+  int64_t dz_count = 0;
+  double dz_mean = 0, dz_rmse = 0;  // over every reference sample in the overlap
+  double cell_size = 0;            // the reference's, for errors in cells
+  bool known = false;              // config.terrain.known_matrix given
+  double rotation_error_deg = 0, translation_error = 0;
+};
+
+struct TiledAlignRun {
+  AlignResult result;  // its before/after measures are the sample's
+  TiledAlignReport report;
+  std::string json;  // the transform JSON with a "tiled" member
+};
+
+// Throws InputError (naming the key) for what a tiled alignment does not
+// take: inputs that are not two rasters in one projected CRS, a window,
+// per-point weights or a mask raster, the DEMs' σ, and the outputs that need
+// the whole surfaces (aligned, figures, change_csv, σ rasters).
+void CheckTiledAlign(const AlignConfig& config);
+
+// The run above; writes the DoD (dod) tile row by tile row and nothing else
+// (the caller writes output, matrix_txt and log; WriteTileStats the CSV).
+// `on_iteration` sees every solver iteration.
+TiledAlignRun AlignRasterTiles(const AlignConfig& config,
+                               const std::function<void(const AlignOptions::Iteration&)>& on_iteration);
+
+// tile,column,row,columns,rows,x,y,samples,dz_median,dz_nmad,dz_mean,dz_rmse.
+std::string TileStatsCsv(const std::vector<TileDzRow>& rows);
+
+// The lines the CLI prints after the alignment's own summary.
+std::string TiledAlignSummary(const TiledAlignReport& report);
+
+}  // namespace surfreg
