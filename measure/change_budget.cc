@@ -51,46 +51,69 @@ std::vector<double> ChangeThresholds(const std::vector<double>& sigma_dod, doubl
   return out;
 }
 
+void ChangeBudgetSums::AddNode(double dz, double area, double sigma_dod, double threshold) {
+  if (!std::isfinite(dz) || !std::isfinite(sigma_dod) || !std::isfinite(area)) return;
+  ++nodes;
+  const double error = sigma_dod * area;
+  if (dz > threshold) {
+    fill += dz * area;
+    fill_area += area;
+    ++fill_nodes;
+    fill_var += error * error;
+    fill_sigma += error;
+  } else if (dz < -threshold) {
+    cut -= dz * area;
+    cut_area += area;
+    ++cut_nodes;
+    cut_var += error * error;
+    cut_sigma += error;
+  }
+}
+
+void ChangeBudgetSums::Add(const ChangeBudgetSums& o) {
+  nodes += o.nodes, fill_nodes += o.fill_nodes, cut_nodes += o.cut_nodes;
+  fill += o.fill, cut += o.cut, fill_area += o.fill_area, cut_area += o.cut_area;
+  fill_var += o.fill_var, cut_var += o.cut_var;
+  fill_sigma += o.fill_sigma, cut_sigma += o.cut_sigma;
+}
+
+ChangeBudget FinishChangeBudget(const ChangeBudgetSums& s, double t, double sigma_median,
+                                double threshold_median) {
+  ChangeBudget b;
+  b.t = t;
+  b.nodes = s.nodes;
+  b.fill = s.fill, b.cut = s.cut, b.net = s.fill - s.cut;
+  b.fill_area = s.fill_area, b.cut_area = s.cut_area;
+  b.fill_nodes = s.fill_nodes, b.cut_nodes = s.cut_nodes;
+  b.fill_sigma_independent = std::sqrt(s.fill_var);
+  b.cut_sigma_independent = std::sqrt(s.cut_var);
+  b.net_sigma_independent = std::sqrt(s.fill_var + s.cut_var);
+  b.fill_sigma_correlated = s.fill_sigma;
+  b.cut_sigma_correlated = s.cut_sigma;
+  // A bias of σ everywhere raises the fill and lowers the cut alike: on the
+  // net the two add.
+  b.net_sigma_correlated = s.fill_sigma + s.cut_sigma;
+  b.sigma_median = sigma_median;
+  b.threshold_median = threshold_median;
+  return b;
+}
+
 ChangeBudget ComputeChangeBudget(const std::vector<double>& dz, const std::vector<double>& area,
                                  const std::vector<double>& sigma_dod, double confidence, double min_lod) {
   if (dz.size() != area.size() || dz.size() != sigma_dod.size()) {
     throw std::invalid_argument("ComputeChangeBudget: sizes differ");
   }
-  ChangeBudget b;
-  b.t = confidence > 0 ? TwoSidedNormalQuantile(confidence) : 0.0;
   const std::vector<double> threshold = ChangeThresholds(sigma_dod, confidence, min_lod);
-  double fill_var = 0, cut_var = 0;
+  ChangeBudgetSums sums;
   std::vector<double> sigmas, thresholds;
   for (std::size_t i = 0; i < dz.size(); ++i) {
     if (!std::isfinite(dz[i]) || !std::isfinite(sigma_dod[i]) || !std::isfinite(area[i])) continue;
-    ++b.nodes;
     sigmas.push_back(sigma_dod[i]);
     thresholds.push_back(threshold[i]);
-    const double a = area[i], error = sigma_dod[i] * area[i];
-    if (dz[i] > threshold[i]) {
-      b.fill += dz[i] * a;
-      b.fill_area += a;
-      ++b.fill_nodes;
-      fill_var += error * error;
-      b.fill_sigma_correlated += error;
-    } else if (dz[i] < -threshold[i]) {
-      b.cut -= dz[i] * a;
-      b.cut_area += a;
-      ++b.cut_nodes;
-      cut_var += error * error;
-      b.cut_sigma_correlated += error;
-    }
+    sums.AddNode(dz[i], area[i], sigma_dod[i], threshold[i]);
   }
-  b.net = b.fill - b.cut;
-  b.fill_sigma_independent = std::sqrt(fill_var);
-  b.cut_sigma_independent = std::sqrt(cut_var);
-  b.net_sigma_independent = std::sqrt(fill_var + cut_var);
-  // A bias of σ everywhere raises the fill and lowers the cut alike: on the
-  // net the two add.
-  b.net_sigma_correlated = b.fill_sigma_correlated + b.cut_sigma_correlated;
-  b.sigma_median = Median(sigmas);
-  b.threshold_median = Median(thresholds);
-  return b;
+  return FinishChangeBudget(sums, confidence > 0 ? TwoSidedNormalQuantile(confidence) : 0.0,
+                            Median(std::move(sigmas)), Median(std::move(thresholds)));
 }
 
 }  // namespace surfreg

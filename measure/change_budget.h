@@ -35,6 +35,23 @@ struct ChangeBudget {
   double threshold_median = 0;  // of L over those nodes (NaN if none)
 };
 
+// The budget's sums over nodes, added node by node in any order and in
+// parts (tiles, shards of a tiled measure: measure/tiled_partial.h).
+struct ChangeBudgetSums {
+  int64_t nodes = 0, fill_nodes = 0, cut_nodes = 0;
+  double fill = 0, cut = 0, fill_area = 0, cut_area = 0;
+  double fill_var = 0, cut_var = 0;      // Σ (σ a)² over gain / loss
+  double fill_sigma = 0, cut_sigma = 0;  // Σ σ a over gain / loss
+  // A node with threshold L: skipped unless dz, area and σ_DoD are finite.
+  void AddNode(double dz, double area, double sigma_dod, double threshold);
+  void Add(const ChangeBudgetSums& other);
+};
+
+// The budget of `sums` at multiple t, with the medians of σ_DoD and of L
+// over the nodes (NaN if none).
+ChangeBudget FinishChangeBudget(const ChangeBudgetSums& sums, double t, double sigma_median,
+                                double threshold_median);
+
 // The budget over the nodes with a finite dz and σ_DoD (the others, e.g.
 // outside Ω, are left out). `confidence` in (0, 1) sets t; 0 = no
 // probabilistic threshold (t = 0, L = min_lod). min_lod >= 0. A node with

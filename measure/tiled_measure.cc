@@ -313,6 +313,9 @@ struct PartRun {
           owned_top.push_back({c, r, d, node_area, WeightAt(a.xy[i]), true});
         } else if (std::isfinite(d)) {
           totals->AddNode(d, WeightAt(a.xy[i]));
+          if (options.budget) {
+            totals->budget.AddNode(d, node_area, options.budget_sigma_dod, options.budget_threshold);
+          }
         }
       }
     }
@@ -380,11 +383,15 @@ TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRas
   TiledBand(ny, shard, shards, &part.first_row, &part.band_end_row);
   TiledBand(part.moving_tile_rows, shard, shards, &part.moving_first_row, &part.moving_end_row);
   part.end_row = part.first_row;
+  part.budget = options.budget;
+  part.budget_sigma_dod = options.budget_sigma_dod;
+  part.budget_threshold = options.budget_threshold;
   if (resume != nullptr) {
     if (resume->shard != shard || resume->shards != shards || resume->tile != part.tile ||
         resume->tile_rows != ny || resume->moving_tile_rows != part.moving_tile_rows ||
         resume->first_row != part.first_row || resume->end_row < part.first_row ||
-        resume->end_row > part.band_end_row) {
+        resume->end_row > part.band_end_row || resume->budget != part.budget ||
+        resume->budget_sigma_dod != part.budget_sigma_dod || resume->budget_threshold != part.budget_threshold) {
       throw InputError("tiled measure: the state to resume is of another run or part");
     }
     part.end_row = resume->end_row;

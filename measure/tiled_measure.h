@@ -99,6 +99,11 @@ struct TiledMeasureOptions {
   MeasureOptions measure;
   int32_t tile = 512;   // tile side in reference cells (> 0)
   int32_t margin = 2;   // samples added around each moving window (>= 1)
+  // A change budget over the reference's nodes (measure/change_budget.h,
+  // TiledSums::budget) with one σ_DoD for every node (the DEMs' σ given as
+  // numbers) and its threshold L = max(lod, t σ_DoD).
+  bool budget = false;
+  double budget_sigma_dod = 0, budget_threshold = 0;
   std::function<void(const TileDod&)> on_tile;
   std::function<void(const TiledProgress&)> on_progress;
   // MeasureTiledPart: the part's state after each of its tile rows (once the

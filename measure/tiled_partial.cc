@@ -73,6 +73,7 @@ void TiledSums::Add(const TiledSums& o) {
   complete_cells_b += o.complete_cells_b;
   hull_a = HullOfBoth(hull_a, o.hull_a);
   hull_b = HullOfBoth(hull_b, o.hull_b);
+  budget.Add(o.budget);
 }
 
 void TiledBand(int64_t rows, int32_t shard, int32_t shards, int64_t* first, int64_t* end) {
@@ -92,6 +93,11 @@ void CheckPartsOfOneRun(const std::vector<TiledPartial>& parts) {
         p.moving_tile_rows != first.moving_tile_rows) {
       throw InputError(PartName(p) + " is of another run than " + PartName(first) +
                        " (other shard count, tile or raster size)");
+    }
+    if (p.budget != first.budget || p.budget_sigma_dod != first.budget_sigma_dod ||
+        p.budget_threshold != first.budget_threshold) {
+      throw InputError(PartName(p) + " is of another run than " + PartName(first) +
+                       " (another change budget: sigma or its threshold)");
     }
     if (k > 0 && p.shard == parts[k - 1].shard) throw InputError(PartName(p) + " is given twice");
     if (p.shard != static_cast<int32_t>(k) + 1) {
@@ -157,6 +163,7 @@ TiledPartial MergeTiledPartials(std::vector<TiledPartial> parts, std::vector<Til
         above.erase(it);
       }
       if (std::isfinite(dz)) whole.sums.AddNode(dz, node.weight);
+      if (p.budget) whole.sums.budget.AddNode(dz, area, p.budget_sigma_dod, p.budget_threshold);
       if (patches != nullptr) patches->push_back({node.column, node.row, std::isfinite(dz) ? dz : kNaN});
     }
     if (!above.empty()) {

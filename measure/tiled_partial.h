@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "measure/change_budget.h"
 #include "measure/convex_hull.h"  // the hulls the parts carry
 #include "measure/measures.h"
 #include "measure/surface.h"
@@ -36,6 +37,7 @@ struct TiledSums {
   double domain_area_a = 0, domain_area_b = 0;
   int64_t complete_cells_a = 0, complete_cells_b = 0;
   std::vector<Point2> hull_a, hull_b;  // convex hulls (local coordinates)
+  ChangeBudgetSums budget;             // over the reference's nodes, with a budget
 
   void AddNode(double dz, double weight);
   void AddTile(const MeasureSummary& s);
@@ -73,6 +75,9 @@ struct TiledPartial {
   int64_t end_row = 0;  // rows done: [first_row, end_row); < band_end_row while running
   int64_t moving_first_row = 0, moving_end_row = 0;
   bool moving_done = false;  // the moving raster's area pass over its band
+  // The change budget's one σ_DoD and threshold (TiledMeasureOptions).
+  bool budget = false;
+  double budget_sigma_dod = 0, budget_threshold = 0;
   TiledSums sums;
   TiledMeasureStats stats;
   std::vector<TiledBorderNode> border;

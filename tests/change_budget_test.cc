@@ -152,5 +152,33 @@ TEST(ChangeBudgetTest, NodeAreasOfARasterAreItsCells) {
   EXPECT_NEAR(s.volume_below, 8 * h * h * 12, 1e-8);
 }
 
+// The sums in parts (as tiles and shards add them) give the budget of the
+// whole; non-finite nodes are skipped; a node exactly at its threshold is
+// no change.
+TEST(ChangeBudget, SumsInPartsEqualTheWhole) {
+  const std::vector<double> dz = {0.9, -1.4, 0.2, std::nan(""), 2.5, -0.3, -2.0, 0.5};
+  const std::vector<double> area = {1.0, 2.0, 0.5, 1.0, 1.5, 1.0, std::nan(""), 3.0};
+  const std::vector<double> sigma(dz.size(), 0.25);
+  const ChangeBudget whole = ComputeChangeBudget(dz, area, sigma, 0.95, 0.5);
+  const double t = TwoSidedNormalQuantile(0.95), threshold = std::max(0.5, t * 0.25);
+  ChangeBudgetSums first, second;
+  for (std::size_t i = 0; i < dz.size(); ++i) (i < 3 ? first : second).AddNode(dz[i], area[i], 0.25, threshold);
+  first.Add(second);
+  const ChangeBudget parts = FinishChangeBudget(first, t, 0.25, threshold);
+  EXPECT_EQ(parts.nodes, 6);  // the NaN dz and the NaN area left out
+  EXPECT_EQ(parts.nodes, whole.nodes);
+  EXPECT_EQ(parts.fill_nodes, 2);  // 0.9, 2.5 (0.5 is at the threshold: no change)
+  EXPECT_EQ(parts.cut_nodes, 1);   // -1.4
+  EXPECT_EQ(parts.fill_nodes, whole.fill_nodes);
+  EXPECT_EQ(parts.cut_nodes, whole.cut_nodes);
+  EXPECT_DOUBLE_EQ(parts.fill, 0.9 + 2.5 * 1.5);
+  EXPECT_DOUBLE_EQ(parts.fill, whole.fill);
+  EXPECT_DOUBLE_EQ(parts.cut, whole.cut);
+  EXPECT_DOUBLE_EQ(parts.net_sigma_independent, whole.net_sigma_independent);
+  EXPECT_DOUBLE_EQ(parts.net_sigma_correlated, whole.net_sigma_correlated);
+  EXPECT_DOUBLE_EQ(whole.threshold_median, threshold);
+  EXPECT_DOUBLE_EQ(whole.sigma_median, 0.25);
+}
+
 }  // namespace
 }  // namespace surfreg

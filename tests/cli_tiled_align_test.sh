@@ -58,7 +58,8 @@ assert t["known"]["rotation_error_deg"] < 1e-4 and t["known"]["translation_error
 ' <"$tmp/stdout" || fail "tiled align, whole pair: sample or motion"
 
 # The least budget: one patch, several tiles whose statistics add up.
-run align a.bil b.bil --max_memory=128M --known_matrix="$known" --output=small.json --tile_stats=small.csv
+run align a.bil b.bil --max_memory=128M --known_matrix="$known" --output=small.json --tile_stats=small.csv \
+  --sigma_reference=0.01 --sigma_moving=0.02 --lod_confidence=0.95
 [[ $rc -eq 0 ]] || fail "tiled align at 128M: exit $rc"
 checks=$((checks + 1))
 python3 - small.json small.csv <<'PY' || fail "tiled align at 128M: the tiles"
@@ -68,6 +69,9 @@ rows = list(csv.DictReader(open(sys.argv[2])))
 assert t["sample"]["patches"] == 1 and t["tiles"] == len(rows) > 1, (t["sample"], t["tiles"], len(rows))
 assert sum(int(r["samples"]) for r in rows) == t["after"]["dz_count"] > 0.9 * 400 * 400
 assert t["known"]["rotation_error_deg"] < 1e-3 and t["known"]["translation_error_cells"] < 1e-2, t["known"]
+u = t["after"]["uncertainty"]  # the change budget: no node beyond 1.96 sigma_DoD after a good alignment
+assert u["nodes"] == t["after"]["dz_count"] and abs(u["sigma_dod_median"] - 0.05 ** 0.5 / 10) < 1e-12, u
+assert u["fill_nodes"] + u["cut_nodes"] < 1e-3 * u["nodes"], u
 PY
 
 # What is refused, each with one line naming the key.
@@ -77,6 +81,8 @@ echo "400000 5199601 301" >>cloud.xyz
 expect_refused "a tiled alignment is for two rasters" align a.bil cloud.xyz --max_memory=1G
 expect_refused "flag '--aligned': not with flag '--max_memory'" align a.bil b.bil --max_memory=1G --aligned=out.tif
 expect_refused "at least 128M" align a.bil b.bil --max_memory=64M
+expect_refused "flag '--sigma_moving': a σ raster does not go with flag '--max_memory' yet" \
+  align a.bil b.bil --max_memory=1G --sigma_moving=a.bil
 expect_refused "flag '--max_memory' expects a memory size" align a.bil b.bil --max_memory=lots
 expect_refused "per-tile statistics need max_memory" align a.bil b.bil --tile_stats=t.csv
 expect_refused "data domain only" align a.bil b.bil --max_memory=1G --domain=hull

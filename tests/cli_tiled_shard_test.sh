@@ -77,6 +77,30 @@ for shards in 4 13; do
   checks=$((checks + 1))
   same_dod untiled.tif merged.tif || fail "the DoD of $shards shards differs from the untiled one"
 done
+# The change budget (σ numbers) in 4 shards: the merge gives the unsharded budget.
+sigma=(--sigma_reference=0.05 --sigma_moving=0.08 --lod_confidence=0.9)
+run measure a.asc b.asc --json --tile=16 "${sigma[@]}" --quiet
+cp stdout budget_whole.json
+rm -f s*.json
+for k in 1 2 3 4; do
+  run measure a.asc b.asc --tile=16 --shard=$k/4 --partial=s$k.json "${sigma[@]}" --quiet
+  [[ $rc -eq 0 ]] || fail "budget --shard=$k/4: exit $rc"
+done
+run merge budget_merged.json s4.json s2.json s1.json s3.json --json
+checks=$((checks + 1))
+python3 - budget_whole.json budget_merged.json <<'PY' || fail "4 shards: the merged change budget differs"
+import json, sys
+u, t = (json.load(open(p))["change"]["uncertainty"] for p in sys.argv[1:3])
+assert u["cut_nodes"] > 1000 and u["lod_confidence"] == 0.9, u
+for key, value in u.items():
+    if isinstance(value, str) or key.endswith("nodes"):
+        assert t[key] == value, (key, value, t[key])
+    else:
+        assert abs(t[key] - value) <= 1e-9 * max(abs(value), 1.0), (key, value, t[key])
+PY
+run measure a.asc b.asc --tile=16 --shard=2/4 --partial=other.json --sigma_reference=0.5 --quiet
+expect_refused "a part of another measure" merge out.json s1.json other.json s3.json s4.json
+
 run merge text.json p3.json p1.json p2.json p4.json p5.json p6.json p7.json p8.json p9.json \
   p10.json p11.json p12.json p13.json
 checks=$((checks + 1))

@@ -85,6 +85,25 @@ checks=$((checks + 1))
 python3 -c 'import json, sys; t = json.load(open("stdout")); sys.exit(t["tile"] != 54 or t["tiles"] != 20)' ||
   fail "--max_memory=2M: expected tiles of 54 cells, 20 of them"
 
+# The change budget with both DEMs' σ as numbers: the untiled budget, tiled.
+sigma=(--sigma_reference=0.05 --sigma_moving=0.08 --lod_confidence=0.95)
+run measure a.asc b.asc --json "${sigma[@]}"
+cp stdout budget_untiled.json
+for tile in 16 37; do
+  run measure a.asc b.asc --json --tile=$tile "${sigma[@]}"
+  checks=$((checks + 1))
+  python3 - budget_untiled.json stdout <<'PY' || fail "--tile=$tile: the change budget differs from the untiled one"
+import json, sys
+u, t = (json.load(open(p))["change"]["uncertainty"] for p in sys.argv[1:3])
+assert u["cut_nodes"] > 1000 and u["cut_sigma_independent"] > 0, u
+for key, value in u.items():
+    if isinstance(value, str) or key.endswith("_nodes") or key == "nodes":
+        assert t[key] == value, (key, value, t[key])
+    else:
+        assert abs(t[key] - value) <= 1e-9 * max(abs(value), 1.0), (key, value, t[key])
+PY
+done
+
 # What is not tiled yet, or cannot be: one line, exit 2 (expect_refused).
 printf '1000 5000 1\n1100 5000 2\n1000 5100 3\n' >cloud.xyz
 expect_refused "flag '--tile': tiles are for two rasters, but argument B is 'cloud.xyz', a cloud" \
@@ -100,6 +119,8 @@ expect_refused "flag '--dod': written as GeoTIFF; expected a name ending in .tif
   measure a.asc b.asc --tile=32 --dod=d.png
 run transform a.asc --transform=id.txt --output=a.tif
 expect_refused "flag '--dod': 'a.tif' is also an input" measure a.tif b.asc --tile=32 --dod=a.tif
+expect_refused "flag '--sigma_moving': a σ raster does not go with flag '--tile' yet" \
+  measure a.asc b.asc --tile=32 --sigma_moving=a.tif
 expect_refused "flag '--max_memory' expects a memory size such as 512M or 2G, got 'lots'" \
   measure a.asc b.asc --max_memory=lots
 expect_refused "tiles of 1000 cells need about 667 MiB, more than flag '--max_memory' allows (64M)" \

@@ -79,7 +79,7 @@ void CheckTiledAlign(const AlignConfig& config) {
                      "(gdal_translate -srcwin)");
   }
   for (const char* key : {"aligned", "dod_png", "histogram_png", "change_csv", "dod_sigma",
-                          "dod_thresholded", "sigma_reference", "sigma_moving", "mask_raster"}) {
+                          "dod_thresholded", "mask_raster"}) {
     if (!AlignConfigValue(config, key).empty()) {
       throw InputError(config.Where(key) + ": not with " + where +
                        " yet (it needs the whole surfaces); a tiled alignment writes output, "
@@ -108,6 +108,7 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
   TiledAlignRun run;
   TiledAlignReport& report = run.report;
   report.budget = ParseMemorySize(config.terrain.max_memory, where);
+  const TiledBudget change_budget = TiledBudgetOf(config, config.terrain.lod, where);  // before the solve
   if (report.budget < kMinAlignBudget) {
     throw InputError(where + ": a tiled alignment needs at least 128M (the program and the solve on "
                      "10000 samples), got " + config.terrain.max_memory);
@@ -208,7 +209,9 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
                       static_cast<long long>(p.done), static_cast<long long>(p.total), eta);
         stage(line);
       },
-      &moved, [&report, &a](const TileDod& t) { report.tile_rows.push_back(RowOf(t, a.geotransform)); });
+      &moved, [&report, &a](const TileDod& t) { report.tile_rows.push_back(RowOf(t, a.geotransform)); },
+      change_budget);
+  const ChangeUncertainty uncertainty = TiledChangeUncertainty(after.part, config);
   report.after = after.summary;
   report.tile = after.tile;
   report.tiles = after.tiles;
@@ -249,6 +252,7 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
       .Int("dz_count", report.dz_count)
       .Number("dz_mean", report.dz_mean)
       .Number("dz_rmse", report.dz_rmse);
+  if (uncertainty.active) whole.Object("uncertainty", ChangeUncertaintyJson(config, uncertainty));
   JsonObject tiled;
   tiled.Number("max_memory_bytes", report.budget)
       .Object("sample", sampled)

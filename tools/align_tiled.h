@@ -53,8 +53,9 @@ struct TiledAlignRun {
 
 // Throws InputError (naming the key) for what a tiled alignment does not
 // take: inputs that are not two rasters in one projected CRS, a window,
-// per-point weights or a mask raster, the DEMs' σ, and the outputs that need
-// the whole surfaces (aligned, figures, change_csv, σ rasters).
+// per-point weights or a mask raster, and the outputs that need the whole
+// surfaces (aligned, figures, change_csv, σ rasters). The DEMs' σ as numbers
+// give the whole pair's change budget (σ rasters are refused).
 void CheckTiledAlign(const AlignConfig& config);
 
 // The run above; writes the DoD (dod) tile row by tile row and nothing else

@@ -15,6 +15,7 @@
 #include "tools/io/raster_io.h"
 #include "tools/io/surface_reader_internal.h"
 #include "tools/json_writer.h"
+#include "tools/measure_tiled.h"
 
 namespace surfreg {
 namespace {
@@ -65,6 +66,9 @@ JsonObject ReportJson(const MeasureReport& r) {
   json.Int("detect_change", o.detect_change).Number("level_of_detection", o.level_of_detection);
   json.Number("min_overlap_fraction", o.min_overlap_fraction).Int("tile", r.tile);
   json.Number("read_s", r.read_s).Number("total_s", r.total_s);
+  const TerrainSettings& t = r.config.terrain;  // the change budget's settings, for the merged report
+  json.String("sigma_reference", t.sigma_reference).String("sigma_moving", t.sigma_moving);
+  json.Number("lod_confidence", t.lod_confidence);
   return json;
 }
 
@@ -150,6 +154,9 @@ MeasureReport ReadReport(const Reader& in, const YAML::Node& node) {
   r.tile = static_cast<int32_t>(in.Int(node, "tile"));
   r.read_s = in.Number(node, "read_s");
   r.total_s = in.Number(node, "total_s");
+  r.config.terrain.sigma_reference = in.String(node, "sigma_reference");
+  r.config.terrain.sigma_moving = in.String(node, "sigma_moving");
+  r.config.terrain.lod_confidence = in.Number(node, "lod_confidence");
   return r;
 }
 
@@ -179,6 +186,11 @@ std::string PartJson(const TiledPartial& p, const std::string& settings, const M
                                time.interpolate, time.volume}));
   sums.Raw("nodes", Numbers({t.gap_sum, t.node_weight, t.domain_area_a, t.domain_area_b}));
   sums.Raw("hull_a", Points(t.hull_a)).Raw("hull_b", Points(t.hull_b));
+  const ChangeBudgetSums& b = t.budget;
+  sums.Raw("budget", Numbers({p.budget ? 1.0 : 0.0, p.budget_sigma_dod, p.budget_threshold,
+                              static_cast<double>(b.nodes), static_cast<double>(b.fill_nodes),
+                              static_cast<double>(b.cut_nodes), b.fill, b.cut, b.fill_area, b.cut_area,
+                              b.fill_var, b.cut_var, b.fill_sigma, b.cut_sigma}));
   const TiledMeasureStats& st = p.stats;
   sums.Raw("stats", Numbers({static_cast<double>(st.tiles), static_cast<double>(st.tiles_measured),
                              static_cast<double>(st.shared_moving_nodes),
@@ -275,6 +287,13 @@ PartFile ReadPart(const std::string& path) {
   p.sums.domain_area_a = nodes[2], p.sums.domain_area_b = nodes[3];
   p.sums.hull_a = in.Points(in.At(sums, "hull_a"));
   p.sums.hull_b = in.Points(in.At(sums, "hull_b"));
+  const std::vector<double> b = in.Numbers(in.At(sums, "budget"), 14);
+  p.budget = b[0] != 0.0, p.budget_sigma_dod = b[1], p.budget_threshold = b[2];
+  ChangeBudgetSums& budget = p.sums.budget;
+  budget.nodes = static_cast<int64_t>(b[3]), budget.fill_nodes = static_cast<int64_t>(b[4]);
+  budget.cut_nodes = static_cast<int64_t>(b[5]);
+  budget.fill = b[6], budget.cut = b[7], budget.fill_area = b[8], budget.cut_area = b[9];
+  budget.fill_var = b[10], budget.cut_var = b[11], budget.fill_sigma = b[12], budget.cut_sigma = b[13];
   const std::vector<double> st = in.Numbers(in.At(sums, "stats"), 4);
   p.stats = {static_cast<int64_t>(st[0]), static_cast<int64_t>(st[1]), static_cast<int64_t>(st[2]),
              static_cast<int64_t>(st[3])};
@@ -377,6 +396,7 @@ int MergeMeasureParts(const std::vector<std::string>& args, const std::string& d
   }
   report.summary = FinishTiled(whole.sums, report.options, report.file_a, report.file_b);
   report.summary.timings.total = report.total_s;
+  report.uncertainty = TiledChangeUncertainty(whole, report.config);
   report.tiles = whole.stats.tiles;
   if (!dod.empty()) {
     std::vector<DodBand> bands;

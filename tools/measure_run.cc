@@ -133,13 +133,12 @@ int32_t TileSetting(const std::vector<Setting>& settings, std::string* where) {
 }
 
 // What a tiled measure does not do yet, refused before anything is read.
-void CheckTileable(const MeasureOptions& options, bool sigma, const AlignConfig& config,
+void CheckTileable(const MeasureOptions& options, const AlignConfig& config,
                    const std::string& where) {
   std::string what;
   if (options.volume != VolumeMode::kOverlay) what = "--volume=union";
   if (options.weight == WeightMode::kPerPoint) what = "per-point weights";
   if (options.domain.kind == DomainKind::kHull) what = "--domain=hull";
-  if (sigma) what = "the change budget (sigma_reference, sigma_moving)";
   if (!config.terrain.mask_raster.empty()) what = "a mask raster";
   if (!what.empty()) throw InputError(where + ": a tiled measure does not take " + what + " yet");
 }
@@ -251,7 +250,8 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   std::string tile_where;
   report.tile = TileSetting(settings, &tile_where);
   if (report.tile > 0) {
-    CheckTileable(options, sigma, config, tile_where);
+    CheckTileable(options, config, tile_where);
+    const TiledBudget budget = TiledBudgetOf(config, options.level_of_detection, tile_where);
     TiledParts tiled_parts = parts != nullptr ? *parts : TiledParts();
     tiled_parts.checkpoint = parts != nullptr;  // the Python module cannot --resume
     tiled_parts.settings = PartSettings(report, settings);
@@ -270,8 +270,11 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
           progress.done = static_cast<double>(p.done - p.resumed) / std::max<int64_t>(p.total - p.resumed, 1);
           progress.seconds = seconds;
           on_progress(progress);
-        });
+        },
+        nullptr, nullptr, budget);
     report.summary = run.summary;
+    report.config = config;
+    if (tiled_parts.shards == 1) report.uncertainty = TiledChangeUncertainty(run.part, config);
     report.tiles = run.tiles;
     report.crs_a = run.crs_a;
     report.crs_b = run.crs_b;

@@ -107,7 +107,8 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
                                    const std::string& mask_crs_wkt, const std::string& mask_where,
                                    int32_t tile, const std::string& where, const TiledParts& parts,
                                    const std::function<void(const TiledProgress&)>& on_progress,
-                                   const MovedRaster* moved, const std::function<void(const TileDod&)>& on_tile) {
+                                   const MovedRaster* moved, const std::function<void(const TileDod&)>& on_tile,
+                                   const TiledBudget& budget) {
   for (const char* key : {"reference", "moving"}) {
     const std::string path = AlignConfigValue(config, key);
     if (!IsRasterPath(path)) {
@@ -151,6 +152,9 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
   tiled.measure.on_progress = nullptr;
   tiled.tile = tile;
   tiled.on_progress = on_progress;
+  tiled.budget = budget.active;
+  tiled.budget_sigma_dod = budget.sigma_dod;
+  tiled.budget_threshold = budget.threshold;
   const int64_t nx = (std::max(a.columns - 1, 0) + tile - 1) / tile;
   const int64_t ny = (std::max(a.rows - 1, 0) + tile - 1) / tile;
 
@@ -247,6 +251,41 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
   run.tile = tile;
   run.tiles = run.part.stats.tiles;
   return run;
+}
+
+TiledBudget TiledBudgetOf(const AlignConfig& config, double level_of_detection, const std::string& where) {
+  TiledBudget budget;
+  double sigma[2] = {0, 0};
+  const char* keys[2] = {"sigma_reference", "sigma_moving"};
+  for (int k = 0; k < 2; ++k) {
+    const std::string text = AlignConfigValue(config, keys[k]);
+    if (text.empty()) continue;
+    budget.active = true;
+    char* end = nullptr;
+    sigma[k] = std::strtod(text.c_str(), &end);
+    if (end == text.c_str() || *end != '\0') {
+      throw InputError(config.Where(keys[k]) + ": a σ raster does not go with " + where +
+                       " yet: give the DEM's σ as a number, or measure untiled");
+    }
+  }
+  if (!budget.active) return budget;
+  budget.sigma_dod = std::hypot(sigma[0], sigma[1]);
+  const double confidence = config.terrain.lod_confidence;
+  budget.t = confidence > 0 ? TwoSidedNormalQuantile(confidence) : 0.0;
+  budget.threshold = std::max(level_of_detection, budget.t * budget.sigma_dod);
+  return budget;
+}
+
+ChangeUncertainty TiledChangeUncertainty(const TiledPartial& whole, const AlignConfig& config) {
+  ChangeUncertainty u;
+  if (!whole.budget) return u;
+  u.active = true;
+  const double confidence = config.terrain.lod_confidence;
+  const double t = confidence > 0 ? TwoSidedNormalQuantile(confidence) : 0.0;
+  const bool any = whole.sums.budget.nodes > 0;
+  u.budget = FinishChangeBudget(whole.sums.budget, t, any ? whole.budget_sigma_dod : std::nan(""),
+                                any ? whole.budget_threshold : std::nan(""));
+  return u;
 }
 
 std::string StateDirectory(const std::string& dod, const TiledParts& parts) {

@@ -15,6 +15,7 @@
 #include "tools/align_config.h"
 #include "tools/geo_frame.h"
 #include "tools/measure_parts.h"
+#include "tools/terrain_uncertainty.h"
 
 namespace surfreg {
 
@@ -72,6 +73,20 @@ struct MovedRaster {
   double z_min = 0, z_max = 0;
 };
 
+// A tiled measure's change budget (measure/change_budget.h): both DEMs' σ
+// given as numbers (a σ raster is not tiled yet), so one σ_DoD for every
+// node. Active only when config gives a σ; throws InputError naming the
+// key of a σ raster.
+struct TiledBudget {
+  bool active = false;
+  double sigma_dod = 0, threshold = 0, t = 0;
+};
+TiledBudget TiledBudgetOf(const AlignConfig& config, double level_of_detection, const std::string& where);
+
+// The change uncertainty of a whole tiled run's state (its budget sums;
+// inactive without a budget): as AnalyseChangeUncertainty gives it untiled.
+ChangeUncertainty TiledChangeUncertainty(const TiledPartial& whole, const AlignConfig& config);
+
 struct TiledMeasureRun {
   MeasureSummary summary;  // a whole run's (shards == 1)
   TiledPartial part;       // the part measured (the whole run for 1 of 1)
@@ -100,6 +115,7 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
                                    int32_t tile, const std::string& where, const TiledParts& parts,
                                    const std::function<void(const TiledProgress&)>& on_progress,
                                    const MovedRaster* moved = nullptr,
-                                   const std::function<void(const TileDod&)>& on_tile = nullptr);
+                                   const std::function<void(const TileDod&)>& on_tile = nullptr,
+                                   const TiledBudget& budget = {});
 
 }  // namespace surfreg
