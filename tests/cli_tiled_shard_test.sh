@@ -147,7 +147,7 @@ kill_when_progress KILL
 checks=$((checks + 1))
 [[ -s cut.tif.resume/state.json && ! -e cut.tif ]] ||
   fail "SIGKILL: expected the state in cut.tif.resume/ and no DoD (was the run too fast to kill?)"
-expect_refused "'cut.tif.resume' holds an interrupted tiled measure: add --resume to continue it" \
+expect_refused "'cut.tif.resume' holds an interrupted tiled measure: add --resume (Python: resume=True) to continue it" \
   measure big_a.tif big_b.tif --tile=16 --dod=cut.tif
 expect_refused "flag '--resume': 'cut.tif.resume/state.json' is of another measure" \
   measure big_a.tif big_b.tif --tile=16 --dod=cut.tif --lod=0.3 --resume

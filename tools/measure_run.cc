@@ -253,7 +253,7 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     CheckTileable(options, config, tile_where);
     const TiledBudget budget = TiledBudgetOf(config, options.level_of_detection, tile_where);
     TiledParts tiled_parts = parts != nullptr ? *parts : TiledParts();
-    tiled_parts.checkpoint = parts != nullptr;  // the Python module cannot --resume
+    tiled_parts.checkpoint = parts != nullptr;  // without parts: no state kept for a resume
     tiled_parts.settings = PartSettings(report, settings);
     const TiledMeasureRun run = MeasureRasterTiles(
         config, options, report.mask_crs_wkt, report.mask_file, report.tile, tile_where, tiled_parts,

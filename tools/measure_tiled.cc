@@ -14,6 +14,7 @@
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
 #include "tools/interrupt.h"
+#include "tools/sweep.h"  // ParseShard
 #include "tools/io/raster_io.h"
 #include "tools/terrain.h"
 
@@ -165,8 +166,8 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
   std::unique_ptr<PartFile> resumed;
   if (parts.checkpoint && Exists(state_file)) {
     if (!parts.resume) {
-      throw InputError("'" + run.state + "' holds an interrupted tiled measure: add --resume to "
-                       "continue it, or delete it");
+      throw InputError("'" + run.state + "' holds an interrupted tiled measure: add --resume "
+                       "(Python: resume=True) to continue it, or delete it");
     }
     resumed = std::make_unique<PartFile>(ReadPart(state_file));
     if (resumed->settings != parts.settings || resumed->part.shard != parts.shard ||
@@ -286,6 +287,27 @@ ChangeUncertainty TiledChangeUncertainty(const TiledPartial& whole, const AlignC
   u.budget = FinishChangeBudget(whole.sums.budget, t, any ? whole.budget_sigma_dod : std::nan(""),
                                 any ? whole.budget_threshold : std::nan(""));
   return u;
+}
+
+TiledParts TiledPartsOf(const std::string& shard_text, const std::string& partial, bool resume,
+                        const std::function<std::string(const std::string&)>& where,
+                        const std::string& partial_hint) {
+  const Shard shard = ParseShard(shard_text, where("shard"));
+  TiledParts parts;
+  parts.shard = shard.index;
+  parts.shards = shard.count;
+  parts.partial = partial;
+  parts.resume = resume;
+  if (!partial.empty()) {
+    if (partial.size() < 6 || partial.compare(partial.size() - 5, 5, ".json") != 0) {
+      throw InputError(where("partial") + " expects a file name ending in .json, got '" + partial + "'");
+    }
+    CheckOutputPath(partial, where("partial"));
+  } else if (parts.shards > 1) {
+    throw InputError(where("shard") + ": a shard's result is partial: give " + partial_hint +
+                     ", then join the shards with 'surfreg merge OUT.json P1.json ...'");
+  }
+  return parts;
 }
 
 std::string StateDirectory(const std::string& dod, const TiledParts& parts) {

@@ -39,10 +39,20 @@ struct TiledParts {
   std::string partial;   // --partial=P.json ("" = none)
   bool resume = false;   // --resume
   std::string settings;  // the inputs and settings, equal in every part and on resume
-  // false (the Python module): no state kept for a resume; the DoD rows go
-  // to a directory of this process's, removed in any case.
+  // false (MeasureSurfaces without parts, the tiled alignment): no state
+  // kept for a resume; the DoD rows go to a directory of this process's,
+  // removed in any case.
   bool checkpoint = true;
 };
+
+// The parts settings as `measure` takes them: `shard` "K/N" ("" = 1/1),
+// the partial's path ("" = none; a name ending in .json, required for a
+// shard) and resume. `where(key)` starts the messages ("flag '--shard'",
+// "keyword 'shard'"); `partial_hint` shows how to give a partial
+// ("--partial=P.json"). Throws InputError.
+TiledParts TiledPartsOf(const std::string& shard, const std::string& partial, bool resume,
+                        const std::function<std::string(const std::string&)>& where,
+                        const std::string& partial_hint);
 
 // Where a tiled run keeps its state: P.json.resume/ with a partial, else
 // DOD.tif.resume/ with a DoD, else surfreg-measure-<hash of the settings>.resume/

@@ -179,22 +179,9 @@ int RunMeasure(const std::vector<std::string>& args) {
     CHECK(gflags::GetCommandLineFlagInfo(key.c_str(), &info)) << "no flag --" << key;
     if (!info.is_default) settings.push_back({key, info.current_value, "flag '--" + key + "'"});
   }
-  const Shard shard = ParseShard(FLAGS_shard, "flag '--shard'");
-  TiledParts parts;
-  parts.shard = shard.index;
-  parts.shards = shard.count;
-  parts.partial = FLAGS_partial;
-  parts.resume = FLAGS_resume;
-  if (!parts.partial.empty()) {
-    const std::string& p = parts.partial;
-    if (p.size() < 6 || p.compare(p.size() - 5, 5, ".json") != 0) {
-      throw InputError("flag '--partial' expects a file name ending in .json, got '" + p + "'");
-    }
-    CheckOutputPath(p, "flag '--partial'");
-  } else if (parts.shards > 1) {
-    throw InputError("flag '--shard': a shard's result is partial: give --partial=P.json, then "
-                     "join the shards with 'surfreg merge OUT.json P1.json ...'");
-  }
+  const TiledParts parts = TiledPartsOf(
+      FLAGS_shard, FLAGS_partial, FLAGS_resume, [](const std::string& key) { return "flag '--" + key + "'"; },
+      "--partial=P.json");
   if (!FLAGS_quiet && LargeInputs({args[0], args[1]})) PrintReadingLine("measure", {args[0], args[1]});
   const MeasureReport report =
       MeasureSurfaces({args[0], {}}, {args[1], {}}, settings, PrintMeasureProgress, &parts);

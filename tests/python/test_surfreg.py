@@ -145,6 +145,42 @@ def test_tiled_measure_of_two_dems_equals_the_untiled_one():
     assert tiled["n_overlap_nodes"] == untiled["n_overlap_nodes"]
 
 
+def test_tiled_measure_in_shards_merges_into_the_unsharded_one(tmp_path, monkeypatch):
+    """shard='K/N' with partial= writes a part (None returned); merge() joins
+    the parts into the unsharded measure; resume=True without a state to
+    resume measures afresh; a shard without a partial is refused."""
+    monkeypatch.chdir(tmp_path)  # the state directories of tiled runs
+    data = pathlib.Path(__file__).resolve().parents[2] / "configs" / "data"
+    a, b = str(data / "volcano_dem.tif"), str(data / "volcano_dem_moved.tif")
+    try:
+        whole = surfreg.measure(a, b, tile=20, sigma_reference=0.5, sigma_moving=0.5)
+    except ValueError as e:  # surfreg.InputError
+        if "built without GDAL" in str(e):
+            pytest.skip("this surfreg was built without GDAL")
+        raise
+    parts = [tmp_path / f"p{k}.json" for k in (1, 2, 3)]
+    for k, part in enumerate(parts, start=1):
+        assert surfreg.measure(a, b, tile=20, sigma_reference=0.5, sigma_moving=0.5, shard=f"{k}/3",
+                               partial=part) is None
+        assert part.exists()
+    merged = surfreg.merge(tmp_path / "merged.json", list(reversed(parts)))
+    assert (tmp_path / "merged.json").exists()
+    for key in ("rho_d", "rho_d_axial", "overlap_area", "signed_volume"):
+        assert merged[key] == pytest.approx(whole[key], rel=1e-9)
+    assert merged["n_overlap_nodes"] == whole["n_overlap_nodes"] and merged["tiles"] == whole["tiles"]
+    budget, merged_budget = whole["change"]["uncertainty"], merged["change"]["uncertainty"]
+    assert merged_budget["nodes"] == budget["nodes"] > 0
+    assert merged_budget["net_sigma_independent"] == pytest.approx(budget["net_sigma_independent"], rel=1e-9)
+    again = surfreg.measure(a, b, tile=20, resume=True)
+    assert again["rho_d"] == pytest.approx(whole["rho_d"], rel=1e-9)
+    with pytest.raises(ValueError, match="keyword 'shard': a shard's result is partial: give partial="):
+        surfreg.measure(a, b, tile=20, shard="1/2")
+    with pytest.raises(ValueError, match="keyword 'shard' expects K/N"):
+        surfreg.measure(a, b, tile=20, shard="3/2", partial=tmp_path / "x.json")
+    with pytest.raises(ValueError, match="merge: part 2/3 is missing"):
+        surfreg.merge(tmp_path / "bad.json", [parts[0], parts[2]])
+
+
 # --- align ----------------------------------------------------------------
 
 

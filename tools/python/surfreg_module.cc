@@ -1,5 +1,5 @@
-// The Python module `surfreg`: measure() and align(), the CLI's `measure
-// --json` and `align --json` as dicts. Both run the CLI's own code
+// The Python module `surfreg`: measure(), merge() and align(), the CLI's
+// `measure --json`, `merge` and `align --json` as dicts. Both run the CLI's own code
 // (tools/measure_run.h, tools/align_run.h) and parse its JSON document, so
 // keys and values are the CLI's by construction; only "matrix" becomes a
 // 4 x 4 numpy array.
@@ -17,7 +17,9 @@
 #include "measure/surface.h"
 #include "tools/align_config.h"
 #include "tools/align_run.h"
+#include "tools/measure_parts.h"
 #include "tools/measure_run.h"
+#include "tools/measure_tiled.h"
 
 namespace py = pybind11;
 
@@ -121,15 +123,59 @@ py::dict ToDict(const std::string& json) {
   return result;
 }
 
-py::dict MeasurePy(const py::object& a, const py::object& b, const py::kwargs& kwargs) {
+// shard="K/N", partial="P.json", resume=True: a tiled measure in parts, as
+// the CLI's --shard, --partial and --resume (tools/measure_tiled.h).
+TiledParts PartsOf(py::kwargs* kwargs) {
+  std::string shard, partial;
+  bool resume = false;
+  auto take = [kwargs](const char* key) {
+    py::object value = py::none();
+    if (kwargs->contains(key)) value = kwargs->attr("pop")(key);
+    return value;
+  };
+  const py::object s = take("shard"), p = take("partial"), r = take("resume");
+  if (!s.is_none()) shard = py::str(s).cast<std::string>();
+  if (!p.is_none()) {
+    if (!IsPath(p)) throw InputError("keyword 'partial': expected a file path");
+    partial = PathText(p);
+  }
+  if (!r.is_none()) {
+    if (!py::isinstance<py::bool_>(r)) throw InputError("keyword 'resume': expected True or False");
+    resume = r.cast<bool>();
+  }
+  return TiledPartsOf(shard, partial, resume, [](const std::string& key) { return "keyword '" + key + "'"; },
+                      "partial='P.json'");
+}
+
+py::object MeasurePy(const py::object& a, const py::object& b, py::kwargs kwargs) {
+  const TiledParts parts = PartsOf(&kwargs);
   const std::vector<Setting> settings = Settings(kwargs);
   SurfaceInput sa = ToSurface(a, "array A"), sb = ToSurface(b, "array B");
   std::string json;
   {
     py::gil_scoped_release release;  // the inputs are C++ copies by now
-    json = MeasureJson(MeasureSurfaces(std::move(sa), std::move(sb), settings));
+    const MeasureReport report = MeasureSurfaces(std::move(sa), std::move(sb), settings, nullptr, &parts);
+    if (parts.shards > 1) return py::none();  // the shard's result is its partial file
+    json = MeasureJson(report);
   }
   return ToDict(json);
+}
+
+py::dict MergePy(const py::object& out, const py::list& parts, const py::object& dod) {
+  std::vector<std::string> args;
+  if (!IsPath(out)) throw InputError("argument out: expected a file path");
+  args.push_back(PathText(out));
+  for (const py::handle part : parts) {
+    if (!IsPath(part)) throw InputError("argument parts: expected file paths");
+    args.push_back(PathText(part));
+  }
+  if (args.size() < 2) throw InputError("argument parts: no parts to merge");
+  const std::string dod_path = dod.is_none() ? std::string() : PathText(dod);
+  {
+    py::gil_scoped_release release;
+    MergeMeasureParts(args, dod_path, false, [](const MeasureReport&) {});
+  }
+  return ToDict(py::module_::import("pathlib").attr("Path")(args[0]).attr("read_text")().cast<std::string>());
 }
 
 py::dict AlignPy(const py::object& reference, const py::object& moving, const py::kwargs& kwargs) {
@@ -166,7 +212,14 @@ PYBIND11_MODULE(surfreg, m) {
         "measure(a, b, **options) -> dict\n\n"
         "`surfreg measure A B --json` as a dict: B against A. A surface is a file path or an\n"
         "(N, 3) / (N, 4) float64 array of x, y, z[, weight]; options are measure's flags\n"
-        "(volume, weights, domain, lod, reference_crs, ...) as keywords.");
+        "(volume, weights, domain, lod, reference_crs, ...) as keywords. Tiled DEMs (tile,\n"
+        "max_memory) also take shard='K/N' with partial='P.json' (returns None: join the\n"
+        "parts with merge()) and resume=True (go on after a killed run).");
+  m.def("merge", &surfreg::MergePy, py::arg("out"), py::arg("parts"), py::arg("dod") = py::none(),
+        "merge(out, parts, dod=None) -> dict\n\n"
+        "`surfreg merge OUT.json P1.json ...`: the partials of a sharded tiled measure joined\n"
+        "into the unsharded result, written to `out` and returned as measure() returns it;\n"
+        "with dod, the shards' DoD bands joined into that GeoTIFF.");
   m.def("align", &surfreg::AlignPy, py::arg("reference"), py::arg("moving"),
         "align(reference, moving, **options) -> dict\n\n"
         "`surfreg align REFERENCE MOVING --json` as a dict: the rigid motion of moving onto\n"
