@@ -81,8 +81,10 @@ std::vector<SampleWindow> Patches(int32_t columns, int32_t rows, const PatchSamp
     for (int64_t i = 0; i < gx; ++i) {
       const int64_t c0 = i * columns / gx, c1 = (i + 1) * columns / gx;
       const int64_t r0 = j * rows / gy, r1 = (j + 1) * rows / gy;
-      const uint64_t dc = random() % static_cast<uint64_t>(std::max<int64_t>(c1 - c0 - side + 1, 1));
-      const uint64_t dr = random() % static_cast<uint64_t>(std::max<int64_t>(r1 - r0 - side + 1, 1));
+      const uint64_t dc =
+          random() % static_cast<uint64_t>(std::max<int64_t>(c1 - c0 - side + 1, 1));
+      const uint64_t dr =
+          random() % static_cast<uint64_t>(std::max<int64_t>(r1 - r0 - side + 1, 1));
       patches.push_back({static_cast<int32_t>(c0 + dc), static_cast<int32_t>(r0 + dr), side, side});
     }
   }
@@ -143,8 +145,10 @@ TiledRasterSource MovedRasterSource(TiledRasterSource moving, const RowMajorMatr
                                     double z_min, double z_max) {
   const double det = m[0] * m[5] - m[1] * m[4];  // of the rotation's xy block
   if (!(det > 1e-6)) {
-    throw InputError(moving.source + ": the motion turns the surface on its side or over "
-                     "(xy determinant " + std::to_string(det) + "): no height field to measure");
+    throw InputError(moving.source +
+                     ": the motion turns the surface on its side or over "
+                     "(xy determinant " +
+                     std::to_string(det) + "): no height field to measure");
   }
   const std::array<double, 3> o = moving.origin;
   // Local coordinates p → R p + (R o + t − o): the moved point relative to
@@ -158,7 +162,8 @@ TiledRasterSource MovedRasterSource(TiledRasterSource moving, const RowMajorMatr
     Surface s = read(w);
     for (std::size_t i = 0; i < s.size(); ++i) {
       const double x = s.xy[i].x, y = s.xy[i].y, z = s.z[i];
-      s.xy[i] = {m[0] * x + m[1] * y + m[2] * z + shift[0], m[4] * x + m[5] * y + m[6] * z + shift[1]};
+      s.xy[i] = {m[0] * x + m[1] * y + m[2] * z + shift[0],
+                 m[4] * x + m[5] * y + m[6] * z + shift[1]};
       s.z[i] = m[8] * x + m[9] * y + m[10] * z + shift[2];
     }
     return s;

@@ -24,13 +24,14 @@ namespace surfreg {
 // A rigid motion of input coordinates, the 4 × 4 matrix row-major
 // (moving -> reference, as align reports it).
 using RowMajorMatrix4 = std::array<double, 16>;
-inline constexpr RowMajorMatrix4 kIdentityMatrix4 = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+inline constexpr RowMajorMatrix4 kIdentityMatrix4 = {1, 0, 0, 0, 0, 1, 0, 0,
+                                                     0, 0, 1, 0, 0, 0, 0, 1};
 
 struct PatchSampleOptions {
   int64_t max_reference_samples = 250000;  // reference samples taken at most (> 0)
-  int32_t patch = 128;   // side of a reference patch in samples (>= 8)
-  int32_t margin = 16;   // samples added on each side of a moving window (>= 0)
-  uint64_t seed = 1;     // where each patch lies in its stratum
+  int32_t patch = 128;                     // side of a reference patch in samples (>= 8)
+  int32_t margin = 16;                     // samples added on each side of a moving window (>= 0)
+  uint64_t seed = 1;                       // where each patch lies in its stratum
   // Where the moving raster's data over a patch is looked for: the motion
   // the solve starts from, and the range of the moving raster's heights
   // (input coordinates) that a tilted motion needs (HeightRange).

@@ -158,6 +158,7 @@ mask_mode: exclude
 mask_layer: slides
 max_memory: 1.5G
 tile_stats: tiles.csv
+patch_shifts: shifts.csv
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -237,6 +238,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(c.mask_layer, "slides");
   EXPECT_EQ(t.max_memory, "1.5G");
   EXPECT_EQ(t.tile_stats, "tiles.csv");
+  EXPECT_EQ(t.patch_shifts, "shifts.csv");
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
   EXPECT_EQ(c.Where("progress"), "t.yaml:29: key 'progress'");

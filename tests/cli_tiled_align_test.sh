@@ -25,10 +25,10 @@ python3 "$here/make_moved_pair.py" . 400 || exit 2
 known=$(tr ' ' ',' <known.txt)
 
 run align a.bil b.bil --max_memory=340M --known_matrix="$known" --output=t.json --dod=dod.tif \
-  --tile_stats=tiles.csv --matrix_txt=m.txt
+  --tile_stats=tiles.csv --matrix_txt=m.txt --patch_shifts=shifts.csv
 [[ $rc -eq 0 ]] || fail "tiled align: exit $rc"
 checks=$((checks + 1))
-python3 - t.json tiles.csv <<'PY' || fail "tiled align: the motion, the sample or the tiles"
+python3 - t.json tiles.csv shifts.csv <<'PY' || fail "tiled align: the motion, the sample, the tiles or the patch shifts"
 import csv, json, sys
 j = json.load(open(sys.argv[1]))
 t = j["tiled"]
@@ -42,6 +42,13 @@ assert len(rows) == t["tiles"] >= 1, (len(rows), t["tiles"])
 assert sum(int(r["samples"]) for r in rows) == t["after"]["dz_count"] > 0.9 * 400 * 400
 assert all(abs(float(r["dz_median"])) < 0.01 for r in rows if int(r["samples"]) > 0), rows
 assert t["after"]["dz_rmse"] < 0.01 and abs(t["after"]["net"]) < 1e-3 * t["after"]["overlap_area"], t["after"]
+# A rigid motion: every patch alone finds the whole motion (no shift beyond 1e-3 cells).
+shifts = list(csv.DictReader(open(sys.argv[3])))
+assert len(shifts) == s["patches"] == s["patch_shifts"], (len(shifts), s)
+for r in shifts:
+    assert r["verdict"].startswith("converged") and int(r["reference_samples"]) > 0.5 * 128 * 128, r
+    assert max(abs(float(r[k])) for k in ("dx", "dy", "dz")) < 1e-3, r
+    assert 0 < float(r["sigma_dx"]) < 1e-3, r
 print("  tiled: %d patches, rotation error %.2g deg, translation %.2g cells, %d tiles" % (
     s["patches"], k["rotation_error_deg"], k["translation_error_cells"], t["tiles"]))
 PY
@@ -74,6 +81,26 @@ assert u["nodes"] == t["after"]["dz_count"] and abs(u["sigma_dod_median"] - 0.05
 assert u["fill_nodes"] + u["cut_nodes"] < 1e-3 * u["nodes"], u
 PY
 
+# A stretch along x (B = A moved, then stretched by 0.2%): the patches' own
+# shifts map it, dx falling with x at the stretch's rate (moving -> reference).
+mkdir -p stretched
+python3 "$here/make_moved_pair.py" stretched 400 0.002 || exit 2
+run align stretched/a.bil stretched/b.bil --max_memory=340M --patch_shifts=stretched.csv --quiet
+[[ $rc -eq 0 ]] || fail "tiled align of a stretched pair: exit $rc"
+checks=$((checks + 1))
+python3 - stretched.csv <<'PY' || fail "patch shifts: the stretch is not mapped"
+import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["verdict"].startswith("converged")]
+assert len(rows) == 4, rows
+x = [float(r["x"]) for r in rows]
+dx = [float(r["dx"]) for r in rows]
+mx, md = sum(x) / len(x), sum(dx) / len(dx)
+slope = sum((a - mx) * (b - md) for a, b in zip(x, dx)) / sum((a - mx) ** 2 for a in x)
+residual = max(abs(b - md - slope * (a - mx)) for a, b in zip(x, dx))
+assert abs(slope + 0.002) < 0.0004 and residual < 0.05, (slope, residual, dx)
+print("  patch shifts of a 0.2%% stretch: dx slope %.5f per cell" % slope)
+PY
+
 # What is refused, each with one line naming the key.
 echo "400000 5199600 300" >cloud.xyz
 echo "400001 5199600 300" >>cloud.xyz
@@ -84,7 +111,8 @@ expect_refused "at least 128M" align a.bil b.bil --max_memory=64M
 expect_refused "flag '--sigma_moving': a σ raster does not go with flag '--max_memory' yet" \
   align a.bil b.bil --max_memory=1G --sigma_moving=a.bil
 expect_refused "flag '--max_memory' expects a memory size" align a.bil b.bil --max_memory=lots
-expect_refused "per-tile statistics need max_memory" align a.bil b.bil --tile_stats=t.csv
+expect_refused "flag '--tile_stats': needs max_memory" align a.bil b.bil --tile_stats=t.csv
+expect_refused "flag '--patch_shifts': needs max_memory" align a.bil b.bil --patch_shifts=t.csv
 expect_refused "data domain only" align a.bil b.bil --max_memory=1G --domain=hull
 [[ ! -e out.tif && ! -e t.csv ]] || fail "a refused run wrote an output"
 

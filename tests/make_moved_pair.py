@@ -10,7 +10,11 @@ numbers on one line. ESRI .bil rasters (float32) with .hdr, written a band
 of rows at a time (numpy when present; the standard library otherwise, for
 the tests' small sizes).
 
-Usage: make_moved_pair.py DIR N
+With STRETCH (e.g. 0.002), B is also stretched along x about A's centre by
+1 + STRETCH after the motion: a misregistration that varies in space, which
+no rigid motion removes (the patch shifts' test).
+
+Usage: make_moved_pair.py DIR N [STRETCH]
 """
 import math
 import os
@@ -23,6 +27,7 @@ except ImportError:  # the tests' small pairs
     np = None
 
 out, n = sys.argv[1], int(sys.argv[2])
+stretch = float(sys.argv[3]) if len(sys.argv) > 3 else 0.0
 X0, Y0 = 400000.0, 5200000.0  # UTM-sized
 centre = (X0 + n / 2, Y0 - n / 2, 0.0)
 
@@ -64,7 +69,9 @@ def in_holes(x, y, holes):
 
 def moved_height(x, y):
     """B's height at its node (x, y): the point p of A's surface with
-    (K^-1 p).xy = (x, y), found by iterating on B's height."""
+    (K^-1 p).xy = (x, y), found by iterating on B's height; with a stretch,
+    (x, y) is first taken back to where it was before it."""
+    x = centre[0] + (x - centre[0]) / (1.0 + stretch)
     z = terrain(x, y)
     for _ in range(8):
         px = K[0][0] * x + K[0][1] * y + K[0][2] * z + K[0][3]

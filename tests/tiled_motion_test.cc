@@ -73,9 +73,10 @@ struct Pair {
 };
 
 Pair MakePair() {
-  return {MakeGrid(400, 300, kGridA, {kX0 + 200, kY0 - 150, 0}, false, {{150, 120, 40}}, 1u, "a.tif"),
-          MakeGrid(400, 305, {kX0 + 0.37, 1.01, 0.0, kY0 - 0.23, 0.0, -0.99},
-                   {kX0 + 210, kY0 - 140, 50}, true, {{260, 200, 18}}, 2u, "b.tif")};
+  return {
+      MakeGrid(400, 300, kGridA, {kX0 + 200, kY0 - 150, 0}, false, {{150, 120, 40}}, 1u, "a.tif"),
+      MakeGrid(400, 305, {kX0 + 0.37, 1.01, 0.0, kY0 - 0.23, 0.0, -0.99},
+               {kX0 + 210, kY0 - 140, 50}, true, {{260, 200, 18}}, 2u, "b.tif")};
 }
 
 TEST(TiledMotionTest, HeightRangeIsTheRastersExtremes) {
@@ -105,7 +106,8 @@ TEST(TiledMotionTest, MovedSourceTiledEqualsUntiled) {
     SCOPED_TRACE("motion scale " + std::to_string(scale));
     const Eigen::Matrix4d m = Motion(scale);
     const std::array<double, 2> range = HeightRange(p.b.Source(), 64);
-    const TiledRasterSource moved = MovedRasterSource(p.b.Source(), RowMajor(m), range[0], range[1]);
+    const TiledRasterSource moved =
+        MovedRasterSource(p.b.Source(), RowMajor(m), range[0], range[1]);
     MeasureOptions options = Options();
     const MeasureSummary untiled = Measure(p.a.Whole(), MovedWhole(p.b.Whole(), m), options);
     ASSERT_GT(untiled.overlap_area, 0.8 * 399 * 299 - 40 * 40 * M_PI - 18 * 18 * M_PI);
@@ -176,7 +178,8 @@ TEST(TiledMotionTest, PatchesAreBoundedAndCovered) {
   for (const Surface* side : {&s.reference, &s.moving}) {
     for (std::size_t i = 1; i < side->size(); ++i) {
       const RasterCell &u = side->raster_cell[i - 1], &v = side->raster_cell[i];
-      ASSERT_TRUE(u.row < v.row || (u.row == v.row && u.column < v.column)) << side->source << " " << i;
+      ASSERT_TRUE(u.row < v.row || (u.row == v.row && u.column < v.column))
+          << side->source << " " << i;
     }
   }
   for (const RasterCell& cell : s.reference.raster_cell) {
@@ -197,7 +200,9 @@ TEST(TiledMotionTest, PatchesAreBoundedAndCovered) {
   for (const SampleWindow& w : s.patches) {
     for (int32_t r = w.row; r + 1 < w.row + w.rows; ++r) {
       for (int32_t c = w.column; c + 1 < w.column + w.columns; ++c) {
-        auto valid = [&](int32_t cc, int32_t rr) { return std::isfinite(a.values[size_t(rr) * a.columns + cc]); };
+        auto valid = [&](int32_t cc, int32_t rr) {
+          return std::isfinite(a.values[size_t(rr) * a.columns + cc]);
+        };
         complete += valid(c, r) && valid(c + 1, r) && valid(c, r + 1) && valid(c + 1, r + 1);
       }
     }

@@ -419,7 +419,7 @@ void FinishAlignConfig(AlignConfig* config) {
   }
   for (const char* key :
        {"output", "matrix_txt", "aligned", "log", "dod", "dod_png", "histogram_png", "change_csv", "dod_sigma",
-        "dod_thresholded", "tile_stats"}) {
+        "dod_thresholded", "tile_stats", "patch_shifts"}) {
     const std::string path = AlignConfigValue(*config, key);
     if (path.empty()) continue;
     const std::string where = config->Where(key);

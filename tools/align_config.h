@@ -43,6 +43,7 @@ struct TerrainSettings {
   // as "2G" ("" = untiled), and the per-tile dz statistics CSV.
   std::string max_memory;
   std::string tile_stats;
+  std::string patch_shifts;  // each sampled patch's own shift (CSV); "" = none
   // Whether any terrain output or setting is asked for (or an input is a
   // raster or LAS): then `align` also reports change and dz statistics.
   bool Active(const std::string& reference, const std::string& moving) const;

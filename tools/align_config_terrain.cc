@@ -183,6 +183,11 @@ const std::vector<KeyEntry>& TerrainKeyTable() {
         "with max_memory: dz after alignment per tile (median, NMAD, RMSE), where the fit is worse"},
        [](const Value& v, C* c) { c->terrain.tile_stats = Path(v, false); },
        [](const C& c) { return c.terrain.tile_stats; }},
+      {{"patch_shifts", "a .csv file name, or nothing",
+        "with max_memory: each sampled patch aligned alone (translation from the whole motion): "
+        "its shift against the whole motion, a map of spatially varying misregistration"},
+       [](const Value& v, C* c) { c->terrain.patch_shifts = Path(v, false); },
+       [](const C& c) { return c.terrain.patch_shifts; }},
       {{"mask_raster", "a raster file name, or nothing",
         "stable terrain as a raster in the reference's CRS: weight 1 at reference samples on "
         "non-zero valid cells, 0 elsewhere (not with 'mask')"},

@@ -54,7 +54,7 @@ std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignR
 std::string OutputList(const AlignConfig& config) {
   std::string list;
   for (const char* key : {"output", "matrix_txt", "aligned", "log", "dod", "dod_png", "histogram_png",
-                          "change_csv", "dod_sigma", "dod_thresholded", "tile_stats"}) {
+                          "change_csv", "dod_sigma", "dod_thresholded", "tile_stats", "patch_shifts"}) {
     const std::string path = AlignConfigValue(config, key);
     if (!path.empty()) list += (list.empty() ? "" : ", ") + path;
   }
@@ -90,6 +90,10 @@ AlignRun AlignTiled(AlignConfig config,
     WriteFileAtomically(config.terrain.tile_stats, TileStatsCsv(tiled.report.tile_rows),
                         config.Where("tile_stats"));
   }
+  if (!config.terrain.patch_shifts.empty()) {
+    WriteFileAtomically(config.terrain.patch_shifts, PatchShiftsCsv(tiled.report.patch_shifts),
+                        config.Where("patch_shifts"));
+  }
   if (!config.log.empty()) {
     WriteFileAtomically(config.log, LogCsv(run.result.log.empty() ? seen : run.result.log),
                         config.Where("log"));
@@ -123,8 +127,8 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
                        const std::function<void(const AlignOptions::Iteration&)>& on_iteration) {
   AlignRun run;
   if (!config.terrain.max_memory.empty()) return AlignTiled(std::move(config), on_iteration);
-  if (!config.terrain.tile_stats.empty()) {
-    throw InputError(config.Where("tile_stats") + ": per-tile statistics need max_memory");
+  for (const char* key : {"tile_stats", "patch_shifts"}) {
+    if (!AlignConfigValue(config, key).empty()) throw InputError(config.Where(key) + ": needs max_memory");
   }
   // Terrain inputs (rasters, CRSs, change outputs) go through tools/terrain.h.
   run.terrain = config.terrain.Active(config.reference, config.moving);

@@ -1,12 +1,11 @@
 #include "tools/align_tiled.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
-
-#include <Eigen/Geometry>
 
 #include "measure/dz_statistics.h"
 #include "measure/input_error.h"
@@ -61,6 +60,97 @@ TileDzRow RowOf(const TileDod& t, const std::array<double, 6>& gt) {
   return row;
 }
 
+// The samples of `s` for which keep(i): a surface of its own, the order kept.
+template <class Keep>
+Surface SubsetOf(const Surface& s, Keep keep) {
+  Surface out;
+  out.origin = s.origin;
+  out.source = s.source;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (!keep(i)) continue;
+    out.xy.push_back(s.xy[i]);
+    out.z.push_back(s.z[i]);
+    out.raster_cell.push_back(s.raster_cell[i]);
+  }
+  return out;
+}
+
+Eigen::Vector3d CentroidOf(const Surface& s) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < s.size(); ++i) sum += Eigen::Vector3d(s.xy[i].x, s.xy[i].y, s.z[i]);
+  return Eigen::Vector3d(s.origin[0], s.origin[1], s.origin[2]) +
+         sum / static_cast<double>(std::max<std::size_t>(s.size(), 1));
+}
+
+// Each patch of the sample aligned alone: its reference samples, the moving
+// samples the whole motion puts over it (plus `margin` cells), translation
+// only from the whole motion (a patch is too small a lever for rotations);
+// its shift is where its motion and the whole one take its moving centroid.
+std::vector<PatchShift> PatchShifts(const PatchSample& sample, const std::array<double, 6>& gt,
+                                    const AlignResult& whole, AlignOptions options, double margin) {
+  options.free = {false, false, false, true, true, true};
+  options.initial_reference_from_moving = Rigid3d::FromMatrix(whole.matrix);
+  options.initial_rotation = options.initial_translation = {0, 0, 0};
+  options.levels = 1;
+  options.multi_start = 0;
+  options.wide_search = AlignOptions::WideSearch::kNever;
+  options.holdout_fraction = 0;
+  options.stddev_subsamples = 0;
+  options.compute_covariance = true;
+  options.on_iteration = nullptr;
+  options.on_stage = nullptr;
+  const Surface& a = sample.reference;
+  const Surface& b = sample.moving;
+  std::vector<Point2> moved(b.size());  // B's samples under the whole motion (A's local frame)
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    const Eigen::Vector4d p(b.xy[i].x + b.origin[0], b.xy[i].y + b.origin[1], b.z[i] + b.origin[2],
+                            1.0);
+    const Eigen::Vector4d q = whole.matrix * p;
+    moved[i] = {q.x() - a.origin[0], q.y() - a.origin[1]};
+  }
+  std::vector<PatchShift> out;
+  for (const SampleWindow& w : sample.patches) {
+    ThrowIfInterrupted();
+    PatchShift row;
+    row.column = w.column, row.row = w.row, row.columns = w.columns, row.rows = w.rows;
+    const double u = w.column + 0.5 * w.columns, v = w.row + 0.5 * w.rows;
+    row.x = gt[0] + u * gt[1] + v * gt[2];
+    row.y = gt[3] + u * gt[4] + v * gt[5];
+    const Surface patch_a = SubsetOf(a, [&](std::size_t i) {
+      const RasterCell& c = a.raster_cell[i];
+      return c.column >= w.column && c.column < w.column + w.columns && c.row >= w.row &&
+             c.row < w.row + w.rows;
+    });
+    double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    for (const Point2& p : patch_a.xy)
+      x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y),
+      y1 = std::max(y1, p.y);
+    const Surface patch_b = SubsetOf(b, [&](std::size_t i) {
+      const Point2& p = moved[i];
+      return p.x >= x0 - margin && p.x <= x1 + margin && p.y >= y0 - margin && p.y <= y1 + margin;
+    });
+    row.reference_samples = static_cast<int64_t>(patch_a.size());
+    row.moving_samples = static_cast<int64_t>(patch_b.size());
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    row.dx = row.dy = row.dz = row.sigma_dx = row.sigma_dy = row.sigma_dz = row.mean_abs_dz = nan;
+    if (patch_a.size() >= 100 && patch_b.size() >= 100) {
+      try {
+        const AlignResult r = Align(patch_a, patch_b, options);
+        row.verdict = VerdictName(r.verdict);
+        const Eigen::Vector4d c = CentroidOf(patch_b).homogeneous();
+        const Eigen::Vector4d d = r.matrix * c - whole.matrix * c;
+        row.dx = d.x(), row.dy = d.y(), row.dz = d.z();
+        row.sigma_dx = r.stddev[3], row.sigma_dy = r.stddev[4], row.sigma_dz = r.stddev[5];
+        row.mean_abs_dz = r.after.mean_abs_dz;
+      } catch (const InputError&) {
+        row.verdict = "";  // no overlap there: no shift
+      }
+    }
+    out.push_back(row);
+  }
+  return out;
+}
+
 }  // namespace
 
 void CheckTiledAlign(const AlignConfig& config) {
@@ -87,18 +177,19 @@ void CheckTiledAlign(const AlignConfig& config) {
     }
   }
   if (config.per_point_weights) {
-    throw InputError(config.Where("weights") + ": per_point weights are not with " + where + " yet");
+    throw InputError(config.Where("weights") + ": per_point weights are not with " + where +
+                     " yet");
   }
   if (config.options.domain.kind == DomainKind::kHull) {
-    throw InputError(config.Where("domain") + ": a tiled alignment measures on the data domain only");
+    throw InputError(config.Where("domain") +
+                     ": a tiled alignment measures on the data domain only");
   }
-  if (!config.terrain.tile_stats.empty() && config.terrain.max_memory.empty()) {
-    throw InputError(config.Where("tile_stats") + ": per-tile statistics need max_memory");
-  }
+
 }
 
-TiledAlignRun AlignRasterTiles(const AlignConfig& given,
-                               const std::function<void(const AlignOptions::Iteration&)>& on_iteration) {
+TiledAlignRun AlignRasterTiles(
+    const AlignConfig& given,
+    const std::function<void(const AlignOptions::Iteration&)>& on_iteration) {
   CheckTiledAlign(given);
   AlignConfig config = given;
   const std::string where = config.Where("max_memory");
@@ -108,10 +199,13 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
   TiledAlignRun run;
   TiledAlignReport& report = run.report;
   report.budget = ParseMemorySize(config.terrain.max_memory, where);
-  const TiledBudget change_budget = TiledBudgetOf(config, config.terrain.lod, where);  // before the solve
+  const TiledBudget change_budget =
+      TiledBudgetOf(config, config.terrain.lod, where);  // before the solve
   if (report.budget < kMinAlignBudget) {
-    throw InputError(where + ": a tiled alignment needs at least 128M (the program and the solve on "
-                     "10000 samples), got " + config.terrain.max_memory);
+    throw InputError(where +
+                     ": a tiled alignment needs at least 128M (the program and the solve on "
+                     "10000 samples), got " +
+                     config.terrain.max_memory);
   }
   const RasterShape a = ReadRasterShape(config, "reference");
   const RasterShape b = ReadRasterShape(config, "moving");
@@ -126,11 +220,13 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
     frame_b.source = config.moving;
     ToCommonMetricFrame(&frame_a, a.crs, &frame_b, b.crs, FrameChoice::kAuto);
   }
-  report.cell_size = std::sqrt(std::fabs(a.geotransform[1] * a.geotransform[5] -
-                                         a.geotransform[2] * a.geotransform[4]));
+  report.cell_size = std::sqrt(
+      std::fabs(a.geotransform[1] * a.geotransform[5] - a.geotransform[2] * a.geotransform[4]));
   const std::array<double, 3> origin = RasterOrigin(a.geotransform, a.columns, a.rows);
-  const TiledRasterSource source_a = RasterTileSource(config.reference, config.terrain.band, a, origin);
-  const TiledRasterSource source_b = RasterTileSource(config.moving, config.terrain.band, b, origin);
+  const TiledRasterSource source_a =
+      RasterTileSource(config.reference, config.terrain.band, a, origin);
+  const TiledRasterSource source_b =
+      RasterTileSource(config.moving, config.terrain.band, b, origin);
 
   // The moving DEM's height range (a tilted motion's cover needs it), in
   // bands of rows a quarter of the budget holds (~64 bytes per sample read).
@@ -143,8 +239,8 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
   stage("sampling patches");
   PatchSampleOptions sampling;
   sampling.max_reference_samples = std::clamp(
-      static_cast<int64_t>(0.85 * (report.budget - kProgramBytes) / kAlignBytesPerSample), kMinSample,
-      kMaxSample);
+      static_cast<int64_t>(0.85 * (report.budget - kProgramBytes) / kAlignBytesPerSample),
+      kMinSample, kMaxSample);
   sampling.patch = kPatch;
   sampling.margin = kMargin;
   sampling.seed = kSeed;
@@ -175,12 +271,18 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
   config.options.on_iteration = nullptr;
   double sum_xyz[3] = {0, 0, 0};
   for (std::size_t i = 0; i < sample.moving.size(); ++i) {
-    sum_xyz[0] += sample.moving.xy[i].x, sum_xyz[1] += sample.moving.xy[i].y, sum_xyz[2] += sample.moving.z[i];
+    sum_xyz[0] += sample.moving.xy[i].x, sum_xyz[1] += sample.moving.xy[i].y,
+        sum_xyz[2] += sample.moving.z[i];
   }
   const double count = static_cast<double>(std::max<std::size_t>(sample.moving.size(), 1));
   const Eigen::Vector3d centroid(sample.moving.origin[0] + sum_xyz[0] / count,
                                  sample.moving.origin[1] + sum_xyz[1] / count,
                                  sample.moving.origin[2] + sum_xyz[2] / count);
+  if (!config.terrain.patch_shifts.empty()) {
+    stage("aligning each patch alone");
+    report.patch_shifts =
+        PatchShifts(sample, a.geotransform, run.result, config.options, kMargin * report.cell_size);
+  }
   sample = PatchSample();  // its memory is the tiles' now
 
   // The whole pair after the motion, tile by tile.
@@ -197,7 +299,8 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
   const auto start = std::chrono::steady_clock::now();
   double last = -1;
   const TiledMeasureRun after = MeasureRasterTiles(
-      config, measure, "", config.Where("mask"), TileForMemory(report.budget - kProgramBytes), where, parts,
+      config, measure, "", config.Where("mask"), TileForMemory(report.budget - kProgramBytes),
+      where, parts,
       [&](const TiledProgress& p) {
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -205,11 +308,13 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
         last = seconds;
         char line[160];
         const double eta = p.done > 0 ? seconds * (p.total - p.done) / p.done : 0.0;
-        std::snprintf(line, sizeof line, "measuring after the motion: tiles, %lld of %lld, ETA %.0f s",
+        std::snprintf(line, sizeof line,
+                      "measuring after the motion: tiles, %lld of %lld, ETA %.0f s",
                       static_cast<long long>(p.done), static_cast<long long>(p.total), eta);
         stage(line);
       },
-      &moved, [&report, &a](const TileDod& t) { report.tile_rows.push_back(RowOf(t, a.geotransform)); },
+      &moved,
+      [&report, &a](const TileDod& t) { report.tile_rows.push_back(RowOf(t, a.geotransform)); },
       change_budget);
   const ChangeUncertainty uncertainty = TiledChangeUncertainty(after.part, config);
   report.after = after.summary;
@@ -226,7 +331,8 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
   report.dz_rmse = report.dz_count > 0 ? std::sqrt(sum_squares / report.dz_count) : kNaN;
 
   if (config.terrain.known_matrix.size() == 16) {
-    const KnownMotionError error = ErrorAgainstKnown(run.result.matrix, config.terrain.known_matrix, centroid);
+    const KnownMotionError error =
+        ErrorAgainstKnown(run.result.matrix, config.terrain.known_matrix, centroid);
     report.rotation_error_deg = error.rotation_deg;
     report.translation_error = error.translation;
     report.known = true;
@@ -239,7 +345,8 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
       .Raw("whole", report.whole ? "true" : "false")
       .Int("reference_samples", report.reference_samples)
       .Int("moving_samples", report.moving_samples)
-      .Int("seed", static_cast<int64_t>(kSeed));
+      .Int("seed", static_cast<int64_t>(kSeed))
+      .Int("patch_shifts", static_cast<int64_t>(report.patch_shifts.size()));
   JsonObject whole = DetectedChangeJson(s);
   whole.Number("rho_d", s.rho_d)
       .Number("rho_d_axial", s.rho_d_axial)
@@ -261,7 +368,8 @@ TiledAlignRun AlignRasterTiles(const AlignConfig& given,
       .Number("cell_size", report.cell_size)
       .Object("after", whole);
   if (report.known) {
-    tiled.Object("known", KnownErrorJson({report.rotation_error_deg, report.translation_error}, report.cell_size));
+    tiled.Object("known", KnownErrorJson({report.rotation_error_deg, report.translation_error},
+                                         report.cell_size));
   }
   run.json = TransformJson(config, run.result, "\"tiled\": " + tiled.str());
   return run;
@@ -279,6 +387,25 @@ std::string TileStatsCsv(const std::vector<TileDzRow>& rows) {
   return csv;
 }
 
+std::string PatchShiftsCsv(const std::vector<PatchShift>& rows) {
+  std::string csv =
+      "patch,column,row,columns,rows,x,y,reference_samples,moving_samples,verdict,dx,dy,dz,sigma_"
+      "dx,"
+      "sigma_dy,sigma_dz,mean_abs_dz\n";
+  char line[512];
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const PatchShift& r = rows[k];
+    std::snprintf(line, sizeof line,
+                  "%zu,%d,%d,%d,%d,%.17g,%.17g,%lld,%lld,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                  k, r.column, r.row, r.columns, r.rows, r.x, r.y,
+                  static_cast<long long>(r.reference_samples),
+                  static_cast<long long>(r.moving_samples), r.verdict.c_str(), r.dx, r.dy, r.dz,
+                  r.sigma_dx, r.sigma_dy, r.sigma_dz, r.mean_abs_dz);
+    csv += line;
+  }
+  return csv;
+}
+
 std::string TiledAlignSummary(const TiledAlignReport& r) {
   char text[1024];
   int n = std::snprintf(
@@ -286,15 +413,19 @@ std::string TiledAlignSummary(const TiledAlignReport& r) {
       "tiled:        %s, %lld reference and %lld moving samples solved on; after the motion, "
       "%lld tiles of %d cells:\n"
       "  whole pair: rho_d %.9g, overlap %.9g, dz over %lld samples: mean %.4g, RMSE %.4g\n",
-      r.whole ? "the whole pair fitted the budget"
-              : ("" + std::to_string(r.patches) + " patches of " + std::to_string(r.patch) + " cells").c_str(),
+      r.whole
+          ? "the whole pair fitted the budget"
+          : ("" + std::to_string(r.patches) + " patches of " + std::to_string(r.patch) + " cells")
+                .c_str(),
       static_cast<long long>(r.reference_samples), static_cast<long long>(r.moving_samples),
       static_cast<long long>(r.tiles), r.tile, r.after.rho_d, r.after.overlap_area,
       static_cast<long long>(r.dz_count), r.dz_mean, r.dz_rmse);
   std::string out(text, std::min<std::size_t>(n, sizeof text - 1));
   if (r.known) {
-    std::snprintf(text, sizeof text, "  error against the known motion: rotation %.3g deg, translation %.3g (%.3g cells)\n",
-                  r.rotation_error_deg, r.translation_error, r.translation_error / r.cell_size);
+    std::snprintf(
+        text, sizeof text,
+        "  error against the known motion: rotation %.3g deg, translation %.3g (%.3g cells)\n",
+        r.rotation_error_deg, r.translation_error, r.translation_error / r.cell_size);
     out += text;
   }
   return out;

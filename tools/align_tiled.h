@@ -21,16 +21,28 @@ namespace surfreg {
 struct TileDzRow {
   int64_t tile = 0;
   int32_t column = 0, row = 0, columns = 0, rows = 0;  // the tile's samples
-  double x = 0, y = 0;                                  // its centre (input coordinates)
-  int64_t count = 0;                                    // samples in the overlap
-  double median = 0, nmad = 0, mean = 0, rmse = 0;      // NaN without samples
+  double x = 0, y = 0;                                 // its centre (input coordinates)
+  int64_t count = 0;                                   // samples in the overlap
+  double median = 0, nmad = 0, mean = 0, rmse = 0;     // NaN without samples
+};
+
+// One sampled patch aligned alone (translation only, from the whole
+// motion): where its data says the moving DEM lies against the whole motion.
+struct PatchShift {
+  int32_t column = 0, row = 0, columns = 0, rows = 0;  // the reference patch
+  double x = 0, y = 0;                                 // its centre (input coordinates)
+  int64_t reference_samples = 0, moving_samples = 0;
+  std::string verdict;            // of its solve ("" when it could not be solved: too little data)
+  double dx = 0, dy = 0, dz = 0;  // patch motion − whole motion at its moving centroid
+  double sigma_dx = 0, sigma_dy = 0, sigma_dz = 0;  // their standard deviations
+  double mean_abs_dz = 0;                           // after its own motion
 };
 
 struct TiledAlignReport {
   double budget = 0;  // bytes
   // The sample the motion was solved on.
   int64_t patches = 0;
-  int32_t patch = 0;  // side in reference cells
+  int32_t patch = 0;   // side in reference cells
   bool whole = false;  // the pair fitted the budget: the sample is the pair
   int64_t reference_samples = 0, moving_samples = 0;
   // The whole pair after the motion, tile by tile.
@@ -38,10 +50,11 @@ struct TiledAlignReport {
   int32_t tile = 0;
   int64_t tiles = 0;
   std::vector<TileDzRow> tile_rows;
+  std::vector<PatchShift> patch_shifts;  // with config.terrain.patch_shifts
   int64_t dz_count = 0;
   double dz_mean = 0, dz_rmse = 0;  // over every reference sample in the overlap
-  double cell_size = 0;            // the reference's, for errors in cells
-  bool known = false;              // config.terrain.known_matrix given
+  double cell_size = 0;             // the reference's, for errors in cells
+  bool known = false;               // config.terrain.known_matrix given
   double rotation_error_deg = 0, translation_error = 0;
 };
 
@@ -59,13 +72,18 @@ struct TiledAlignRun {
 void CheckTiledAlign(const AlignConfig& config);
 
 // The run above; writes the DoD (dod) tile row by tile row and nothing else
-// (the caller writes output, matrix_txt and log; WriteTileStats the CSV).
+// (the caller writes output, matrix_txt and log; TileStatsCsv and PatchShiftsCsv the CSVs).
 // `on_iteration` sees every solver iteration.
-TiledAlignRun AlignRasterTiles(const AlignConfig& config,
-                               const std::function<void(const AlignOptions::Iteration&)>& on_iteration);
+TiledAlignRun AlignRasterTiles(
+    const AlignConfig& config,
+    const std::function<void(const AlignOptions::Iteration&)>& on_iteration);
 
 // tile,column,row,columns,rows,x,y,samples,dz_median,dz_nmad,dz_mean,dz_rmse.
 std::string TileStatsCsv(const std::vector<TileDzRow>& rows);
+
+// patch,column,row,columns,rows,x,y,reference_samples,moving_samples,verdict,
+// dx,dy,dz,sigma_dx,sigma_dy,sigma_dz,mean_abs_dz.
+std::string PatchShiftsCsv(const std::vector<PatchShift>& rows);
 
 // The lines the CLI prints after the alignment's own summary.
 std::string TiledAlignSummary(const TiledAlignReport& report);

@@ -96,6 +96,7 @@ DEFINE_string(change_csv, "", "align: write x,y,z,dz_before,dz_after,stable per 
 DEFINE_string(known_matrix, "", "align: the true moving->reference matrix (16 numbers), to report errors");
 DEFINE_string(mask_raster, "", "align: stable-terrain raster (reference CRS): weight 1 on non-zero cells");
 DEFINE_string(tile_stats, "", "align (with --max_memory): write dz after alignment per tile as CSV");
+DEFINE_string(patch_shifts, "", "align (with --max_memory): write each sampled patch's own shift against the whole motion as CSV");
 DEFINE_string(manifest, "", "align: CSV of pairs (reference,moving,output[,aligned]) to align in turn");
 
 namespace surfreg {
