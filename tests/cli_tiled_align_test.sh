@@ -101,6 +101,20 @@ assert abs(slope + 0.002) < 0.0004 and residual < 0.05, (slope, residual, dx)
 print("  patch shifts of a 0.2%% stretch: dx slope %.5f per cell" % slope)
 PY
 
+# The shipped example (configs/terrain_dem_tiled.yaml), its outputs here.
+root=$(dirname -- "$here")
+(cd "$root" && "$bin" align --config configs/terrain_dem_tiled.yaml --output="$tmp/example.json" \
+  --dod="$tmp/example.tif" --tile_stats="$tmp/example_tiles.csv" \
+  --patch_shifts="$tmp/example_shifts.csv" --quiet >"$tmp/stdout" 2>"$tmp/stderr")
+rc=$?
+checks=$((checks + 1))
+[[ $rc -eq 0 && -s example.tif && -s example_tiles.csv && -s example_shifts.csv ]] &&
+  python3 -c '
+import json, sys
+t = json.load(open(sys.argv[1]))["tiled"]
+assert t["known"]["translation_error_cells"] < 0.05 and t["after"]["uncertainty"]["nodes"] > 4000, t
+' example.json || fail "configs/terrain_dem_tiled.yaml"
+
 # What is refused, each with one line naming the key.
 echo "400000 5199600 300" >cloud.xyz
 echo "400001 5199600 300" >>cloud.xyz
