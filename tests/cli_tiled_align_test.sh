@@ -101,6 +101,13 @@ assert abs(slope + 0.002) < 0.0004 and residual < 0.05, (slope, residual, dx)
 print("  patch shifts of a 0.2%% stretch: dx slope %.5f per cell" % slope)
 PY
 
+# The map of the DoD from its overview (a figure of a DoD never held whole).
+if has_part plots; then
+  run align a.bil b.bil --max_memory=128M --dod_png=map.png --lod=0.01 --quiet
+  checks=$((checks + 1))
+  [[ $rc -eq 0 && $(head -c 4 map.png | tail -c 3) == PNG ]] || fail "tiled align --dod_png: no PNG"
+fi
+
 # The shipped example (configs/terrain_dem_tiled.yaml), its outputs here.
 root=$(dirname -- "$here")
 (cd "$root" && "$bin" align --config configs/terrain_dem_tiled.yaml --output="$tmp/example.json" \

@@ -86,6 +86,7 @@ AlignRun AlignTiled(AlignConfig config,
   if (!config.matrix_txt.empty()) {
     WriteFileAtomically(config.matrix_txt, MatrixText(run.result.matrix), config.Where("matrix_txt"));
   }
+  if (!config.terrain.dod_png.empty()) WriteDodOverviewPng(config, tiled.overview);
   if (!config.terrain.tile_stats.empty()) {
     WriteFileAtomically(config.terrain.tile_stats, TileStatsCsv(tiled.report.tile_rows),
                         config.Where("tile_stats"));

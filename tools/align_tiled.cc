@@ -14,6 +14,7 @@
 #include "tools/interrupt.h"
 #include "tools/json_writer.h"
 #include "tools/measure_tiled.h"
+#include "tools/plot.h"
 #include "tools/terrain.h"
 #include "tools/terrain_uncertainty.h"
 #include "tools/transform_json.h"
@@ -151,7 +152,47 @@ std::vector<PatchShift> PatchShifts(const PatchSample& sample, const std::array<
   return out;
 }
 
+void AddToOverview(const TileDod& t, double threshold, DodOverview* o) {
+  for (int32_t r = 0; r < t.window.rows; ++r) {
+    for (int32_t c = 0; c < t.window.columns; ++c) {
+      const double dz = t.dz[static_cast<std::size_t>(r) * t.window.columns + c];
+      if (!std::isfinite(dz)) continue;
+      const std::size_t k = static_cast<std::size_t>((t.window.row + r) / o->factor) * o->columns +
+                            (t.window.column + c) / o->factor;
+      o->sum[k] += std::fabs(dz) <= threshold ? 0.0 : dz;
+      ++o->count[k];
+    }
+  }
+}
+
 }  // namespace
+
+void WriteDodOverviewPng(const AlignConfig& config, const DodOverview& o) {
+  GridField field;
+  field.columns = o.columns;
+  field.rows = o.rows;
+  field.values.resize(o.sum.size());
+  for (std::size_t k = 0; k < o.sum.size(); ++k) {
+    field.values[k] = o.count[k] > 0 ? o.sum[k] / o.count[k] : std::nan("");
+  }
+  // The blocks' extent: whole blocks of cells from the raster's corner.
+  const auto& g = o.geotransform;
+  const double width = static_cast<double>(o.columns) * o.factor * g[1];
+  const double height = static_cast<double>(o.rows) * o.factor * g[5];
+  field.x_min = std::min(g[0], g[0] + width), field.x_max = std::max(g[0], g[0] + width);
+  field.y_min = std::min(g[3], g[3] + height), field.y_max = std::max(g[3], g[3] + height);
+  const std::string units = o.metric ? "m" : "units";
+  std::string title = o.thresholded
+                          ? "Detected change after alignment (moving - reference; white: within the threshold)"
+                          : "Difference after alignment (moving - reference)";
+  if (o.factor > 1) {
+    title += "; means of " + std::to_string(o.factor) + " x " + std::to_string(o.factor) + " cells";
+  }
+  const FigureText text{title, "easting (" + units + ")", "northing (" + units + ")"};
+  MapStyle style;
+  style.colorbar_label = "dz (" + units + ")";
+  WriteMapPng(config.terrain.dod_png, field, text, style, config.Where("dod_png"));
+}
 
 void CheckTiledAlign(const AlignConfig& config) {
   const std::string where = config.Where("max_memory");
@@ -168,12 +209,12 @@ void CheckTiledAlign(const AlignConfig& config) {
                      ": a window and tiles do not go together yet: cut the window out first "
                      "(gdal_translate -srcwin)");
   }
-  for (const char* key : {"aligned", "dod_png", "histogram_png", "change_csv", "dod_sigma",
+  for (const char* key : {"aligned", "histogram_png", "change_csv", "dod_sigma",
                           "dod_thresholded", "mask_raster"}) {
     if (!AlignConfigValue(config, key).empty()) {
       throw InputError(config.Where(key) + ": not with " + where +
                        " yet (it needs the whole surfaces); a tiled alignment writes output, "
-                       "matrix_txt, log, dod and tile_stats");
+                       "matrix_txt, log, dod, dod_png, tile_stats and patch_shifts");
     }
   }
   if (config.per_point_weights) {
@@ -291,6 +332,19 @@ TiledAlignRun AlignRasterTiles(
   measure.detect_change = true;
   measure.level_of_detection = config.terrain.lod;
   measure.parallel = config.options.num_threads > 1;
+  // The map's overview: blocks of f × f cells, at most 1024 on a side.
+  const double threshold = change_budget.active ? change_budget.threshold : config.terrain.lod;
+  if (!config.terrain.dod_png.empty()) {
+    DodOverview& o = run.overview;
+    o.factor = std::max(1, (std::max(a.columns, a.rows) + 1023) / 1024);
+    o.columns = (a.columns + o.factor - 1) / o.factor;
+    o.rows = (a.rows + o.factor - 1) / o.factor;
+    o.sum.assign(static_cast<std::size_t>(o.columns) * o.rows, 0.0);
+    o.count.assign(o.sum.size(), 0);
+    o.geotransform = a.geotransform;
+    o.thresholded = threshold > 0;
+    o.metric = a.crs.kind == CrsKind::kProjected && a.crs.metres_per_unit == 1.0;
+  }
   MovedRaster moved;
   moved.matrix = RowMajor(run.result.matrix);
   moved.z_min = range[0], moved.z_max = range[1];
@@ -314,7 +368,10 @@ TiledAlignRun AlignRasterTiles(
         stage(line);
       },
       &moved,
-      [&report, &a](const TileDod& t) { report.tile_rows.push_back(RowOf(t, a.geotransform)); },
+      [&](const TileDod& t) {
+        report.tile_rows.push_back(RowOf(t, a.geotransform));
+        if (!config.terrain.dod_png.empty()) AddToOverview(t, threshold, &run.overview);
+      },
       change_budget);
   const ChangeUncertainty uncertainty = TiledChangeUncertainty(after.part, config);
   report.after = after.summary;

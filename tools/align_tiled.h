@@ -6,6 +6,7 @@
 // then the moving DEM is measured after that motion tile by tile, with the
 // DoD streamed into its GeoTIFF and dz statistics per tile. Neither DEM is
 // ever read whole. Both must be rasters in one projected CRS (or none).
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -58,16 +59,33 @@ struct TiledAlignReport {
   double rotation_error_deg = 0, translation_error = 0;
 };
 
+// The DoD after the motion in blocks of f × f reference cells (their mean),
+// gathered tile by tile: what `dod_png` draws of a DoD never held whole.
+// With a threshold (lod, or the budget's), change within it counts as 0.
+struct DodOverview {
+  int32_t factor = 1;
+  int32_t columns = 0, rows = 0;
+  std::vector<double> sum;
+  std::vector<int32_t> count;
+  std::array<double, 6> geotransform{};  // the reference's
+  bool thresholded = false;
+  bool metric = false;  // a projected CRS in metres
+};
+
 struct TiledAlignRun {
   AlignResult result;  // its before/after measures are the sample's
   TiledAlignReport report;
   std::string json;  // the transform JSON with a "tiled" member
+  DodOverview overview;  // with config.terrain.dod_png
 };
+
+// Draws the overview as config.terrain.dod_png (the untiled run's map).
+void WriteDodOverviewPng(const AlignConfig& config, const DodOverview& overview);
 
 // Throws InputError (naming the key) for what a tiled alignment does not
 // take: inputs that are not two rasters in one projected CRS, a window,
 // per-point weights or a mask raster, and the outputs that need the whole
-// surfaces (aligned, figures, change_csv, σ rasters). The DEMs' σ as numbers
+// surfaces (aligned, histogram_png, change_csv, σ rasters). The DEMs' σ as numbers
 // give the whole pair's change budget (σ rasters are refused).
 void CheckTiledAlign(const AlignConfig& config);
 
