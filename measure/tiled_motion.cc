@@ -130,15 +130,26 @@ PatchSample SampleRasterPatches(const TiledRasterSource& reference, const TiledR
   return sample;
 }
 
-std::array<double, 2> HeightRange(const TiledRasterSource& raster, int32_t band_rows) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+SampleExtent ExtentOfSamples(const TiledRasterSource& raster, int32_t band_rows) {
+  SampleExtent e;
+  const double inf = std::numeric_limits<double>::infinity();
+  XyBox box{inf, inf, -inf, -inf};
+  double lo = inf, hi = -inf;
   const int32_t step = std::max(band_rows, 1);
   for (int32_t row = 0; row < raster.rows; row += step) {
     const Surface band = raster.read({0, row, raster.columns, std::min(step, raster.rows - row)});
-    for (double z : band.z) lo = std::min(lo, z), hi = std::max(hi, z);
+    for (std::size_t i = 0; i < band.size(); ++i) {
+      lo = std::min(lo, band.z[i]), hi = std::max(hi, band.z[i]);
+      box.x_min = std::min(box.x_min, band.xy[i].x), box.x_max = std::max(box.x_max, band.xy[i].x);
+      box.y_min = std::min(box.y_min, band.xy[i].y), box.y_max = std::max(box.y_max, band.xy[i].y);
+    }
+    e.count += static_cast<int64_t>(band.size());
   }
-  if (!(lo <= hi)) return {0.0, 0.0};
-  return {lo + raster.origin[2], hi + raster.origin[2]};
+  if (e.count == 0) return e;
+  const std::array<double, 3>& o = raster.origin;
+  e.box = {box.x_min + o[0], box.y_min + o[1], box.x_max + o[0], box.y_max + o[1]};
+  e.z_min = lo + o[2], e.z_max = hi + o[2];
+  return e;
 }
 
 TiledRasterSource MovedRasterSource(TiledRasterSource moving, const RowMajorMatrix4& m,

@@ -34,7 +34,7 @@ struct PatchSampleOptions {
   uint64_t seed = 1;                       // where each patch lies in its stratum
   // Where the moving raster's data over a patch is looked for: the motion
   // the solve starts from, and the range of the moving raster's heights
-  // (input coordinates) that a tilted motion needs (HeightRange).
+  // (input coordinates) that a tilted motion needs (ExtentOfSamples).
   RowMajorMatrix4 initial = kIdentityMatrix4;
   double moving_z_min = 0, moving_z_max = 0;
 };
@@ -55,15 +55,21 @@ struct PatchSample {
 PatchSample SampleRasterPatches(const TiledRasterSource& reference, const TiledRasterSource& moving,
                                 const PatchSampleOptions& options);
 
-// The lowest and highest height (input coordinates) of a raster, read in
-// bands of `band_rows` rows (a memory bound); {0, 0} if all nodata.
-std::array<double, 2> HeightRange(const TiledRasterSource& raster, int32_t band_rows);
+// What one pass over a raster's valid samples finds: their box and the
+// lowest and highest height (input coordinates), read in bands of
+// `band_rows` rows (a memory bound). count 0 (and zeros) if all nodata.
+struct SampleExtent {
+  XyBox box;
+  double z_min = 0, z_max = 0;
+  int64_t count = 0;
+};
+SampleExtent ExtentOfSamples(const TiledRasterSource& raster, int32_t band_rows);
 
 // `moving` after `motion` (input coordinates): `read` gives a window's
 // samples moved (their raster cells kept: still meshed on their own cells,
 // grid_mesh.h), `cover` the window of samples whose moved cells may meet a
 // box: the preimage of the box's prism over the heights [z_min, z_max] of
-// the raster (HeightRange), which is exact for any rigid motion whose
+// the raster (ExtentOfSamples), which is exact for any rigid motion whose
 // rotation keeps the vertical within 90°. Throws InputError when it does not.
 TiledRasterSource MovedRasterSource(TiledRasterSource moving, const RowMajorMatrix4& motion,
                                     double z_min, double z_max);

@@ -108,6 +108,21 @@ if has_part plots; then
   [[ $rc -eq 0 && $(head -c 4 map.png | tail -c 3) == PNG ]] || fail "tiled align --dod_png: no PNG"
 fi
 
+# Two lon/lat DEMs: aligned in the untiled run's metric frame (UTM); a
+# budget they fit gives the untiled motion.
+mkdir -p lonlat
+(cd lonlat && python3 "$here/make_tiled_pair.py" 0.2) || exit 2
+run align lonlat/lla.asc lonlat/llb.asc --json --quiet
+cp stdout lonlat_untiled.json
+run align lonlat/lla.asc lonlat/llb.asc --json --quiet --max_memory=1G
+checks=$((checks + 1))
+python3 - lonlat_untiled.json stdout <<'PY' || fail "lon/lat DEMs: the tiled alignment differs from the untiled one"
+import json, sys
+u, t = (json.load(open(p)) for p in sys.argv[1:3])
+assert t["tiled"]["sample"]["whole"] is True and u["verdict"] == t["verdict"] == "converged_improved"
+assert max(abs(a - b) for ru, rt in zip(u["matrix"], t["matrix"]) for a, b in zip(ru, rt)) < 1e-6
+PY
+
 # The shipped example (configs/terrain_dem_tiled.yaml), its outputs here.
 root=$(dirname -- "$here")
 (cd "$root" && "$bin" align --config configs/terrain_dem_tiled.yaml --output="$tmp/example.json" \

@@ -85,6 +85,27 @@ checks=$((checks + 1))
 python3 -c 'import json, sys; t = json.load(open("stdout")); sys.exit(t["tile"] != 54 or t["tiles"] != 20)' ||
   fail "--max_memory=2M: expected tiles of 54 cells, 20 of them"
 
+# Two lon/lat DEMs: moved sample by sample into the untiled run's frame
+# (UTM, or ENU about their centre), tiled, the untiled measure.
+for frame in auto enu; do
+  run measure lla.asc llb.asc --json --frame=$frame
+  cp stdout ll_untiled.json
+  for tile in 16 37; do
+    run measure lla.asc llb.asc --json --tile=$tile --frame=$frame
+    checks=$((checks + 1))
+    python3 - ll_untiled.json stdout "$frame" <<'PY' || fail "lon/lat --tile=$tile --frame=$frame differs from untiled"
+import json, sys
+u, t = (json.load(open(p)) for p in sys.argv[1:3])
+assert u["frame"] == t["frame"] and ("UTM" in u["frame"]) == (sys.argv[3] == "auto"), (u["frame"], t["frame"])
+assert u["length_unit"] == t["length_unit"] == "m" and u["overlap_area"] > 1e6, u
+for key in ("rho_d", "rho_d_axial", "overlap_area", "domain_area_a", "domain_area_b", "signed_volume"):
+    assert abs(u[key] - t[key]) <= 1e-9 * abs(u[key]), (key, u[key], t[key])
+for key in ("n_overlap_nodes", "n_cells", "n_points_a", "n_points_b"):
+    assert u[key] == t[key], (key, u[key], t[key])
+PY
+  done
+done
+
 # The change budget with both DEMs' σ as numbers: the untiled budget, tiled.
 sigma=(--sigma_reference=0.05 --sigma_moving=0.08 --lod_confidence=0.95)
 run measure a.asc b.asc --json "${sigma[@]}"
@@ -110,8 +131,7 @@ expect_refused "flag '--tile': tiles are for two rasters, but argument B is 'clo
   measure a.asc cloud.xyz --tile=32
 expect_refused "flag '--tile': a tiled measure does not take --volume=union yet" \
   measure a.asc b.asc --tile=32 --volume=union
-expect_refused "flag '--tile': a tiled measure needs both DEMs in one projected CRS" \
-  measure ll.asc ll.asc --tile=32
+expect_refused "has a CRS and the reference has none" measure a.asc ll.asc --tile=32
 expect_refused "flag '--tile' expects a tile side in cells of A, 16 to 32768" measure a.asc b.asc --tile=8
 expect_refused "flag '--dod': the DoD is written on A's grid, but A ('cloud.xyz') is no raster" \
   measure cloud.xyz b.asc --dod=d.tif

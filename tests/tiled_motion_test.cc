@@ -1,6 +1,6 @@
 // measure/tiled_motion.h: a moving raster measured moved, tile by tile,
-// against Measure on the whole surfaces moved point by point; the height
-// range against a brute-force scan; the sample of patches: bounded, every
+// against Measure on the whole surfaces moved point by point; the extent of
+// the valid samples against a brute-force scan; the sample of patches: bounded, every
 // sample once, and each reference patch covered by the moving data it needs.
 #include "measure/tiled_motion.h"
 
@@ -79,22 +79,37 @@ Pair MakePair() {
                {kX0 + 210, kY0 - 140, 50}, true, {{260, 200, 18}}, 2u, "b.tif")};
 }
 
-TEST(TiledMotionTest, HeightRangeIsTheRastersExtremes) {
+TEST(TiledMotionTest, ExtentIsTheValidSamplesBoxAndHeights) {
   const Pair p = MakePair();
-  double lo = 1e300, hi = -1e300;
-  for (double v : p.b.values) {
-    if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  double lo = 1e300, hi = -1e300, x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+  int64_t count = 0;
+  for (int32_t r = 0; r < p.b.rows; ++r) {
+    for (int32_t c = 0; c < p.b.columns; ++c) {
+      const double v = p.b.values[static_cast<std::size_t>(r) * p.b.columns + c];
+      if (!std::isfinite(v)) continue;
+      const auto& g = p.b.gt;
+      const double x = g[0] + (c + 0.5) * g[1] + (r + 0.5) * g[2],
+                   y = g[3] + (c + 0.5) * g[4] + (r + 0.5) * g[5];
+      lo = std::min(lo, v), hi = std::max(hi, v), ++count;
+      x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    }
   }
   for (int32_t band : {1, 7, 305, 1000}) {
-    const std::array<double, 2> range = HeightRange(p.b.Source(), band);
-    EXPECT_NEAR(range[0], lo, 1e-9) << "band " << band;
-    EXPECT_NEAR(range[1], hi, 1e-9) << "band " << band;
+    const SampleExtent e = ExtentOfSamples(p.b.Source(), band);
+    EXPECT_NEAR(e.z_min, lo, 1e-9) << "band " << band;
+    EXPECT_NEAR(e.z_max, hi, 1e-9) << "band " << band;
+    EXPECT_NEAR(e.box.x_min, x0, 1e-6);
+    EXPECT_NEAR(e.box.x_max, x1, 1e-6);
+    EXPECT_NEAR(e.box.y_min, y0, 1e-6);
+    EXPECT_NEAR(e.box.y_max, y1, 1e-6);
+    EXPECT_EQ(e.count, count);
   }
   Grid empty = p.b;
   empty.values.assign(empty.values.size(), std::nan(""));
-  const std::array<double, 2> none = HeightRange(empty.Source(), 50);
-  EXPECT_EQ(none[0], 0.0);
-  EXPECT_EQ(none[1], 0.0);
+  const SampleExtent none = ExtentOfSamples(empty.Source(), 50);
+  EXPECT_EQ(none.count, 0);
+  EXPECT_EQ(none.z_min, 0.0);
+  EXPECT_EQ(none.z_max, 0.0);
 }
 
 // The moved source tile by tile equals the whole moving raster moved point
@@ -105,9 +120,9 @@ TEST(TiledMotionTest, MovedSourceTiledEqualsUntiled) {
   for (double scale : {1.0, -3.0}) {
     SCOPED_TRACE("motion scale " + std::to_string(scale));
     const Eigen::Matrix4d m = Motion(scale);
-    const std::array<double, 2> range = HeightRange(p.b.Source(), 64);
+    const SampleExtent range = ExtentOfSamples(p.b.Source(), 64);
     const TiledRasterSource moved =
-        MovedRasterSource(p.b.Source(), RowMajor(m), range[0], range[1]);
+        MovedRasterSource(p.b.Source(), RowMajor(m), range.z_min, range.z_max);
     MeasureOptions options = Options();
     const MeasureSummary untiled = Measure(p.a.Whole(), MovedWhole(p.b.Whole(), m), options);
     ASSERT_GT(untiled.overlap_area, 0.8 * 399 * 299 - 40 * 40 * M_PI - 18 * 18 * M_PI);
@@ -157,14 +172,14 @@ TEST(TiledMotionTest, PatchesAreBoundedAndCovered) {
   const Grid b = MakeGrid(420, 320, {kX0 - 10.37, 1.01, 0.0, kY0 + 10.23, 0.0, -0.99},
                           {kX0 + 210, kY0 - 140, 50}, true, {}, 6u, "b.tif");
   const Eigen::Matrix4d m = Motion(2.0);
-  const std::array<double, 2> range = HeightRange(b.Source(), 64);
+  const SampleExtent range = ExtentOfSamples(b.Source(), 64);
   PatchSampleOptions o;
   o.max_reference_samples = 20000;
   o.patch = 40;
   o.margin = 3;
   o.seed = 7;
   o.initial = RowMajor(m);
-  o.moving_z_min = range[0], o.moving_z_max = range[1];
+  o.moving_z_min = range.z_min, o.moving_z_max = range.z_max;
   const PatchSample s = SampleRasterPatches(a.Source(), b.Source(), o);
   EXPECT_FALSE(s.whole);
   EXPECT_EQ(s.patches.size(), 12u);  // 20000 / 40² = 12 strata of 100 x 75 cells

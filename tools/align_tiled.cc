@@ -188,7 +188,8 @@ void WriteDodOverviewPng(const AlignConfig& config, const DodOverview& o) {
   if (o.factor > 1) {
     title += "; means of " + std::to_string(o.factor) + " x " + std::to_string(o.factor) + " cells";
   }
-  const FigureText text{title, "easting (" + units + ")", "northing (" + units + ")"};
+  const FigureText text{title, o.degrees ? "longitude (deg)" : "easting (" + units + ")",
+                        o.degrees ? "latitude (deg)" : "northing (" + units + ")"};
   MapStyle style;
   style.colorbar_label = "dz (" + units + ")";
   WriteMapPng(config.terrain.dod_png, field, text, style, config.Where("dod_png"));
@@ -248,33 +249,24 @@ TiledAlignRun AlignRasterTiles(
                      "10000 samples), got " +
                      config.terrain.max_memory);
   }
-  const RasterShape a = ReadRasterShape(config, "reference");
-  const RasterShape b = ReadRasterShape(config, "moving");
-  if (a.crs.kind == CrsKind::kGeographic || b.crs.kind == CrsKind::kGeographic) {
-    throw InputError(where + ": a tiled alignment needs both DEMs in one projected CRS (A: " +
-                     DescribeCrs(a.crs) + ", B: " + DescribeCrs(b.crs) +
-                     "); project them first, e.g. gdalwarp -t_srs EPSG:32633");
+  const TiledPair pair = OpenTiledPair(config, where);  // the frame: as given, or UTM / ENU of lon/lat DEMs
+  const RasterShape &a = pair.a, &b = pair.b;
+  const TiledRasterSource& source_a = pair.source_a;
+  const TiledRasterSource& source_b = pair.source_b;
+  const auto& g = a.geotransform;
+  report.cell_size = std::sqrt(std::fabs(g[1] * g[5] - g[2] * g[4]));
+  if (a.crs.kind == CrsKind::kGeographic) {  // degrees to metres at the grid's middle latitude
+    const double latitude = g[3] + 0.5 * a.rows * g[5];
+    report.cell_size *= std::sqrt(111320.0 * std::cos(latitude * M_PI / 180) * 110574.0);
   }
-  {  // the CRS checks of an untiled run (two projected or CRS-less DEMs)
-    Surface frame_a, frame_b;
-    frame_a.source = config.reference;
-    frame_b.source = config.moving;
-    ToCommonMetricFrame(&frame_a, a.crs, &frame_b, b.crs, FrameChoice::kAuto);
-  }
-  report.cell_size = std::sqrt(
-      std::fabs(a.geotransform[1] * a.geotransform[5] - a.geotransform[2] * a.geotransform[4]));
-  const std::array<double, 3> origin = RasterOrigin(a.geotransform, a.columns, a.rows);
-  const TiledRasterSource source_a =
-      RasterTileSource(config.reference, config.terrain.band, a, origin);
-  const TiledRasterSource source_b =
-      RasterTileSource(config.moving, config.terrain.band, b, origin);
 
   // The moving DEM's height range (a tilted motion's cover needs it), in
   // bands of rows a quarter of the budget holds (~64 bytes per sample read).
   stage("height range of " + config.moving);
   const double band_rows = report.budget / 4 / (64.0 * std::max(b.columns, 1));
-  const std::array<double, 2> range =
-      HeightRange(source_b, static_cast<int32_t>(std::clamp(band_rows, 1.0, double(b.rows))));
+  const SampleExtent extent =
+      ExtentOfSamples(source_b, static_cast<int32_t>(std::clamp(band_rows, 1.0, double(b.rows))));
+  const std::array<double, 2> range = {extent.z_min, extent.z_max};
 
   // The sample.
   stage("sampling patches");
@@ -343,7 +335,9 @@ TiledAlignRun AlignRasterTiles(
     o.count.assign(o.sum.size(), 0);
     o.geotransform = a.geotransform;
     o.thresholded = threshold > 0;
-    o.metric = a.crs.kind == CrsKind::kProjected && a.crs.metres_per_unit == 1.0;
+    o.metric = pair.frame.kind != GeoFrame::kAsGiven ||
+               (a.crs.kind == CrsKind::kProjected && a.crs.metres_per_unit == 1.0);
+    o.degrees = a.crs.kind == CrsKind::kGeographic;
   }
   MovedRaster moved;
   moved.matrix = RowMajor(run.result.matrix);
@@ -418,7 +412,8 @@ TiledAlignRun AlignRasterTiles(
       .Number("dz_rmse", report.dz_rmse);
   if (uncertainty.active) whole.Object("uncertainty", ChangeUncertaintyJson(config, uncertainty));
   JsonObject tiled;
-  tiled.Number("max_memory_bytes", report.budget)
+  tiled.String("frame", pair.frame.Describe())
+      .Number("max_memory_bytes", report.budget)
       .Object("sample", sampled)
       .Int("tile", report.tile)
       .Int("tiles", report.tiles)

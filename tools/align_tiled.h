@@ -5,7 +5,9 @@
 // around them (measure/tiled_motion.h), as many samples as the budget holds;
 // then the moving DEM is measured after that motion tile by tile, with the
 // DoD streamed into its GeoTIFF and dz statistics per tile. Neither DEM is
-// ever read whole. Both must be rasters in one projected CRS (or none).
+// ever read whole. Both must be rasters in one projected CRS (or none), or
+// both lon/lat on one datum (then aligned in the metric frame an untiled run
+// picks: measure_tiled.h OpenTiledPair).
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -69,7 +71,8 @@ struct DodOverview {
   std::vector<int32_t> count;
   std::array<double, 6> geotransform{};  // the reference's
   bool thresholded = false;
-  bool metric = false;  // a projected CRS in metres
+  bool metric = false;   // dz in metres (a projected CRS in metres, or lon/lat DEMs' frame)
+  bool degrees = false;  // a lon/lat grid
 };
 
 struct TiledAlignRun {

@@ -350,6 +350,17 @@ void PointsToFrame(const GeoFrame& frame, const Crs& crs,
   }
 }
 
+void PointsFromFrame(const GeoFrame& frame, const Crs& crs, std::vector<std::array<double, 3>>* points) {
+  if (frame.kind == GeoFrame::kAsGiven) return;
+  const Datum datum = DatumOf(crs);
+  const FrameMap map(frame, datum);
+  for (std::array<double, 3>& p : *points) {
+    double lat = 0, lon = 0, h = 0;
+    map.Reverse(p[0], p[1], p[2], &lat, &lon, &h);
+    p = {lon - datum.prime_meridian_deg, lat, h};
+  }
+}
+
 namespace {
 
 // Latitude/longitude of a projected point through PROJ; false if unknown.

@@ -103,6 +103,10 @@ GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surfa
 void PointsToFrame(const GeoFrame& frame, const Crs& crs,
                    std::vector<std::array<double, 3>>* points);
 
+// The inverse: points of `frame` back into `crs` (lon, lat, h for
+// geographic), in place; kAsGiven leaves them as they are.
+void PointsFromFrame(const GeoFrame& frame, const Crs& crs, std::vector<std::array<double, 3>>* points);
+
 // A translation as seen on the ground.
 struct GeographicOffset {
   double dlat_deg = 0, dlon_deg = 0;         // change of latitude/longitude (NaN if unknown)

@@ -279,7 +279,8 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     report.crs_a = run.crs_a;
     report.crs_b = run.crs_b;
     report.frame = run.frame;
-    report.metric = report.crs_a.kind == CrsKind::kProjected && report.crs_a.metres_per_unit == 1.0;
+    report.metric = report.frame.kind != GeoFrame::kAsGiven ||
+                    (report.crs_a.kind == CrsKind::kProjected && report.crs_a.metres_per_unit == 1.0);
     report.config = config;
     report.total_s = Seconds(Clock::now() - start);
     if (!tiled_parts.partial.empty()) {

@@ -26,6 +26,51 @@ namespace {
 // of tiles of 100-512 cells (600-650 bytes), with room to spare.
 constexpr double kBytesPerCell = 700;
 
+// A lon/lat raster's windows in `frame` (input points moved by
+// PointsToFrame, relative to `origin`); a box of the frame found back as the
+// lon/lat box of points along its edges at the raster's lowest and highest
+// heights (the map is smooth: the cover's extra sample on each side holds
+// the edges' bend between them).
+TiledRasterSource InFrame(TiledRasterSource lonlat, const GeoFrame& frame, const Crs& crs,
+                          const std::array<double, 3>& origin, double z_min, double z_max) {
+  TiledRasterSource out = lonlat;
+  out.origin = origin;
+  out.read = [read = lonlat.read, frame, crs, origin](const SampleWindow& w) {
+    Surface s = read(w);
+    std::vector<std::array<double, 3>> points(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      points[i] = {s.xy[i].x + s.origin[0], s.xy[i].y + s.origin[1], s.z[i] + s.origin[2]};
+    }
+    PointsToFrame(frame, crs, &points);
+    s.origin = origin;
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      s.xy[i] = {points[i][0] - origin[0], points[i][1] - origin[1]};
+      s.z[i] = points[i][2] - origin[2];
+    }
+    return s;
+  };
+  out.cover = [cover = lonlat.cover, frame, crs, z_min, z_max](const XyBox& box) {
+    constexpr int kSteps = 8;  // points per edge
+    std::vector<std::array<double, 3>> points;
+    for (int k = 0; k <= kSteps; ++k) {
+      const double u = static_cast<double>(k) / kSteps;
+      const double x = box.x_min + u * (box.x_max - box.x_min), y = box.y_min + u * (box.y_max - box.y_min);
+      for (const double z : {z_min, z_max}) {
+        points.push_back({x, box.y_min, z}), points.push_back({x, box.y_max, z});
+        points.push_back({box.x_min, y, z}), points.push_back({box.x_max, y, z});
+      }
+    }
+    PointsFromFrame(frame, crs, &points);
+    XyBox lonlat{points[0][0], points[0][1], points[0][0], points[0][1]};
+    for (const auto& p : points) {
+      lonlat.x_min = std::min(lonlat.x_min, p[0]), lonlat.x_max = std::max(lonlat.x_max, p[0]);
+      lonlat.y_min = std::min(lonlat.y_min, p[1]), lonlat.y_max = std::max(lonlat.y_max, p[1]);
+    }
+    return cover(lonlat);
+  };
+  return out;
+}
+
 bool Exists(const std::string& path) {
   struct stat info;
   return ::stat(path.c_str(), &info) == 0;
@@ -71,6 +116,58 @@ TiledRasterSource RasterTileSource(const std::string& path, int band, const Rast
   };
   source.cover = AffineGridCover(geotransform, shape.columns, shape.rows);
   return source;
+}
+
+TiledPair OpenTiledPair(const AlignConfig& config, const std::string& where) {
+  TiledPair pair;
+  pair.a = ReadRasterShape(config, "reference");
+  pair.b = ReadRasterShape(config, "moving");
+  const RasterShape &a = pair.a, &b = pair.b;
+  const bool geographic = a.crs.kind == CrsKind::kGeographic && b.crs.kind == CrsKind::kGeographic;
+  if (!geographic) {
+    // The frame and the CRS checks of an untiled run (two projected or
+    // CRS-less DEMs: nothing is moved, so no samples are needed for it).
+    Surface frame_a, frame_b;
+    frame_a.source = config.reference;
+    frame_b.source = config.moving;
+    pair.frame = ToCommonMetricFrame(&frame_a, a.crs, &frame_b, b.crs, FrameChoice::kAuto);
+    // One origin for both, the centre of A's extent (rounded as MakeSurface
+    // rounds): B is then in A's frame with no shift at all.
+    pair.origin = RasterOrigin(a.geotransform, a.columns, a.rows);
+    pair.source_a = RasterTileSource(config.reference, config.terrain.band, a, pair.origin);
+    pair.source_b = RasterTileSource(config.moving, config.terrain.band, b, pair.origin);
+    return pair;
+  }
+  // Two lon/lat DEMs: the frame from their valid samples' boxes, as an
+  // untiled run takes it from its samples (a pass over each, bands of about
+  // 1e6 samples).
+  const TiledRasterSource lonlat_a =
+      RasterTileSource(config.reference, config.terrain.band, a, RasterOrigin(a.geotransform, a.columns, a.rows));
+  const TiledRasterSource lonlat_b =
+      RasterTileSource(config.moving, config.terrain.band, b, RasterOrigin(b.geotransform, b.columns, b.rows));
+  const auto rows_of = [](int32_t columns) { return std::max<int32_t>(1, 1000000 / std::max(columns, 1)); };
+  const SampleExtent extent_a = ExtentOfSamples(lonlat_a, rows_of(a.columns));
+  const SampleExtent extent_b = ExtentOfSamples(lonlat_b, rows_of(b.columns));
+  for (const auto& [extent, name] : {std::pair{&extent_a, &config.reference}, std::pair{&extent_b, &config.moving}}) {
+    if (extent->count == 0) throw InputError(*name + ": every cell is nodata");
+  }
+  const auto corners = [](const SampleExtent& e, const std::string& name) {
+    const XyBox& x = e.box;
+    return MakeSurface({{x.x_min, x.y_min, e.z_min}, {x.x_max, x.y_min, e.z_min}, {x.x_max, x.y_max, e.z_max},
+                        {x.x_min, x.y_max, e.z_max}},
+                       {}, name);
+  };
+  Surface frame_a = corners(extent_a, config.reference), frame_b = corners(extent_b, config.moving);
+  const std::string& choice = config.terrain.frame;
+  pair.frame = ToCommonMetricFrame(&frame_a, a.crs, &frame_b, b.crs,
+                                   choice == "enu"   ? FrameChoice::kEnu
+                                   : choice == "utm" ? FrameChoice::kUtm
+                                                     : FrameChoice::kAuto);
+  pair.origin = {frame_a.origin[0], frame_a.origin[1], 0.0};
+  const double z_min = std::min(extent_a.z_min, extent_b.z_min), z_max = std::max(extent_a.z_max, extent_b.z_max);
+  pair.source_a = InFrame(lonlat_a, pair.frame, a.crs, pair.origin, z_min, z_max);
+  pair.source_b = InFrame(lonlat_b, pair.frame, b.crs, pair.origin, z_min, z_max);
+  return pair;
 }
 
 double TileBytes(int32_t tile) { return kBytesPerCell * static_cast<double>(tile) * tile; }
@@ -124,30 +221,18 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
                      "(gdal_translate -srcwin)");
   }
   TiledMeasureRun run;
-  const RasterShape a = ReadRasterShape(config, "reference");
-  const RasterShape b = ReadRasterShape(config, "moving");
+  const TiledPair pair = OpenTiledPair(config, where);
+  const RasterShape &a = pair.a, &b = pair.b;
   run.crs_a = a.crs;
   run.crs_b = b.crs;
-  if (a.crs.kind == CrsKind::kGeographic || b.crs.kind == CrsKind::kGeographic) {
-    throw InputError(where + ": a tiled measure needs both DEMs in one projected CRS (A: " +
-                     DescribeCrs(a.crs) + ", B: " + DescribeCrs(b.crs) +
-                     "); project them first, e.g. gdalwarp -t_srs EPSG:32633");
-  }
-  // The frame and the CRS checks of an untiled measure (two projected or
-  // CRS-less DEMs: nothing is moved, so no samples are needed for it).
-  Surface frame_a, frame_b;
-  frame_a.source = config.reference;
-  frame_b.source = config.moving;
-  run.frame = ToCommonMetricFrame(&frame_a, a.crs, &frame_b, b.crs, FrameChoice::kAuto);
+  run.frame = pair.frame;
   if (options.weight == WeightMode::kMask) {
-    TerrainInputs frame;  // the frame of the rasters as given
+    TerrainInputs frame;  // the frame the rasters are measured in
     frame.reference_crs = a.crs;
     frame.moving_crs = b.crs;
+    frame.frame = pair.frame;
     MaskToFrame(frame, mask_crs_wkt, mask_where, &options.mask);
   }
-  // One origin for both, the centre of A's extent (rounded as MakeSurface
-  // rounds): B is then in A's frame with no shift at all.
-  const std::array<double, 3> origin = RasterOrigin(a.geotransform, a.columns, a.rows);
   TiledMeasureOptions tiled;
   tiled.measure = options;
   tiled.measure.on_progress = nullptr;
@@ -229,8 +314,8 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
     WriteFileAtomically(state_file, PartJson(part, parts.settings, nullptr, {}, state_file),
                         "the state of the tiled measure");
   };
-  const TiledRasterSource source_a = RasterTileSource(config.reference, config.terrain.band, a, origin);
-  TiledRasterSource source_b = RasterTileSource(config.moving, config.terrain.band, b, origin);
+  const TiledRasterSource& source_a = pair.source_a;
+  TiledRasterSource source_b = pair.source_b;
   if (moved != nullptr) source_b = MovedRasterSource(std::move(source_b), moved->matrix, moved->z_min, moved->z_max);
   run.part = MeasureTiledPart(source_a, source_b, tiled, parts.shard, parts.shards,
                               resumed ? &resumed->part : nullptr);

@@ -3,8 +3,9 @@
 // tile (measure/tiled_measure.h), each tile read as a window of the rasters
 // (GDAL block reads), so memory is bounded by the tile, not the rasters. The
 // result equals the untiled measure (to 1e-9 relative for volumes and
-// areas). For now both DEMs must be in one projected CRS (or both have
-// none): a geographic pair's change of frame is not tiled yet.
+// areas). Both DEMs are in one projected CRS (or both have none), or both
+// lon/lat on one datum (moved into the untiled run's metric frame window by
+// window: OpenTiledPair).
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -75,6 +76,21 @@ RasterShape ReadRasterShape(const AlignConfig& config, const std::string& key);
 // through GDAL, with the samples relative to `origin`.
 TiledRasterSource RasterTileSource(const std::string& path, int band, const RasterShape& shape,
                                    const std::array<double, 3>& origin);
+
+// The two DEMs of `config` as tiled sources in one metric frame, with the
+// frame and CRS checks of an untiled run. Projected (or CRS-less) DEMs stay
+// as given, with one origin, the centre of A's extent. Two lon/lat DEMs on
+// one datum are moved sample by sample into the frame an untiled run picks
+// (config.terrain.frame: UTM, or ENU about their centre), found from one
+// pass over each DEM's valid samples; a window is found back through the
+// inverse map. `where` names the setting that asked for tiles.
+struct TiledPair {
+  RasterShape a, b;
+  GeoFrame frame;
+  std::array<double, 3> origin{};  // in the frame
+  TiledRasterSource source_a, source_b;
+};
+TiledPair OpenTiledPair(const AlignConfig& config, const std::string& where);
 
 // The moving raster measured after a rigid motion (measure/tiled_motion.h):
 // the matrix in the rasters' coordinates and the range of its heights.
