@@ -24,6 +24,8 @@ Vec3 ToVec(const std::array<double, 3>& p) { return Vec3(p[0], p[1], p[2]); }
   throw InputError((mesh.source.empty() ? std::string("face") : mesh.source) + ": " + what);
 }
 
+constexpr double kMaxCoordinate = 1e150;
+
 void CheckMesh(const Mesh& mesh) {
   const std::size_t n = mesh.vertices.size();
   if (n < 3) Fail(mesh, "a face needs at least 3 points, got " + std::to_string(n));
@@ -34,6 +36,12 @@ void CheckMesh(const Mesh& mesh) {
     const auto& p = mesh.vertices[i];
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
       Fail(mesh, "point " + std::to_string(i) + " has a non-finite coordinate");
+    }
+    // The orientation sums squares of coordinates: beyond this they overflow.
+    if (std::fabs(p[0]) > kMaxCoordinate || std::fabs(p[1]) > kMaxCoordinate ||
+        std::fabs(p[2]) > kMaxCoordinate) {
+      Fail(mesh,
+           "point " + std::to_string(i) + " has a coordinate beyond ±1e150 (not a face scan's)");
     }
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -257,14 +265,17 @@ std::vector<int32_t> VisibleVertices(const Mesh& mesh, double tolerance) {
   }
   const double w = std::max(x_hi - x_lo, 1e-300), h = std::max(y_hi - y_lo, 1e-300);
   const double cells = std::max<double>(1.0, static_cast<double>(mesh.triangles.size()));
-  const int nx = static_cast<int>(std::clamp(std::ceil(std::sqrt(cells * w / h)), 1.0, 4096.0));
-  const int ny = static_cast<int>(std::clamp(std::ceil(std::sqrt(cells * h / w)), 1.0, 4096.0));
-  const auto cell_x = [&](double x) {
-    return std::clamp(static_cast<int>((x - x_lo) / w * nx), 0, nx - 1);
+  // Sides and cells clamped before they become ints (NaN from ranges that
+  // overflow to infinity goes to the first cell: slower, still right).
+  const auto side = [](double v) {
+    return static_cast<int>(v >= 1.0 ? std::min(std::ceil(v), 4096.0) : 1.0);
   };
-  const auto cell_y = [&](double y) {
-    return std::clamp(static_cast<int>((y - y_lo) / h * ny), 0, ny - 1);
+  const int nx = side(std::sqrt(cells * w / h)), ny = side(std::sqrt(cells * h / w));
+  const auto cell = [](double u, int n) {
+    return u >= 0.0 ? static_cast<int>(std::min(u, n - 1.0)) : 0;
   };
+  const auto cell_x = [&](double x) { return cell((x - x_lo) / w * nx, nx); };
+  const auto cell_y = [&](double y) { return cell((y - y_lo) / h * ny, ny); };
   std::vector<int64_t> offset(static_cast<std::size_t>(nx) * ny + 1, 0);
   std::vector<std::array<int, 4>> range(mesh.triangles.size());  // x0, x1, y0, y1
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {

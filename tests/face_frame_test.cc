@@ -227,6 +227,22 @@ TEST(VisibleVerticesTest, MatchesBruteForceOnRandomMeshes) {
   EXPECT_GT(hidden_total, 100);  // the test has teeth
 }
 
+// Coordinates whose ranges overflow to infinity: the grid's sides and cells
+// come out NaN, which was an undefined conversion to int (a fuzzed mesh
+// found it; the sanitizer build checks it is gone). Then every vertex meets
+// every triangle in the first cell; the hiding test itself overflows, so a
+// vertex may stay visible that the brute force (scaled pivoting) hides, but
+// none is hidden that it keeps.
+TEST(VisibleVerticesTest, OverflowingRangesHideNothingTheBruteForceKeeps) {
+  Mesh m;
+  m.vertices = {{-1e308, 0, 0}, {1e308, 0, 0}, {0, 1e308, 0}, {0, 0.5, -1}, {0, -1e308, 5}, {1, 1, 1}};
+  m.triangles = {{0, 1, 2}, {0, 1, 4}};
+  const std::vector<int32_t> fast = VisibleVertices(m, 1e-9);
+  for (int32_t v : BruteVisible(m, 1e-9, m.vertices.size())) {
+    EXPECT_NE(std::find(fast.begin(), fast.end(), v), fast.end()) << "vertex " << v;
+  }
+}
+
 TEST(VisibleVerticesTest, MatchesBruteForceOnTheHead) {
   const Mesh head = ReadMesh(kHead);
   Mesh turned = Moved(head, KnownHeadFrame(), Eigen::Vector3d::Zero());
@@ -288,6 +304,8 @@ TEST(FaceFrameTest, Errors) {
             std::string::npos);
   m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, NAN}, {1, 1, 1}};
   EXPECT_NE(ErrorOf([&] { NormalizeFace(m); }).find("point 2 has a non-finite"), std::string::npos);
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 7e239}, {1, 1, 1}};  // squares would overflow
+  EXPECT_NE(ErrorOf([&] { NormalizeFace(m); }).find("point 2 has a coordinate beyond"), std::string::npos);
   m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0.5}, {1, 1, 1}};
   m.triangles = {{0, 1, 4}};
   EXPECT_NE(ErrorOf([&] { NormalizeFace(m); }).find("vertex index 4 out of range"),
