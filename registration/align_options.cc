@@ -38,6 +38,12 @@ ceres::Solver::Options DefaultAxialSolverOptions() {
 ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions() {
   ceres::GradientProblemSolver::Options o;
   o.line_search_direction_type = ceres::LBFGS;
+  // The start's curvature (the whitening, solvers.cc) underestimates the
+  // curvature near the minimum, where the gap's zero line is longest: the
+  // unit step overshot and every line search took two evaluations. Scaled
+  // by sᵀy / yᵀy each iteration, the step fits the curvature met so far:
+  // 17 → 13 evaluations at 1e5 points, 3% fewer on the 120 peer pairs.
+  o.use_approximate_eigenvalue_bfgs_scaling = true;
   o = WithAlignStops(o, 1e-14);
   // Near the minimum a change of the motion by 1% of its standard deviation
   // changes the cost by about 1e-4 / N relatively (N nodes), more than this

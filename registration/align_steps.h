@@ -27,6 +27,15 @@ struct Level {
   MovingSide moving;
 };
 
+// The volume cost's prealignment on fixed subsamples of both surfaces
+// (align_steps.cc PrealignSides): `sides` for the axial solve (empty: it
+// runs on the coarsest level itself), `refine` the same weighted as the
+// volume cost, for a volume solve there before the levels (empty: not worth
+// it on clouds this small).
+struct Prealignment {
+  std::optional<Level> sides, refine;
+};
+
 // A per_point weight needs weights on the reference, not all zero.
 void CheckPerPointWeights(const Surface& reference, const AlignOptions& options);
 

@@ -135,6 +135,60 @@ TEST(AlignMinimumTest, SameFinalCostFromTheDefaultStartAndFromTheTruth) {
   }
 }
 
+// Rows of the log with this cost name.
+int LogRows(const AlignResult& result, const char* cost_name) {
+  int rows = 0;
+  for (const auto& entry : result.log) rows += std::string(entry.cost_name) == cost_name;
+  return rows;
+}
+
+// On large clouds the prealignment's subsample also gets a volume solve
+// (registration/align_steps.cc, kRefineRatio): the finest solve then starts
+// near its minimum, and it must still end at the same cost as from the
+// truth. On small clouds that step is left out.
+TEST(AlignMinimumTest, VolumePrealignmentOnLargeCloudsKeepsTheMinimum) {
+  const Points reference = testing::SampleUniform(testing::SmoothTerrain, 30000, 0, 100, 0, 100, 11);
+  const Points unmoved = testing::SampleUniform(testing::SmoothTerrain, 30000, 0, 100, 0, 100, 12);
+  const Eigen::Vector3d centre = testing::Centroid(unmoved);
+  const double spacing = 100.0 / std::sqrt(30000.0);
+  const Eigen::Matrix4d truth =
+      testing::TrueMotion({1, -2, 0.5}, 2.5, Eigen::Vector3d(3, -2, 0.5) * spacing, centre);
+  const Surface a = MakeSurface(reference, {}, "reference");
+  const Surface b = MakeSurface(testing::MoveByInverse(unmoved, truth), {}, "moving");
+  AlignOptions options;
+  const AlignResult from_default = Align(a, b, options);
+  EXPECT_GT(LogRows(from_default, "volume_prealign"), 1);
+  const Eigen::Matrix3d r = truth.topLeftCorner<3, 3>();
+  const Eigen::AngleAxisd angle_axis(r);
+  const Eigen::Vector3d c(from_default.centre[0], from_default.centre[1], from_default.centre[2]);
+  const Eigen::Vector3d t = truth.topRightCorner<3, 1>() + r * c - c;
+  for (int k = 0; k < 3; ++k) {
+    options.initial_rotation[k] = angle_axis.angle() * angle_axis.axis()[k];
+    options.initial_translation[k] = t[k];
+  }
+  const AlignResult from_truth = Align(a, b, options);
+  const double cost_default = FinalVolumeCost(from_default), cost_truth = FinalVolumeCost(from_truth);
+  const testing::MotionError error = testing::CompareMotions(from_default.matrix, truth, centre);
+  std::printf("30k points: final cost %.12g from the default start, %.12g from the truth; error %.2g deg, "
+              "%.2g spacings\n",
+              cost_default, cost_truth, error.rotation_deg, error.translation / spacing);
+  EXPECT_EQ(from_default.verdict, Verdict::kConvergedImproved);
+  EXPECT_LE(std::fabs(cost_default - cost_truth), 1e-6 * cost_truth);
+  EXPECT_LT(error.rotation_deg, 0.01);
+  EXPECT_LT(error.translation, 0.01 * spacing);
+
+  // A fifth of the subsample's size more than these: no volume step there.
+  const Surface small_a = MakeSurface(
+      testing::SampleUniform(testing::SmoothTerrain, 20000, 0, 100, 0, 100, 13), {}, "reference");
+  const Surface small_b = MakeSurface(
+      testing::MoveByInverse(testing::SampleUniform(testing::SmoothTerrain, 20000, 0, 100, 0, 100, 14), truth),
+      {}, "moving");
+  const AlignResult small = Align(small_a, small_b, AlignOptions());
+  EXPECT_GT(LogRows(small, "axial"), 1);
+  EXPECT_EQ(LogRows(small, "volume_prealign"), 0);
+  EXPECT_EQ(small.verdict, Verdict::kConvergedImproved);
+}
+
 // The axial cost is continuous (registration/axial_cost.h: the taper at Ω's
 // edge, the cosine linear on triangles), so Levenberg-Marquardt never
 // cycles: no iteration's cost (accepted or trial) equals the cost two
