@@ -356,6 +356,20 @@ MeasureReference::~MeasureReference() = default;
 
 const Surface& MeasureReference::surface() const { return *impl_->surface; }
 
+PreparedSurface MeasureReference::prepared() const {
+  const Prepared& p = impl_->prepared;
+  PreparedSurface out;
+  out.xy = &p.xy;
+  out.z = &p.z;
+  out.weight = &p.weight;
+  out.order = &impl_->order;
+  out.mesh = &p.mesh;
+  out.tree = &p.tree;
+  out.domain = &p.domain;
+  out.hull_area = p.hull_area;
+  return out;
+}
+
 namespace {
 
 bool SameRule(const DomainRule& x, const DomainRule& y) {

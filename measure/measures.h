@@ -166,6 +166,24 @@ MeasureSummary Measure(const Surface& a, const Surface& b,
 // tree, by options.domain. Keeps a reference to `a`, which must outlive it.
 // Throws InputError as Measure does for A alone (an invalid surface or
 // options; an empty data domain unless allow_empty_overlap).
+struct SpanningTree;
+
+// What a MeasureReference prepared of its surface, read-only and valid while
+// it lives: in the surface's local frame, in Hilbert order (sorted index k
+// is input index order[k]); merged duplicates share their mean height (and
+// weight) and map to one vertex (mesh.vertex_of_input). For a caller that
+// would otherwise triangulate the same surface again.
+struct PreparedSurface {
+  const std::vector<Point2>* xy = nullptr;
+  const std::vector<double>* z = nullptr;
+  const std::vector<double>* weight = nullptr;  // empty when the surface has none
+  const std::vector<int32_t>* order = nullptr;
+  const Triangulation* mesh = nullptr;  // with the raster's cells forced in, for a raster
+  const SpanningTree* tree = nullptr;   // Euclidean MST over `mesh`
+  const MeshDomain* domain = nullptr;   // by the options' rule
+  double hull_area = 0;
+};
+
 class MeasureReference {
  public:
   MeasureReference(const Surface& a, const MeasureOptions& options);
@@ -174,6 +192,7 @@ class MeasureReference {
   MeasureReference& operator=(const MeasureReference&) = delete;
 
   const Surface& surface() const;
+  PreparedSurface prepared() const;
   struct Impl;
   const Impl& impl() const { return *impl_; }
 

@@ -266,7 +266,11 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   AlignOptions options = options_in;
   const std::array<double, 3> shift = {moving.origin[0] - reference.origin[0], moving.origin[1] - reference.origin[1],
                                        moving.origin[2] - reference.origin[2]};
-  const std::vector<std::unique_ptr<Level>> levels = align_steps::PrepareLevels(reference, moving, options, shift);
+  const MeasureOptions measure_options = MeasureOptionsFor(options);
+  std::unique_ptr<MeasureReference> measure_reference;  // A prepared once for the solve and both measures
+  const std::vector<std::unique_ptr<Level>> levels = align_steps::PrepareLevels(
+      reference, moving, options, shift, motion_only ? nullptr : &measure_options,
+      motion_only ? nullptr : &measure_reference);
   const Level& finest = *levels.back();
   SolveContext context = align_steps::MakeContext(&options, finest, reference);
   AlignResult result;
@@ -274,11 +278,9 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   const std::array<double, 6> theta0 = InitialTheta(options, finest.moving.centroid, reference.origin);
   align_steps::CheckStart(finest, theta0, moving, context, &options);
   const Eigen::Vector3d centre = finest.moving.centroid;
-  const MeasureOptions measure_options = MeasureOptionsFor(options);
   // The measure before the motion is needed only for the verdict: it runs
   // beside the solve, whose prealignment keeps one core busy.
   std::future<MeasureSummary> before;
-  std::unique_ptr<MeasureReference> measure_reference;  // A prepared once for both measures
   if (!motion_only) before = MeasureLater(measure_reference, reference, moving, measure_options, theta0, centre);
   if (options.on_stage) options.on_stage("solving", Seconds(start));
   Starts starts;

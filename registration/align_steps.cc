@@ -54,18 +54,43 @@ void CheckPerPointWeights(const Surface& reference, const AlignOptions& options)
   }
 }
 
+std::optional<ReferenceSide> ReferenceSideOf(const PreparedSurface& prepared) {
+  std::optional<ReferenceSide> out;
+  if (prepared.mesh->num_duplicates > 0) return out;
+  ReferenceSide& side = out.emplace();
+  side.xy = *prepared.xy;
+  side.z = *prepared.z;
+  side.weight = *prepared.weight;
+  side.mesh = *prepared.mesh;
+  side.tree = *prepared.tree;
+  side.hull_area = prepared.hull_area;
+  side.domain = prepared.domain->triangles;
+  side.domain_vertex = prepared.domain->vertices;
+  return out;
+}
+
 // Levels, coarsest first; all share the full cloud's centroid so θ means
 // the same motion on every level.
 std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, const Surface& moving,
                                                   const AlignOptions& options,
-                                                  const std::array<double, 3>& shift) {
+                                                  const std::array<double, 3>& shift,
+                                                  const MeasureOptions* measure_options,
+                                                  std::unique_ptr<MeasureReference>* measure_reference) {
   std::vector<std::unique_ptr<Level>> levels;
   for (int l = 0; l < options.levels; ++l) {
     const double keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1 - l));
     auto level = std::make_unique<Level>();
     Level* out = level.get();
     RunBoth(options.num_threads > 1, [&] {
-      out->reference = PrepareReference(reference, keep, options.domain);  // weights kept per point
+      // The measures' preparation of A is the finest level's, by the same
+      // domain rule: made once (at 1e5 points 0.08 s).
+      std::optional<ReferenceSide> shared;
+      if (measure_reference != nullptr && keep >= 1.0) {
+        *measure_reference = std::make_unique<MeasureReference>(reference, *measure_options);
+        shared = ReferenceSideOf((*measure_reference)->prepared());
+      }
+      out->reference = shared ? std::move(*shared)
+                              : PrepareReference(reference, keep, options.domain);  // weights kept per point
       if (options.weight != WeightMode::kPerPoint) out->reference.weight.clear();
       if (options.cost == CostKind::kVolume) {
         ApplySlopeWeight(options.slope_weight, &out->reference);

@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "measure/measures.h"
 #include "measure/surface.h"
 #include "registration/align.h"
 #include "registration/pair_state.h"
@@ -39,11 +40,22 @@ struct Prealignment {
 // A per_point weight needs weights on the reference, not all zero.
 void CheckPerPointWeights(const Surface& reference, const AlignOptions& options);
 
+// The reference side PrepareReference(surface, 1, rule) builds, taken from
+// the measure's preparation of the same surface by the same rule instead of
+// triangulating it again; nothing if the surface has duplicate xy (the
+// measure keeps them as one vertex, the side drops them and re-meshes).
+std::optional<ReferenceSide> ReferenceSideOf(const PreparedSurface& prepared);
+
 // Levels, coarsest first; all share the full cloud's centroid so θ means
-// the same motion on every level.
+// the same motion on every level. With `measure_reference` (and no
+// subsampling), the reference is prepared for the measures there too
+// (MeasureReference by `measure_options`), and the finest level's side
+// taken from it.
 std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, const Surface& moving,
                                                   const AlignOptions& options,
-                                                  const std::array<double, 3>& shift);
+                                                  const std::array<double, 3>& shift,
+                                                  const MeasureOptions* measure_options = nullptr,
+                                                  std::unique_ptr<MeasureReference>* measure_reference = nullptr);
 
 SolveContext MakeContext(const AlignOptions* options, const Level& finest, const Surface& reference);
 
