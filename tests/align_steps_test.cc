@@ -3,14 +3,15 @@
 // side PrepareReference builds, field by field, for every kind of surface
 // the alignment takes: an irregular cloud with weights, a raster with a
 // nodata hole, the convex-hull domain; and nothing with duplicate xy.
-#include <array>
-#include <vector>
+#include "registration/align_steps.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <vector>
+
 #include "measure/measures.h"
 #include "measure/spanning_tree.h"
-#include "registration/align_steps.h"
 #include "registration/pair_state.h"
 #include "testing/surface_pairs.h"
 
@@ -44,7 +45,8 @@ std::optional<ReferenceSide> SharedSide(const Surface& surface, const DomainRule
 TEST(AlignStepsTest, ReferenceSideFromTheMeasurePreparationOfACloudWithWeights) {
   const auto points = testing::SampleUniform(testing::SmoothTerrain, 3000, 0, 100, 0, 100, 3);
   std::vector<double> weight(points.size());
-  for (std::size_t i = 0; i < weight.size(); ++i) weight[i] = 0.5 + 0.001 * static_cast<double>(i % 997);
+  for (std::size_t i = 0; i < weight.size(); ++i)
+    weight[i] = 0.5 + 0.001 * static_cast<double>(i % 997);
   const Surface surface = MakeSurface(points, weight, "cloud");
   for (DomainKind kind : {DomainKind::kData, DomainKind::kHull}) {
     DomainRule rule;
