@@ -387,15 +387,19 @@ Eigen::MatrixXd AxialCurvature(const PairState& state, const SolveContext& conte
   return s.asDiagonal() * scaled * s.asDiagonal();
 }
 
-// The volume cost's own curvature at the state's θ (per unit area, free
+// The volume cost's own curvature at the state's θ (per unit area, all six
 // parameters; registration/volume_hessian.h), from the overlay `cache`
-// builds there, with AxialCurvature's floor.
-Eigen::MatrixXd VolumeCurvature(const PairState& state, bool parallel, const ParameterMap& map,
-                                VolumeCostCache& cache) {
+// builds there; zero without an overlap.
+Eigen::Matrix<double, 6, 6> FullVolumeCurvature(const PairState& state, bool parallel, VolumeCostCache& cache) {
   const double area = cache.Evaluate(state, false, parallel).area;
+  if (!(area > 0)) return Eigen::Matrix<double, 6, 6>::Zero();
+  return cache.InteriorHessian(state, parallel) / area;
+}
+
+// A curvature of all six parameters restricted to the free ones, with
+// AxialCurvature's floor.
+Eigen::MatrixXd FreeCurvature(const Eigen::Matrix<double, 6, 6>& full, const ParameterMap& map) {
   const int n = map.size();
-  if (!(area > 0)) return Eigen::MatrixXd::Zero(n, n);
-  const Eigen::Matrix<double, 6, 6> full = cache.InteriorHessian(state, parallel) / area;
   Eigen::MatrixXd scaled(n, n);
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
@@ -411,7 +415,8 @@ Eigen::MatrixXd VolumeCurvature(const PairState& state, bool parallel, const Par
 }  // namespace
 
 SolveResult SolveVolume(PairState& state, const SolveContext& context,
-                        const std::array<double, 6>& theta0, VolumeCostCache* keep) {
+                        const std::array<double, 6>& theta0, VolumeCostCache* keep,
+                        const VolumeWhitening& whitening) {
   const AlignOptions& options = *context.options;
   ParameterMap map(options, context.rotation_scale, theta0);
   // Without a usable curvature (no gaps seen), the diagonal scaling.
@@ -433,10 +438,15 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   if (FixAt(state, theta0, kMaxSlopeDeg)) {
     // Whitened by the volume cost's own curvature at the start (on the 120
     // peer pairs 18% fewer iterations than by the axial one, every motion
-    // the same); by the axial one under a mask, or where the own is not
-    // positive definite.
-    const bool whitened = context.axial.mask == nullptr &&
-                          map.Whiten(VolumeCurvature(state, options.num_threads > 1, map, cache));
+    // the same), or by the one given; by the axial one under a mask, or
+    // where neither is positive definite.
+    bool whitened = false;
+    if (context.axial.mask == nullptr) {
+      whitened = whitening.given != nullptr && map.Whiten(FreeCurvature(*whitening.given, map));
+      if (!whitened) {
+        whitened = map.Whiten(FreeCurvature(FullVolumeCurvature(state, options.num_threads > 1, cache), map));
+      }
+    }
     if (!whitened) map.Whiten(AxialCurvature(state, context, map));
   }
   std::vector<double> x = map.Reduce(theta0);
@@ -470,12 +480,15 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
     state.FixSurface(kMaxSlopeDeg);
     if (function->refused_folds() == 0 && state.surface_key() == key) break;
   }
-  if (keep == nullptr) state.ReleaseSurface();
   // A failed line search after accepted steps leaves a usable (if not
   // converged) solution; a failure before any step does not.
   const bool usable = std::isfinite(summary.final_cost) &&
                       (summary.termination_type != ceres::FAILURE || moved);
   SolveResult result;
+  if (whitening.want_final && usable && context.axial.mask == nullptr && state.Update(map.Full(x.data()))) {
+    result.curvature = FullVolumeCurvature(state, options.num_threads > 1, cache);
+  }
+  if (keep == nullptr) state.ReleaseSurface();
   FillResult(map, x, initial_cost, summary.final_cost, iterations, summary.termination_type, usable,
              summary.message, &result);
   result.rounds = rounds;

@@ -56,6 +56,19 @@ struct SolveResult {
   bool usable = false;     // the solution is finite and evaluable
   int rounds = 0;  // volume: solves, B re-triangulated between them (stopped against a fold); axial: 1
   std::string message;
+  // Volume, when asked (VolumeWhitening::want_final): the cost's curvature
+  // at the solution (per unit area, all six parameters); zero otherwise.
+  Eigen::Matrix<double, 6, 6> curvature = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
+// How a volume solve is whitened: by default by the cost's own curvature at
+// its start (a pass over the overlay that costs about five evaluations);
+// `given`: by this one instead (per unit area, all six parameters), e.g.
+// what a solve on a subsample of the same pair returned at the point this
+// one starts from. `want_final`: return the curvature at the solution.
+struct VolumeWhitening {
+  const Eigen::Matrix<double, 6, 6>* given = nullptr;
+  bool want_final = false;
 };
 
 // Scale of the robust loss at the state's current θ: 3 × 1.4826 × median
@@ -69,7 +82,8 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
 // evaluated at the solution next (the sandwich σ) repairs the overlay
 // instead of building it again, which costs several evaluations.
 SolveResult SolveVolume(PairState& state, const SolveContext& context,
-                        const std::array<double, 6>& theta0, VolumeCostCache* keep = nullptr);
+                        const std::array<double, 6>& theta0, VolumeCostCache* keep = nullptr,
+                        const VolumeWhitening& whitening = VolumeWhitening());
 
 struct Information {
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
