@@ -104,9 +104,9 @@ std::vector<TileSums> FineTileSums(const PairState& state, const MaskRegion* mas
   return std::move(first.tiles);
 }
 
-// The fine tiles merged k × k, for the k that gives closest to
-// kSandwichTiles non-empty tiles (in ratio).
-std::vector<TileSums> MergedTiles(const std::vector<TileSums>& fine) {
+// The fine tiles merged k × k, for the k that gives closest to `target`
+// non-empty tiles (in ratio).
+std::vector<TileSums> MergedTiles(const std::vector<TileSums>& fine, int target) {
   std::vector<TileSums> best;
   double best_misfit = std::numeric_limits<double>::infinity();
   for (int k = 1; k <= kFineTiles; ++k) {
@@ -123,10 +123,14 @@ std::vector<TileSums> MergedTiles(const std::vector<TileSums>& fine) {
     }
     merged.erase(std::remove_if(merged.begin(), merged.end(), [](const TileSums& t) { return !t.used; }),
                  merged.end());
-    const double misfit = std::fabs(std::log(std::max<double>(1, merged.size()) / kSandwichTiles));
+    const double misfit = std::fabs(std::log(std::max<double>(1, merged.size()) / target));
     if (misfit < best_misfit) best_misfit = misfit, best = std::move(merged);
   }
   return best;
+}
+
+int TileTarget(const PairState& state) {
+  return SandwichTileCount(std::min(state.reference().xy.size(), state.moved_xy().size()));
 }
 
 // The spread of the tiles' scores: Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − 1).
@@ -178,6 +182,11 @@ std::vector<int> FreeParameters(const AlignOptions& options) {
 
 }  // namespace
 
+int SandwichTileCount(std::size_t smaller_cloud_nodes) {
+  const std::size_t count = smaller_cloud_nodes / kSandwichNodesPerTile;
+  return static_cast<int>(std::clamp<std::size_t>(count, kSandwichTiles, kMaxSandwichTiles));
+}
+
 SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& context,
                                     VolumeCostCache* given_cache) {
   SandwichEstimate out;
@@ -209,7 +218,7 @@ SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& 
     fine = FineTileSums(state, mask, parallel);
     for (const TileSums& t : fine) abs += t.abs, area += t.area;
   }
-  const std::vector<TileSums> tiles = MergedTiles(fine);
+  const std::vector<TileSums> tiles = MergedTiles(fine, TileTarget(state));
   out.tiles = static_cast<int>(tiles.size());
   if (out.tiles < 2 * n) return out;
   if (!(area > 0)) return out;
@@ -263,7 +272,7 @@ SandwichEstimate AxialSandwichCovariance(PairState& state, const SolveContext& c
     t.d_abs += residuals.r[k] * Eigen::Map<const Vector6>(residuals.jacobian[k].data());  // its share of Jᵀr
     t.used = true;
   }
-  const std::vector<TileSums> tiles = MergedTiles(fine);
+  const std::vector<TileSums> tiles = MergedTiles(fine, TileTarget(state));
   out.tiles = static_cast<int>(tiles.size());
   if (out.tiles < 2 * n) return out;
   std::vector<Vector6> scores;

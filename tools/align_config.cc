@@ -147,7 +147,7 @@ const config_table::Table<AlignConfig>& Table() {
        [](const C& c) { return Text(c.options.multi_start_shift); }},
       {{"stddev", "one of sandwich, information",
         "standard deviations of the motion: sandwich (the cost's curvature and the spread of its "
-        "gradient over ~64 tiles) or information (from the axial residuals' information matrix)"},
+        "gradient over tiles ~10 sample spacings wide) or information (from the axial residuals' information matrix)"},
        [](const Value& v, C* c) { c->options.stddev_method = Choice(v, kStddevMethods); },
        [](const C& c) { return NameOf(c.options.stddev_method, kStddevMethods); }},
       {{"stddev_subsamples", "an integer in [0, 1000]",
