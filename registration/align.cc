@@ -267,7 +267,8 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
   const std::array<double, 3> shift = {moving.origin[0] - reference.origin[0], moving.origin[1] - reference.origin[1],
                                        moving.origin[2] - reference.origin[2]};
   const MeasureOptions measure_options = MeasureOptionsFor(options);
-  std::unique_ptr<MeasureReference> measure_reference;  // A prepared once for the solve and both measures
+  // A prepared once, for the solve and for both measures.
+  std::unique_ptr<MeasureReference> measure_reference;
   const std::vector<std::unique_ptr<Level>> levels = align_steps::PrepareLevels(
       reference, moving, options, shift, motion_only ? nullptr : &measure_options,
       motion_only ? nullptr : &measure_reference);
