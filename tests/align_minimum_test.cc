@@ -108,22 +108,27 @@ Moved MovedPair(const Family& family) {
   return out;
 }
 
+// `options` with the truth as Align's start: rotation vector, and the
+// shift of the moving centroid c that `result` (an alignment of the same
+// pair) reports (T(p) = R(p − c) + c + t).
+AlignOptions StartingAtTheTruth(AlignOptions options, const Eigen::Matrix4d& truth, const AlignResult& result) {
+  const Eigen::Matrix3d r = truth.topLeftCorner<3, 3>();
+  const Eigen::AngleAxisd angle_axis(r);
+  const Eigen::Vector3d c(result.centre[0], result.centre[1], result.centre[2]);
+  const Eigen::Vector3d t = truth.topRightCorner<3, 1>() + r * c - c;
+  for (int k = 0; k < 3; ++k) {
+    options.initial_rotation[k] = angle_axis.angle() * angle_axis.axis()[k];
+    options.initial_translation[k] = t[k];
+  }
+  return options;
+}
+
 TEST(AlignMinimumTest, SameFinalCostFromTheDefaultStartAndFromTheTruth) {
   for (const Family& family : Families()) {
     const auto [centre, truth, reference, moving] = MovedPair(family);
     AlignOptions options;
     const AlignResult from_default = Align(reference, moving, options);
-    // The truth as Align's start: rotation vector, and the shift of the
-    // moving centroid c (T(p) = R(p − c) + c + t).
-    const Eigen::Matrix3d r = truth.topLeftCorner<3, 3>();
-    const Eigen::AngleAxisd angle_axis(r);
-    const Eigen::Vector3d c(from_default.centre[0], from_default.centre[1], from_default.centre[2]);
-    const Eigen::Vector3d t = truth.topRightCorner<3, 1>() + r * c - c;
-    for (int k = 0; k < 3; ++k) {
-      options.initial_rotation[k] = angle_axis.angle() * angle_axis.axis()[k];
-      options.initial_translation[k] = t[k];
-    }
-    const AlignResult from_truth = Align(reference, moving, options);
+    const AlignResult from_truth = Align(reference, moving, StartingAtTheTruth(options, truth, from_default));
     const double a = FinalVolumeCost(from_default), b = FinalVolumeCost(from_truth);
     const testing::MotionError error = testing::CompareMotions(from_default.matrix, truth, centre);
     std::printf("%s: final cost %.12g from the default start, %.12g from the truth (relative %.1e); "
@@ -158,15 +163,7 @@ TEST(AlignMinimumTest, VolumePrealignmentOnLargeCloudsKeepsTheMinimum) {
   AlignOptions options;
   const AlignResult from_default = Align(a, b, options);
   EXPECT_GT(LogRows(from_default, "volume_prealign"), 1);
-  const Eigen::Matrix3d r = truth.topLeftCorner<3, 3>();
-  const Eigen::AngleAxisd angle_axis(r);
-  const Eigen::Vector3d c(from_default.centre[0], from_default.centre[1], from_default.centre[2]);
-  const Eigen::Vector3d t = truth.topRightCorner<3, 1>() + r * c - c;
-  for (int k = 0; k < 3; ++k) {
-    options.initial_rotation[k] = angle_axis.angle() * angle_axis.axis()[k];
-    options.initial_translation[k] = t[k];
-  }
-  const AlignResult from_truth = Align(a, b, options);
+  const AlignResult from_truth = Align(a, b, StartingAtTheTruth(options, truth, from_default));
   const double cost_default = FinalVolumeCost(from_default), cost_truth = FinalVolumeCost(from_truth);
   const testing::MotionError error = testing::CompareMotions(from_default.matrix, truth, centre);
   std::printf("30k points: final cost %.12g from the default start, %.12g from the truth; error %.2g deg, "
