@@ -207,13 +207,20 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
             std::unique_ptr<MeasureReference>& measure_reference, const MeasureOptions& measure_options,
             const AlignOptions& options, const SolveContext& context, AlignResult* result) {
   std::array<double, 6> theta = starts.have_best ? starts.best.theta : theta0;
-  PairState final_state(finest.reference, finest.moving, options.max_fold_fraction);
+  // A state of its own only where the solve's cannot serve (built lazily:
+  // its normals and vertex sets cost ~2% of a 1e5 alignment).
+  std::optional<PairState> own_state;
+  auto final_state = [&]() -> PairState& {
+    if (!own_state) own_state.emplace(finest.reference, finest.moving, options.max_fold_fraction);
+    return *own_state;
+  };
   UpdateStats stats;
   // At the volume solve's own state the information is taken there (its
   // surface is B's fixed for the solve); B's own mesh need only be checked
   // for folds then, not re-meshed and located.
   const bool at_solution = starts.best_state != nullptr && starts.best_state->theta() == theta;
-  const bool unfolded = at_solution ? final_state.FoldsAt(theta, &stats) : final_state.Update(theta, &stats);
+  const bool unfolded = at_solution ? OwnMeshFolds(finest.moving, theta, options.max_fold_fraction, &stats)
+                                    : final_state().Update(theta, &stats);
   result->folded_triangles = stats.folded;
   result->folded_area_fraction = stats.folded_area_fraction;
   bool failed = !starts.have_best || !unfolded;
@@ -227,7 +234,7 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
     std::future<MeasureSummary> after =
         MeasureLater(measure_reference, reference, moving, measure_options, theta, centre);
     const Clock::time_point information_start = Clock::now();
-    info = StddevAt(at_solution ? *starts.best_state : final_state, context, options, &result->stddev_source,
+    info = StddevAt(at_solution ? *starts.best_state : final_state(), context, options, &result->stddev_source,
                     at_solution ? starts.best_state.get() : nullptr, starts.best_cache.get());
     result->covariance_seconds = Seconds(information_start);
     try {
@@ -242,11 +249,11 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
   if (kept) {
     theta = theta0;
     result->after = result->before;
-    final_state.Update(theta, &stats);
+    final_state().Update(theta, &stats);
   }
   if (kept || !information_at_theta) {
     const Clock::time_point again = Clock::now();
-    info = StddevAt(final_state, context, options, &result->stddev_source);
+    info = StddevAt(final_state(), context, options, &result->stddev_source);
     result->covariance_seconds = Seconds(again);
   }
   SetStddev(info, options, result, &reason);

@@ -125,17 +125,19 @@ SolveContext MakeContext(const AlignOptions* options, const Level& finest, const
 // loss scale is taken there.
 void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const Surface& moving,
                 const SolveContext& context, AlignOptions* options) {
-  PairState check(finest.reference, finest.moving, options->max_fold_fraction);
   UpdateStats stats;
   const bool loss_scale_wanted =
       options->cost == CostKind::kAxial && options->loss != LossKind::kNone && !(options->loss_scale > 0);
-  // Only the loss scale needs B located there.
-  if (!(loss_scale_wanted ? check.Update(theta0, &stats) : check.FoldsAt(theta0, &stats))) {
+  // Only the loss scale needs B located there (a whole PairState).
+  std::optional<PairState> check;
+  if (loss_scale_wanted) check.emplace(finest.reference, finest.moving, options->max_fold_fraction);
+  if (!(loss_scale_wanted ? check->Update(theta0, &stats)
+                          : OwnMeshFolds(finest.moving, theta0, options->max_fold_fraction, &stats))) {
     throw InputError("the initial motion folds " + moving.source + ": " + std::to_string(stats.folded) +
                      " triangles turn over in the xy projection (tilt too large for a height field)");
   }
   if (loss_scale_wanted) {
-    options->loss_scale = AutomaticLossScale(check, context.axial, 1e-9 * context.rotation_scale);
+    options->loss_scale = AutomaticLossScale(*check, context.axial, 1e-9 * context.rotation_scale);
   }
 }
 

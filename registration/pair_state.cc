@@ -314,46 +314,74 @@ PairState::PairState(const ReferenceSide& reference, const MovingSide& moving,
   IndexKept();
 }
 
+namespace {
+
+// B's points moved by θ (q = R(ω)(p − c), xy and z of q + c + t); z and q
+// only where wanted.
+void MovePoints(const MovingSide& moving, const Eigen::Matrix3d& rotation, const std::array<double, 6>& theta,
+                Point2* xy, double* z, Eigen::Vector3d* q) {
+  const Eigen::Vector3d offset = moving.centroid + Eigen::Vector3d(theta[3], theta[4], theta[5]);
+  const std::size_t n = moving.points.size();
+  for (std::size_t j = 0; j < n; ++j) {
+    const Eigen::Vector3d moved = rotation * (moving.points[j] - moving.centroid);
+    if (q != nullptr) q[j] = moved;
+    xy[j] = {moved.x() + offset.x(), moved.y() + offset.y()};
+    if (z != nullptr) z[j] = moved.z() + offset.z();
+  }
+}
+
+struct MeshFolds {
+  int32_t folded = 0, folded_active = 0;
+  double area = 0;  // their 3-D area
+};
+
+MeshFolds CountMeshFolds(const Triangulation& mesh, const std::vector<Point2>& xy, const std::vector<uint8_t>& active,
+                         const std::vector<Eigen::Vector3d>& points) {
+  MeshFolds folds;
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    if (Orient2D(xy[v[0]], xy[v[1]], xy[v[2]]) <= 0.0) {
+      ++folds.folded;
+      folds.folded_active += active[t];
+      folds.area += TriangleArea3d(points, v);
+    }
+  }
+  return folds;
+}
+
+// Into `stats` (if given); true if within max_fold_fraction of `area3d`.
+bool ReportFolds(const MeshFolds& folds, double area3d, double max_fold_fraction, UpdateStats* stats) {
+  const double fraction = area3d > 0 ? folds.area / area3d : 0.0;
+  if (stats != nullptr) {
+    stats->folded = folds.folded;
+    stats->folded_active = folds.folded_active;
+    stats->folded_area_fraction = fraction;
+  }
+  return folds.folded == 0 || fraction <= max_fold_fraction;
+}
+
+}  // namespace
+
 void PairState::MoveTo(const std::array<double, 6>& theta) {
   theta_ = theta;
   derivative_ = DifferentiateMotion({theta[0], theta[1], theta[2]});
-  const Eigen::Matrix3d& rotation = derivative_.rotation;
-  const Eigen::Vector3d offset = moving_.centroid + Eigen::Vector3d(theta[3], theta[4], theta[5]);
-  const std::size_t n = moving_.points.size();
-  for (std::size_t j = 0; j < n; ++j) {
-    const Eigen::Vector3d q = rotation * (moving_.points[j] - moving_.centroid);
-    moved_q_[j] = q;
-    moved_xy_[j] = {q.x() + offset.x(), q.y() + offset.y()};
-    moved_z_[j] = q.z() + offset.z();
-  }
+  MovePoints(moving_, derivative_.rotation, theta, moved_xy_.data(), moved_z_.data(), moved_q_.data());
 }
 
 bool PairState::CountFolds(UpdateStats* stats, int32_t* active_folded) {
-  int32_t folded = 0, folded_active = 0;
-  double folded_area = 0;
-  for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
-    const int32_t* v = &mesh_.triangles[3 * t];
-    if (Orient2D(moved_xy_[v[0]], moved_xy_[v[1]], moved_xy_[v[2]]) <= 0.0) {
-      ++folded;
-      folded_active += active_[t];
-      folded_area += TriangleArea3d(moving_.points, v);
-    }
-  }
-  folded_ = folded;
-  const double fraction = area3d_ > 0 ? folded_area / area3d_ : 0.0;
-  if (stats != nullptr) {
-    stats->folded = folded;
-    stats->folded_active = folded_active;
-    stats->folded_area_fraction = fraction;
-  }
-  if (active_folded != nullptr) *active_folded = folded_active;
-  return folded == 0 || fraction <= max_fold_fraction_;
+  const MeshFolds folds = CountMeshFolds(mesh_, moved_xy_, active_, moving_.points);
+  folded_ = folds.folded;
+  if (active_folded != nullptr) *active_folded = folds.folded_active;
+  return ReportFolds(folds, area3d_, max_fold_fraction_, stats);
 }
 
-bool PairState::FoldsAt(const std::array<double, 6>& theta, UpdateStats* stats) {
-  MoveTo(theta);
-  located_ = false;  // the locations are another pose's now
-  return CountFolds(stats, nullptr);
+bool OwnMeshFolds(const MovingSide& moving, const std::array<double, 6>& theta, double max_fold_fraction,
+                  UpdateStats* stats) {
+  std::vector<Point2> xy(moving.points.size());
+  MovePoints(moving, DifferentiateMotion({theta[0], theta[1], theta[2]}).rotation, theta, xy.data(), nullptr,
+             nullptr);
+  const MeshFolds folds = CountMeshFolds(moving.mesh, xy, moving.domain, moving.points);
+  return ReportFolds(folds, SurfaceArea(moving.points, moving.mesh), max_fold_fraction, stats);
 }
 
 bool PairState::Update(const std::array<double, 6>& theta, UpdateStats* stats) {

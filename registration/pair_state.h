@@ -143,10 +143,6 @@ class PairState {
   // at most once (around the fixed surface), instead of a free re-mesh
   // first and the fixed surface's after it.
   void MoveTo(const std::array<double, 6>& theta);
-  // Moves B to θ and counts the folds of its current mesh there (into
-  // `stats`), without re-meshing or locating (Update must follow before
-  // locations are used): false if they pass max_fold_fraction, as Update.
-  bool FoldsAt(const std::array<double, 6>& theta, UpdateStats* stats);
   // Locate A in B and B in A on two threads (large clouds only).
   void set_parallel(bool parallel) { parallel_ = parallel; }
 
@@ -250,6 +246,12 @@ class PairState {
   std::vector<std::array<int32_t, 2>> kept_rest_;
   std::vector<int32_t> kept_triangles_;  // 3 per active triangle, for EnforceTriangles
 };
+
+// The folds of B's own mesh (its domain triangles active) at θ, into
+// `stats`: what Update on a new PairState counts there, without building
+// one (nothing is located). False if they pass max_fold_fraction, as Update.
+bool OwnMeshFolds(const MovingSide& moving, const std::array<double, 6>& theta, double max_fold_fraction,
+                  UpdateStats* stats);
 
 // The motion θ as a RigidMotion about B's centroid.
 RigidMotion MotionOf(const MovingSide& moving, const std::array<double, 6>& theta);

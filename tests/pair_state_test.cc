@@ -275,27 +275,25 @@ TEST(PairStateTest, FixedSurfaceKeepsItsTrianglesThroughJunkFolds) {
   CheckLocations(state);
 }
 
-// FoldsAt counts what Update would (the same stats on a fresh state) without
-// re-meshing; an Update after it locates as a fresh state does.
-TEST(PairStateTest, FoldsAtCountsWithoutRemeshing) {
+// OwnMeshFolds counts what Update on a fresh state would (the same stats),
+// without a state; beyond the fold limit it fails as Update does.
+TEST(PairStateTest, OwnMeshFoldsCountsAsAFreshUpdate) {
   const auto sides = TerrainSides(1500, 1500, 0, 100, nullptr, DomainRule());
   const Theta tilted = {5 * M_PI / 180, 0, 0, 0.5, -0.5, 0};
-  PairState counted(sides->reference, sides->moving), updated(sides->reference, sides->moving);
+  PairState updated(sides->reference, sides->moving);
   UpdateStats only_count, full;
-  ASSERT_TRUE(counted.FoldsAt(tilted, &only_count));
+  ASSERT_TRUE(OwnMeshFolds(sides->moving, tilted, 0.01, &only_count));
   ASSERT_TRUE(updated.Update(tilted, &full));
   EXPECT_GT(full.folded, 0) << "nothing folded: the test lost its point";
   EXPECT_EQ(only_count.folded, full.folded);
   EXPECT_EQ(only_count.folded_active, full.folded_active);
   EXPECT_EQ(only_count.folded_area_fraction, full.folded_area_fraction);
-  EXPECT_EQ(counted.remeshes(), 0);
-  EXPECT_EQ(updated.remeshes(), 1);
-  ASSERT_TRUE(counted.Update(tilted));
-  ExpectUnfolded(counted);
-  CheckLocations(counted);
-  // Beyond the fold limit it fails as Update does.
+  UpdateStats none;
+  EXPECT_TRUE(OwnMeshFolds(sides->moving, Theta{}, 0.01, &none));
+  EXPECT_EQ(none.folded, 0);
+  EXPECT_FALSE(OwnMeshFolds(sides->moving, {100 * M_PI / 180, 0, 0, 0, 0, 0}, 0.01, nullptr));
   PairState steep(sides->reference, sides->moving, 0.01);
-  EXPECT_FALSE(steep.FoldsAt({100 * M_PI / 180, 0, 0, 0, 0, 0}, nullptr));
+  EXPECT_FALSE(steep.Update({100 * M_PI / 180, 0, 0, 0, 0, 0}));
 }
 
 // Fixed before its first Update at a pose where a steep band of B's data
@@ -309,8 +307,7 @@ TEST(PairStateTest, FixedBeforeTheFirstUpdateRemeshesOnce) {
   const Theta tilted = {0, -5 * M_PI / 180, 0, 0.5, -0.5, 0};
   PairState fixed_first(sides->reference, sides->moving, 0.5), free_first(sides->reference, sides->moving, 0.5);
   UpdateStats stats;
-  PairState probe(sides->reference, sides->moving, 0.5);
-  ASSERT_TRUE(probe.FoldsAt(tilted, &stats));
+  ASSERT_TRUE(OwnMeshFolds(sides->moving, tilted, 0.5, &stats));
   ASSERT_GT(stats.folded_active, 0) << "no data triangle turns over: the test lost its point";
   fixed_first.MoveTo(tilted);
   fixed_first.FixSurface(80.0);
