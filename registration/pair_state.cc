@@ -12,6 +12,7 @@
 #include "measure/predicates.h"
 #include "measure/run_both.h"
 #include "measure/spatial_sort.h"
+#include "registration/kept_remesh.h"
 
 namespace surfreg {
 namespace {
@@ -448,8 +449,16 @@ bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
     // surface, and under a tilt a vertex whose triangles are all left out
     // (too steep) can swing over an active triangle.
     if (kept_triangles_.empty()) return false;
-    mesh = TriangulateSubset(moved_xy_, kept_triangles_);
-    if (!EnforceTriangles(moved_xy_, kept_triangles_, &mesh)) return false;
+    // Locally, around R's boundary, where the current mesh holds every kept
+    // triangle (the usual case: junk folded); else Delaunay of all of them.
+    int32_t active = 0;
+    for (uint8_t a : active_) active += a;
+    const bool local = static_cast<std::size_t>(active) == kept_triangles_.size() / 3 &&
+                       RemeshAroundKept(moved_xy_, mesh_, active_, &mesh);
+    if (!local) {
+      mesh = TriangulateSubset(moved_xy_, kept_triangles_);
+      if (!EnforceTriangles(moved_xy_, kept_triangles_, &mesh)) return false;
+    }
     mesh_ = std::move(mesh);
     SetActiveFlags();
   } else {
