@@ -193,6 +193,7 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const Prea
                    Clock::time_point start, SolveResult* solved, Starts* starts,
                    std::shared_ptr<PairState>* finest_state, std::shared_ptr<VolumeCostCache>* finest_cache) {
   Eigen::Matrix<double, 6, 6> refined_curvature = Eigen::Matrix<double, 6, 6>::Zero();
+  double refined_cost = 0;
   for (std::size_t l = 0; l < levels.size(); ++l) {
     const bool keep = options.cost == CostKind::kVolume && l + 1 == levels.size();
     auto state_ptr = std::make_shared<PairState>(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
@@ -222,14 +223,15 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const Prea
         at_solution.want_final = true;
         const SolveResult refined = SolveVolume(refine, context, theta, nullptr, at_solution);
         starts->iterations += std::max(0, refined.iterations);
-        if (refined.usable) theta = refined.theta, refined_curvature = refined.curvature;
+        if (refined.usable) theta = refined.theta, refined_curvature = refined.curvature, refined_cost = refined.final_cost;
       }
     }
     // The level starts where the subsample's volume solve ended, whitened by
-    // that solve's curvature there: its own at 1e5 points costs about five
-    // evaluations, the subsample's a twentieth of that.
+    // that solve's curvature there, rescaled to this sampling's gaps: its
+    // own at 1e5 points costs about five evaluations, the subsample's a
+    // twentieth of that.
     VolumeWhitening whitening;
-    if (l == 0 && !refined_curvature.isZero()) whitening.given = &refined_curvature;
+    if (l == 0 && !refined_curvature.isZero()) whitening.given = &refined_curvature, whitening.given_cost = refined_cost;
     context.cost = options.cost == CostKind::kAxial ? "axial" : "volume";
     context.seconds_offset = Seconds(start);
     *solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)

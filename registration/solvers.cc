@@ -442,7 +442,17 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
     // where neither is positive definite.
     bool whitened = false;
     if (context.axial.mask == nullptr) {
-      whitened = whitening.given != nullptr && map.Whiten(FreeCurvature(*whitening.given, map));
+      // A subsample's curvature is too low by about the ratio of the two
+      // samplings' gaps (×15 from 5000 to 1e5 points: the first step
+      // overshot and its line search took two evaluations, each repairing
+      // a third of the overlay). The value here builds the overlay the
+      // solve's first evaluation then only re-integrates.
+      double scale = 1;
+      if (whitening.given != nullptr && whitening.given_cost > 0) {
+        const VolumeCostValue start = cache.Evaluate(state, false, options.num_threads > 1, nullptr);
+        if (start.PerArea() > 0) scale = std::clamp(whitening.given_cost / start.PerArea(), 0.01, 100.0);
+      }
+      whitened = whitening.given != nullptr && map.Whiten(FreeCurvature(scale * *whitening.given, map));
       if (!whitened) {
         whitened = map.Whiten(FreeCurvature(FullVolumeCurvature(state, options.num_threads > 1, cache), map));
       }

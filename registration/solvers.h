@@ -65,9 +65,13 @@ struct SolveResult {
 // its start (a pass over the overlay that costs about five evaluations);
 // `given`: by this one instead (per unit area, all six parameters), e.g.
 // what a solve on a subsample of the same pair returned at the point this
-// one starts from. `want_final`: return the curvature at the solution.
+// one starts from. `given_cost`: the per-area cost where `given` was taken
+// (> 0: `given` is rescaled by given_cost / this solve's cost at its start,
+// as an L1 cost's curvature goes as 1 / the gaps' scale, which a finer
+// sampling shrinks). `want_final`: return the curvature at the solution.
 struct VolumeWhitening {
   const Eigen::Matrix<double, 6, 6>* given = nullptr;
+  double given_cost = 0;
   bool want_final = false;
 };
 
