@@ -241,6 +241,10 @@ PY
 # start ARGS...: the command in the background, its pid in `pid`.
 start() {
   checks=$((checks + 1))
+  # Emptied first: the background command's own redirection may come after
+  # wait_for's first look, which would then match the previous run's lines.
+  : >stdout
+  : >stderr
   "$bin" "$@" >stdout 2>stderr &
   pid=$!
 }

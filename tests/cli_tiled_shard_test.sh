@@ -133,6 +133,10 @@ cp stdout full.json
 # SIGNAL [FLAGS]: start the run, send SIGNAL once it reports 60 tiles done
 # (rows of 26 tiles: a row's state is written by then).
 kill_when_progress() {
+  # Emptied here: the background command's own redirection may come after
+  # the first look below, which would then read the previous run's progress
+  # and kill this one before it starts (seen once in CI).
+  : >cut.err
   "$bin" measure big_a.tif big_b.tif --json --tile=16 --dod=cut.tif "${@:2}" >cut.json 2>cut.err &
   local pid=$! i done
   for ((i = 0; i < 600; i++)); do
