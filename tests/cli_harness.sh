@@ -18,11 +18,13 @@ run() {
   # Under ASan, LeakSanitizer's own tracer sometimes crashes while it stops
   # the threads at exit ("Tracer caught signal 11"): a failure of the
   # sanitizer's runtime, not a leak report nor an error of the program.
-  # Such a run is run once more.
-  if [[ $rc -ne 0 ]] && grep -q "Tracer caught signal" "$tmp/stderr" 2>/dev/null; then
+  # Such a run is run again, up to three times (twice in a row was seen in CI).
+  local again
+  for again in 1 2 3; do
+    [[ $rc -ne 0 ]] && grep -q "Tracer caught signal" "$tmp/stderr" 2>/dev/null || break
     timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
     rc=$?
-  fi
+  done
 }
 
 # has_part gdal|plots: whether this surfreg was built with that optional
