@@ -1,5 +1,6 @@
 #include "registration/kept_remesh.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 #include <utility>
@@ -25,6 +26,25 @@ struct BoundarySide {
 
 double TriangleArea(const std::vector<Point2>& p, const int32_t* v) {
   return 0.5 * Orient2D(p[v[0]], p[v[1]], p[v[2]]);
+}
+
+// The Delaunay triangulation of the vertices of `triangles`, indexed like
+// `points` (the other points belong to no triangle).
+Triangulation TriangulateSubset(const std::vector<Point2>& points, const std::vector<int32_t>& triangles) {
+  std::vector<int32_t> used(triangles);
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::vector<Point2> subset(used.size());
+  for (std::size_t k = 0; k < used.size(); ++k) subset[k] = points[used[k]];
+  Triangulation mesh = Triangulate(subset);
+  for (int32_t& v : mesh.triangles) v = used[v];
+  std::vector<int32_t> vertex_triangle(points.size(), -1);
+  for (std::size_t k = 0; k < used.size(); ++k) vertex_triangle[used[k]] = mesh.vertex_triangle[k];
+  mesh.vertex_triangle = std::move(vertex_triangle);
+  mesh.vertex_of_input.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) mesh.vertex_of_input[i] = static_cast<int32_t>(i);
+  mesh.num_duplicates = 0;
+  return mesh;
 }
 
 }  // namespace
@@ -161,6 +181,12 @@ bool RemeshAroundKept(const std::vector<Point2>& points, const Triangulation& cu
   for (std::size_t i = 0; i < n; ++i) mesh.vertex_of_input[i] = static_cast<int32_t>(i);
   mesh.num_duplicates = 0;
   return true;
+}
+
+bool TriangulateKept(const std::vector<Point2>& points, const std::vector<int32_t>& triangles,
+                     Triangulation* out) {
+  *out = TriangulateSubset(points, triangles);
+  return EnforceTriangles(points, triangles, out);
 }
 
 }  // namespace surfreg

@@ -31,4 +31,11 @@ namespace surfreg {
 bool RemeshAroundKept(const std::vector<Point2>& points, const Triangulation& current,
                       const std::vector<uint8_t>& keep, Triangulation* out);
 
+// The whole re-mesh behind RemeshAroundKept: the Delaunay triangulation of
+// every vertex of `triangles` (3 indices each into `points`), with those
+// triangles forced in; indexed like `points`, the other points belong to no
+// triangle. False when they cannot all be faces (EnforceTriangles refused).
+bool TriangulateKept(const std::vector<Point2>& points, const std::vector<int32_t>& triangles,
+                     Triangulation* out);
+
 }  // namespace surfreg

@@ -6,7 +6,6 @@
 
 #include <Eigen/Geometry>
 
-#include "measure/enforce_triangles.h"
 #include "measure/grid_mesh.h"
 #include "measure/input_error.h"
 #include "measure/predicates.h"
@@ -260,26 +259,6 @@ double TriangleArea3d(const std::vector<Eigen::Vector3d>& p, const int32_t* v) {
   return 0.5 * (p[v[1]] - p[v[0]]).cross(p[v[2]] - p[v[0]]).norm();
 }
 
-// The Delaunay triangulation of the vertices of `triangles` (3 indices each
-// into `points`), indexed like `points`: the other points belong to no
-// triangle (vertex_triangle −1, as merged duplicates).
-Triangulation TriangulateSubset(const std::vector<Point2>& points, const std::vector<int32_t>& triangles) {
-  std::vector<int32_t> used(triangles);
-  std::sort(used.begin(), used.end());
-  used.erase(std::unique(used.begin(), used.end()), used.end());
-  std::vector<Point2> subset(used.size());
-  for (std::size_t k = 0; k < used.size(); ++k) subset[k] = points[used[k]];
-  Triangulation mesh = Triangulate(subset);
-  for (int32_t& v : mesh.triangles) v = used[v];
-  std::vector<int32_t> vertex_triangle(points.size(), -1);
-  for (std::size_t k = 0; k < used.size(); ++k) vertex_triangle[used[k]] = mesh.vertex_triangle[k];
-  mesh.vertex_triangle = std::move(vertex_triangle);
-  mesh.vertex_of_input.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) mesh.vertex_of_input[i] = static_cast<int32_t>(i);
-  mesh.num_duplicates = 0;
-  return mesh;
-}
-
 double SurfaceArea(const std::vector<Eigen::Vector3d>& p, const Triangulation& mesh) {
   double area = 0;
   for (int32_t t = 0; t < mesh.num_triangles(); ++t) area += TriangleArea3d(p, &mesh.triangles[3 * t]);
@@ -456,8 +435,7 @@ bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
     const bool local = static_cast<std::size_t>(active) == kept_triangles_.size() / 3 &&
                        RemeshAroundKept(moved_xy_, mesh_, active_, &mesh);
     if (!local) {
-      mesh = TriangulateSubset(moved_xy_, kept_triangles_);
-      if (!EnforceTriangles(moved_xy_, kept_triangles_, &mesh)) return false;
+      if (!TriangulateKept(moved_xy_, kept_triangles_, &mesh)) return false;
     }
     mesh_ = std::move(mesh);
     SetActiveFlags();

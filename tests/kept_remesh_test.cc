@@ -152,7 +152,9 @@ void ExpectValidRemesh(const Case& c, const Triangulation& out) {
     const Location walked = LocatePoint(p, out, q, 0);
     const Location brute = LocatePointBruteForce(p, out, q);
     ASSERT_EQ(walked.found(), brute.found()) << q.x << " " << q.y;
-    if (brute.where == Where::kInside) EXPECT_EQ(walked.triangle, brute.triangle);
+    if (brute.where == Where::kInside) {
+      EXPECT_EQ(walked.triangle, brute.triangle);
+    }
   }
 }
 
