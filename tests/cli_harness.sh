@@ -15,22 +15,6 @@ run() {
   checks=$((checks + 1))
   timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
   rc=$?
-  # Under ASan, LeakSanitizer's own tracer sometimes crashes while it stops
-  # the threads at exit ("Tracer caught signal 11"): a failure of the
-  # sanitizer's runtime, not a leak report nor an error of the program.
-  # Such a run is run again; after two more crashes (on one lon/lat sweep it
-  # crashed every time in CI), once more without the leak check: ASan's and
-  # UBSan's own checks still apply.
-  local again
-  for again in 1 2 3; do
-    [[ $rc -ne 0 ]] && grep -q "Tracer caught signal" "$tmp/stderr" 2>/dev/null || break
-    if [[ $again -lt 3 ]]; then
-      timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
-    else
-      ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0" timeout 300 "$bin" "$@" >"$tmp/stdout" 2>"$tmp/stderr"
-    fi
-    rc=$?
-  done
 }
 
 # has_part gdal|plots: whether this surfreg was built with that optional
