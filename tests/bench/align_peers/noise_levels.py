@@ -11,7 +11,7 @@ both methods and prints, per sigma, the medians of the rotation error
 spacings), and their root-mean-square per axis.
 
     noise_levels.py --pairs DIR --surfreg BIN [--family volcano]
-                    [--sigmas 0,0.25,0.5,1] [--draws 5] [--surfreg_args "--cost=axial"]
+                    [--sigmas 0,0.25,0.5,1] [--in_spacings] [--draws 5] [--surfreg_args "--cost=axial"]
                     [--no_peer]
 """
 import argparse
@@ -58,6 +58,7 @@ def main():
     ap.add_argument("--surfreg", required=True)
     ap.add_argument("--family", default="volcano")
     ap.add_argument("--sigmas", default="0,0.25,0.5,1", help="z-noise sigmas, in the data's units")
+    ap.add_argument("--in_spacings", action="store_true", help="sigmas in each pair's sample spacings")
     ap.add_argument("--draws", type=int, default=5, help="noise draws per pair and sigma")
     ap.add_argument("--surfreg_args", default="", help="extra flags for surfreg align")
     ap.add_argument("--no_peer", action="store_true", help="surfreg only")
@@ -78,15 +79,17 @@ def main():
                 ref0 = np.loadtxt(os.path.join(d, "reference.xyz"), comments="#")[:, :3]
                 mov0 = np.loadtxt(os.path.join(d, "moving.xyz"), comments="#")[:, :3]
                 centre = mov0.mean(0)
+                scale = sigma * spacing if args.in_spacings else sigma
                 for _ in range(args.draws if sigma > 0 else 1):
                     ref, mov = ref0.copy(), mov0.copy()
-                    ref[:, 2] += rng.normal(scale=sigma, size=len(ref))
-                    mov[:, 2] += rng.normal(scale=sigma, size=len(mov))
+                    ref[:, 2] += rng.normal(scale=scale, size=len(ref))
+                    mov[:, 2] += rng.normal(scale=scale, size=len(mov))
                     ours.append(errors(surfreg_motion(args.surfreg, ref, mov, extra, scratch), t, centre, spacing))
                     if not args.no_peer:
                         est = run_open3d("icp_plane", ref, mov, spacing, SCHEDULE)[0]
                         peer.append(errors(est, t, centre, spacing))
-            print(f"{args.family}, z-noise sigma {sigma:g}:")
+            unit = " spacings" if args.in_spacings else ""
+            print(f"{args.family}, z-noise sigma {sigma:g}{unit}:")
             print(summary("surfreg", ours), flush=True)
             if peer:
                 print(summary("icp_plane", peer), flush=True)
