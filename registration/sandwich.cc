@@ -133,14 +133,16 @@ int TileTarget(const PairState& state) {
   return SandwichTileCount(std::min(state.reference().xy.size(), state.moved_xy().size()));
 }
 
-// The spread of the tiles' scores: Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − 1).
-Matrix6 ScoreSpread(const std::vector<Vector6>& scores) {
+// The spread of the tiles' scores: Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − p),
+// p the free parameters the fit took from them.
+Matrix6 ScoreSpread(const std::vector<Vector6>& scores, int free_parameters) {
   Vector6 mean = Vector6::Zero();
   for (const Vector6& score : scores) mean += score;
   mean /= static_cast<double>(scores.size());
   Matrix6 spread = Matrix6::Zero();
   for (const Vector6& score : scores) spread += (score - mean) * (score - mean).transpose();
-  return spread * (static_cast<double>(scores.size()) / (scores.size() - 1.0));
+  const double b = static_cast<double>(scores.size());
+  return spread * (b / (b - std::max(1, free_parameters)));
 }
 
 // H⁻¹ M H⁻¹ on the free parameters, in units where rotation and translation
@@ -225,7 +227,7 @@ SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& 
   const double f = abs / area;
   std::vector<Vector6> scores;
   for (const TileSums& t : tiles) scores.push_back((t.d_abs - f * t.d_area) / area);
-  const Matrix6 meat = ScoreSpread(scores);
+  const Matrix6 meat = ScoreSpread(scores, n);
 
   // The bread: the cost's curvature from its zero set and B's kinks
   // (registration/volume_hessian.h), one pass over the cells at θ.
@@ -299,7 +301,7 @@ SandwichEstimate AxialSandwichCovariance(PairState& state, const SolveContext& c
     }
   }
   state.Update(theta);
-  out.ok = Sandwich(hessian, ScoreSpread(scores), free, context.rotation_scale, &out.covariance);
+  out.ok = Sandwich(hessian, ScoreSpread(scores, n), free, context.rotation_scale, &out.covariance);
   return out;
 }
 

@@ -6,7 +6,10 @@
 // integral along the gap's zero set and its kinks along B's edges,
 // registration/volume_hessian.h: what governs the estimate as the density
 // of residuals at 0 does an L1 regression's), and M the spread of the
-// gradient's contributions of the tiles, Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − 1). Whole tiles, not cells,
+// gradient's contributions of the B tiles, Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − p)
+// for p free parameters (the fit made the scores sum to zero along p
+// directions: HC1's small-sample factor, calibrated by
+// tests/stddev_calibration_test.cc and the peer pairs). Whole tiles, not cells,
 // so that residuals correlated within a tile (a shared triangle's error,
 // a sampling pattern) count as they do; the information estimate sees
 // neither the L1 cost nor that correlation.
