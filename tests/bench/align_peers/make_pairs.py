@@ -2,6 +2,7 @@
 """Registration test pairs for the peer benchmark (deterministic, seeded).
 
     make_pairs.py --data configs/data --out DIR [--seeds 3] [--seed 20240611]
+                  [--sampling random|grid|lines_same_heading|lines_irregular]
 
 Writes DIR/<family>_<variant>_s<k>/{reference.xyz, moving.xyz, truth.json}.
 truth.json holds `matrix`, the true 4x4 row-major transform moving -> reference
@@ -85,18 +86,30 @@ def uniform_uv(rng, win, n):
     return win[0] + rng.random((n, 2)) * (np.asarray(win[1]) - win[0])
 
 
-def scan_lines(rng, win, across=1.0, along=0.5, jitter=0.1):
+# How terrain is sampled (--sampling): `random` (the benchmark: uniform points,
+# LIDAR lines at random headings), or one regular pattern to test against:
+# `grid` (terrain on regular grids, the moving one offset by a random
+# fraction of a cell), `lines_same_heading` (both LIDAR clouds' lines at one
+# heading per pair), `lines_irregular` (LIDAR lines at random offsets).
+SAMPLING = "random"
+
+
+def scan_lines(rng, win, across=1.0, along=0.5, jitter=0.1, heading=None):
     """A LIDAR-like survey of a window (grid-index units): parallel lines
-    `across` apart at a random heading and offset, samples `along` apart, each
-    line with its own along-track phase, positions jittered (Gaussian)."""
+    `across` apart at a random heading (or `heading`) and offset, samples
+    `along` apart, each line with its own along-track phase, positions
+    jittered (Gaussian)."""
     lo, hi = np.asarray(win[0], float), np.asarray(win[1], float)
-    th = rng.uniform(0, math.pi)
+    th = rng.uniform(0, math.pi) if heading is None else heading
     d = np.array([math.cos(th), math.sin(th)])   # along-track
     nrm = np.array([-d[1], d[0]])                # across-track
     corners = np.array([[lo[0], lo[1]], [hi[0], lo[1]], [lo[0], hi[1]], [hi[0], hi[1]]])
     a, b = corners @ nrm, corners @ d
     pts = []
-    for a_k in np.arange(a.min() + rng.uniform(0, across), a.max(), across):
+    offsets = np.arange(a.min() + rng.uniform(0, across), a.max(), across)
+    if SAMPLING == "lines_irregular":
+        offsets = np.sort(rng.uniform(a.min(), a.max(), len(offsets)))
+    for a_k in offsets:
         bs = np.arange(b.min() + rng.uniform(0, along), b.max(), along)
         pts.append(a_k * nrm + bs[:, None] * d)
     p = np.concatenate(pts)
@@ -125,9 +138,17 @@ def terrain_clouds(rng, family, variant, grids):
     full = ((0.0, 0.0), surf.size)
     win_a, win_b = overlap_windows(overlap_draws(rng), surf.size) if variant == "overlap60" else (full, full)
 
+    heading = rng.uniform(0, math.pi) if SAMPLING == "lines_same_heading" else None
+
     def sample(win):
         if family == "lidar":
-            uv = scan_lines(rng, win)
+            uv = scan_lines(rng, win, heading=heading)
+        elif SAMPLING == "grid":  # one point per grid cell, at a random sub-cell offset
+            lo, hi = np.asarray(win[0], float), np.asarray(win[1], float)
+            start = np.floor(lo) + rng.random(2)
+            u, v = np.arange(start[0], hi[0], 1.0), np.arange(start[1], hi[1], 1.0)
+            uu, vv = np.meshgrid(u[u >= lo[0]], v[v >= lo[1]], indexing="ij")
+            uv = np.column_stack([uu.ravel(), vv.ravel()])
         else:  # about one point per grid cell of the window
             area = np.prod(np.asarray(win[1]) - win[0])
             uv = uniform_uv(rng, win, int(round(area)))
@@ -203,7 +224,12 @@ def main():
     ap.add_argument("--seed", type=int, default=20240611)
     ap.add_argument("--families", default=",".join(FAMILIES))
     ap.add_argument("--variants", default=",".join(VARIANTS))
+    ap.add_argument("--sampling", default="random",
+                    choices=["random", "grid", "lines_same_heading", "lines_irregular"],
+                    help="terrain sampling: the benchmark's (random) or a regular pattern to test against")
     args = ap.parse_args()
+    global SAMPLING
+    SAMPLING = args.sampling
 
     volcano = load_xyz(os.path.join(args.data, "volcano.xyz")).reshape(87, 61, 3)
     jacksboro = load_xyz(os.path.join(args.data, "jacksboro_fault_dem.xyz")).reshape(344, 403, 3)
