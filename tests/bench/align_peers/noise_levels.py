@@ -64,6 +64,10 @@ def main():
     ap.add_argument("--no_peer", action="store_true", help="surfreg only")
     ap.add_argument("--seed", type=int, default=7)
     args = ap.parse_args()
+    if not os.path.isdir(args.pairs):
+        sys.exit(f"--pairs {args.pairs}: no such directory (make it with make_pairs.py)")
+    if not os.access(args.surfreg, os.X_OK):
+        sys.exit(f"--surfreg {args.surfreg}: not an executable")
     names = sorted(d for d in os.listdir(args.pairs) if d.startswith(f"{args.family}_clean_s"))
     if not names:
         sys.exit(f"no {args.family}_clean_s* pairs in {args.pairs}")
