@@ -14,6 +14,7 @@
 #include "measure/input_error.h"
 #include "measure/weights.h"
 #include "registration/align_steps.h"
+#include "registration/gap_weight.h"
 #include "registration/pair_state.h"
 #include "registration/sandwich.h"
 #include "registration/solvers.h"
@@ -37,7 +38,7 @@ constexpr double kWideSearchGapFactor = 1.0;
 // over inner vertices of the data domain (every k-th, at most ~4000), the
 // mean vertical distance from the vertex to the least-squares plane through
 // its Delaunay neighbours, i.e. the surface's own interpolation error plus
-// its noise (pair_state.h PlaneGaps).
+// its noise (gap_weight.h PlaneGaps).
 double InterpolationGap(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh,
                         const std::vector<uint8_t>& domain) {
   const std::vector<uint8_t> inner = InteriorVertices(mesh, points.size(), domain);

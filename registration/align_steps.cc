@@ -9,6 +9,7 @@
 #include "measure/input_error.h"
 #include "measure/run_both.h"
 #include "measure/weights.h"
+#include "registration/gap_weight.h"
 #include "registration/wide_search.h"
 
 namespace surfreg {

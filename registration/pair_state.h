@@ -97,25 +97,6 @@ double RmsRadius(const MovingSide& side);
 // the fit. Exponent 0 leaves μ as it is. The mesh must be A's.
 void ApplySlopeWeight(double exponent, ReferenceSide* reference);
 
-// Per vertex of `mesh` (every `stride`-th; the others −1): |z − the
-// least-squares plane through its Delaunay neighbours| at the vertex, what a
-// linear interpolation between samples misses there (curvature and noise).
-// −1 for a vertex without a closed ring of triangles (on the hull).
-std::vector<double> PlaneGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh,
-                              std::size_t stride = 1);
-
-// Multiplies the reference's μ (1 where it has none) at every node by
-// f / (f + g): g the mean, over the triangles around the node, of their
-// corners' PlaneGaps values (nodes without any get the median g), f =
-// floor_fraction × the median g over the nodes. The vertical gap at the right pose is about the local
-// interpolation gap, so this weighs each place by the inverse of its
-// expected |gap|, as an L1 cost with unequal scales should be: curved places
-// (a face's flanks, ridges) stop dominating a clean pair, and a noisy pair,
-// whose g is noise everywhere, keeps nearly uniform weights. f bounds the
-// weight of flat places at 1 (g = 0) against f / (f + g); f is at least
-// 1e-9 of the data's extent, so rounding-level gaps (a plane) weigh 1. 0 = off.
-void ApplyGapWeight(double floor_fraction, ReferenceSide* reference);
-
 struct UpdateStats {
   int64_t walk_steps = 0;  // triangles visited by all re-location walks
   int32_t folded = 0;      // B triangles whose moved projection is not counter-clockwise

@@ -59,10 +59,14 @@ Family MakeFamily(int k) {
 
 class SwapTest : public ::testing::TestWithParam<int> {};
 
-// Align(a, b) and Align(b, a), each from the identity: the composed motion b_from_a · a_from_b is the identity within 3 σ of the two
-// runs' errors together (per rotation axis; for the translation, at B's
-// centroid, with the second run's rotation σ times the lever to its centre).
-TEST_P(SwapTest, SwappingTheSurfacesGivesTheInverseWithinTheStatedSigma) {
+// Align(a, b) and Align(b, a), each from the identity: the composed motion
+// b_from_a · a_from_b is the identity within half of the two runs' σ
+// together (per rotation axis; for the translation, at B's centroid, with the
+// second run's rotation σ times the lever to its centre). The volume between
+// two surfaces is symmetric, and so must be the weights: weights from the
+// reference's own interpolation gaps or local spacing made the face's tz
+// loop 2–3 σ (RMS over 20 seeds); from its curvature alone, under 0.2 σ.
+TEST_P(SwapTest, SwappingTheSurfacesGivesTheInverseWithinHalfTheStatedSigma) {
   const Family family = MakeFamily(GetParam());
   const Eigen::Matrix4d truth = testing::TrueMotion({1, -2, 0.5}, 2.0, {1.5, -1.0, 0.3}, testing::Centroid(family.b));
   const Surface a = MakeSurface(family.a, {}, "a");
@@ -83,10 +87,10 @@ TEST_P(SwapTest, SwappingTheSurfacesGivesTheInverseWithinTheStatedSigma) {
     const double sigma_t = std::sqrt(ab.stddev[3 + k] * ab.stddev[3 + k] + ba.stddev[3 + k] * ba.stddev[3 + k] +
                                      lever * lever * ba.stddev[k] * ba.stddev[k]);
     ASSERT_GT(sigma_w, 0) << family.name;
-    EXPECT_LE(std::fabs(w[k]), 3 * sigma_w) << family.name << " rotation " << k;
-    EXPECT_LE(std::fabs(shift[k]), 3 * sigma_t) << family.name << " translation " << k;
-    std::printf("%s, axis %d: |loop| / sigma rotation %.2f, translation %.2f\n", family.name, k,
-                std::fabs(w[k]) / sigma_w, std::fabs(shift[k]) / sigma_t);
+    EXPECT_LE(std::fabs(w[k]), 0.5 * sigma_w) << family.name << " rotation " << k;
+    EXPECT_LE(std::fabs(shift[k]), 0.5 * sigma_t) << family.name << " translation " << k;
+    std::printf("%s, axis %d: |loop| / sigma rotation %.2f, translation %.2f (|shift| %.3g, sigma %.3g)\n",
+                family.name, k, std::fabs(w[k]) / sigma_w, std::fabs(shift[k]) / sigma_t, std::fabs(shift[k]), sigma_t);
   }
 }
 

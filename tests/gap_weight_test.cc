@@ -1,16 +1,19 @@
-// The local interpolation gap (PlaneGaps) and the gap weight
-// (ApplyGapWeight) against closed forms on an equilateral lattice.
+// The local interpolation gaps (PlaneGaps, CurvatureGaps) and the gap
+// weight (ApplyGapWeight) against closed forms on an equilateral lattice
+// and on scattered points.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <random>
 #include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "measure/surface.h"
+#include "registration/gap_weight.h"
 #include "registration/pair_state.h"
 #include "testing/registration_sides.h"
 
@@ -90,6 +93,95 @@ TEST(GapWeightTest, PlaneGapsOfABumpAndOfAParabola) {
   }
 }
 
+// On a quadratic the least-squares quadratic through a ring is the surface
+// itself, so at every node with a closed ring the gap is ¼ ℓ² (|λ₁| + |λ₂|)
+// of the surface's Hessian, ℓ² the median over those nodes of their ring's
+// mean squared distance (here by brute force over the triangles around
+// each node): one spacing for the whole surface, so that g follows the
+// curvature only, not where this sampling happens to be sparse.
+TEST(GapWeightTest, CurvatureGapsOfAQuadraticOnScatteredPoints) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  std::vector<std::array<double, 3>> points;
+  for (int k = 0; k < 400; ++k) {
+    const double x = u(rng), y = u(rng);
+    points.push_back({x, y, 0.3 * x * x - 0.5 * x * y + 0.2 * y * y + x - 2 * y + 1});
+  }
+  // Hessian [[0.6, −0.5], [−0.5, 0.4]]: a saddle, λ = 0.5 ± √0.26.
+  const double abs_lambda_sum = std::fabs(0.5 + std::sqrt(0.26)) + std::fabs(0.5 - std::sqrt(0.26));
+  const ReferenceSide side = PrepareReference(MakeSurface(points, {}, "quadratic"));
+  const std::vector<Eigen::Vector3d> p = PointsOf(side);
+  const std::vector<double> gap = CurvatureGaps(p, side.mesh);
+  std::vector<double> spacing2;
+  for (std::size_t v = 0; v < p.size(); ++v) {
+    if (gap[v] < 0) continue;
+    std::vector<int32_t> ring;
+    for (int32_t t = 0; t < side.mesh.num_triangles(); ++t) {
+      const int32_t* c = &side.mesh.triangles[3 * t];
+      if (c[0] != static_cast<int32_t>(v) && c[1] != static_cast<int32_t>(v) && c[2] != static_cast<int32_t>(v)) continue;
+      for (int i = 0; i < 3; ++i)
+        if (c[i] != static_cast<int32_t>(v)) ring.push_back(c[i]);
+    }
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    double l2 = 0;
+    for (int32_t w : ring) l2 += (p[w] - p[v]).head<2>().squaredNorm();
+    spacing2.push_back(l2 / static_cast<double>(ring.size()));
+  }
+  ASSERT_GT(spacing2.size(), 300u);  // all but the hull's nodes and a few next to it
+  std::nth_element(spacing2.begin(), spacing2.begin() + spacing2.size() / 2, spacing2.end());
+  const double expected = 0.25 * spacing2[spacing2.size() / 2] * abs_lambda_sum;
+  for (std::size_t v = 0; v < p.size(); ++v) {
+    if (gap[v] >= 0) EXPECT_NEAR(gap[v], expected, 1e-9 * expected) << "node " << v;
+  }
+}
+
+// A survey of parallel lines (samples 0.5 apart along, lines 1 apart) over
+// a valley z = x², once with the lines along the valley's curvature and once
+// across it (every point turned by exactly 90°, the surface kept). The
+// rings are the same turned, so the curvature gaps are equal node for node;
+// the plane gaps follow the lines' heading (about 4 times larger across:
+// the lines' spacing squared), and so does the sampling's own
+// interpolation error, which the weights must not favour.
+TEST(GapWeightTest, CurvatureGapsDoNotDependOnTheLinesHeading) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  std::vector<std::array<double, 3>> along, across;
+  for (int line = 0; line < 16; ++line) {
+    for (int k = 0; k < 32; ++k) {
+      const double x = 0.5 * k + jitter(rng), y = 1.0 * line + jitter(rng);
+      along.push_back({x, y, x * x});
+      across.push_back({-y, x, y * y});  // turned by 90°: the same z = x², the lines now along y
+    }
+  }
+  const ReferenceSide a = PrepareReference(MakeSurface(along, {}, "along"));
+  const ReferenceSide b = PrepareReference(MakeSurface(across, {}, "across"));
+  auto known = [](std::vector<double> g) {
+    g.erase(std::remove_if(g.begin(), g.end(), [](double x) { return x < 0; }), g.end());
+    std::sort(g.begin(), g.end());
+    return g;
+  };
+  const std::vector<double> curvature_a = known(CurvatureGaps(PointsOf(a), a.mesh));
+  const std::vector<double> curvature_b = known(CurvatureGaps(PointsOf(b), b.mesh));
+  ASSERT_EQ(curvature_a.size(), curvature_b.size());
+  ASSERT_GT(curvature_a.size(), 350u);
+  for (std::size_t k = 0; k < curvature_a.size(); ++k) {
+    EXPECT_NEAR(curvature_a[k], curvature_b[k], 1e-6 * curvature_a[k]);  // rounding of z ≈ 256
+  }
+  const std::vector<double> plane_a = known(PlaneGaps(PointsOf(a), a.mesh));
+  const std::vector<double> plane_b = known(PlaneGaps(PointsOf(b), b.mesh));
+  const double median_a = plane_a[plane_a.size() / 2], median_b = plane_b[plane_b.size() / 2];
+  EXPECT_GT(median_b, 2.5 * median_a);
+}
+
+// A node whose ring does not close (the hull) or has fewer than five
+// neighbours gets −1: four points and their centre determine no quadratic.
+TEST(GapWeightTest, CurvatureGapsNeedAClosedRingOfFive) {
+  const std::vector<std::array<double, 3>> square = {{0, 0, 0}, {2, 0, 1}, {0, 2, 1}, {2, 2, 2}, {1, 1.1, 0.5}};
+  const ReferenceSide side = PrepareReference(MakeSurface(square, {}, "square"));
+  for (double g : CurvatureGaps(PointsOf(side), side.mesh)) EXPECT_EQ(g, -1.0);
+}
+
 // On z = x² the inner nodes' local gaps are all h²/2, so their weights are
 // f / (f + g) = 0.3 / 1.3, times a user's μ; on a plane (all gaps 0) and
 // with 0 the weights are left alone. On z = max(y − y0, 0)², the flat part's
@@ -127,7 +219,7 @@ TEST(GapWeightTest, GapWeightIsTheInverseLocalGap) {
   // f from the median local gap, each node's computed here by brute force:
   // over every triangle having the node as a corner, the corners' gaps.
   const ReferenceSide bare = PrepareReference(s);
-  const std::vector<double> own = PlaneGaps(PointsOf(bare), bare.mesh);
+  const std::vector<double> own = CurvatureGaps(PointsOf(bare), bare.mesh);
   std::vector<double> local;
   for (std::size_t v = 0; v < bare.xy.size(); ++v) {
     double sum = 0;

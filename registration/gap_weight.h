@@ -1,0 +1,50 @@
+#pragma once
+// How far a linear interpolation between a surface's samples may be from
+// the surface near each node, and the volume cost's weight from it.
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "measure/delaunay.h"
+#include "registration/pair_state.h"
+
+namespace surfreg {
+
+// Per vertex of `mesh` (every `stride`-th; the others −1): |z − the
+// least-squares plane through its Delaunay neighbours| at the vertex, what a
+// linear interpolation between samples misses there (curvature and noise).
+// −1 for a vertex without a closed ring of triangles (on the hull).
+std::vector<double> PlaneGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh,
+                              std::size_t stride = 1);
+
+// Per vertex of `mesh`: ¼ ℓ² (|λ₁| + |λ₂|), λ the eigenvalues of the
+// Hessian of the least-squares quadratic through the vertex and its
+// Delaunay neighbours, ℓ² the median over the vertices of their rings' mean
+// squared xy distance: the plane gap a ring of the surface's typical
+// spacing would have at a bowl of these curvatures. It follows the surface
+// only: not how the ring's neighbours lie against the curvature (a survey's
+// line heading against a valley's) nor where this sampling is sparse, which
+// are what this sampling's own interpolation error follows. −1 for a vertex
+// without a closed ring of at least 5 neighbours that determine a quadratic.
+std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh);
+
+// Multiplies the reference's μ (1 where it has none) at every node by
+// f / (f + g): g the mean, over the triangles around the node, of their
+// corners' CurvatureGaps values (nodes without any get the median g), f =
+// floor_fraction × the median g over the nodes. The vertical gap at the
+// right pose grows with the local curvature, so this weighs each place by
+// the inverse of its expected |gap|, as an L1 cost with unequal scales
+// should: curved places (a face's flanks, ridges) stop dominating a clean
+// pair, and a noisy pair, whose g is noise everywhere, keeps nearly uniform
+// weights. From the curvature, not from the reference's plane gaps or
+// spacing: those follow the reference's own interpolation error, so weights
+// from them favour the places where the reference happens to interpolate
+// well, the L1 fit then shifts toward the moving surface's error there, and
+// swapping the surfaces no longer gives the inverse (measured:
+// docs/registration.md). f bounds the weight of flat places at 1 (g = 0)
+// against f / (f + g); f is at least 1e-9 of the data's extent, so
+// rounding-level gaps (a plane) weigh 1. 0 = off.
+void ApplyGapWeight(double floor_fraction, ReferenceSide* reference);
+
+}  // namespace surfreg
