@@ -75,11 +75,15 @@ std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, co
     for (int k = 0; k < neighbours; ++k) {
       const double ux = ring[k].x() * inv_l, uy = ring[k].y() * inv_l;
       const Vector5 row(ux, uy, 0.5 * ux * ux, ux * uy, 0.5 * uy * uy);
-      normal += row * row.transpose();
+      normal.selfadjointView<Eigen::Lower>().rankUpdate(row);
       rhs += row * ring[k].z();
     }
-    const Eigen::LDLT<Matrix5> solver(normal);
-    if (solver.info() != Eigen::Success || !(solver.rcond() > 1e-9)) continue;
+    // Cholesky (it reads the lower triangle only); a ring that does not determine a quadratic (its points on
+    // a conic through v) shows as a vanishing pivot.
+    const Eigen::LLT<Matrix5> solver(normal);
+    if (solver.info() != Eigen::Success) continue;
+    const Vector5 pivots = solver.matrixLLT().diagonal();
+    if (!(pivots.minCoeff() > 1e-4 * pivots.maxCoeff())) continue;
     const Vector5 c = solver.solve(rhs);  // a, then H' as c2, c3, c4
     // |λ₁| + |λ₂| of [[c2, c3], [c3, c4]] in closed form.
     const double mean = 0.5 * (c[2] + c[4]), radius = std::hypot(0.5 * (c[2] - c[4]), c[3]);

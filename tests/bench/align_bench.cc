@@ -67,6 +67,7 @@
 #include "measure/surface.h"
 #include "registration/align.h"
 #include "registration/axial_cost.h"
+#include "registration/gap_weight.h"
 #include "registration/pair_state.h"
 #include "registration/rigid_motion.h"
 #include "registration/volume_cost.h"
@@ -413,6 +414,21 @@ void BM_Measure(benchmark::State& state, int64_t n, bool parallel) {
   state.counters["t_total"] = m.timings.total;
 }
 
+// The gap weight's per-node gaps on A's prepared side: the plane gaps (the
+// `sampling_gap` report's) and the curvature gaps (the weight's, once per
+// level of an alignment).
+void BM_NodeGaps(benchmark::State& state, int64_t n, bool curvature) {
+  Pair* p = Setup(state, n);
+  if (!p) return;
+  std::vector<Eigen::Vector3d> points(p->ref.xy.size());
+  for (std::size_t v = 0; v < points.size(); ++v) points[v] = {p->ref.xy[v].x, p->ref.xy[v].y, p->ref.z[v]};
+  for (auto _ : state) {
+    const std::vector<double> gap = curvature ? CurvatureGaps(points, p->ref.mesh) : PlaneGaps(points, p->ref.mesh);
+    Keep(gap[gap.size() / 2]);
+  }
+  state.counters["nodes"] = static_cast<double>(points.size());
+}
+
 // The BM_Align variants.
 enum class AlignVariant { kAxial, kDefault, kInformation };
 const char* VariantName(AlignVariant v) {
@@ -520,6 +536,12 @@ void RegisterAll(bool with_1e6) {
       const std::string name = std::string("update/") + kSteps[step].name + ns;
       Configure(benchmark::RegisterBenchmark(("BM_ScratchOwnMesh/" + name).c_str(),
                                              BM_ScratchOwnMesh, n, step, Work::kUpdate),
+                n);
+    }
+    for (bool curvature : {false, true}) {
+      Configure(benchmark::RegisterBenchmark(
+                    (std::string("BM_NodeGaps/") + (curvature ? "curvature" : "plane") + ns).c_str(), BM_NodeGaps,
+                    n, curvature),
                 n);
     }
     if (n == 100000) {
