@@ -78,8 +78,9 @@ std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, co
       normal.selfadjointView<Eigen::Lower>().rankUpdate(row);
       rhs += row * ring[k].z();
     }
-    // Cholesky (it reads the lower triangle only); a ring that does not determine a quadratic (its points on
-    // a conic through v) shows as a vanishing pivot.
+    // Cholesky (it reads the lower triangle only); a ring that does not
+    // determine a quadratic (its points on a conic through v) shows as a
+    // vanishing pivot.
     const Eigen::LLT<Matrix5> solver(normal);
     if (solver.info() != Eigen::Success) continue;
     const Vector5 pivots = solver.matrixLLT().diagonal();
