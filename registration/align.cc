@@ -163,6 +163,8 @@ void SetMotion(const std::array<double, 6>& theta, const Eigen::Vector3d& centre
   std::vector<Eigen::Vector3d> points_a(a.xy.size());
   for (std::size_t v = 0; v < a.xy.size(); ++v) points_a[v] = {a.xy[v].x, a.xy[v].y, a.z[v]};
   result->sampling_gap = InterpolationGap(points_a, a.mesh, a.domain) + InterpolationGap(b.points, b.mesh, b.domain);
+  result->density_ratio = finest.density.ratio;
+  result->chord_correction = !finest.density.applied ? "none" : finest.density.reference ? "reference" : "moving";
 }
 
 // The verdict from the solve and the two measures; true if the initial

@@ -119,6 +119,8 @@ bool AlignOptions::IsValid(std::string* error) const {
   if (num_threads < 1) return fail("threads must be >= 1");
   if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");
   if (!(gap_weight >= 0 && gap_weight <= 100)) return fail("gap_weight must be in [0, 100]");
+  if (!(density_correction == 0 || (density_correction >= 1 && density_correction <= 1e6)))
+    return fail("density_correction must be 0 (off) or a ratio in [1, 1e6]");
   if (!(holdout_fraction >= 0 && holdout_fraction < 0.9)) return fail("holdout must be in [0, 0.9)");
   if (stddev_subsamples < 0 || stddev_subsamples > 1000) return fail("stddev_subsamples must be in [0, 1000]");
   MeasureOptions m;

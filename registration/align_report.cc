@@ -71,6 +71,9 @@ std::string AlignResult::FullReport() const {
          after.mean_abs_dz, sampling_gap);
   Append(&out, "overlap:      %.2f%% -> %.2f%% of the smaller data domain\n", 100 * overlap_fraction_before,
          100 * overlap_fraction_after);
+  if (chord_correction != "none")
+    Append(&out, "density:      the %s surface has %.2fx the other's area per sample: its chords corrected for curvature\n",
+           chord_correction.c_str(), density_ratio);
   if (holdout.done) {
     const HoldoutCheck& h = holdout;
     Append(&out, "held out:     %.0f%% of the reference's tiles (%lld samples): robust RMSE of dz %.6g -> %.6g (%s)\n",

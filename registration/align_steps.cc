@@ -98,6 +98,8 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
         ApplyGapWeight(options.gap_weight, &out->reference);
       }
     }, [&] { out->moving = PrepareMoving(moving, shift, keep, options.domain); });
+    // After the weights: they are the surface's curvature, which this keeps.
+    out->density = CorrectDensityBias(options.density_correction, &out->reference, &out->moving);
     levels.push_back(std::move(level));
   }
   Level& finest = *levels.back();
@@ -172,6 +174,7 @@ Prealignment PrealignSides(const Surface& reference, const Surface& moving,
     sides.reference = PrepareReference(reference, level_keep * keep_a, options.domain);
     if (options.weight != WeightMode::kPerPoint) sides.reference.weight.clear();
   }, [&] { sides.moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain); });
+  sides.density = CorrectDensityBias(options.density_correction, &sides.reference, &sides.moving);
   sides.moving.centroid = levels.back()->moving.centroid;
   if (kRefineRatio * static_cast<double>(sides.reference.xy.size()) <= n_a &&
       kRefineRatio * static_cast<double>(sides.moving.points.size()) <= n_b) {

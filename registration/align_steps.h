@@ -11,6 +11,7 @@
 #include "measure/measures.h"
 #include "measure/surface.h"
 #include "registration/align.h"
+#include "registration/chord_bias.h"
 #include "registration/pair_state.h"
 #include "registration/solvers.h"
 
@@ -26,6 +27,7 @@ inline double Seconds(Clock::time_point from) {
 struct Level {
   ReferenceSide reference;
   MovingSide moving;
+  DensityCorrection density;  // what CorrectDensityBias did to the two
 };
 
 // The volume cost's prealignment on fixed subsamples of both surfaces

@@ -7,32 +7,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
+#include "registration/ring_fit.h"
+
 namespace surfreg {
-
-namespace {
-
-// The most neighbours a ring may have before it is not looked at (a vertex
-// of a degenerate fan).
-constexpr int kMaxRing = 64;
-
-// The offsets of v's Delaunay neighbours from v, around its ring of
-// triangles; their count, or −1 unless the ring closes.
-int RingOffsets(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh, std::size_t v,
-                std::array<Eigen::Vector3d, kMaxRing>* offsets) {
-  const int32_t first = mesh.vertex_triangle[v];
-  if (first < 0) return -1;
-  int32_t t = first;
-  int count = 0;
-  do {  // around v: across the edge from v to its successor's successor
-    int i = 0;
-    while (mesh.triangles[3 * t + i] != static_cast<int32_t>(v)) ++i;
-    (*offsets)[count++] = points[mesh.triangles[3 * t + (i + 1) % 3]] - points[v];
-    t = mesh.neighbors[3 * t + (i + 1) % 3];
-  } while (t >= 0 && t != first && count < kMaxRing);
-  return t == first ? count : -1;
-}
-
-}  // namespace
 
 std::vector<double> PlaneGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh,
                               std::size_t stride) {
@@ -55,43 +32,18 @@ std::vector<double> PlaneGaps(const std::vector<Eigen::Vector3d>& points, const 
 }
 
 std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh) {
-  using Vector5 = Eigen::Matrix<double, 5, 1>;
-  using Matrix5 = Eigen::Matrix<double, 5, 5>;
   std::vector<double> gap(points.size(), -1.0);  // first |λ₁| + |λ₂| of H
   std::vector<double> spacing2;                   // the rings' ℓ²
-  std::array<Eigen::Vector3d, kMaxRing> ring;
+  RingQuadratic fit;
   for (std::size_t v = 0; v < points.size(); ++v) {
-    const int neighbours = RingOffsets(points, mesh, v, &ring);
-    if (neighbours < 5) continue;
-    double l2 = 0;
-    for (int k = 0; k < neighbours; ++k) l2 += ring[k].head<2>().squaredNorm();
-    l2 /= neighbours;
-    if (!(l2 > 0)) continue;
-    // z = a·u + ½ uᵀH'u through v, u = d / ℓ: unit-free, so the normal
-    // equations are as well conditioned in metres as in millimetres (H' = ℓ² H).
-    const double inv_l = 1.0 / std::sqrt(l2);
-    Matrix5 normal = Matrix5::Zero();
-    Vector5 rhs = Vector5::Zero();
-    for (int k = 0; k < neighbours; ++k) {
-      const double ux = ring[k].x() * inv_l, uy = ring[k].y() * inv_l;
-      const Vector5 row(ux, uy, 0.5 * ux * ux, ux * uy, 0.5 * uy * uy);
-      normal.selfadjointView<Eigen::Lower>().rankUpdate(row);
-      rhs += row * ring[k].z();
-    }
-    // Cholesky (it reads the lower triangle only); a ring that does not
-    // determine a quadratic (its points on a conic through v) shows as a
-    // vanishing pivot.
-    const Eigen::LLT<Matrix5> solver(normal);
-    if (solver.info() != Eigen::Success) continue;
-    const Vector5 pivots = solver.matrixLLT().diagonal();
-    if (!(pivots.minCoeff() > 1e-4 * pivots.maxCoeff())) continue;
-    const Vector5 c = solver.solve(rhs);  // a, then H' as c2, c3, c4
-    // |λ₁| + |λ₂| of [[c2, c3], [c3, c4]] in closed form.
-    const double mean = 0.5 * (c[2] + c[4]), radius = std::hypot(0.5 * (c[2] - c[4]), c[3]);
-    const double curvature = (std::fabs(mean + radius) + std::fabs(mean - radius)) / l2;
+    if (!FitRingQuadratic(points, mesh, v, 0.0, &fit)) continue;
+    // |λ₁| + |λ₂| of [[H_xx, H_xy], [H_xy, H_yy]] in closed form.
+    const Eigen::Vector3d& h = fit.hessian;
+    const double mean = 0.5 * (h[0] + h[2]), radius = std::hypot(0.5 * (h[0] - h[2]), h[1]);
+    const double curvature = std::fabs(mean + radius) + std::fabs(mean - radius);
     if (!std::isfinite(curvature)) continue;
     gap[v] = curvature;
-    spacing2.push_back(l2);
+    spacing2.push_back(fit.spacing2);
   }
   if (spacing2.empty()) return gap;
   std::nth_element(spacing2.begin(), spacing2.begin() + spacing2.size() / 2, spacing2.end());

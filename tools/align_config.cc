@@ -121,6 +121,15 @@ const config_table::Table<AlignConfig>& Table() {
         "volume cost: weight by f / (f + local interpolation gap), f = this x its median; 0 = off"},
        [](const Value& v, C* c) { c->options.gap_weight = Number(v, 0, 100); },
        [](const C& c) { return Text(c.options.gap_weight); }},
+      {{"density_correction", "0 or a number in [1, 1e6]",
+        "correct the sparser surface's chords for its curvature when its area per sample is this many times the "
+        "other's; 0 = off"},
+       [](const Value& v, C* c) {
+         const double r = Number(v, 0, 1e6);
+         if (r != 0 && r < 1) Reject(v);
+         c->options.density_correction = r;
+       },
+       [](const C& c) { return Text(c.options.density_correction); }},
       {{"free", "a list of rx, ry, rz, tx, ty, tz, rotation, translation, all",
         "the parameters the solver may change (the others keep their initial value)"},
        [](const Value& v, C* c) { c->options.free = FreeParameters(v); },

@@ -76,6 +76,8 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r,
       .Object("before", MeasuresJson(r.before, r.overlap_fraction_before))
       .Object("after", MeasuresJson(r.after, r.overlap_fraction_after))
       .Number("sampling_gap", r.sampling_gap)
+      .Number("density_ratio", r.density_ratio)
+      .String("chord_correction", r.chord_correction)
       .Int("iterations", r.iterations)
       .String("termination", r.termination)
       .Fixed("seconds", r.seconds, 6)

@@ -3,11 +3,15 @@
 
     make_pairs.py --data configs/data --out DIR [--seeds 3] [--seed 20240611]
                   [--sampling random|grid|lines_same_heading|lines_irregular]
+                  [--thin reference|moving --thin_factor K]
 
 Writes DIR/<family>_<variant>_s<k>/{reference.xyz, moving.xyz, truth.json}.
 truth.json holds `matrix`, the true 4x4 row-major transform moving -> reference
 (input coordinates), `spacing` (sqrt(xy hull area / N) of the moving cloud
-before the motion) and the pair's description. See tests/bench/README.md.
+before the motion, before any thinning) and the pair's description. With
+--thin, one cloud keeps a seeded random 1/K of its points (pairs sampled at
+different densities; the pair's name gets _thin<K><r|m>). See
+tests/bench/README.md.
 """
 import argparse
 import json
@@ -227,6 +231,9 @@ def main():
     ap.add_argument("--sampling", default="random",
                     choices=["random", "grid", "lines_same_heading", "lines_irregular"],
                     help="terrain sampling: the benchmark's (random) or a regular pattern to test against")
+    ap.add_argument("--thin", default="none", choices=["none", "reference", "moving"],
+                    help="keep 1/thin_factor of this cloud's points (different densities)")
+    ap.add_argument("--thin_factor", type=int, default=4)
     args = ap.parse_args()
     global SAMPLING
     SAMPLING = args.sampling
@@ -244,13 +251,23 @@ def main():
             for k in range(args.seeds):
                 rng = np.random.default_rng([args.seed, FAMILIES.index(family), VARIANTS.index(variant), k])
                 ref, mov, truth, info = make_pair(rng, family, variant, grids, face)
-                name = f"{family}_{variant}_s{k}"
+                label = variant
+                if args.thin != "none":
+                    keep = lambda p: p[np.sort(rng.permutation(len(p))[:max(3, len(p) // args.thin_factor)])]
+                    if args.thin == "reference":
+                        ref = keep(ref)
+                    else:
+                        mov = keep(mov)
+                    info.update(n_reference=len(ref), n_moving=len(mov), thinned=args.thin,
+                                thin_factor=args.thin_factor)
+                    label = f"{variant}_thin{args.thin_factor}{args.thin[0]}"
+                name = f"{family}_{label}_s{k}"
                 d = os.path.join(args.out, name)
                 os.makedirs(d, exist_ok=True)
                 tag = f"{name} from {sources[family]} (make_pairs.py, seed {args.seed})"
                 write_xyz(os.path.join(d, "reference.xyz"), ref, f"reference of {tag}")
                 write_xyz(os.path.join(d, "moving.xyz"), mov, f"moving of {tag}")
-                meta = {"name": name, "family": family, "variant": variant, "seed_index": k,
+                meta = {"name": name, "family": family, "variant": label, "seed_index": k,
                         "source": sources[family], "matrix": truth.tolist(), **info}
                 with open(os.path.join(d, "truth.json"), "w") as f:
                     json.dump(meta, f, indent=1)
