@@ -105,9 +105,9 @@ struct AlignOptions {
   // When one surface has this many times the other's area per sample or
   // more, the sparser one's nodes are lowered by the difference of the two
   // samplings' mean chord at their curvature (chord_bias.h
-  // CorrectDensityBias); 0 = off. Faces sampled 4 : 1: translation errors
-  // 4-6 × smaller (docs/registration.md). The reported measures stay on the
-  // data as sampled.
+  // CorrectDensityBias; only on a surface curved mostly one way); 0 = off.
+  // Clean faces sampled 4 : 1: translation errors 5-8 × smaller
+  // (docs/registration.md). The reported measures stay on the data as sampled.
   double density_correction = 1.2;
   // Which of rx, ry, rz, tx, ty, tz the solver may change; the others keep
   // their initial value.

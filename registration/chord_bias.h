@@ -34,9 +34,14 @@ SamplingShape MeasureSampling(const std::vector<Eigen::Vector3d>& points, const 
 // What CorrectDensityBias did.
 struct DensityCorrection {
   double ratio = 1;        // the sparser side's area per point over the denser side's
+  double one_sign_share = 0;  // of the sparser side's corrections, the share with their sum's sign
   bool applied = false;
   bool reference = false;  // the side corrected: the reference (else the moving one)
 };
+
+// Below this share of one sign the correction is not applied (see
+// CorrectDensityBias).
+constexpr double kMinOneSignShare = 0.6;
 
 // When one side's area per point exceeds the other's by `min_ratio` or more
 // (0 = never): lowers each node of the sparser side by tr(H (M_sparse −
@@ -44,7 +49,13 @@ struct DensityCorrection {
 // curvature, so that its interpolation lies where the denser one's would on
 // average. H from the sparser side's ring quadratic, shrunk by its noise
 // (ring_fit.h SampleNoise, FitRingQuadratic): curvature that is noise or
-// texture gets no correction. M of both sides from their own densities and
+// texture gets little correction; nodes on the data domain's edge and rings
+// whose correction exceeds 20 × the median (creases, degenerate rings) get
+// none. Applied only when at least kMinOneSignShare of the corrections have
+// one sign: a surface curved mostly one way (a face), where the two chords'
+// difference is a bias the fit follows; where the curvature's sign changes
+// from place to place (terrain) they cancel over the overlap and the
+// correction would add only its own error. M of both sides from their own densities and
 // one shared chord tensor (the mean of the two): two samplings of one density
 // get none, whatever their triangles' shapes. Below `min_ratio` (two clouds
 // of one density differ by up to 1.07 in area per point here, from the tilt

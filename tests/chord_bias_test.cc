@@ -149,6 +149,7 @@ TEST(ChordBiasTest, CorrectsTheSparserSideOfABowl) {
 
   const DensityCorrection done = CorrectDensityBias(1.2, &a, &b);
   EXPECT_TRUE(done.applied);
+  EXPECT_GT(done.one_sign_share, 0.95);  // a bowl: curved one way everywhere
   EXPECT_FALSE(done.reference);
   EXPECT_EQ(a.z, a0.z);
   const double after = MeanDifference(a, b, &n);
@@ -187,6 +188,24 @@ TEST(ChordBiasTest, AlignOfAFacePairSampledFourToOne) {
               error_corrected, corrected.stddev[5]);
   EXPECT_GT(std::fabs(error_plain), 3 * corrected.stddev[5]);  // the bias is real
   EXPECT_LT(std::fabs(error_corrected), std::fabs(error_plain) / 3);
+}
+
+// Terrain whose curvature changes sign from place to place (hills, a
+// valley, a ripple), sampled 4 : 1: the corrections have no dominant sign,
+// the chords cancel over the overlap, and nothing is changed.
+TEST(ChordBiasTest, MixedCurvatureIsLeftAlone) {
+  const Surface dense = MakeSurface(testing::SampleUniform(testing::SmoothTerrain, 4000, 0, 100, 0, 100, 41), {}, "dense", 1e9);
+  const Surface sparse = MakeSurface(testing::SampleUniform(testing::SmoothTerrain, 1000, 0, 100, 0, 100, 42), {}, "sparse", 1e9);
+  ReferenceSide a = PrepareReference(dense);
+  MovingSide b = PrepareMoving(sparse, {0, 0, 0});
+  const MovingSide b0 = b;
+  const DensityCorrection c = CorrectDensityBias(1.2, &a, &b);
+  std::printf("terrain 4000 : 1000: ratio %.2f, one-sign share %.3f\n", c.ratio, c.one_sign_share);
+  EXPECT_GT(c.ratio, 3.0);
+  EXPECT_GT(c.one_sign_share, 0.5);
+  EXPECT_LT(c.one_sign_share, kMinOneSignShare);
+  EXPECT_FALSE(c.applied);
+  for (std::size_t v = 0; v < b.points.size(); ++v) ASSERT_EQ(b.points[v], b0.points[v]);
 }
 
 TEST(ChordBiasTest, RatiosBelowOneAreRefused) {
