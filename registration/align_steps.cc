@@ -121,6 +121,10 @@ SolveContext MakeContext(const AlignOptions* options, const Level& finest, const
   }
   context.axial.trim_fraction = options->trim_fraction;
   context.axial.normal_distance = options->normal_distance;
+  if (options->cost == CostKind::kAxial && options->axial_nodes == AlignOptions::AxialNodes::kSparser) {
+    // finest.density.reference: the reference is the sparser (area per sample).
+    (finest.density.reference ? context.axial.moving_nodes : context.axial.reference_nodes) = false;
+  }
   return context;
 }
 

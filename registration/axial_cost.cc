@@ -247,13 +247,13 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   ctx.node_weight.assign(na + nb, 0.0);
   ctx.d_weight.assign(jacobians ? na + nb : 0, std::array<double, 6>{});
   int64_t overlap = 0;
-  for (std::size_t i = 0; i < na; ++i) {
+  for (std::size_t i = 0; i < (settings.reference_nodes ? na : 0); ++i) {
     // Nodes of either surface's junk (measure/domain.h) are not in Ω.
     if (!ctx.a.domain_vertex[i] || !state.OnMovingSurface(state.a_in_b()[i])) continue;
     ++overlap;
     ctx.ReferenceNode(i);
   }
-  for (std::size_t j = 0; j < nb; ++j) {
+  for (std::size_t j = 0; j < (settings.moving_nodes ? nb : 0); ++j) {
     if (!state.moving_node_active(j) || !state.OnReferenceSurface(state.b_in_a()[j])) continue;
     ++overlap;
     ctx.MovingNode(j);

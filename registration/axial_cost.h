@@ -74,6 +74,11 @@ struct AxialSettings {
   // before trimming, μ and the normalization; its derivative (B's normals
   // turn with ω, and w moves with the node) is in the Jacobian.
   bool normal_distance = false;
+  // Which surfaces' nodes give residuals: both (ρ'd), or only one, e.g. the
+  // sparser one's samples against the denser interpolation
+  // (AlignOptions::axial_nodes).
+  bool reference_nodes = true;
+  bool moving_nodes = true;
 };
 
 // Residuals (and Jacobians if `jacobians`) at the state's current θ.

@@ -147,6 +147,7 @@ normal_distance: false
 slope_weight: 1.5
 gap_weight: 0.7
 density_correction: 2.5
+axial_nodes: sparser
 weights: per_point
 domain: hull
 domain_max_edge_spacings: 4.5
@@ -182,6 +183,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(o.slope_weight, 1.5);
   EXPECT_EQ(o.gap_weight, 0.7);
   EXPECT_EQ(o.density_correction, 2.5);
+  EXPECT_EQ(o.axial_nodes, AlignOptions::AxialNodes::kSparser);
   EXPECT_TRUE(c.per_point_weights);
   EXPECT_EQ(o.domain.kind, DomainKind::kHull);
   EXPECT_EQ(o.domain.max_edge_spacings, 4.5);

@@ -13,6 +13,7 @@
 
 #include "measure/surface.h"
 #include "registration/align.h"
+#include "registration/axial_cost.h"
 #include "registration/chord_bias.h"
 #include "registration/pair_state.h"
 #include "registration/ring_fit.h"
@@ -206,6 +207,62 @@ TEST(ChordBiasTest, MixedCurvatureIsLeftAlone) {
   EXPECT_LT(c.one_sign_share, kMinOneSignShare);
   EXPECT_FALSE(c.applied);
   for (std::size_t v = 0; v < b.points.size(); ++v) ASSERT_EQ(b.points[v], b0.points[v]);
+}
+
+// The axial cost at one surface's nodes only: its residuals are exactly the
+// ones it has with both, and the other's are inactive.
+TEST(AxialNodesTest, OneSidesNodesAreTheSameResiduals) {
+  const auto sides = TerrainSides(1200, 300, 10, 90);
+  PairState state(sides->reference, sides->moving);
+  ASSERT_TRUE(state.Update({0.002, -0.001, 0.003, 0.4, -0.3, 0.1}));
+  AxialSettings both, reference_only, moving_only;
+  reference_only.moving_nodes = false;
+  moving_only.reference_nodes = false;
+  AxialResiduals r_both, r_reference, r_moving;
+  ComputeAxialResiduals(state, both, true, &r_both);
+  ComputeAxialResiduals(state, reference_only, true, &r_reference);
+  ComputeAxialResiduals(state, moving_only, true, &r_moving);
+  const std::size_t na = sides->reference.xy.size();
+  ASSERT_EQ(r_both.r.size(), r_reference.r.size());
+  int64_t on_a = 0, on_b = 0;
+  for (std::size_t k = 0; k < r_both.r.size(); ++k) {
+    const bool of_a = k < na;
+    EXPECT_EQ(r_reference.active[k], of_a ? r_both.active[k] : 0) << k;
+    EXPECT_EQ(r_moving.active[k], of_a ? 0 : r_both.active[k]) << k;
+    EXPECT_EQ((of_a ? r_reference : r_moving).r[k], r_both.r[k]) << k;  // unnormalized: the same residual
+    on_a += of_a && r_both.active[k];
+    on_b += !of_a && r_both.active[k];
+  }
+  EXPECT_GT(on_a, 600);  // B covers 64% of A
+  EXPECT_GT(on_b, 200);
+  EXPECT_EQ(r_reference.active_count, on_a);
+  EXPECT_EQ(r_moving.active_count, on_b);
+}
+
+// Terrain sampled 4000 : 1000 (a known motion): the axial cost at the
+// sparser surface's samples, against the denser interpolation, beats it at
+// both surfaces' nodes, in rotation and in translation.
+TEST(AxialNodesTest, TheSparserSurfacesNodesAlignTerrainOfTwoResolutions) {
+  const auto dense = testing::SampleUniform(testing::SmoothTerrain, 4000, 0, 100, 0, 100, 51);
+  const auto sparse = testing::SampleUniform(testing::SmoothTerrain, 1000, 0, 100, 0, 100, 52);
+  const Eigen::Matrix4d truth = testing::TrueMotion({1, -2, 0.5}, 2.0, {1.5, -1.0, 0.3}, testing::Centroid(sparse));
+  const auto moved = testing::MoveByInverse(sparse, truth);
+  const Surface a = MakeSurface(dense, {}, "dense");
+  const Surface b = MakeSurface(moved, {}, "sparse");
+  AlignOptions options;
+  options.cost = CostKind::kAxial;
+  const AlignResult at_both = Align(a, b, options);
+  options.axial_nodes = AlignOptions::AxialNodes::kSparser;
+  const AlignResult at_sparser = Align(a, b, options);
+  ASSERT_EQ(at_both.verdict, Verdict::kConvergedImproved);
+  ASSERT_EQ(at_sparser.verdict, Verdict::kConvergedImproved);
+  const Eigen::Vector3d c = testing::Centroid(moved);
+  const testing::MotionError e_both = testing::CompareMotions(at_both.matrix, truth, c);
+  const testing::MotionError e_sparser = testing::CompareMotions(at_sparser.matrix, truth, c);
+  std::printf("terrain 4000 : 1000, axial: both %.3g deg / %.3g, sparser %.3g deg / %.3g\n", e_both.rotation_deg,
+              e_both.translation, e_sparser.rotation_deg, e_sparser.translation);
+  EXPECT_LT(e_sparser.rotation_deg, e_both.rotation_deg);
+  EXPECT_LT(e_sparser.translation, e_both.translation);
 }
 
 TEST(ChordBiasTest, RatiosBelowOneAreRefused) {

@@ -35,6 +35,8 @@ constexpr double kPi = 3.14159265358979323846;
 using namespace config_value;  // the value parsers shared with the terrain keys
 
 const Names<CostKind> kCosts = {{"axial", CostKind::kAxial}, {"volume", CostKind::kVolume}};
+const Names<AlignOptions::AxialNodes> kAxialNodes = {{"both", AlignOptions::AxialNodes::kBoth},
+                                                     {"sparser", AlignOptions::AxialNodes::kSparser}};
 const Names<AlignOptions::WideSearch> kWideSearches = {{"auto", AlignOptions::WideSearch::kAuto},
                                                       {"always", AlignOptions::WideSearch::kAlways},
                                                       {"never", AlignOptions::WideSearch::kNever}};
@@ -121,6 +123,10 @@ const config_table::Table<AlignConfig>& Table() {
         "volume cost: weight by f / (f + local interpolation gap), f = this x its median; 0 = off"},
        [](const Value& v, C* c) { c->options.gap_weight = Number(v, 0, 100); },
        [](const C& c) { return Text(c.options.gap_weight); }},
+      {{"axial_nodes", "one of both, sparser",
+        "axial cost: residuals at both surfaces' nodes, or only at the sparser surface's (different resolutions)"},
+       [](const Value& v, C* c) { c->options.axial_nodes = Choice(v, kAxialNodes); },
+       [](const C& c) { return NameOf(c.options.axial_nodes, kAxialNodes); }},
       {{"density_correction", "0 or a number in [1, 1e6]",
         "correct the sparser surface's chords for its curvature when its area per sample is this many times the "
         "other's; 0 = off"},
