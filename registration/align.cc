@@ -283,9 +283,13 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
       reference, moving, options, shift, motion_only ? nullptr : &measure_options,
       motion_only ? nullptr : &measure_reference);
   const Level& finest = *levels.back();
+  align_steps::ChooseSparserNodes(levels, &options);
   SolveContext context = align_steps::MakeContext(&options, finest, reference);
   AlignResult result;
   context.log = &result.log;
+  result.solve_cost = options.cost == CostKind::kVolume                             ? "volume"
+                      : options.axial_nodes == AlignOptions::AxialNodes::kSparser ? "axial at the sparser surface's nodes"
+                                                                                  : "axial";
   const std::array<double, 6> theta0 = InitialTheta(options, finest.moving.centroid, reference.origin);
   align_steps::CheckStart(finest, theta0, moving, context, &options);
   const Eigen::Vector3d centre = finest.moving.centroid;

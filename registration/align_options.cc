@@ -121,6 +121,8 @@ bool AlignOptions::IsValid(std::string* error) const {
   if (!(gap_weight >= 0 && gap_weight <= 100)) return fail("gap_weight must be in [0, 100]");
   if (!(density_correction == 0 || (density_correction >= 1 && density_correction <= 1e6)))
     return fail("density_correction must be 0 (off) or a ratio in [1, 1e6]");
+  if (!(sparser_nodes_ratio == 0 || (sparser_nodes_ratio >= 1 && sparser_nodes_ratio <= 1e6)))
+    return fail("sparser_nodes_ratio must be 0 (never) or a ratio in [1, 1e6]");
   if (!(holdout_fraction >= 0 && holdout_fraction < 0.9)) return fail("holdout must be in [0, 0.9)");
   if (stddev_subsamples < 0 || stddev_subsamples > 1000) return fail("stddev_subsamples must be in [0, 1000]");
   MeasureOptions m;

@@ -74,6 +74,9 @@ std::string AlignResult::FullReport() const {
   if (chord_correction != "none")
     Append(&out, "density:      the %s surface has %.2fx the other's area per sample: its chords corrected for curvature\n",
            chord_correction.c_str(), density_ratio);
+  if (solve_cost == "axial at the sparser surface's nodes")
+    Append(&out, "solved with:  the axial cost at the sparser surface's nodes (%.2fx the other's area per sample)\n",
+           density_ratio);
   if (holdout.done) {
     const HoldoutCheck& h = holdout;
     Append(&out, "held out:     %.0f%% of the reference's tiles (%lld samples): robust RMSE of dz %.6g -> %.6g (%s)\n",

@@ -110,6 +110,19 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
   return levels;
 }
 
+void ChooseSparserNodes(const std::vector<std::unique_ptr<Level>>& levels, AlignOptions* options) {
+  const DensityCorrection& density = levels.back()->density;
+  // A density check that ran (share > 0) and found the curvature mixed.
+  const bool mixed = density.one_sign_share > 0 && !density.applied;
+  if (options->cost != CostKind::kVolume || !(options->sparser_nodes_ratio > 0) ||
+      density.ratio < options->sparser_nodes_ratio || !mixed || options->weight == WeightMode::kPerPoint) {
+    return;
+  }
+  options->cost = CostKind::kAxial;
+  options->axial_nodes = AlignOptions::AxialNodes::kSparser;
+  for (const auto& level : levels) level->reference.weight.clear();  // the slope and gap weights
+}
+
 SolveContext MakeContext(const AlignOptions* options, const Level& finest, const Surface& reference) {
   SolveContext context;
   context.options = options;

@@ -61,6 +61,13 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
 
 SolveContext MakeContext(const AlignOptions* options, const Level& finest, const Surface& reference);
 
+// AlignOptions::sparser_nodes_ratio: with the volume cost, surfaces of
+// different densities whose curvature changes sign (the finest level's
+// density check) switch `options` to the axial cost at the sparser
+// surface's nodes, and drop the volume cost's slope and gap weights from
+// the levels (per-point weights: nothing changes).
+void ChooseSparserNodes(const std::vector<std::unique_ptr<Level>>& levels, AlignOptions* options);
+
 // The start must not fold the moving surface; the axial cost's automatic
 // loss scale is taken there.
 void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const Surface& moving,

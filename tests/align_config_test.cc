@@ -147,6 +147,7 @@ normal_distance: false
 slope_weight: 1.5
 gap_weight: 0.7
 density_correction: 2.5
+sparser_nodes_ratio: 3.5
 axial_nodes: sparser
 weights: per_point
 domain: hull
@@ -183,6 +184,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(o.slope_weight, 1.5);
   EXPECT_EQ(o.gap_weight, 0.7);
   EXPECT_EQ(o.density_correction, 2.5);
+  EXPECT_EQ(o.sparser_nodes_ratio, 3.5);
   EXPECT_EQ(o.axial_nodes, AlignOptions::AxialNodes::kSparser);
   EXPECT_TRUE(c.per_point_weights);
   EXPECT_EQ(o.domain.kind, DomainKind::kHull);

@@ -180,6 +180,9 @@ TEST(ChordBiasTest, AlignOfAFacePairSampledFourToOne) {
   ASSERT_EQ(corrected.verdict, Verdict::kConvergedImproved);
   EXPECT_EQ(plain.chord_correction, "none");
   EXPECT_EQ(corrected.chord_correction, "moving");
+  // Curved one way: the volume cost stays (sparser_nodes_ratio is for terrain).
+  EXPECT_EQ(corrected.solve_cost, "volume");
+  EXPECT_EQ(plain.solve_cost, "volume");
   EXPECT_NEAR(corrected.density_ratio, 4.0, 0.6);
   const Eigen::Vector3d c = testing::Centroid(testing::MoveByInverse(sparse, truth));
   const Eigen::Vector4d centre(c.x(), c.y(), c.z(), 1.0);
@@ -263,6 +266,23 @@ TEST(AxialNodesTest, TheSparserSurfacesNodesAlignTerrainOfTwoResolutions) {
               e_both.translation, e_sparser.rotation_deg, e_sparser.translation);
   EXPECT_LT(e_sparser.rotation_deg, e_both.rotation_deg);
   EXPECT_LT(e_sparser.translation, e_both.translation);
+  EXPECT_EQ(at_sparser.solve_cost, "axial at the sparser surface's nodes");
+  EXPECT_EQ(at_both.solve_cost, "axial");
+
+  // The default (volume cost) chooses the same for terrain 4 : 1, mixed
+  // curvature: the same motion as asked for explicitly.
+  const AlignResult automatic = Align(a, b);
+  EXPECT_EQ(automatic.solve_cost, "axial at the sparser surface's nodes");
+  EXPECT_GT(automatic.density_ratio, 3.5);
+  EXPECT_TRUE((automatic.matrix - at_sparser.matrix).cwiseAbs().maxCoeff() < 1e-12)
+      << automatic.matrix << "\n" << at_sparser.matrix;
+  AlignOptions never;
+  never.sparser_nodes_ratio = 0;
+  const AlignResult volume = Align(a, b, never);
+  EXPECT_EQ(volume.solve_cost, "volume");
+  AlignOptions above;
+  above.sparser_nodes_ratio = 1.1 * automatic.density_ratio;
+  EXPECT_EQ(Align(a, b, above).solve_cost, "volume");
 }
 
 TEST(ChordBiasTest, RatiosBelowOneAreRefused) {
@@ -274,6 +294,11 @@ TEST(ChordBiasTest, RatiosBelowOneAreRefused) {
   options.density_correction = 0;
   EXPECT_TRUE(options.IsValid(&error)) << error;
   options.density_correction = 1;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+  options.sparser_nodes_ratio = 0.9;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("sparser_nodes_ratio"), std::string::npos) << error;
+  options.sparser_nodes_ratio = 0;
   EXPECT_TRUE(options.IsValid(&error)) << error;
 }
 

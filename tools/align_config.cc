@@ -136,6 +136,15 @@ const config_table::Table<AlignConfig>& Table() {
          c->options.density_correction = r;
        },
        [](const C& c) { return Text(c.options.density_correction); }},
+      {{"sparser_nodes_ratio", "0 or a number in [1, 1e6]",
+        "cost volume: surfaces this many times apart in area per sample, of mixed curvature (terrain), are solved "
+        "with the axial cost at the sparser one's nodes; 0 = never"},
+       [](const Value& v, C* c) {
+         const double r = Number(v, 0, 1e6);
+         if (r != 0 && r < 1) Reject(v);
+         c->options.sparser_nodes_ratio = r;
+       },
+       [](const C& c) { return Text(c.options.sparser_nodes_ratio); }},
       {{"free", "a list of rx, ry, rz, tx, ty, tz, rotation, translation, all",
         "the parameters the solver may change (the others keep their initial value)"},
        [](const Value& v, C* c) { c->options.free = FreeParameters(v); },

@@ -42,6 +42,7 @@ DEFINE_string(normal_distance, "", "align, jaw: weight gaps by cos(slope) (true 
 DEFINE_string(slope_weight, "", "align: volume cost weighted by cos(reference slope)^this (0 = off)");
 DEFINE_string(axial_nodes, "", "align: axial cost residuals at both surfaces' nodes or only the sparser one's (both | sparser)");
 DEFINE_string(density_correction, "", "align: correct the sparser surface's chords when its area per sample is this many times the other's (0 = off)");
+DEFINE_string(sparser_nodes_ratio, "", "align: solve surfaces this many times apart in area per sample (terrain) with the axial cost at the sparser one's nodes (0 = never)");
 DEFINE_string(gap_weight, "", "align: volume cost weighted by f / (f + local interpolation gap), f = this x its median (0 = off)");
 DEFINE_string(free, "", "align: free parameters, e.g. all, translation, rotation,tz, rx,ry,tz");
 DEFINE_string(levels, "", "align: coarse-to-fine levels");

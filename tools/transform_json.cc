@@ -78,6 +78,7 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r,
       .Number("sampling_gap", r.sampling_gap)
       .Number("density_ratio", r.density_ratio)
       .String("chord_correction", r.chord_correction)
+      .String("solve_cost", r.solve_cost)
       .Int("iterations", r.iterations)
       .String("termination", r.termination)
       .Fixed("seconds", r.seconds, 6)
