@@ -1,7 +1,7 @@
 // The `surfreg align` settings (tools/align_config.h): every key from YAML
-// and from flags, precedence, each class of error message, the shipped
-// configs and the key reference's defaults (docs/align.md); and the writers
-// it uses (tools/io/surface_writer.h, tools/atomic_file.h).
+// and from flags, precedence, each class of error message; and the writers
+// it uses (tools/io/surface_writer.h, tools/atomic_file.h). The shipped
+// configs and the key reference: align_config_docs_test.cc.
 #include "tools/align_config.h"
 
 #include <dirent.h>
