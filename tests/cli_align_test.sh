@@ -221,7 +221,7 @@ r = load('$tmp/$name.json')
 keys = ['matrix', 'rotation_vector', 'quaternion', 'euler_deg', 'translation', 'stddev', 'before',
         'after', 'iterations', 'termination', 'seconds', 'verdict', 'verdict_reason', 'centre',
         'observability', 'constrained', 'condition_number', 'folded_triangles', 'cost',
-        'reference', 'moving']
+        'solve_cost', 'density_ratio', 'chord_correction', 'reference', 'moving']
 missing = [k for k in keys if k not in r]
 missing += [s + '.' + k for s in ('before', 'after') for k in ('rho_d', 'rho_d_axial',
             'mean_abs_dz', 'overlap_area', 'overlap_fraction', 'n_overlap_nodes') if k not in r[s]]
@@ -230,6 +230,7 @@ assert not missing, missing
 assert r['verdict'] == 'converged_improved', (r['verdict'], r['verdict_reason'])
 assert r['after']['mean_abs_dz'] < r['before']['mean_abs_dz'], (r['before'], r['after'])
 assert r['moving'] == '$moving', r['moving']
+assert r['solve_cost'] == 'volume', r['solve_cost']  # equal densities (faces would keep it anyway)
 assert r['stddev_source'].startswith('sandwich over '), r['stddev_source']  # the volume cost's default
 points = [tuple(map(float, l.split()[:3])) for l in open('$moving') if l.strip() and not l.startswith('#')]
 xs, ys = [p[0] for p in points], [p[1] for p in points]
@@ -295,6 +296,32 @@ assert r['free'] == ['tx', 'ty', 'tz'] and r['rotation_vector'] == [0, 0, 0], r[
 assert r['stddev']['rx'] == 0, r['stddev']
 n = sum(1 for l in open('$tmp/t.xyz') if l.strip() and not l.startswith('#'))
 assert n == 4000, n
+"
+fi
+
+# Terrain of two resolutions: a quarter of the moving cloud (1000 points
+# against the 5307-node grid) is solved with the axial cost at its nodes.
+awk '/^#/ || NR % 4 == 0' "$mov" >"$tmp/quarter.xyz"
+run align "$ref" "$tmp/quarter.xyz" --output="$tmp/quarter.json"
+if [[ $rc -ne 0 ]]; then
+  fail "align REF QUARTER: expected exit 0"
+else
+  grep -q "^solved with:  the axial cost at the sparser surface's nodes" "$tmp/stdout" ||
+    fail "align REF QUARTER: no 'solved with:' line in the summary"
+  check "two resolutions: the sparser nodes' cost, known motion recovered" "
+r = load('$tmp/quarter.json')
+assert r['cost'] == 'volume' and r['solve_cost'] == \"axial at the sparser surface's nodes\", r['solve_cost']
+assert r['density_ratio'] > 4, r['density_ratio']
+assert r['verdict'] == 'converged_improved', (r['verdict'], r['verdict_reason'])
+angle, shift = motion_error(r['matrix'], expected('$tmp/quarter.xyz'), [(0, 0, 100), (860, 600, 100)])
+print('  quarter: rotation off by %.5f deg, points off by %.3g' % (angle, shift))
+assert angle < 0.05 and shift < 1.0, (angle, shift)
+"
+  run align "$ref" "$tmp/quarter.xyz" --sparser_nodes_ratio=0 --json
+  cp "$tmp/stdout" "$tmp/quarter0.json"
+  check "sparser_nodes_ratio=0 keeps the volume cost" "
+r = load('$tmp/quarter0.json')
+assert r['solve_cost'] == 'volume', r['solve_cost']
 "
 fi
 
