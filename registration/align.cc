@@ -13,6 +13,7 @@
 
 #include "measure/input_error.h"
 #include "measure/weights.h"
+#include "registration/align_stable.h"
 #include "registration/align_steps.h"
 #include "registration/gap_weight.h"
 #include "registration/pair_state.h"
@@ -314,6 +315,8 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
     const std::array<double, 6> theta = starts.have_best ? starts.best.theta : theta0;
     for (int k = 0; k < 3; ++k) result.rotation_vector[k] = theta[k], result.translation[k] = theta[3 + k];
     result.verdict = starts.have_best && starts.best.converged ? Verdict::kConvergedImproved : Verdict::kFailed;
+    result.reference_from_moving = RigidOfTheta(theta, centre, reference.origin);
+    result.matrix = result.reference_from_moving.ToMatrix();
     return result;
   }
   result.before = before.get();
@@ -405,7 +408,12 @@ void SubsampleStddev(const Surface& reference, const Surface& moving, const Alig
 
 }  // namespace
 
+AlignResult AlignMotionOnly(const Surface& reference, const Surface& moving, const AlignOptions& options) {
+  return AlignFrom(reference, moving, options, /*motion_only=*/true);
+}
+
 AlignResult Align(const Surface& reference, const Surface& moving, const AlignOptions& options) {
+  if (options.stable.mode == StableOptions::Mode::kAuto) return AlignOnStableTerrain(reference, moving, options);
   if (options.stddev_subsamples > 0) {
     AlignOptions main = options;
     main.stddev_subsamples = 0;

@@ -29,6 +29,7 @@
 #include "measure/surface.h"
 #include "registration/holdout.h"
 #include "registration/rigid_motion.h"
+#include "registration/stable_terrain.h"
 
 namespace surfreg {
 
@@ -173,6 +174,15 @@ struct AlignOptions {
   WeightMode weight = WeightMode::kUniform;
   std::vector<MaskRing> mask;
   MaskMode mask_mode = MaskMode::kInclude;
+  // Stable terrain (registration/stable_terrain.h): with kAuto (the
+  // default) Align fits, classifies the reference's samples into stable and
+  // changed by their gaps, fits again on the stable ones, until the set
+  // settles; then solves once more from the start on that set, so the
+  // result (verdict, σ) is that of an alignment on the stable terrain. The
+  // user's μ still applies: the stable set is inside it (a mask becomes its
+  // samples' membership, per point). AlignResult::stable says what was left
+  // out. kAll: the whole overlap (under μ).
+  StableOptions stable;
   // Moving triangles that turn over in projection under a tilt: up to this
   // share of the moving surface's area they are slivers standing nearly
   // vertical, and the moving surface is re-triangulated at that pose
@@ -300,6 +310,10 @@ struct AlignResult {
   // With AlignOptions::holdout_fraction > 0: the check on the held-out
   // tiles. `before` / `after` above are then the fitted part's measures.
   HoldoutCheck holdout;
+  // With AlignOptions::stable auto: the reference's samples as stable,
+  // changed or outside the overlap, and the rounds it took. `before` and
+  // `after` are then measured on the stable part.
+  StableTerrain stable;
   double seconds = 0;
   std::string stddev_source;  // how `stddev` was estimated (e.g. "sandwich over 64 tiles")
   double covariance_seconds = 0;  // of `seconds`: observability and standard deviations
@@ -309,8 +323,9 @@ struct AlignResult {
   // one line (verdict, rotation angle, centroid shift, mean |dz| before ->
   // after, time). FullReport: what `surfreg align` prints, one item per
   // line: verdict (and why), rotation, Euler angles, translation, standard
-  // deviations and 95% intervals, ρ'd, mean |dz|, overlap, the held-out
-  // check (if any), iterations, time; every line ends in a newline.
+  // deviations and 95% intervals, ρ'd, mean |dz|, overlap, the stable
+  // terrain (stable auto; and a warning if any), the held-out check (if
+  // any), iterations, time; every line ends in a newline.
   std::string BriefReport() const;
   std::string FullReport() const;
 };

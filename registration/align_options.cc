@@ -124,6 +124,12 @@ bool AlignOptions::IsValid(std::string* error) const {
   if (!(sparser_nodes_ratio == 0 || (sparser_nodes_ratio >= 1 && sparser_nodes_ratio <= 1e6)))
     return fail("sparser_nodes_ratio must be 0 (never) or a ratio in [1, 1e6]");
   if (!(holdout_fraction >= 0 && holdout_fraction < 0.9)) return fail("holdout must be in [0, 0.9)");
+  if (!(stable.grow_sigmas > 0 && stable.seed_sigmas >= stable.grow_sigmas && std::isfinite(stable.seed_sigmas))) {
+    return fail("stable_sigmas must be finite and at least stable_grow_sigmas, which must be > 0");
+  }
+  if (stable.min_region_samples < 1 || stable.margin_rings < 0 || stable.max_rounds < 1) {
+    return fail("stable terrain: min_region_samples and max_rounds must be >= 1, margin_rings >= 0");
+  }
   if (stddev_subsamples < 0 || stddev_subsamples > 1000) return fail("stddev_subsamples must be in [0, 1000]");
   MeasureOptions m;
   m.weight = weight;

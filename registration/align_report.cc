@@ -77,6 +77,12 @@ std::string AlignResult::FullReport() const {
   if (solve_cost == "axial at the sparser surface's nodes")
     Append(&out, "solved with:  the axial cost at the sparser surface's nodes (%.2fx the other's area per sample)\n",
            density_ratio);
+  if (stable.done) {
+    Append(&out, "stable:       %.1f%% of the overlap; %d changed region%s left out (%d round%s%s); gap noise %.3g units\n",
+           100 * stable.stable_share, stable.regions, stable.regions == 1 ? "" : "s", stable.rounds,
+           stable.rounds == 1 ? "" : "s", stable.settled ? "" : ", not settled", stable.noise_sigma);
+    if (!stable.warning.empty()) Append(&out, "warning:      %s\n", stable.warning.c_str());
+  }
   if (holdout.done) {
     const HoldoutCheck& h = holdout;
     Append(&out, "held out:     %.0f%% of the reference's tiles (%lld samples): robust RMSE of dz %.6g -> %.6g (%s)\n",

@@ -172,7 +172,7 @@ TEST(AlignApiTest, ReportsNameEveryItem) {
   std::vector<std::string> keys;
   for (std::string line; std::getline(lines, line);) keys.push_back(line.substr(0, line.find(':')));
   const std::vector<std::string> want = {"verdict", "rotation", "euler", "translation", "stddev", "95% interval",
-                                         "rho'_d", "mean |dz|", "overlap", "held out", "              before",
+                                         "rho'_d", "mean |dz|", "overlap", "stable", "held out", "              before",
                                          "              after  before", "iterations", "time"};
   ASSERT_EQ(keys.size(), want.size()) << full;
   for (std::size_t k = 0; k < want.size(); ++k) {

@@ -160,6 +160,10 @@ mask_layer: slides
 max_memory: 1.5G
 tile_stats: tiles.csv
 patch_shifts: shifts.csv
+stable: all
+stable_sigmas: 5.5
+stable_grow_sigmas: 2.5
+stable_map: stable.xyz
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -243,6 +247,10 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.max_memory, "1.5G");
   EXPECT_EQ(t.tile_stats, "tiles.csv");
   EXPECT_EQ(t.patch_shifts, "shifts.csv");
+  EXPECT_EQ(o.stable.mode, StableOptions::Mode::kAll);
+  EXPECT_EQ(o.stable.seed_sigmas, 5.5);
+  EXPECT_EQ(o.stable.grow_sigmas, 2.5);
+  EXPECT_EQ(c.stable_map, "stable.xyz");
   EXPECT_EQ(c.origin.size(), AlignConfigKeys().size());
   EXPECT_EQ(c.Where("cost"), "t.yaml:4: key 'cost'");
   EXPECT_EQ(c.Where("progress"), "t.yaml:29: key 'progress'");

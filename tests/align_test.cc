@@ -377,6 +377,7 @@ TEST(AlignTest, MaskExcludesChangedRegion) {
   // The volume cost is an L1 measure: a local change barely moves its
   // minimum, with or without the mask.
   AlignOptions options;
+  options.stable.mode = StableOptions::Mode::kAll;  // the mask alone (stable_terrain_test.cc: auto)
   const MotionError volume_unmasked = AlignAndCompare(pair, options);
   const std::vector<std::array<double, 2>> stable = {{0, 0}, {100, 0}, {100, 55}, {55, 55}, {55, 100}, {0, 100}};
   options.weight = WeightMode::kMask;
@@ -386,6 +387,7 @@ TEST(AlignTest, MaskExcludesChangedRegion) {
   EXPECT_EQ(result.verdict, Verdict::kConvergedImproved) << result.verdict_reason;
   // The axial cost is least squares: the deposit pulls it unless masked.
   options = AlignOptions();
+  options.stable.mode = StableOptions::Mode::kAll;
   options.cost = CostKind::kAxial;
   const MotionError axial_unmasked = AlignAndCompare(pair, options);
   options.weight = WeightMode::kMask;
@@ -444,6 +446,7 @@ TEST(AlignTest, PerPointWeightsExcludeChangedRegion) {
   MotionError errors[3][2];  // [uniform, weighted, weighted coarse-to-fine][volume, axial]
   for (int c = 0; c < 2; ++c) {
     AlignOptions options;
+    options.stable.mode = StableOptions::Mode::kAll;  // the weights alone
     options.cost = c == 0 ? CostKind::kVolume : CostKind::kAxial;
     errors[0][c] = AlignAndCompare(pair, options);
     options.weight = WeightMode::kPerPoint;

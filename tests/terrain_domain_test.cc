@@ -135,6 +135,7 @@ class TerrainDomainTest : public ::testing::Test {
     config.reference = reference_;
     config.moving = moving_;
     config.terrain.lod = kLod;
+    config.origin["lod"] = "test's lod";  // given, not measured on the stable terrain
     config.terrain.dod = dir_.path() + (kind == DomainKind::kData ? "/dod.tif" : "/dod_hull.tif");
     config.options.domain.kind = kind;
     const TerrainInputs inputs = ReadTerrainInputs(config);

@@ -51,6 +51,8 @@ const Names<ceres::TrustRegionStrategyType> kTrustRegions = {
     {"levenberg_marquardt", ceres::LEVENBERG_MARQUARDT}, {"dogleg", ceres::DOGLEG}};
 const Names<ceres::LineSearchDirectionType> kLineSearches = {
     {"lbfgs", ceres::LBFGS}, {"bfgs", ceres::BFGS}, {"nonlinear_cg", ceres::NONLINEAR_CONJUGATE_GRADIENT}};
+const Names<StableOptions::Mode> kStableModes = {{"auto", StableOptions::Mode::kAuto},
+                                                 {"all", StableOptions::Mode::kAll}};
 const Names<bool> kWeightModes = {{"uniform", false}, {"per_point", true}};
 const Names<MaskMode> kMaskModes = {{"include", MaskMode::kInclude}, {"exclude", MaskMode::kExclude}};
 const Names<DomainKind> kDomains = {{"data", DomainKind::kData}, {"hull", DomainKind::kHull}};
@@ -238,6 +240,20 @@ const config_table::Table<AlignConfig>& Table() {
         "mu: uniform, or the reference's per-sample weights (4th .xyz column, PLY 'weight')"},
        [](const Value& v, C* c) { c->per_point_weights = Choice(v, kWeightModes); },
        [](const C& c) { return std::string(c.per_point_weights ? "per_point" : "uniform"); }},
+      {{"stable", "one of auto, all",
+        "auto: fit, exclude the regions whose gaps changed (beyond stable_sigmas robust sigmas, grown "
+        "to stable_grow_sigmas), fit again on the rest, until the set settles; all: the whole overlap. "
+        "Inside the mask or weights, if any"},
+       [](const Value& v, C* c) { c->options.stable.mode = Choice(v, kStableModes); },
+       [](const C& c) { return NameOf(c.options.stable.mode, kStableModes); }},
+      {{"stable_sigmas", "a number in [1, 100]",
+        "stable auto: a change region holds a gap this many robust sigmas from the stable median"},
+       [](const Value& v, C* c) { c->options.stable.seed_sigmas = Number(v, 1, 100); },
+       [](const C& c) { return Text(c.options.stable.seed_sigmas); }},
+      {{"stable_grow_sigmas", "a number in [0.5, 100]",
+        "stable auto: a change region grows through neighbours this many robust sigmas out, on its side"},
+       [](const Value& v, C* c) { c->options.stable.grow_sigmas = Number(v, 0.5, 100); },
+       [](const C& c) { return Text(c.options.stable.grow_sigmas); }},
       {{"domain", "one of data, hull",
         "where the surfaces are compared: data (each mesh without the triangles that bridge "
         "voids, nodata holes and concave outlines) or hull (the whole convex hulls)"},
@@ -275,6 +291,11 @@ const config_table::Table<AlignConfig>& Table() {
         "reference's grid; .las from a LAS moving file: all its points, attributes kept)"},
        [](const Value& v, C* c) { c->aligned = Path(v, false); },
        [](const C& c) { return c.aligned; }},
+      {{"stable_map", "a file name (.xyz, .txt, .csv; .tif on a raster reference's grid), or nothing",
+        "stable auto: the reference's samples flagged 1 stable, 0 changed (left out of the fit), 2 outside "
+        "the overlap; a GeoTIFF has 1, 0 and nodata"},
+       [](const Value& v, C* c) { c->stable_map = Path(v, false); },
+       [](const C& c) { return c.stable_map; }},
       {{"log", "a file name, or nothing", "per-iteration CSV"},
        [](const Value& v, C* c) { c->log = Path(v, false); },
        [](const C& c) { return c.log; }},
@@ -442,7 +463,7 @@ void FinishAlignConfig(AlignConfig* config) {
     }
   }
   for (const char* key :
-       {"output", "matrix_txt", "aligned", "log", "dod", "dod_png", "histogram_png", "change_csv", "dod_sigma",
+       {"output", "matrix_txt", "aligned", "log", "stable_map", "dod", "dod_png", "histogram_png", "change_csv", "dod_sigma",
         "dod_thresholded", "tile_stats", "patch_shifts"}) {
     const std::string path = AlignConfigValue(*config, key);
     if (path.empty()) continue;

@@ -70,6 +70,10 @@ struct AlignConfig {
   std::vector<double> initial_matrix;  // empty = none
   std::string aligned;      // the moved `moving` surface (.ply, .xyz, .txt); "" = none
   std::string log;          // per-iteration CSV; "" = none
+  // The reference's samples as stable, changed or outside the overlap
+  // (stable auto): "x y z stable" text, or a GeoTIFF on a raster
+  // reference's grid; "" = none.
+  std::string stable_map;
   bool progress = false;    // one line per solver iteration on stderr
   // How both inputs are read (ReadOptions, tools/io/surface_reader.h).
   std::vector<int> classes;          // LAS classifications kept; empty = all

@@ -1,7 +1,10 @@
 #include "tools/align_run.h"
 
+#include <cmath>
 #include <cstdio>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
@@ -17,6 +20,37 @@
 
 namespace surfreg {
 namespace {
+
+// AlignConfig::stable_map: the reference's samples with their StableFlag.
+void WriteStableMap(const AlignConfig& config, const TerrainInputs& inputs, const AlignResult& result) {
+  const Surface& reference = inputs.reference;
+  const std::string where = config.Where("stable_map");
+  std::vector<uint8_t> flag = result.stable.flag;
+  if (flag.size() != reference.size()) flag.assign(reference.size(), kStableSample);  // stable all: everything used
+  if (IsGeoTiffPath(config.stable_map)) {
+    if (!inputs.reference_is_raster) {
+      throw InputError(where + ": a GeoTIFF is on the reference's grid, but the reference is no raster; "
+                       "write .xyz instead");
+    }
+    Raster map = inputs.reference_grid;
+    map.values.assign(static_cast<std::size_t>(map.columns) * map.rows, std::nan(""));
+    for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
+      if (flag[i] != kOutsideOverlap) map.values[inputs.reference_cells[i]] = flag[i] == kStableSample ? 1.0 : 0.0;
+    }
+    WriteGeoTiff(config.stable_map, map, where);
+    return;
+  }
+  std::string text = "# x y z stable (1 stable, 0 changed: left out of the fit, 2 outside the overlap); " +
+                     std::to_string(result.stable.changed_samples) + " changed of " +
+                     std::to_string(result.stable.changed_samples + result.stable.stable_samples) + "\n";
+  char line[160];
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    std::snprintf(line, sizeof line, "%.10g %.10g %.10g %d\n", reference.xy[i].x + reference.origin[0],
+                  reference.xy[i].y + reference.origin[1], reference.z[i] + reference.origin[2], flag[i]);
+    text += line;
+  }
+  WriteFileAtomically(config.stable_map, text, where);
+}
 
 std::string LogCsv(const std::vector<AlignOptions::Iteration>& log) {
   std::string csv = "level,start,cost_kind,iteration,cost,step_norm,gradient_norm,seconds\n";
@@ -203,6 +237,7 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     WriteSurface(config.aligned, TransformSurface(inputs.moving, result.matrix),
                  config.Where("aligned"), AlignedComments(config, result, inputs.frame));
   }
+  if (!config.stable_map.empty()) WriteStableMap(config, inputs, result);
   if (!config.log.empty()) {
     WriteFileAtomically(config.log, LogCsv(result.log.empty() ? seen : result.log),
                         config.Where("log"));

@@ -71,6 +71,9 @@ DEFINE_string(domain_min_thinness, "",
 DEFINE_bool(covariance, true, "align: compute the parameters' standard deviations");
 DEFINE_string(stddev, "", "align: standard deviations of the motion: sandwich | information");
 DEFINE_string(stddev_subsamples, "", "align: standard deviations from this many block half-sample alignments (0: as --stddev says)");
+DEFINE_string(stable, "", "align: auto (find the stable terrain, fit on it) | all (the whole overlap)");
+DEFINE_string(stable_sigmas, "", "align: stable auto: robust sigmas from the stable median that seed a change region");
+DEFINE_string(stable_grow_sigmas, "", "align: stable auto: robust sigmas a change region grows through");
 DEFINE_string(holdout, "", "align: fit on the reference less this share of its tiles; report dz there before/after");
 DEFINE_string(holdout_seed, "", "align: which tiles are held out (integer seed)");
 DEFINE_string(holdout_verdict, "", "align: converged_improved only if the held-out tiles improved too (true | false)");
@@ -78,6 +81,7 @@ DEFINE_string(threads, "", "align: threads");
 DEFINE_string(output, "", "align: write the transform JSON here");
 DEFINE_string(matrix_txt, "", "align: write the moving->reference 4x4 matrix here as text");
 DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, .xyz, .txt; .tif: on a raster reference's grid)");
+DEFINE_string(stable_map, "", "align: write the reference's samples flagged stable (1), changed (0) or outside (2) here (.xyz; .tif on a raster reference's grid)");
 DEFINE_string(log, "", "align: write a per-iteration CSV here");
 DEFINE_bool(progress, false, "align: print a line per solver iteration on stderr");
 // Terrain keys (tools/align_config_terrain.cc).

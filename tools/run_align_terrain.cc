@@ -16,7 +16,8 @@ std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in
       .Number("dh_m", o.dh_m);
   const MeasureSummary& a = r.after;
   JsonObject change = DetectedChangeJson(a);
-  change.Number("overlap_area", a.overlap_area)
+  change.String("level_of_detection_source", r.lod_source)
+      .Number("overlap_area", a.overlap_area)
       .String("domain", DomainKindName(a.domain_kind))
       .Number("excluded_area_reference", a.excluded_area_a)
       .Number("excluded_area_moving", a.excluded_area_b);

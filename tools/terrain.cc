@@ -272,21 +272,18 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
                              const AlignResult& result) {
   MeasureOptions options;
   options.detect_change = true;
-  options.level_of_detection = config.terrain.lod;
   options.keep_node_gaps = true;
   options.parallel = config.options.num_threads > 1;
   options.domain = config.options.domain;  // everything over Ω: dz, the DoD, cut/fill
   TerrainReport report;
-  report.before = Measure(in.reference, in.moving, options);
+  report.lod = config.terrain.lod;
+  report.lod_source = config.origin.count("lod") != 0 ? "lod" : "none";
+  options.level_of_detection = report.lod;
   const Surface moved = TransformSurface(in.moving, result.matrix);  // keeps a raster's cells
   report.after = Measure(in.reference, moved, options);
-  report.uncertainty = AnalyseChangeUncertainty(config, in.reference, moved, in.sigma_reference,
-                                                in.sigma_moving, report.after, options);
-  AddRegistrationUncertainty(in.reference, in.moving, result.rotation_vector, result.translation, result.centre,
-                             result.covariance, report.after, options, &report.uncertainty);
 
   // Stable terrain: the mask of the registration (frame coordinates, with
-  // its mode), or all.
+  // its mode), or all; and of that, what stable auto found stable.
   report.stable.assign(in.reference.size(), true);
   if (config.options.weight == WeightMode::kMask && !config.options.mask.empty()) {
     const MaskRegion mask =
@@ -303,8 +300,26 @@ TerrainReport AnalyseTerrain(const AlignConfig& config, const TerrainInputs& in,
       report.stable[i] = in.reference.weight[i] > 0.5;
     }
   }
-  report.stable_before = ComputeDzStatistics(report.before.dz_a, report.stable);
+  if (result.stable.done && result.stable.flag.size() == in.reference.size()) {
+    for (std::size_t i = 0; i < in.reference.size(); ++i) {
+      report.stable[i] = report.stable[i] && result.stable.flag[i] != kChangedSample;
+    }
+  }
   report.stable_after = ComputeDzStatistics(report.after.dz_a, report.stable);
+  // No level of detection given: the stable terrain's own noise sets it.
+  if (config.origin.count("lod") == 0 && !(config.terrain.lod_confidence > 0) && report.stable_after.count > 0 &&
+      report.stable_after.nmad > 0) {
+    report.lod = kAutoLodSigmas * report.stable_after.nmad;
+    report.lod_source = "1.96 x NMAD of dz on stable terrain";
+    options.level_of_detection = report.lod;
+    report.after = Measure(in.reference, moved, options);
+  }
+  report.before = Measure(in.reference, in.moving, options);
+  report.uncertainty = AnalyseChangeUncertainty(config, in.reference, moved, in.sigma_reference,
+                                                in.sigma_moving, report.after, options);
+  AddRegistrationUncertainty(in.reference, in.moving, result.rotation_vector, result.translation, result.centre,
+                             result.covariance, report.after, options, &report.uncertainty);
+  report.stable_before = ComputeDzStatistics(report.before.dz_a, report.stable);
   report.spacing = in.cell_size > 0
                        ? in.cell_size
                        : std::sqrt(report.before.hull_area_a /
@@ -363,7 +378,7 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
     Raster sigma = dod, thresholded = dod;
     for (std::size_t i = 0; i < in.reference_cells.size(); ++i) {
       const double dz = report.after.dz_a[i];
-      const double limit = u.active ? u.threshold[i] : config.terrain.lod;
+      const double limit = u.active ? u.threshold[i] : report.lod;
       sigma.values[in.reference_cells[i]] = u.active ? u.sigma_dod[i] : std::nan("");
       thresholded.values[in.reference_cells[i]] = std::isfinite(dz) && std::fabs(dz) <= limit ? 0.0 : dz;
     }
@@ -378,10 +393,10 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
     field.rows = dod.rows;
     field.values = dod.values;
     // With a detection threshold, change within it is drawn as none (white).
-    const bool thresholded = u.active || config.terrain.lod > 0;
+    const bool thresholded = u.active || report.lod > 0;
     for (std::size_t i = 0; thresholded && i < in.reference_cells.size(); ++i) {
       const double dz = report.after.dz_a[i];
-      const double limit = u.active ? u.threshold[i] : config.terrain.lod;
+      const double limit = u.active ? u.threshold[i] : report.lod;
       if (std::isfinite(dz) && std::fabs(dz) <= limit) field.values[in.reference_cells[i]] = 0.0;
     }
     const auto& g = dod.geotransform;
@@ -411,7 +426,7 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
                     "reference samples"};
     ChartStyle style;
     // The detection threshold (its median where it varies), dashed.
-    const double limit = u.active ? u.budget.threshold_median : t.lod;
+    const double limit = u.active ? u.budget.threshold_median : report.lod;
     if (limit > 0) {
       style.x_marks = {-limit, limit};
       text.title += ", change beyond the dashed threshold";
@@ -435,7 +450,7 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
 std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& in,
                            const TerrainReport& r) {
   const MeasureSummary& a = r.after;
-  const double lod = config.terrain.lod;
+  const double lod = r.lod;
   const std::string cube = Units(in) == "m" ? "m^3" : "units^3", square = Units(in) == "m" ? "m^2" : "units^2";
   std::string text = "frame:        " + in.frame.Describe() + "\n";
   const GeographicOffset& o = r.offset;
@@ -454,15 +469,28 @@ std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& in,
   }
   text += "dz stable:    before " + DzStatisticsLine(r.stable_before, "") + "\n";
   text += "              after  " + DzStatisticsLine(r.stable_after, "") + "\n";
-  text += "cut/fill:     fill " + Number(a.fill_detected) + ", cut " + Number(a.cut_detected) +
-          ", net " + Number(a.fill_detected - a.cut_detected) + " " + cube;
-  if (lod > 0) {
-    text += " (|dz| > " + Number(lod) + ": +/- " + Number(lod * a.fill_area) + " / " +
-            Number(lod * a.cut_area) + ")";
+  // One cut/fill: with the DEMs' σ, the cellwise budget thresholded by
+  // them (its figures with their uncertainty); otherwise the overlay's
+  // beyond the level of detection. The JSON holds both (docs/terrain.md).
+  if (r.uncertainty.active) {
+    text += ChangeUncertaintySummary(config, r.uncertainty, Units(in));
+  } else {
+    text += "lod:          ";
+    if (r.lod_source == "none") {
+      text += "none (no stable terrain to measure the noise on): every gap counts as change";
+    } else {
+      text += Number(lod) + " " + Units(in) +
+              (r.lod_source == "lod" ? " (key lod)" : " (" + r.lod_source + "; key lod sets it)");
+    }
+    text += "\ncut/fill:     fill " + Number(a.fill_detected) + ", cut " + Number(a.cut_detected) +
+            ", net " + Number(a.fill_detected - a.cut_detected) + " " + cube;
+    if (lod > 0) {
+      text += " (|dz| > " + Number(lod) + ": +/- " + Number(lod * a.fill_area) + " / " +
+              Number(lod * a.cut_area) + ")";
+    }
+    text += "\n              over areas of gain " + Number(a.fill_area) + " and loss " +
+            Number(a.cut_area) + " " + square + " (overlap " + Number(a.overlap_area) + ")";
   }
-  text += "\n              over areas of gain " + Number(a.fill_area) + " and loss " +
-          Number(a.cut_area) + " " + square + " (overlap " + Number(a.overlap_area) + ")";
-  if (r.uncertainty.active) text += "\n" + ChangeUncertaintySummary(config, r.uncertainty, Units(in));
   text += std::string("\ndomain:       ") + DomainKindName(a.domain_kind) +
           " (left out of the hulls: reference " + Number(a.excluded_area_a) + ", moving " +
           Number(a.excluded_area_b) + " " + square + ")";

@@ -65,7 +65,9 @@ void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const
 
 struct TerrainReport {
   MeasureSummary before, after;     // with change detection and node gaps
-  std::vector<bool> stable;         // per reference sample: inside the mask (all if none)
+  // Per reference sample: inside the mask (all if none) and, with stable
+  // auto, on the stable terrain the alignment found.
+  std::vector<bool> stable;
   DzStatistics stable_before, stable_after;
   GeographicOffset offset;          // the moving centroid's shift on the ground
   double spacing = 0;               // cell size, or mean sample spacing sqrt(area / n)
@@ -73,7 +75,14 @@ struct TerrainReport {
   double rotation_error_deg = 0, translation_error = 0;  // at the moving centroid
   std::array<double, 3> known_translation = {0, 0, 0};   // the truth's shift of the centroid
   ChangeUncertainty uncertainty;    // with sigma_reference / sigma_moving
+  // The level of detection of cut/fill and where it came from: the key
+  // `lod`, or when that is not given (and no lod_confidence),
+  // kAutoLodSigmas × the NMAD of dz on the stable terrain after the
+  // alignment (the DoD's own noise there; 1.96: 95% for Gaussian dz).
+  double lod = 0;
+  std::string lod_source;
 };
+inline constexpr double kAutoLodSigmas = 1.96;
 
 // The error of `matrix` against config.terrain.known_matrix (16 numbers,
 // moving -> reference): the angle of the rotations' difference, and the

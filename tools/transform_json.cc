@@ -93,6 +93,23 @@ std::string TransformJson(const AlignConfig& config, const AlignResult& r,
       .Raw("free", JsonArray(free))
       .String("reference", config.reference)
       .String("moving", config.moving);
+  if (r.stable.done) {
+    const StableTerrain& st = r.stable;
+    JsonObject stable;
+    stable.String("mode", "auto")
+        .Number("stable_share", st.stable_share)
+        .Int("stable_samples", st.stable_samples)
+        .Int("changed_samples", st.changed_samples)
+        .Int("regions", st.regions)
+        .Int("rounds", st.rounds)
+        .Raw("settled", st.settled ? "true" : "false")
+        .Number("centre", st.centre)
+        .Number("noise_sigma", st.noise_sigma)
+        .String("warning", st.warning);
+    json.Object("stable", stable);
+  } else {
+    json.Object("stable", JsonObject().String("mode", "all"));
+  }
   if (r.holdout.done) {
     const HoldoutCheck& h = r.holdout;
     JsonObject holdout;

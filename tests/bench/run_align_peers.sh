@@ -2,8 +2,14 @@
 # Registration accuracy of `surfreg align` against Open3D point-to-plane ICP
 # and generalized ICP on the same pairs from the same start; prints Markdown.
 #
-#   tests/bench/run_align_peers.sh [--out DIR] [--surfreg BIN] [--seeds N]
+#   tests/bench/run_align_peers.sh [--changed] [--out DIR] [--surfreg BIN] [--seeds N]
 #                                  [--keep-pairs] [extra run_peers.py flags...]
+#
+# --changed: the changed pairs of align_peers/make_changed_pairs.py instead
+# (terrain that changed between the surveys, a face whose jaw moved), with
+# surfreg's default, --stable=all and the oracle beside the peers, and
+# DIR/changed_summary.md (align_peers/changed_summary.py; DIR defaults to
+# build/bench-results/changed_peers, N to 4).
 #
 # Installs the missing Debian packages (python3-numpy, -scipy, -open3d; the
 # build dependencies too when it builds), builds surfreg into ./build unless
@@ -15,21 +21,33 @@ set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 here=$root/tests/bench/align_peers
-out_dir=$root/build/bench-results/align_peers
+out_dir=""
 surfreg=""
-seeds=3
+seeds=""
 keep=0
+changed=0
 extra=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
+    --changed) changed=1; shift ;;
     --out) out_dir=$2; shift 2 ;;
     --surfreg) surfreg=$2; shift 2 ;;
     --seeds) seeds=$2; shift 2 ;;
     --keep-pairs) keep=1; shift ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) extra+=("$1"); shift ;;
   esac
 done
+if [[ $changed -eq 1 ]]; then
+  out_dir=${out_dir:-$root/build/bench-results/changed_peers}
+  seeds=${seeds:-4}
+  make_pairs=(make_changed_pairs.py)
+  extra=(--methods surfreg,surfreg_all,surfreg_oracle,icp_plane,gicp "${extra[@]}")
+else
+  out_dir=${out_dir:-$root/build/bench-results/align_peers}
+  seeds=${seeds:-3}
+  make_pairs=(make_pairs.py)
+fi
 
 # Debian's python3 (with the Debian numpy/scipy/open3d), not a pyenv/venv one
 # that may come first on PATH.
@@ -79,9 +97,12 @@ mkdir -p "$out_dir"
 start=$(date +%s)
 
 echo "== making pairs ($seeds seeds per family and variant)" >&2
-"$py" "$here/make_pairs.py" --data "$root/configs/data" --out "$pairs" --seeds "$seeds" >"$out_dir/pairs.log"
+"$py" "$here/${make_pairs[0]}" --data "$root/configs/data" --out "$pairs" --seeds "$seeds" >"$out_dir/pairs.log"
 echo "== running surfreg and the peers (progress below; pairs listed in $out_dir/pairs.log)" >&2
 "$py" "$here/run_peers.py" --pairs "$pairs" --out "$out_dir" --surfreg "$surfreg" "${extra[@]}"
+if [[ $changed -eq 1 ]]; then
+  "$py" "$here/changed_summary.py" "$out_dir/align_peers.csv" --out "$out_dir/changed_summary.md"
+fi
 
 if [[ $keep -eq 1 ]]; then
   rm -rf "$out_dir/pairs"

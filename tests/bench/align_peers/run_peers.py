@@ -3,6 +3,13 @@
 ICP on the pairs of make_pairs.py, all from the same start (identity).
 
     run_peers.py --pairs DIR --out DIR [--surfreg BIN] [--methods surfreg,icp_plane,gicp]
+                 [--surfreg_args="--cost=axial ..."]
+
+Methods: surfreg, icp_plane, gicp (the default) and, for changed pairs
+(make_changed_pairs.py), surfreg_all (surfreg with --stable=all: every
+sample counts, the behaviour before automatic stable-terrain detection) and
+surfreg_oracle (reference_stable.xyz, the true stable part as per-point
+weights, with --stable=all). --surfreg_args go to every surfreg run.
 
 Writes DIR/align_peers.csv (one row per pair x method) and DIR/align_peers.md
 (the Markdown tables, also printed). See tests/bench/README.md.
@@ -14,6 +21,7 @@ import math
 import concurrent.futures
 import multiprocessing
 import os
+import shlex
 import subprocess
 import sys
 import time
@@ -22,8 +30,11 @@ import numpy as np
 import open3d as o3d
 
 REG = o3d.pipelines.registration
-METHODS = ["surfreg", "icp_plane", "gicp"]
+METHODS = ["surfreg", "icp_plane", "gicp"]  # the default --methods
+SURFREG_METHODS = ["surfreg", "surfreg_all", "surfreg_oracle"]
 LABELS = {"surfreg": "surfreg align (defaults)",
+          "surfreg_all": "surfreg align --stable=all",
+          "surfreg_oracle": "surfreg align, true stable part as weights",
           "icp_plane": "Open3D ICP point-to-plane",
           "gicp": "Open3D generalized ICP"}
 # Peers' setup, in sample spacings: normals / covariances from the neighbours
@@ -76,13 +87,21 @@ def parse_json_output(text):
     return json.JSONDecoder().raw_decode(text[start:])[0]
 
 
-def run_surfreg(binary, ref_path, mov_path, timeout):
+class SurfregError(RuntimeError):
+    """A failed surfreg run; keeps its stderr."""
+
+    def __init__(self, message, stderr):
+        super().__init__(message)
+        self.stderr = stderr
+
+
+def run_surfreg(binary, ref_path, mov_path, timeout, extra=()):
     t0 = time.perf_counter()
-    p = subprocess.run([binary, "align", ref_path, mov_path, "--json"],
+    p = subprocess.run([binary, "align", ref_path, mov_path, "--json", *extra],
                        capture_output=True, text=True, timeout=timeout)
     wall = time.perf_counter() - t0
     if p.returncode != 0:
-        raise RuntimeError(f"exit {p.returncode}: {p.stderr.strip().splitlines()[-1:] or ''}")
+        raise SurfregError(f"exit {p.returncode}: {p.stderr.strip().splitlines()[-1:] or ''}", p.stderr)
     out = parse_json_output(p.stdout)
     m = np.array(out["matrix"], dtype=float).reshape(4, 4)
     secs = out.get("seconds")
@@ -92,6 +111,28 @@ def run_surfreg(binary, ref_path, mov_path, timeout):
     if out.get("verdict_reason"):
         note += f" ({out['verdict_reason']})"
     return m, float(secs) if isinstance(secs, (int, float)) else wall, wall, note, out.get("stddev")
+
+
+def run_surfreg_method(method, binary, pair_dir, timeout, extra):
+    """One surfreg variant on a pair: the reference file and the flags."""
+    ref_path, mov_path = os.path.join(pair_dir, "reference.xyz"), os.path.join(pair_dir, "moving.xyz")
+    if method == "surfreg":
+        return run_surfreg(binary, ref_path, mov_path, timeout, extra)
+    if method == "surfreg_all":
+        return run_surfreg(binary, ref_path, mov_path, timeout, ["--stable=all", *extra])
+    ref_path = os.path.join(pair_dir, "reference_stable.xyz")
+    if not os.path.isfile(ref_path):
+        raise FileNotFoundError("no reference_stable.xyz (not a make_changed_pairs.py pair)")
+    flags = ["--weights=per_point", "--stable=all"]
+    try:
+        return run_surfreg(binary, ref_path, mov_path, timeout, [*flags, *extra])
+    except SurfregError as e:
+        # A binary from before `stable` refuses the flag; without it, it does
+        # what --stable=all means (every sample, weighted), so the oracle runs.
+        if "unknown flag '--stable" not in e.stderr:
+            raise
+        m, secs, wall, note, stddev = run_surfreg(binary, ref_path, mov_path, timeout, [flags[0], *extra])
+        return m, secs, wall, note + " (--stable refused: run without it)", stddev
 
 
 def sigma_norms(stddev, spacing):
@@ -241,7 +282,7 @@ def head_to_head(rows, methods, pairs):
 def calibration(rows, methods, names, groups):
     """surfreg's reported uncertainty against its actual error, and how far
     it is from the better peer where it is not ahead, in its own sigmas."""
-    peers = [m for m in methods if m != "surfreg"]
+    peers = [m for m in methods if m not in SURFREG_METHODS]
     if "surfreg" not in methods or not peers:
         return []
     out = ["| pairs | median error / sigma (rot., transl.) | both <= better peer | else within 1 sigma "
@@ -286,13 +327,18 @@ def main():
     ap.add_argument("--schedule", default=",".join(str(d) for d in SCHEDULE),
                     help="peers' max correspondence distances, spacings, coarse to fine")
     ap.add_argument("--timeout", type=float, default=300.0, help="seconds per surfreg run")
+    ap.add_argument("--surfreg_args", default="", help="extra arguments for every surfreg run (one string)")
     args = ap.parse_args()
     methods = [m for m in args.methods.split(",") if m]
+    for m in methods:
+        if m not in LABELS:
+            ap.error(f"unknown method {m} (known: {', '.join(LABELS)})")
+    surfreg_extra = shlex.split(args.surfreg_args)
     schedule = [float(d) for d in args.schedule.split(",")]
     o3d.utility.set_verbosity_level(o3d.utility.VerbosityLevel.Error)
 
     have_surfreg, why = (False, "not requested")
-    if "surfreg" in methods:
+    if any(m in SURFREG_METHODS for m in methods):
         have_surfreg, why = surfreg_supports_align(args.surfreg)
         if not have_surfreg:
             print(f"surfreg: n/a ({why})", file=sys.stderr)
@@ -317,12 +363,13 @@ def main():
                    "true_translation_spacings": truth["true_translation_spacings"], "note": "",
                    "sigma_rot_deg": math.nan, "sigma_trans_spacings": math.nan, "matrix": ""}
             try:
-                if m == "surfreg":
+                if m in SURFREG_METHODS:
                     if not have_surfreg:
                         row["status"], row["note"] = "n/a", why
                         rows[(name, m)] = row
                         continue
-                    est, secs, wall, note, stddev = run_surfreg(args.surfreg, ref_path, mov_path, args.timeout)
+                    est, secs, wall, note, stddev = run_surfreg_method(m, args.surfreg, d, args.timeout,
+                                                                       surfreg_extra)
                     row["sigma_rot_deg"], row["sigma_trans_spacings"] = sigma_norms(stddev, spacing)
                 else:
                     est, secs, wall, note = isolated(run_open3d, m, ref, mov, spacing, schedule)
@@ -355,6 +402,8 @@ def main():
           f"{SUCCESS_TRANS_SPACINGS} spacing. Peers: normals/covariances radius {NORMAL_RADIUS:g} spacings "
           f"(<= {NORMAL_NN} neighbours), max correspondence distance "
           f"{' -> '.join(f'{d:g}' for d in schedule)} spacings, <= {MAX_ITER} iterations per stage.", ""]
+    if surfreg_extra:
+        md += [f"Every surfreg run with the extra arguments `{' '.join(surfreg_extra)}`.", ""]
     for fam, var in groups:
         pairs = [n for n in names if rows[(n, methods[0])]["family"] == fam and rows[(n, methods[0])]["variant"] == var]
         md.append(f"### {fam} / {var} ({len(pairs)} pairs)")

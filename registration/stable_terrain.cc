@@ -1,0 +1,252 @@
+#include "registration/stable_terrain.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "measure/delaunay.h"
+#include "registration/gap_weight.h"
+
+namespace surfreg {
+
+const char* StableModeName(StableOptions::Mode mode) {
+  return mode == StableOptions::Mode::kAuto ? "auto" : "all";
+}
+
+SampleAdjacency MakeSampleAdjacency(const Surface& reference) {
+  const Triangulation mesh = Triangulate(reference.xy);
+  const int32_t n = static_cast<int32_t>(reference.size());
+  std::vector<std::pair<int32_t, int32_t>> edges;
+  edges.reserve(mesh.triangles.size() * 2 + static_cast<std::size_t>(mesh.num_duplicates) * 2);
+  for (std::size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
+    for (int k = 0; k < 3; ++k) {
+      const int32_t a = mesh.triangles[t + k], b = mesh.triangles[t + (k + 1) % 3];
+      edges.emplace_back(a, b);
+      edges.emplace_back(b, a);
+    }
+  }
+  // A merged duplicate is its vertex's neighbour, so it shares its class.
+  for (int32_t i = 0; i < n; ++i) {
+    const int32_t v = mesh.vertex_of_input[i];
+    if (v != i) {
+      edges.emplace_back(i, v);
+      edges.emplace_back(v, i);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  SampleAdjacency adjacency;
+  adjacency.offset.assign(static_cast<std::size_t>(n) + 1, 0);
+  adjacency.neighbour.reserve(edges.size());
+  for (const auto& [a, b] : edges) {
+    ++adjacency.offset[a + 1];
+    adjacency.neighbour.push_back(b);
+  }
+  for (int32_t i = 0; i < n; ++i) adjacency.offset[i + 1] += adjacency.offset[i];
+
+  std::vector<Eigen::Vector3d> points(reference.size());
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    points[i] = Eigen::Vector3d(reference.xy[i].x, reference.xy[i].y, reference.z[i]);
+  }
+  const std::vector<double> by_vertex = CurvatureGaps(points, mesh);
+  std::vector<double> defined;
+  for (double g : by_vertex) {
+    if (g >= 0) defined.push_back(g);
+  }
+  std::sort(defined.begin(), defined.end());
+  const double median = defined.empty() ? 0.0 : defined[defined.size() / 2];
+  adjacency.curvature_gap.resize(reference.size());
+  for (int32_t i = 0; i < n; ++i) {
+    const double g = by_vertex[mesh.vertex_of_input[i]];
+    adjacency.curvature_gap[i] = g >= 0 ? g : median;
+  }
+  adjacency.gradient.assign(reference.size(), {0.0, 0.0});
+  for (int32_t i = 0; i < n; ++i) {
+    double sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
+    for (int32_t k = adjacency.offset[i]; k < adjacency.offset[i + 1]; ++k) {
+      const int32_t j = adjacency.neighbour[k];
+      const double dx = reference.xy[j].x - reference.xy[i].x, dy = reference.xy[j].y - reference.xy[i].y;
+      const double dz = reference.z[j] - reference.z[i];
+      sxx += dx * dx, sxy += dx * dy, syy += dy * dy, sxz += dx * dz, syz += dy * dz;
+    }
+    const double det = sxx * syy - sxy * sxy;
+    if (det > 1e-12 * (sxx + syy) * (sxx + syy)) {
+      adjacency.gradient[i] = {(syy * sxz - sxy * syz) / det, (sxx * syz - sxy * sxz) / det};
+    }
+  }
+  return adjacency;
+}
+
+namespace {
+
+// A region is change only if the mean of the moving surface's own gaps
+// there is within this factor of the reference's (stable_terrain.h). Over
+// the changed benchmark's regions the two agree to 0.8-1.2 (a few small
+// partial ones lower); at the spots where two samplings of an unchanged
+// face or DEM disagree, they scatter over -1.2 to 0.7, one at 1.47.
+constexpr double kPartnerAgreement = 0.75;
+
+// The median of `values` (reordered); 0 for none.
+double Median(std::vector<double>* values) {
+  if (values->empty()) return 0;
+  const std::size_t half = values->size() / 2;
+  std::nth_element(values->begin(), values->begin() + half, values->end());
+  double m = (*values)[half];
+  if (values->size() % 2 == 0) m = 0.5 * (m + *std::max_element(values->begin(), values->begin() + half));
+  return m;
+}
+
+}  // namespace
+
+StableTerrain ClassifyStable(const SampleAdjacency& adjacency, const GapField& gaps,
+                             const std::vector<uint8_t>& eligible, const std::vector<uint8_t>& stable,
+                             const StableOptions& options) {
+  const std::vector<double>& dz = gaps.dz;
+  const std::vector<double>& area = gaps.area;
+  const std::size_t n = dz.size();
+  const bool partners = !gaps.partner_count.empty();
+  StableTerrain out;
+  out.done = true;
+  out.flag.assign(n, kOutsideOverlap);
+  auto in_overlap = [&](std::size_t i) { return std::isfinite(dz[i]) && (eligible.empty() || eligible[i] != 0); };
+
+  // The samples m and the scales are measured on: the current stable set,
+  // or all of the overlap if that set left it.
+  bool any_stable = false;
+  for (std::size_t i = 0; i < n && !stable.empty(); ++i) any_stable |= in_overlap(i) && stable[i] == kStableSample;
+  auto measured = [&](std::size_t i) {
+    return in_overlap(i) && (!any_stable || stable[i] == kStableSample);
+  };
+  std::vector<double> values;
+  values.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (measured(i)) values.push_back(dz[i]);
+  }
+  const double m = Median(&values);
+  // The noise n: the gaps' robust scale where the reference is flatter than
+  // its median curvature gap (there the gaps are noise, not curvature).
+  const std::vector<double>& g = adjacency.curvature_gap;
+  std::vector<double> flat_g;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (measured(i)) flat_g.push_back(g[i]);
+  }
+  const double g_median = Median(&flat_g);
+  values.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (measured(i) && g[i] <= g_median) {
+      values.push_back(std::abs(dz[i] - m));
+    }
+  }
+  const double noise = 1.4826 * Median(&values);
+  auto unit = [&](std::size_t i) { return std::sqrt(noise * noise + g[i] * g[i]); };
+  values.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (measured(i) && unit(i) > 0) {
+      values.push_back(std::abs(dz[i] - m) / unit(i));
+    }
+  }
+  const double sigma = 1.4826 * Median(&values);
+  out.centre = m;
+  out.noise_sigma = sigma * noise;
+  // z_i: the gap from m in sample i's own scale σ √(n² + g_i²).
+  auto z = [&](std::size_t i) {
+    const double s = sigma * unit(i);
+    return s > 0 ? (dz[i] - m) / s : 0.0;
+  };
+
+  // side[i]: +1 / −1 beyond the grow level above / below m, 0 within it.
+  std::vector<int8_t> side(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!in_overlap(i)) continue;
+    out.flag[i] = kStableSample;
+    const double r = z(i);
+    if (std::abs(r) > options.grow_sigmas) side[i] = r > 0 ? 1 : -1;
+  }
+  // Regions: connected samples on one side beyond the grow level that hold
+  // at least one seed; each kept if large enough.
+  std::vector<int32_t> region(n, -1);
+  std::vector<int32_t> members;
+  std::vector<uint8_t> changed(n, 0);
+  int32_t next_region = 0;
+  for (std::size_t start = 0; start < n; ++start) {
+    if (side[start] == 0 || region[start] >= 0) continue;
+    members.clear();
+    members.push_back(static_cast<int32_t>(start));
+    region[start] = next_region;
+    bool seeded = false;
+    for (std::size_t head = 0; head < members.size(); ++head) {
+      const int32_t i = members[head];
+      seeded |= std::abs(z(i)) > options.seed_sigmas;
+      for (int32_t k = adjacency.offset[i]; k < adjacency.offset[i + 1]; ++k) {
+        const int32_t j = adjacency.neighbour[k];
+        if (region[j] < 0 && side[j] == side[start]) {
+          region[j] = next_region;
+          members.push_back(j);
+        }
+      }
+    }
+    ++next_region;
+    if (!seeded || static_cast<int>(members.size()) < options.min_region_samples) continue;
+    if (partners) {
+      double sum_a = 0, sum_b = 0;
+      int64_t count_b = 0;
+      for (int32_t i : members) {
+        sum_a += dz[i] - m;
+        sum_b += gaps.partner_sum[i] - m * gaps.partner_count[i];
+        count_b += gaps.partner_count[i];
+      }
+      // Too few of the moving surface's samples to confirm it: not change.
+      if (count_b < 3) continue;
+      const double mean_a = sum_a / static_cast<double>(members.size());
+      const double mean_b = sum_b / static_cast<double>(count_b);
+      // Change is seen alike from both surfaces' samples.
+      const double ratio = mean_a != 0 ? mean_b / mean_a : 0.0;
+      if (!(ratio >= kPartnerAgreement && ratio <= 1 / kPartnerAgreement)) continue;
+    }
+    ++out.regions;
+    for (int32_t i : members) changed[i] = 1;
+  }
+  // The rim: margin_rings rings of neighbours, within the overlap.
+  std::vector<int32_t> frontier, next;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (changed[i]) frontier.push_back(static_cast<int32_t>(i));
+  }
+  for (int ring = 0; ring < options.margin_rings; ++ring) {
+    next.clear();
+    for (int32_t i : frontier) {
+      for (int32_t k = adjacency.offset[i]; k < adjacency.offset[i + 1]; ++k) {
+        const int32_t j = adjacency.neighbour[k];
+        if (!changed[j] && in_overlap(j)) {
+          changed[j] = 1;
+          next.push_back(j);
+        }
+      }
+    }
+    frontier.swap(next);
+  }
+  double stable_weight = 0, total_weight = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (out.flag[i] == kOutsideOverlap) continue;
+    const double w = area.empty() ? 1.0 : area[i];
+    total_weight += w;
+    if (changed[i]) {
+      out.flag[i] = kChangedSample;
+      ++out.changed_samples;
+    } else {
+      stable_weight += w;
+      ++out.stable_samples;
+    }
+  }
+  out.stable_share = total_weight > 0 ? stable_weight / total_weight : 1.0;
+  return out;
+}
+
+StableTerrain ClassifyStable(const Surface& reference, const std::vector<double>& dz,
+                             const std::vector<uint8_t>& eligible, const std::vector<uint8_t>& stable,
+                             const std::vector<double>& area, const StableOptions& options) {
+  GapField gaps;
+  gaps.dz = dz;
+  gaps.area = area;
+  return ClassifyStable(MakeSampleAdjacency(reference), gaps, eligible, stable, options);
+}
+
+}  // namespace surfreg

@@ -1,0 +1,268 @@
+// Stable terrain found from the data (registration/stable_terrain.h,
+// rigid_consensus.h, AlignOptions::stable): the classification against
+// known changed regions, and Align with stable auto against the truth.
+#include "registration/stable_terrain.h"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "registration/align.h"
+#include "registration/rigid_consensus.h"
+#include "testing/surface_pairs.h"
+
+namespace surfreg {
+namespace {
+
+constexpr double kSide = 100;
+
+bool InBlock(double x, double y) { return x > 60 && x < 90 && y > 20 && y < 70; }  // 15% of the square
+
+std::vector<std::array<double, 3>> WithNoise(std::vector<std::array<double, 3>> points, double sigma,
+                                             uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0, sigma);
+  for (auto& p : points) p[2] += noise(rng);
+  return points;
+}
+
+// Share of `surface`'s samples with `flag` among those where `where` holds.
+template <typename Where>
+double ShareFlagged(const Surface& surface, const StableTerrain& stable, uint8_t flag, Where where) {
+  int64_t in = 0, flagged = 0;
+  for (std::size_t i = 0; i < surface.size(); ++i) {
+    const double x = surface.xy[i].x + surface.origin[0], y = surface.xy[i].y + surface.origin[1];
+    if (!where(x, y)) continue;
+    ++in;
+    flagged += stable.flag[i] == flag;
+  }
+  return in > 0 ? static_cast<double>(flagged) / static_cast<double>(in) : 0.0;
+}
+
+TEST(ClassifyStable, MarksAKnownBlockAndNothingElse) {
+  const Surface reference =
+      MakeSurface(testing::SampleUniform(testing::SmoothTerrain, 8000, 0, kSide, 0, kSide, 11), {}, "reference");
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0, 0.1);
+  std::vector<double> dz(reference.size());
+  for (std::size_t i = 0; i < dz.size(); ++i) {
+    const double x = reference.xy[i].x + reference.origin[0], y = reference.xy[i].y + reference.origin[1];
+    dz[i] = noise(rng) + (InBlock(x, y) ? -2.0 : 0.0);
+  }
+  StableOptions options;
+  options.margin_rings = 0;
+  const StableTerrain first = ClassifyStable(reference, dz, {}, {}, {}, options);
+  EXPECT_EQ(first.regions, 1);
+  // The second round measures the centre and scale on the stable part only.
+  const StableTerrain stable = ClassifyStable(reference, dz, {}, first.flag, {}, options);
+  EXPECT_EQ(stable.regions, 1);
+  EXPECT_GT(ShareFlagged(reference, stable, kChangedSample, InBlock), 0.999);
+  EXPECT_LT(ShareFlagged(reference, stable, kChangedSample, [](double x, double y) { return !InBlock(x, y); }),
+            0.001);
+  EXPECT_NEAR(stable.stable_share, 0.85, 0.02);
+  EXPECT_NEAR(stable.noise_sigma, 0.1, 0.02);
+  EXPECT_NEAR(stable.centre, 0.0, 0.01);
+}
+
+TEST(ClassifyStable, IsolatedOutliersAreNoiseNotChange) {
+  const Surface reference =
+      MakeSurface(testing::SampleUniform(testing::SmoothTerrain, 4000, 0, kSide, 0, kSide, 12), {}, "reference");
+  std::vector<double> dz(reference.size(), 0.0);
+  std::mt19937_64 rng(6);
+  std::normal_distribution<double> noise(0, 0.1);
+  for (double& d : dz) d = noise(rng);
+  for (std::size_t i = 0; i < dz.size(); i += 97) dz[i] += 5;  // spikes, one sample each
+  const StableTerrain stable = ClassifyStable(reference, dz, {}, {}, {}, StableOptions());
+  EXPECT_EQ(stable.regions, 0);
+  EXPECT_EQ(stable.changed_samples, 0);
+  EXPECT_DOUBLE_EQ(stable.stable_share, 1.0);
+}
+
+TEST(ClassifyStable, IneligibleAndUnmeasuredSamplesAreNeverStable) {
+  const Surface reference =
+      MakeSurface(testing::SampleUniform(testing::SmoothTerrain, 3000, 0, kSide, 0, kSide, 13), {}, "reference");
+  std::vector<double> dz(reference.size(), 0.0);
+  std::vector<uint8_t> eligible(reference.size(), 1);
+  for (std::size_t i = 0; i < dz.size(); i += 3) eligible[i] = 0;
+  for (std::size_t i = 1; i < dz.size(); i += 5) dz[i] = std::nan("");
+  const StableTerrain stable = ClassifyStable(reference, dz, eligible, {}, {}, StableOptions());
+  for (std::size_t i = 0; i < dz.size(); ++i) {
+    if (!eligible[i] || !std::isfinite(dz[i])) {
+      EXPECT_EQ(stable.flag[i], kOutsideOverlap) << i;
+    }
+  }
+}
+
+// The gaps a small rigid misfit leaves, plus a block of change: the
+// consensus removes the misfit exactly and leaves the block.
+TEST(RigidConsensus, RemovesARigidMisfitThroughAChangedBlock) {
+  const Surface reference =
+      MakeSurface(testing::SampleUniform(testing::SmoothTerrain, 6000, 0, kSide, 0, kSide, 14), {}, "reference");
+  const SampleAdjacency adjacency = MakeSampleAdjacency(reference);
+  std::vector<double> dz(reference.size());
+  for (std::size_t i = 0; i < dz.size(); ++i) {
+    const double x = reference.xy[i].x, y = reference.xy[i].y;
+    const double gx = adjacency.gradient[i][0], gy = adjacency.gradient[i][1];
+    // A tilt, a vertical and a horizontal shift, as a linear gap field.
+    dz[i] = 0.01 * x - 0.02 * y + 0.5 - 0.3 * gx + 0.2 * gy;
+    if (InBlock(x + reference.origin[0], y + reference.origin[1])) dz[i] += 4.0;
+  }
+  const ConsensusFit fit = RigidConsensus(reference, adjacency, dz, {});
+  double worst = 0;
+  for (std::size_t i = 0; i < dz.size(); ++i) {
+    const double x = reference.xy[i].x + reference.origin[0], y = reference.xy[i].y + reference.origin[1];
+    if (InBlock(x, y)) {
+      EXPECT_NEAR(fit.residual[i], 4.0, 0.05);
+      EXPECT_EQ(fit.flag[i], kChangedSample);
+    } else {
+      worst = std::max(worst, std::abs(fit.residual[i]));
+    }
+  }
+  EXPECT_LT(worst, 0.05);
+  // Tiles across the block's edge are out whole: the inliers are the
+  // block's complement less those.
+  EXPECT_GT(fit.inlier_share, 0.7);
+  EXPECT_LE(fit.inlier_share, 0.85);
+}
+
+struct Pair {
+  Surface reference, moving;
+  Eigen::Matrix4d truth;
+  Eigen::Vector3d moving_centroid;
+};
+
+// Two noisy samplings of `f` (reference) and `g` (moving, before the
+// motion), the moving one moved by a known 2° and (1.5, -1, 0.4).
+Pair MakePair(const testing::HeightFunction& f, const testing::HeightFunction& g, double sigma) {
+  Pair pair;
+  const auto a = WithNoise(testing::SampleUniform(f, 6000, 0, kSide, 0, kSide, 21), sigma, 31);
+  const auto b = WithNoise(testing::SampleUniform(g, 6000, 0, kSide, 0, kSide, 22), sigma, 32);
+  pair.truth = testing::TrueMotion({1, -2, 0.5}, 2.0, {1.5, -1.0, 0.4}, testing::Centroid(b));
+  const auto moved = testing::MoveByInverse(b, pair.truth);
+  pair.moving_centroid = testing::Centroid(moved);
+  pair.reference = MakeSurface(a, {}, "reference");
+  pair.moving = MakeSurface(moved, {}, "moving");
+  return pair;
+}
+
+testing::MotionError Error(const Pair& pair, const AlignResult& result) {
+  return testing::CompareMotions(result.matrix, pair.truth, pair.moving_centroid);
+}
+
+AlignOptions WithStable(StableOptions::Mode mode) {
+  AlignOptions options;
+  options.stable.mode = mode;
+  return options;
+}
+
+// Everything raised where it changed (buildings, growth): one-sided change
+// pulls an L1 fit; the stable part found from the data does not.
+TEST(AlignStable, OneSidedChangedBlockIsFoundAndLeftOut) {
+  const Pair pair = MakePair(testing::SmoothTerrain, [](double x, double y) {
+    return testing::SmoothTerrain(x, y) + (InBlock(x, y) ? 3.0 + 0.05 * (x - 60) : 0.0);
+  }, 0.05);
+  const AlignResult all = Align(pair.reference, pair.moving, WithStable(StableOptions::Mode::kAll));
+  const AlignResult found = Align(pair.reference, pair.moving, WithStable(StableOptions::Mode::kAuto));
+  ASSERT_EQ(found.verdict, Verdict::kConvergedImproved) << found.verdict_reason;
+  ASSERT_TRUE(found.stable.done);
+  EXPECT_EQ(found.stable.regions, 1);
+  EXPECT_GT(ShareFlagged(pair.reference, found.stable, kChangedSample, InBlock), 0.99);
+  // The block is 15% of the square; the rim where the moving surface's
+  // triangles span its edge, and one ring beyond, add a few percent.
+  EXPECT_GT(1 - found.stable.stable_share, 0.15);
+  EXPECT_LT(1 - found.stable.stable_share, 0.23);
+  EXPECT_LT(ShareFlagged(pair.reference, found.stable, kChangedSample,
+                         [](double x, double y) { return !(x > 55 && x < 95 && y > 15 && y < 75); }),
+            0.001);
+  EXPECT_TRUE(found.stable.warning.empty()) << found.stable.warning;
+  const testing::MotionError e_all = Error(pair, all), e_found = Error(pair, found);
+  EXPECT_LT(e_found.rotation_deg, 0.03);
+  EXPECT_LT(e_found.translation, 0.03);
+  EXPECT_LT(e_found.rotation_deg, 0.2 * e_all.rotation_deg);
+  // The σ describe the fit on the stable part: the error within 4σ.
+  const double sigma_rotation_deg =
+      std::sqrt(found.covariance.topLeftCorner<3, 3>().trace()) * 180 / M_PI;
+  EXPECT_LT(e_found.rotation_deg, 4 * sigma_rotation_deg);
+}
+
+// Nothing changed: nothing is left out, and the result is the fit on all.
+TEST(AlignStable, UnchangedPairKeepsEverythingAndTheSameResult) {
+  const Pair pair = MakePair(testing::SmoothTerrain, testing::SmoothTerrain, 0.05);
+  const AlignResult all = Align(pair.reference, pair.moving, WithStable(StableOptions::Mode::kAll));
+  const AlignResult found = Align(pair.reference, pair.moving, WithStable(StableOptions::Mode::kAuto));
+  ASSERT_TRUE(found.stable.done);
+  EXPECT_EQ(found.stable.regions, 0);
+  EXPECT_EQ(found.stable.changed_samples, 0);
+  EXPECT_DOUBLE_EQ(found.stable.stable_share, 1.0);
+  EXPECT_EQ(found.matrix, all.matrix);
+  EXPECT_FALSE(all.stable.done);
+}
+
+// A face-like dome whose lower third turned 4° about a hinge behind it (the
+// jaw opened): the alignment holds to the upper two thirds.
+TEST(AlignStable, FaceWhoseLowerPartMovedAlignsOnTheRest) {
+  const auto dome = [](double x, double y) {
+    return 30 * std::exp(-((x - 50) * (x - 50) / 1800.0 + (y - 50) * (y - 50) / 2600.0)) +
+           3 * std::exp(-((x - 50) * (x - 50) + (y - 55) * (y - 55)) / 40.0);
+  };
+  const double hinge_y = 50, hinge_z = -20, angle = 4 * M_PI / 180;
+  const auto jaw = [&](double x, double y) {
+    const double z = dome(x, y);
+    if (y >= 33) return z;
+    // The lower part turned about the x-parallel hinge: a height field of it
+    // (the turn is small, so the heights at (x, y) follow by one fixed-point step).
+    const double c = std::cos(angle), s = std::sin(angle);
+    const double y0 = hinge_y + c * (y - hinge_y) + s * (dome(x, y) - hinge_z);
+    return hinge_z - s * (y0 - hinge_y) + c * (dome(x, y0) - hinge_z);
+  };
+  const Pair pair = MakePair(dome, jaw, 0.02);
+  const AlignResult all = Align(pair.reference, pair.moving, WithStable(StableOptions::Mode::kAll));
+  const AlignResult found = Align(pair.reference, pair.moving, WithStable(StableOptions::Mode::kAuto));
+  ASSERT_EQ(found.verdict, Verdict::kConvergedImproved) << found.verdict_reason;
+  const testing::MotionError e_all = Error(pair, all), e_found = Error(pair, found);
+  EXPECT_LT(e_found.rotation_deg, 0.02);
+  EXPECT_LT(e_found.rotation_deg, 0.2 * e_all.rotation_deg);
+  EXPECT_GT(ShareFlagged(pair.reference, found.stable, kStableSample, [](double, double y) { return y > 40; }),
+            0.98);
+  EXPECT_GT(ShareFlagged(pair.reference, found.stable, kChangedSample, [](double, double y) { return y < 25; }),
+            0.9);
+}
+
+TEST(AlignStable, ASmallStablePartWarns) {
+  const Pair pair = MakePair(testing::SmoothTerrain, [](double x, double y) {
+    return testing::SmoothTerrain(x, y) - (InBlock(x, y) ? 4.0 : 0.0);
+  }, 0.05);
+  AlignOptions options = WithStable(StableOptions::Mode::kAuto);
+  options.stable.warn_share = 0.9;  // the block leaves 85%
+  const AlignResult found = Align(pair.reference, pair.moving, options);
+  EXPECT_NE(found.stable.warning.find("of the overlap is stable terrain"), std::string::npos)
+      << found.stable.warning;
+  options.stable.warn_share = 0.4;
+  EXPECT_TRUE(Align(pair.reference, pair.moving, options).stable.warning.empty());
+}
+
+// The user's mask and the stable terrain: the fit uses their intersection.
+TEST(AlignStable, UserMaskIsIntersectedNotReplaced) {
+  const Pair pair = MakePair(testing::SmoothTerrain, [](double x, double y) {
+    return testing::SmoothTerrain(x, y) + (InBlock(x, y) ? 3.0 : 0.0);
+  }, 0.05);
+  AlignOptions options = WithStable(StableOptions::Mode::kAuto);
+  options.weight = WeightMode::kMask;
+  options.mask = {{{0, 0}, {kSide, 0}, {kSide, 80}, {0, 80}}};  // leaves out y > 80
+  const AlignResult found = Align(pair.reference, pair.moving, options);
+  ASSERT_EQ(found.verdict, Verdict::kConvergedImproved) << found.verdict_reason;
+  EXPECT_EQ(ShareFlagged(pair.reference, found.stable, kStableSample, [](double, double y) { return y > 80.5; }),
+            0.0);
+  EXPECT_GT(ShareFlagged(pair.reference, found.stable, kChangedSample, InBlock), 0.99);
+  EXPECT_LT(ShareFlagged(pair.reference, found.stable, kChangedSample,
+                         [](double x, double y) { return y < 79 && !(x > 55 && x < 95 && y > 15 && y < 75); }),
+            0.001);
+  options.stable.mode = StableOptions::Mode::kAll;
+  const AlignResult masked_all = Align(pair.reference, pair.moving, options);
+  EXPECT_LT(Error(pair, found).rotation_deg, 0.05);
+  EXPECT_LT(Error(pair, found).rotation_deg, 0.25 * Error(pair, masked_all).rotation_deg);
+}
+
+}  // namespace
+}  // namespace surfreg
