@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <cstdio>
 
 #include "measure/input_error.h"
@@ -149,13 +150,18 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   if (!options.IsValid(&error)) throw InputError("align options: " + error);
   AlignOptions first = options;
   first.stable.mode = StableOptions::Mode::kAll;
+  // The reference's neighbours and curvature do not depend on the motion:
+  // built beside the first fit.
+  std::future<SampleAdjacency> adjacency_later =
+      std::async(options.num_threads > 1 ? std::launch::async : std::launch::deferred,
+                 [&reference] { return MakeSampleAdjacency(reference); });
   AlignResult result = Align(reference, moving, first);
   if (result.verdict == Verdict::kFailed) return result;  // nothing to classify on
 
   const std::vector<double> user = UserWeights(reference, options);
   std::vector<uint8_t> eligible(reference.size());
   for (std::size_t i = 0; i < eligible.size(); ++i) eligible[i] = user[i] > 0;
-  const SampleAdjacency adjacency = MakeSampleAdjacency(reference);
+  const SampleAdjacency adjacency = adjacency_later.get();
   const StableOptions& rule = options.stable;
   if (options.on_stage) options.on_stage("finding the stable terrain", SecondsSince(start));
 

@@ -130,12 +130,14 @@ class TerrainDomainTest : public ::testing::Test {
   }
 
   // align's terrain analysis at the identity motion; returns the DoD read back.
-  Raster Analyse(DomainKind kind, TerrainReport* report) {
+  Raster Analyse(DomainKind kind, TerrainReport* report, bool lod_given = true) {
     AlignConfig config;
     config.reference = reference_;
     config.moving = moving_;
-    config.terrain.lod = kLod;
-    config.origin["lod"] = "test's lod";  // given, not measured on the stable terrain
+    if (lod_given) {
+      config.terrain.lod = kLod;
+      config.origin["lod"] = "test's lod";  // given, not measured on the stable terrain
+    }
     config.terrain.dod = dir_.path() + (kind == DomainKind::kData ? "/dod.tif" : "/dod_hull.tif");
     config.options.domain.kind = kind;
     const TerrainInputs inputs = ReadTerrainInputs(config);
@@ -220,6 +222,25 @@ TEST_F(TerrainDomainTest, DodStatisticsAndCutFillAreOverOmega) {
 }
 
 // Over the hulls the holes are bridged: the same cells get (invented) values.
+// No lod given: the level of detection is 1.96 × the NMAD of dz on the
+// stable terrain, and cut/fill are counted beyond it.
+TEST_F(TerrainDomainTest, LevelOfDetectionFromTheStableTerrainsNoise) {
+  TerrainReport given, measured;
+  Analyse(DomainKind::kData, &given);
+  Analyse(DomainKind::kData, &measured, /*lod_given=*/false);
+  EXPECT_EQ(given.lod, kLod);
+  EXPECT_EQ(given.lod_source, "lod");
+  ASSERT_GT(measured.stable_after.nmad, 0);
+  EXPECT_DOUBLE_EQ(measured.lod, kAutoLodSigmas * measured.stable_after.nmad);
+  EXPECT_EQ(measured.lod_source, "1.96 x NMAD of dz on stable terrain");
+  EXPECT_DOUBLE_EQ(measured.after.level_of_detection, measured.lod);
+  EXPECT_DOUBLE_EQ(measured.before.level_of_detection, measured.lod);
+  // Beyond a larger threshold, no more detected area.
+  if (measured.lod > kLod) {
+    EXPECT_LE(measured.after.fill_area + measured.after.cut_area, given.after.fill_area + given.after.cut_area);
+  }
+}
+
 TEST_F(TerrainDomainTest, HullBridgesTheHoles) {
   TerrainReport report;
   const Raster dod = Analyse(DomainKind::kHull, &report);
