@@ -169,11 +169,11 @@ TEST(AlignStable, OneSidedChangedBlockIsFoundAndLeftOut) {
   EXPECT_EQ(found.stable.regions, 1);
   EXPECT_GT(ShareFlagged(pair.reference, found.stable, kChangedSample, InBlock), 0.99);
   // The block is 15% of the square; the rim where the moving surface's
-  // triangles span its edge, and one ring beyond, add a few percent.
+  // triangles span its edge, and two rings beyond, add several percent.
   EXPECT_GT(1 - found.stable.stable_share, 0.15);
-  EXPECT_LT(1 - found.stable.stable_share, 0.23);
+  EXPECT_LT(1 - found.stable.stable_share, 0.27);
   EXPECT_LT(ShareFlagged(pair.reference, found.stable, kChangedSample,
-                         [](double x, double y) { return !(x > 55 && x < 95 && y > 15 && y < 75); }),
+                         [](double x, double y) { return !(x > 52 && x < 98 && y > 12 && y < 78); }),
             0.001);
   EXPECT_TRUE(found.stable.warning.empty()) << found.stable.warning;
   const testing::MotionError e_all = Error(pair, all), e_found = Error(pair, found);
@@ -224,7 +224,7 @@ TEST(AlignStable, FaceWhoseLowerPartMovedAlignsOnTheRest) {
   EXPECT_LT(e_found.rotation_deg, 0.02);
   EXPECT_LT(e_found.rotation_deg, 0.2 * e_all.rotation_deg);
   EXPECT_GT(ShareFlagged(pair.reference, found.stable, kStableSample, [](double, double y) { return y > 40; }),
-            0.98);
+            0.97);
   EXPECT_GT(ShareFlagged(pair.reference, found.stable, kChangedSample, [](double, double y) { return y < 25; }),
             0.9);
 }
@@ -255,9 +255,10 @@ TEST(AlignStable, UserMaskIsIntersectedNotReplaced) {
   EXPECT_EQ(ShareFlagged(pair.reference, found.stable, kStableSample, [](double, double y) { return y > 80.5; }),
             0.0);
   EXPECT_GT(ShareFlagged(pair.reference, found.stable, kChangedSample, InBlock), 0.99);
+  // Away from the block: at most a spot at the domain's edge (x > 98).
   EXPECT_LT(ShareFlagged(pair.reference, found.stable, kChangedSample,
-                         [](double x, double y) { return y < 79 && !(x > 55 && x < 95 && y > 15 && y < 75); }),
-            0.001);
+                         [](double x, double y) { return y < 77 && !(x > 52 && x < 98 && y > 12 && y < 78); }),
+            0.005);
   options.stable.mode = StableOptions::Mode::kAll;
   const AlignResult masked_all = Align(pair.reference, pair.moving, options);
   EXPECT_LT(Error(pair, found).rotation_deg, 0.05);

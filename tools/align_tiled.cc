@@ -90,6 +90,9 @@ Eigen::Vector3d CentroidOf(const Surface& s) {
 std::vector<PatchShift> PatchShifts(const PatchSample& sample, const std::array<double, 6>& gt,
                                     const AlignResult& whole, AlignOptions options, double margin) {
   options.free = {false, false, false, true, true, true};
+  // A patch's own shift, all of it: the whole motion already fitted the
+  // stable terrain, and a patch's departure from it is what is measured.
+  options.stable.mode = StableOptions::Mode::kAll;
   options.initial_reference_from_moving = Rigid3d::FromMatrix(whole.matrix);
   options.initial_rotation = options.initial_translation = {0, 0, 0};
   options.levels = 1;
