@@ -354,5 +354,36 @@ has_part gdal &&
   expect_error "flag '--mask': $tmp/slide.geojson: no layer 'x' (layers: 'slide')" \
   align "$ref" "$mov" --mask="$tmp/slide.geojson" --mask_layer=x --output="$out/t.json"
 
+# --- stable terrain: the changed example (a landslide), found and left out --
+changed=configs/data/volcano_changed.xyz
+run align "$ref" "$changed" --stable_map="$out/stable.xyz" --json
+cp "$tmp/stdout" "$tmp/stable_auto.json"
+run align "$ref" "$changed" --stable=all --json
+cp "$tmp/stdout" "$tmp/stable_all.json"
+check "stable auto: the landslide left out, the known motion closer than fitting all" "
+a, w = load('$tmp/stable_auto.json'), load('$tmp/stable_all.json')
+s = a['stable']
+assert s['mode'] == 'auto' and s['regions'] == 2 and s['settled'] and s['warning'] == '', s
+assert 0.85 < s['stable_share'] < 0.95, s
+assert w['stable'] == {'mode': 'all'}, w['stable']
+pts = [(0, 0, 100), (860, 600, 100)]
+ea = motion_error(a['matrix'], expected('$changed'), pts)
+ew = motion_error(w['matrix'], expected('$changed'), pts)
+assert ea[0] < 0.002 and ea[0] < 0.5 * ew[0], (ea, ew)
+rows = [l.split() for l in open('$out/stable.xyz') if not l.startswith('#')]
+flags = [int(r[3]) for r in rows]
+assert len(rows) == 5307 and set(flags) <= {0, 1, 2}, (len(rows), set(flags))
+# the changed samples are within the two 90 m bells (plus their rims), none far off
+for r, f in zip(rows, flags):
+    x, y = float(r[0]), float(r[1])
+    near = min(math.hypot(x - 560, y - 380), math.hypot(x - 640, y - 430))
+    assert f != 0 or near < 125, (x, y)
+assert sum(f == 0 for f in flags) == s['changed_samples'], (sum(f == 0 for f in flags), s)
+"
+rm -f "$out"/*
+expect_error "flag '--stable_map': a GeoTIFF is on the reference's grid, but the reference is no raster" \
+  align "$ref" "$mov" --stable_map="$out/stable.tif" --output="$out/t.json"
+expect_error "flag '--stable' expects one of auto, all, got 'some'" align "$ref" "$mov" --stable=some
+
 echo "$((checks - failures)) of $checks checks passed"
 [[ $failures -eq 0 ]]

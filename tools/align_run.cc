@@ -27,11 +27,7 @@ void WriteStableMap(const AlignConfig& config, const TerrainInputs& inputs, cons
   const std::string where = config.Where("stable_map");
   std::vector<uint8_t> flag = result.stable.flag;
   if (flag.size() != reference.size()) flag.assign(reference.size(), kStableSample);  // stable all: everything used
-  if (IsGeoTiffPath(config.stable_map)) {
-    if (!inputs.reference_is_raster) {
-      throw InputError(where + ": a GeoTIFF is on the reference's grid, but the reference is no raster; "
-                       "write .xyz instead");
-    }
+  if (IsGeoTiffPath(config.stable_map)) {  // a raster reference: checked before the alignment
     Raster map = inputs.reference_grid;
     map.values.assign(static_cast<std::size_t>(map.columns) * map.rows, std::nan(""));
     for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
@@ -186,6 +182,10 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
   if (IsGeoTiffPath(config.aligned) && !inputs.reference_is_raster) {
     throw InputError(config.Where("aligned") + ": a GeoTIFF is resampled onto the reference's grid, "
                      "but the reference is no raster; write .ply, .xyz or .las instead");
+  }
+  if (IsGeoTiffPath(config.stable_map) && !inputs.reference_is_raster) {
+    throw InputError(config.Where("stable_map") + ": a GeoTIFF is on the reference's grid, but the reference "
+                     "is no raster; write .xyz instead");
   }
   ApplyInitialTransform(config, &config.options);
   std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
