@@ -17,7 +17,8 @@
 // regions of fewer than min_region_samples samples are noise, not change;
 // so is a region where the moving surface's own samples do not see it alike
 // (fewer than 3 of them there, or the mean of their gaps not within a
-// factor 0.75-1.33 of the reference's): the two samplings' interpolation
+// factor 0.75-1.33 of the reference's, 0.3-1.33 for a region of twice
+// min_region_samples or more): the two samplings' interpolation
 // error at a curved place has opposite signs at the two surfaces' nodes,
 // and where two samplings disagree as data (a fold, a seam) their means
 // differ, while change is the same from both;

@@ -94,6 +94,50 @@ TEST(ClassifyStable, IneligibleAndUnmeasuredSamplesAreNeverStable) {
   }
 }
 
+// Change on curved ground is seen lower from the moving side; a region of
+// twice min_region_samples or more is change down to a ratio of 0.3, a
+// smaller one only from 0.75 (small disagreeing spots are not change).
+TEST(ClassifyStable, MovingSideConfirmationDependsOnTheRegionsSize) {
+  const Surface reference =
+      MakeSurface(testing::SampleUniform(testing::SmoothTerrain, 8000, 0, kSide, 0, kSide, 14), {}, "reference");
+  struct Disc {
+    double x, y, r, partner_ratio;
+  };
+  const Disc large_low{25, 25, 5.0, 0.5}, small_low{75, 25, 2.6, 0.5}, small_agreeing{50, 75, 2.6, 0.9};
+  const Disc* discs[] = {&large_low, &small_low, &small_agreeing};
+  auto disc_of = [&](double x, double y) -> const Disc* {
+    for (const Disc* d : discs) {
+      if (std::hypot(x - d->x, y - d->y) < d->r) return d;
+    }
+    return nullptr;
+  };
+  std::mt19937_64 rng(8);
+  std::normal_distribution<double> noise(0, 0.1);
+  GapField gaps;
+  gaps.dz.resize(reference.size());
+  gaps.partner_sum.resize(reference.size());
+  gaps.partner_count.assign(reference.size(), 1);
+  int small_low_samples = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    const double x = reference.xy[i].x + reference.origin[0], y = reference.xy[i].y + reference.origin[1];
+    const Disc* d = disc_of(x, y);
+    gaps.dz[i] = noise(rng) + (d ? 3.0 : 0.0);
+    gaps.partner_sum[i] = noise(rng) + (d ? 3.0 * d->partner_ratio : 0.0);
+    small_low_samples += d == &small_low;
+  }
+  StableOptions options;
+  options.margin_rings = 0;
+  // The small discs must sit between min_region_samples and twice it.
+  ASSERT_GE(small_low_samples, options.min_region_samples);
+  ASSERT_LT(small_low_samples, 2 * options.min_region_samples);
+  const StableTerrain stable = ClassifyStable(MakeSampleAdjacency(reference), gaps, {}, {}, options);
+  auto in = [&](const Disc& d) { return [&](double x, double y) { return disc_of(x, y) == &d; }; };
+  EXPECT_EQ(stable.regions, 2);
+  EXPECT_GT(ShareFlagged(reference, stable, kChangedSample, in(large_low)), 0.99);
+  EXPECT_EQ(ShareFlagged(reference, stable, kChangedSample, in(small_low)), 0.0);
+  EXPECT_GT(ShareFlagged(reference, stable, kChangedSample, in(small_agreeing)), 0.99);
+}
+
 // The gaps a small rigid misfit leaves, plus a block of change: the
 // consensus removes the misfit exactly and leaves the block.
 TEST(RigidConsensus, RemovesARigidMisfitThroughAChangedBlock) {
