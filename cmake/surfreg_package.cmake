@@ -27,7 +27,7 @@ set(SURFREG_PUBLIC_MEASURE_HEADERS
   change_budget.h convex_hull.h delaunay.h domain.h dz_statistics.h grid_mesh.h
   input_error.h mask_region.h measures.h mesh.h surface.h tiled_measure.h tiled_partial.h volume.h)
 set(SURFREG_PUBLIC_REGISTRATION_HEADERS
-  align.h face_frame.h holdout.h jaw.h rigid_motion.h stable_terrain.h symmetry.h)
+  align.h align_options.h align_result.h face_frame.h holdout.h jaw.h rigid_motion.h stable_terrain.h symmetry.h)
 set(SURFREG_PUBLIC_IO_HEADERS
   mesh_reader.h polygon_reader.h raster_io.h surface_reader.h surface_writer.h)
 list(TRANSFORM SURFREG_PUBLIC_MEASURE_HEADERS PREPEND ${PROJECT_SOURCE_DIR}/measure/)

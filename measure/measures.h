@@ -1,5 +1,5 @@
 #pragma once
-// The one-call comparison of two surfaces (Dyshkant 2010; DESIGN.md 2, 3):
+// The one-call comparison of two surfaces (Dyshkant 2010; docs/method.md, How a comparison runs):
 // triangulate each (a raster on its own cells, measure/grid_mesh.h), locate
 // each cloud in the other's mesh (walking in EMST order), interpolate, and
 // integrate the gap d = F̂_B − F̂_A over the overlap Ω with weight μ. Ω is
@@ -32,7 +32,7 @@ namespace surfreg {
 
 enum class VolumeMode {
   // Exact: ∫|d|μ on the common refinement of the two triangulations, where
-  // both interpolants are linear on each cell (DESIGN.md 2, default).
+  // both interpolants are linear on each cell (docs/method.md, default).
   kOverlay,
   // The paper's: the Delaunay triangulation of A ∪ B with each surface known
   // at every node (one given, one interpolated). Approximates ρd, since F̂_A

@@ -2,7 +2,7 @@
 // The common refinement (overlay) of two triangulations A and B over
 // Ω = Conv(A) ∩ Conv(B): every convex polygon T_A ∩ T_B of positive area.
 // Both piecewise-linear surfaces are linear on each cell, so integrals of
-// their gap over the cells are exact (DESIGN.md 2).
+// their gap over the cells are exact (docs/method.md, How a comparison runs).
 //
 // How: for each triangle T_A, a breadth-first search over the triangles of B
 // whose closures meet T_A, decided exactly (separating-axis tests with exact

@@ -75,6 +75,11 @@ void ValidateSurface(const Surface& surface) {
         !std::isfinite(surface.z[i])) {
       throw InputError(where + ": point " + std::to_string(i + 1) + " is not finite");
     }
+    const double x = surface.xy[i].x + surface.origin[0], y = surface.xy[i].y + surface.origin[1];
+    if (std::max({std::abs(x), std::abs(y), std::abs(surface.z[i] + surface.origin[2])}) > kMaxCoordinate) {
+      throw InputError(where + ": point " + std::to_string(i + 1) +
+                       " has a coordinate beyond 1e60 in magnitude (the geometry would overflow)");
+    }
     if (!surface.weight.empty() && !(surface.weight[i] >= 0.0 && std::isfinite(surface.weight[i]))) {
       throw InputError(where + ": weight of point " + std::to_string(i + 1) +
                        " is negative or not finite");

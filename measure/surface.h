@@ -57,11 +57,15 @@ Surface MakeSurface(const std::vector<std::array<double, 3>>& points,
 
 // Checks what every algorithm downstream assumes and throws InputError
 // naming `surface.source` if it does not hold: at least 3 samples, all
-// coordinates finite, weights finite and >= 0, one raster cell per sample
+// coordinates finite and of magnitude at most kMaxCoordinate, weights
+// finite and >= 0, one raster cell per sample
 // if any, and the xy positions not all on one line: not exactly (exact
 // test), nor within rounding (the points' spread across their main
 // direction at least kMinBandWidthRatio of their extent along it).
 inline constexpr double kMinBandWidthRatio = 1e-9;
+// Beyond this, products in the exact predicates (up to the fourth power of
+// a coordinate difference) and in the volumes would overflow.
+inline constexpr double kMaxCoordinate = 1e60;
 void ValidateSurface(const Surface& surface);
 
 }  // namespace surfreg

@@ -346,6 +346,11 @@ AlignResult AlignWithSearch(const Surface& reference, const Surface& moving, con
                     (result.verdict == Verdict::kConvergedNotImproved && !close);
   const bool apart = result.verdict == Verdict::kConvergedImproved && result.sampling_gap > 0 && !close;
   if (options.wide_search != AlignOptions::WideSearch::kAuto || !(poor || apart)) return result;
+  if (options.on_stage) {
+    options.on_stage(poor ? "wide search (the first solve did not improve): solving again from many starts"
+                          : "wide search (the surfaces are still apart): solving again from many starts",
+                     result.seconds);
+  }
   AlignOptions wide = options;
   wide.wide_search = AlignOptions::WideSearch::kAlways;
   AlignResult second = AlignFrom(reference, moving, wide);

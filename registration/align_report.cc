@@ -6,7 +6,7 @@
 #include <string>
 
 #include "measure/dz_statistics.h"
-#include "registration/align.h"
+#include "registration/align_result.h"
 
 namespace surfreg {
 namespace {
@@ -48,8 +48,9 @@ std::string AlignResult::BriefReport() const {
   return out;
 }
 
-std::string AlignResult::FullReport() const {
+std::string AlignResult::FullReport(const std::string& units) const {
   std::string out;
+  const char* u = units.c_str();
   const auto& v = rotation_vector;
   const auto& sd = stddev;
   Append(&out, "verdict:      %s%s%s%s\n", VerdictName(verdict), verdict_reason.empty() ? "" : "  (",
@@ -58,17 +59,17 @@ std::string AlignResult::FullReport() const {
          v[1] * kDegrees, v[2] * kDegrees);
   Append(&out, "euler:        rx %.6f ry %.6f rz %.6f deg  (R = Rz Ry Rx)\n", euler_deg[0], euler_deg[1],
          euler_deg[2]);
-  Append(&out, "translation:  tx %.6g ty %.6g tz %.6g units  (shift of the moving centroid)\n", translation[0],
-         translation[1], translation[2]);
-  Append(&out, "stddev:       rx %.3g ry %.3g rz %.3g deg, tx %.3g ty %.3g tz %.3g units  (%s)\n",
-         sd[0] * kDegrees, sd[1] * kDegrees, sd[2] * kDegrees, sd[3], sd[4], sd[5], stddev_source.c_str());
+  Append(&out, "translation:  tx %.6g ty %.6g tz %.6g %s  (shift of the moving centroid)\n", translation[0],
+         translation[1], translation[2], u);
+  Append(&out, "stddev:       rx %.3g ry %.3g rz %.3g deg, tx %.3g ty %.3g tz %.3g %s  (%s)\n",
+         sd[0] * kDegrees, sd[1] * kDegrees, sd[2] * kDegrees, sd[3], sd[4], sd[5], u, stddev_source.c_str());
   const double z = 1.959963984540054;  // 95%, two-sided
-  Append(&out, "95%% interval: rx +/-%.3g ry +/-%.3g rz +/-%.3g deg, tx +/-%.3g ty +/-%.3g tz +/-%.3g units\n",
-         z * sd[0] * kDegrees, z * sd[1] * kDegrees, z * sd[2] * kDegrees, z * sd[3], z * sd[4], z * sd[5]);
-  Append(&out, "rho'_d:       %.6g -> %.6g units  (mean |dz| at the nodes)\n", before.rho_d_axial,
-         after.rho_d_axial);
-  Append(&out, "mean |dz|:    %.6g -> %.6g units  (rho_d / overlap area; sampling gap %.3g)\n", before.mean_abs_dz,
-         after.mean_abs_dz, sampling_gap);
+  Append(&out, "95%% interval: rx +/-%.3g ry +/-%.3g rz +/-%.3g deg, tx +/-%.3g ty +/-%.3g tz +/-%.3g %s\n",
+         z * sd[0] * kDegrees, z * sd[1] * kDegrees, z * sd[2] * kDegrees, z * sd[3], z * sd[4], z * sd[5], u);
+  Append(&out, "rho'_d:       %.6g -> %.6g %s  (mean |dz| at the nodes)\n", before.rho_d_axial,
+         after.rho_d_axial, u);
+  Append(&out, "mean |dz|:    %.6g -> %.6g %s  (rho_d / overlap area; sampling gap %.3g)\n", before.mean_abs_dz,
+         after.mean_abs_dz, u, sampling_gap);
   Append(&out, "overlap:      %.2f%% -> %.2f%% of the smaller data domain\n", 100 * overlap_fraction_before,
          100 * overlap_fraction_after);
   if (chord_correction != "none")
@@ -78,9 +79,9 @@ std::string AlignResult::FullReport() const {
     Append(&out, "solved with:  the axial cost at the sparser surface's nodes (%.2fx the other's area per sample)\n",
            density_ratio);
   if (stable.done) {
-    Append(&out, "stable:       %.1f%% of the overlap; %d changed region%s left out (%d round%s%s); gap noise %.3g units\n",
+    Append(&out, "stable:       %.1f%% of the overlap; %d changed region%s left out (%d round%s%s); gap noise %.3g %s\n",
            100 * stable.stable_share, stable.regions, stable.regions == 1 ? "" : "s", stable.rounds,
-           stable.rounds == 1 ? "" : "s", stable.settled ? "" : ", not settled", stable.noise_sigma);
+           stable.rounds == 1 ? "" : "s", stable.settled ? "" : ", not settled", stable.noise_sigma, u);
     if (!stable.warning.empty()) Append(&out, "warning:      %s\n", stable.warning.c_str());
   }
   if (holdout.done) {

@@ -9,6 +9,7 @@
 #include "measure/input_error.h"
 #include "measure/mask_region.h"
 #include "measure/measures.h"
+#include "registration/align.h"  // Align, TransformSurface: each round is a whole alignment
 #include "registration/rigid_consensus.h"
 
 namespace surfreg {

@@ -1,7 +1,7 @@
 #pragma once
 // Align with AlignOptions::stable auto: the rounds of fit → classify → fit on
 // the stable part (registration/stable_terrain.h), then the final solve.
-#include "registration/align.h"
+#include "registration/align_result.h"
 
 namespace surfreg {
 

@@ -10,7 +10,7 @@
 
 #include "measure/measures.h"
 #include "measure/surface.h"
-#include "registration/align.h"
+#include "registration/align_options.h"
 #include "registration/chord_bias.h"
 #include "registration/pair_state.h"
 #include "registration/solvers.h"

@@ -1,5 +1,5 @@
 #pragma once
-// The axial cost (ρ'd as least squares, DESIGN.md 4): one residual per node
+// The axial cost (ρ'd as least squares, docs/method.md, How a registration runs): one residual per node
 // inside the overlap, with analytic Jacobians,
 //   node i of A located in B':  r = F̂_B'(x_i, y_i) − z_i,
 //   node j of B (moved):        r = F̂_A(x'_j, y'_j) − z'_j.

@@ -271,11 +271,11 @@ std::vector<int32_t> VisibleVertices(const Mesh& mesh, double tolerance) {
     return static_cast<int>(v >= 1.0 ? std::min(std::ceil(v), 4096.0) : 1.0);
   };
   const int nx = side(std::sqrt(cells * w / h)), ny = side(std::sqrt(cells * h / w));
-  const auto cell = [](double u, int n) {
-    return u >= 0.0 ? static_cast<int>(std::min(u, n - 1.0)) : 0;
+  const auto clamp_cell = [](double u, int cells_on_side) {
+    return u >= 0.0 ? static_cast<int>(std::min(u, cells_on_side - 1.0)) : 0;
   };
-  const auto cell_x = [&](double x) { return cell((x - x_lo) / w * nx, nx); };
-  const auto cell_y = [&](double y) { return cell((y - y_lo) / h * ny, ny); };
+  const auto cell_x = [&](double x) { return clamp_cell((x - x_lo) / w * nx, nx); };
+  const auto cell_y = [&](double y) { return clamp_cell((y - y_lo) / h * ny, ny); };
   std::vector<int64_t> offset(static_cast<std::size_t>(nx) * ny + 1, 0);
   std::vector<std::array<int, 4>> range(mesh.triangles.size());  // x0, x1, y0, y1
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {

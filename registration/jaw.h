@@ -1,6 +1,6 @@
 #pragma once
 // Jaw motion over a sequence of 3D frames (Dyshkant 2010, section 3.3;
-// DESIGN.md 5): per frame, the motion of the lower (dynamic) part of the
+// docs/faces.md): per frame, the motion of the lower (dynamic) part of the
 // face relative to the upper (static) part, the skull.
 //
 // Frames are height fields (point clouds) seen by one camera, in one frame of
@@ -46,7 +46,7 @@
 #include <Eigen/Core>
 
 #include "measure/surface.h"
-#include "registration/align.h"  // Verdict, EulerDegrees
+#include "registration/align.h"  // EulerDegrees
 
 namespace surfreg {
 

@@ -1,6 +1,6 @@
 #pragma once
 // A reference surface A and a moving surface B prepared for registration,
-// and B's state at the current parameter value θ (DESIGN.md 4):
+// and B's state at the current parameter value θ (docs/method.md, How a registration runs):
 // - both in A's local frame, duplicates merged (heights averaged), in
 //   Hilbert order;
 // - A triangulated once; B triangulated once in its own frame (a raster at

@@ -1,5 +1,5 @@
 #pragma once
-// The six registration parameters and the motion they define (DESIGN.md 4):
+// The six registration parameters and the motion they define (docs/method.md, How a registration runs):
 //
 //   p_in_reference = R(ω) (p_in_moving − c) + c + t
 //

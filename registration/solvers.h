@@ -1,6 +1,6 @@
 #pragma once
 // One solve of the registration at one level from one start, with Ceres
-// (internal to align.cc; DESIGN.md 4).
+// (internal to align.cc; docs/method.md, How a registration runs).
 // - axial: ceres::Problem, one residual block per node (so a robust loss
 //   applies per node), all blocks served from one evaluation of the state per
 //   new θ (ceres::EvaluationCallback), trust region.
@@ -16,7 +16,7 @@
 
 #include <Eigen/Core>
 
-#include "registration/align.h"
+#include "registration/align_options.h"
 #include "registration/axial_cost.h"
 #include "registration/pair_state.h"
 #include "registration/volume_cost.h"

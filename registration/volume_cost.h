@@ -1,5 +1,5 @@
 #pragma once
-// The volume cost (DESIGN.md 4): ρd per unit overlap area,
+// The volume cost (docs/method.md, How a registration runs): ρd per unit overlap area,
 //   f(θ) = ∫_Ω |F̂_B'(x) − F̂_A(x)| dx / |Ω|,  Ω = region(A) ∩ region(B'),
 // evaluated exactly on the overlay of A's mesh and B's moved mesh, with its
 // exact gradient:
@@ -27,7 +27,7 @@
 #include <Eigen/Core>
 
 #include "measure/mask_region.h"
-#include "registration/align.h"  // CellKernelChoice
+#include "registration/align_options.h"  // CellKernelChoice
 #include "registration/pair_state.h"
 
 namespace surfreg {

@@ -9,7 +9,7 @@
 #include <cstdint>
 
 #include "measure/surface.h"
-#include "registration/align.h"  // CellKernelChoice
+#include "registration/align_options.h"  // CellKernelChoice
 #include "registration/overlay_topology.h"
 
 namespace surfreg {

@@ -7,7 +7,7 @@
 // Internal to align.cc.
 #include <array>
 
-#include "registration/align.h"
+#include "registration/align_options.h"
 #include "registration/pair_state.h"
 
 namespace surfreg {

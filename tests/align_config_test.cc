@@ -164,6 +164,7 @@ stable: all
 stable_sigmas: 5.5
 stable_grow_sigmas: 2.5
 stable_map: stable.xyz
+cell_kernel: scalar
 )";
 
 TEST(AlignConfig, EveryKeyFromYaml) {
@@ -328,6 +329,12 @@ TEST(AlignConfigErrors, UnknownKeySuggestsTheNearest) {
   EXPECT_TRUE(Contains(YamlError("max-iterations: 3"), "did you mean 'max_iterations'?"));
   EXPECT_TRUE(Contains(YamlError("iterations: 3"), "did you mean 'max_iterations'?"));
   EXPECT_TRUE(Contains(YamlError("Threads: 3"), "did you mean 'threads'?"));
+  EXPECT_TRUE(Contains(YamlError("mask_mod: exclude"), "did you mean 'mask_mode'?"));
+  // Every unknown key of a file in one message, before a bad value is read.
+  const std::string two = YamlError("cots: volume\nmax_iterations: many\nsubsampel: 0.5");
+  EXPECT_TRUE(Contains(two, "t.yaml:1: unknown key 'cots' (did you mean 'cost'?); "
+                            "t.yaml:3: unknown key 'subsampel' (did you mean 'subsample'?)"))
+      << two;
   const std::string far = YamlError("banana_split: 1");
   EXPECT_TRUE(Contains(far, "unknown key 'banana_split' (known keys: reference, moving, cost"));
   EXPECT_TRUE(Contains(FlagError("cots", "x"), "flag '--cots': unknown key 'cots'"));

@@ -323,6 +323,18 @@ assert angle < 0.05 and shift < 1.0, (angle, shift)
 r = load('$tmp/quarter0.json')
 assert r['solve_cost'] == 'volume', r['solve_cost']
 "
+  run align "$ref" "$tmp/quarter.xyz" --cost=volume --json
+  cp "$tmp/stdout" "$tmp/quarter_volume.json"
+  check "an explicit --cost=volume is solved with the volume cost" "
+r = load('$tmp/quarter_volume.json')
+assert r['cost'] == 'volume' and r['solve_cost'] == 'volume', r['solve_cost']
+"
+  run align "$ref" "$tmp/quarter.xyz" --cost=volume --sparser_nodes_ratio=2.5 --json
+  cp "$tmp/stdout" "$tmp/quarter_both.json"
+  check "an explicit cost with an explicit sparser_nodes_ratio switches" "
+r = load('$tmp/quarter_both.json')
+assert r['solve_cost'] == \"axial at the sparser surface's nodes\", r['solve_cost']
+"
 fi
 
 # --- an exclude mask with a hole: GeoJSON (OGR) and text give one alignment ---

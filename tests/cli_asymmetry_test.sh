@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # End-to-end tests of `surfreg asymmetry`: on the shipped face cloud the JSON
-# has the DESIGN.md keys (initial, refined: rho_d, mean_abs_dz, overlap_area,
+# has the keys of docs/faces.md (initial, refined: rho_d, mean_abs_dz, overlap_area,
 # plane.normal, plane.offset), the refined estimate is no worse than the
 # initial one, --output holds the same JSON as stdout, and the map is a PNG;
 # an exactly symmetric face gives zero asymmetry and the plane x = 0; the
@@ -97,7 +97,7 @@ with open(sys.argv[2], "w") as f:
         if x - mean > 1e-6:
             f.write("%r %r %r\n%r %r %r\n" % (x - mean, y, z, mean - x, y, z))
 PY
-run asymmetry "$tmp/symmetric.xyz" --json
+run asymmetry "$tmp/symmetric.xyz" --json --quiet
 if [[ $rc -ne 0 ]]; then
   fail "asymmetry symmetric.xyz"
 else

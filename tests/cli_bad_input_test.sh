@@ -125,13 +125,17 @@ fi
 
 # A mask polygon outside the data: verdict failed, exit 3, the JSON still
 # written, warnings in the program's own format (not glog's; the solver's
-# own complaints come first).
+# own complaints come first), and the wide search the failure calls for
+# announced as it begins.
 printf '100 100\n101 100\n101 101\n100 101\n' >far.poly
 run align good.xyz good.xyz --mask=far.poly --output=out/failed.json
 if [[ $rc -ne 3 ]] || ! grep -q '"verdict": "failed"' out/failed.json 2>/dev/null; then
   fail "mask outside the data: expected exit 3 and the JSON with verdict failed"
-elif grep -qv '^surfreg: warning: ' stderr || ! grep -q '^surfreg: warning: align: failed: ' stderr; then
+elif grep -v '^align: wide search ' stderr | grep -qv '^surfreg: warning: ' ||
+     ! grep -q '^surfreg: warning: align: failed: ' stderr; then
   fail "mask outside the data: expected only 'surfreg: warning: ...' lines, one 'align: failed: ...'"
+elif [[ $(grep -c '^align: wide search (the first solve did not improve)' stderr) -ne 1 ]]; then
+  fail "mask outside the data: expected the wide search announced once"
 fi
 rm -f out/failed.json
 

@@ -65,6 +65,10 @@ internal=$(cd "$inc" && find . -name '*_internal.h' -o -name 'overlay_clip.h' -o
 [[ -z "$internal" ]] || fail "internal headers are installed: $internal"
 checks=$((checks + 1))
 [[ -x "$prefix/bin/surfreg" ]] || fail "the surfreg program is not installed in bin/"
+# The project's own compile flags stay its own: none reaches a client.
+checks=$((checks + 1))
+! grep -rq -- "-ffp-contract" "$prefix"/lib*/cmake/surfreg/ 2>/dev/null ||
+  fail "the installed package forces -ffp-contract on its clients"
 
 # Every installed header compiles on its own, included twice (pragma once),
 # with only the package's include directories: so the installed set is

@@ -69,6 +69,9 @@ run jaw --config configs/jaw_chewing.yaml --output_csv="$tmp/volume.csv" --outpu
   --cost=volume --volume_iterations=3 --progress=false
 [[ $rc -eq 0 && -s "$tmp/volume.csv" ]] || fail "jaw --cost=volume override"
 [[ -s "$tmp/stderr" ]] && fail "jaw --progress=false still prints progress"
+run jaw --config configs/jaw_chewing.yaml --output_csv="$tmp/quiet.csv" --output_json= --plot= --quiet
+[[ $rc -eq 0 && -s "$tmp/quiet.csv" ]] || fail "jaw --quiet: expected exit 0 and the CSV"
+[[ -s "$tmp/stderr" ]] && fail "jaw --quiet still prints progress"
 
 # --- bad configs: exit 2, one line, no output ---
 bad() {  # bad NAME EXPECTED_TEXT YAML_LINES...

@@ -59,6 +59,11 @@ else
   done
   grep -q '^known motion: ' "$tmp/stdout" || fail "terrain example: no 'known motion' line"
   grep -q '^dz stable: ' "$tmp/stdout" || fail "terrain example: no dz statistics"
+  # A metre CRS: the summary's lengths are in m, not in "units".
+  grep -q '^translation: .* m  (shift of the moving centroid)$' "$tmp/stdout" ||
+    fail "terrain example: the translation is not in m"
+  grep -q '^known motion: .*translation [0-9.e-]* m (' "$tmp/stdout" ||
+    fail "terrain example: the known motion's error is not in m"
   python3 - "$out/terrain_dem_transform.json" "$out/terrain_dem_dod.tif" <<'PY' || fail "terrain example: figures"
 import json, sys
 t = json.load(open(sys.argv[1]))["terrain"]

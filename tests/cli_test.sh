@@ -186,12 +186,15 @@ if [[ $rc -ne 0 ]]; then
   fail "triangulate with --minloglevel and --json: expected exit 0"
 fi
 
-# SURFREG_CELL_KERNEL naming no kernel: one warning naming the variable and
-# the value, then the best kernel; the alignment goes on.
-SURFREG_CELL_KERNEL=bogus run align configs/data/face_a.xyz configs/data/face_b_moved.xyz --json
-if [[ $rc -ne 0 ]] || ! grep -q "SURFREG_CELL_KERNEL=bogus: unknown (scalar, avx2 or avx512); using" "$tmp/err" \
-    || ! grep -q '"verdict": "converged_improved"' "$tmp/out"; then
-  fail "SURFREG_CELL_KERNEL=bogus: expected a warning and a converged alignment"
+# The cell kernel is a key: a named one aligns as the best does; a name
+# that is no kernel is refused, naming the flag.
+run align configs/data/face_a.xyz configs/data/face_b_moved.xyz --json --cell_kernel=scalar
+if [[ $rc -ne 0 ]] || ! grep -q '"verdict": "converged_improved"' "$tmp/out"; then
+  fail "--cell_kernel=scalar: expected a converged alignment"
+fi
+run align configs/data/face_a.xyz configs/data/face_b_moved.xyz --cell_kernel=bogus
+if [[ $rc -ne 2 ]] || ! grep -q "flag '--cell_kernel' expects one of best, scalar, avx2, avx512, got 'bogus'" "$tmp/err"; then
+  fail "--cell_kernel=bogus: expected exit 2 naming the flag"
 fi
 
 echo "$((checks - failures)) of $checks checks passed"

@@ -280,7 +280,7 @@ TEST(DegenerateGeometryTest, RotatedGrids) {
 TEST(DegenerateGeometryTest, LargeOffsetCostsOnlyTheRoundingOfTheInput) {
   // At 1e6 the inputs are rounded to 2^-33 ≈ 1.2e-10. That alone changes
   // which diagonal each nearly cocircular cell of a rotated grid gets (and
-  // ρd with it: 6e-5 relative for F1/F2 and 2% for F1/F1 here, DESIGN.md 3);
+  // ρd with it: 6e-5 relative for F1/F2 and 2% for F1/F1 here);
   // the same rounded points measured near 0 give the same ρd.
   const std::vector<Point2> grid = Grid(17, 1.0 / 16), rotated = Rotated(grid, 45, kCentre);
   std::vector<Point2> rounded = rotated;

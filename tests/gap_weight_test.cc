@@ -132,7 +132,9 @@ TEST(GapWeightTest, CurvatureGapsOfAQuadraticOnScatteredPoints) {
   std::nth_element(spacing2.begin(), spacing2.begin() + spacing2.size() / 2, spacing2.end());
   const double expected = 0.25 * spacing2[spacing2.size() / 2] * abs_lambda_sum;
   for (std::size_t v = 0; v < p.size(); ++v) {
-    if (gap[v] >= 0) EXPECT_NEAR(gap[v], expected, 1e-9 * expected) << "node " << v;
+    if (gap[v] >= 0) {
+      EXPECT_NEAR(gap[v], expected, 1e-9 * expected) << "node " << v;
+    }
   }
 }
 

@@ -241,6 +241,7 @@ TEST_F(RasterIoTest, NanInfinityNodataAndMaskCellsAreSkipped) {
   for (int i = 0; i < 6; ++i) EXPECT_TRUE(std::isnan(r.values[i])) << i;
   EXPECT_EQ(r.values[6], 106.0);
   EXPECT_EQ(r.values[7], 107.0);
+  EXPECT_EQ(r.non_finite_cells, 3);  // NaN, +inf, -inf; not the nodata cell, not the masked ones
 }
 
 TEST_F(RasterIoTest, Float32NodataThatIsNotAFloatStillMatches) {

@@ -151,6 +151,21 @@ TEST(ValidateSurfaceTest, RejectsNonFiniteCoordinates) {
   }
 }
 
+TEST(ValidateSurfaceTest, RejectsCoordinatesBeyondTheGeometrysRange) {
+  const Points3 good = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 1}};
+  for (int coord = 0; coord < 3; ++coord) {
+    Points3 points = good;
+    points[2][coord] = -2e60;
+    const Surface s = MakeSurface(points, {}, "far.xyz");
+    ExpectRejected(s, "coordinate " + std::to_string(coord) + " = -2e60");
+    EXPECT_NE(ValidationError(s).find("point 3 has a coordinate beyond 1e60"), std::string::npos)
+        << ValidationError(s);
+  }
+  // Far from the origin, but within range: accepted.
+  ExpectAccepted(MakeSurface({{1e59, 1e59, 0}, {2e59, 1e59, 0}, {1e59, 2e59, 0}}, {}, "far.xyz"),
+                 "coordinates of 1e59-2e59");
+}
+
 TEST(ValidateSurfaceTest, RejectsBadWeights) {
   const Points3 points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   for (double bad : {-1.0, -1e-300, kNaN, kInf, -kInf}) {

@@ -54,6 +54,10 @@ const Names<ceres::LineSearchDirectionType> kLineSearches = {
 const Names<StableOptions::Mode> kStableModes = {{"auto", StableOptions::Mode::kAuto},
                                                  {"all", StableOptions::Mode::kAll}};
 const Names<bool> kWeightModes = {{"uniform", false}, {"per_point", true}};
+const Names<CellKernelChoice> kCellKernels = {{"best", CellKernelChoice::kBest},
+                                               {"scalar", CellKernelChoice::kScalar},
+                                               {"avx2", CellKernelChoice::kAvx2},
+                                               {"avx512", CellKernelChoice::kAvx512}};
 const Names<MaskMode> kMaskModes = {{"include", MaskMode::kInclude}, {"exclude", MaskMode::kExclude}};
 const Names<DomainKind> kDomains = {{"data", DomainKind::kData}, {"hull", DomainKind::kHull}};
 const Names<ceres::LinearSolverType> kLinearSolvers = {
@@ -279,6 +283,11 @@ const config_table::Table<AlignConfig>& Table() {
       {{"threads", "an integer >= 1", "threads for the solver and the measures"},
        [](const Value& v, C* c) { c->options.num_threads = Integer(v, 1); },
        [](const C& c) { return std::to_string(c.options.num_threads); }},
+      {{"cell_kernel", "one of best, scalar, avx2, avx512",
+        "volume cost: the kernel of the cell integrals (best: the widest this CPU runs; the others for "
+        "comparison, the same cost to rounding)"},
+       [](const Value& v, C* c) { c->options.cell_kernel = Choice(v, kCellKernels); },
+       [](const C& c) { return NameOf(c.options.cell_kernel, kCellKernels); }},
       {{"output", "a file name, or nothing", "the transform JSON"},
        [](const Value& v, C* c) { c->output = Path(v, false); },
        [](const C& c) { return c.output; }},
@@ -389,16 +398,19 @@ std::string NearestKey(const std::string& name, const std::vector<std::string>& 
     c = c == '-' ? '_' : static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   }
   std::string best;
-  std::size_t best_distance = std::max<std::size_t>(2, wanted.size() / 3) + 1;
+  std::size_t best_distance = std::max<std::size_t>(2, wanted.size() / 3) + 1, best_edits = 0;
   for (const std::string& key : keys) {
-    std::size_t distance = EditDistance(wanted, key);
+    const std::size_t edits = EditDistance(wanted, key);
     // "iterations" for "max_iterations": a part of a key is close enough.
     const bool part = wanted.size() >= 3 && (key.find(wanted) != std::string::npos ||
                                              wanted.find(key) != std::string::npos);
-    if (part) distance = std::min<std::size_t>(distance, 1);
-    if (distance < best_distance) {
+    const std::size_t distance = part ? std::min<std::size_t>(edits, 1) : edits;
+    // Among equally close keys the fewest edits win: 'mask_mode' for
+    // 'mask_mod', not 'mask', which is only a part of it.
+    if (distance < best_distance || (distance == best_distance && !best.empty() && edits < best_edits)) {
       best = key;
       best_distance = distance;
+      best_edits = edits;
     }
   }
   return best;
@@ -426,12 +438,6 @@ void ApplyAlignArguments(const std::string& reference, const std::string& moving
 }
 
 void FinishAlignConfig(AlignConfig* config) {
-  // The cell kernel for comparisons (registration/align.h CellKernelChoice).
-  if (const char* kernel = std::getenv("SURFREG_CELL_KERNEL")) {
-    if (!ParseCellKernel(kernel, &config->options.cell_kernel)) {
-      LOG(WARNING) << "SURFREG_CELL_KERNEL=" << kernel << ": unknown (scalar, avx2 or avx512); using the best";
-    }
-  }
   const std::string source = config->config_file.empty() ? "" : config->config_file + ": ";
   for (const char* key : {"reference", "moving"}) {
     if (AlignConfigValue(*config, key).empty()) {
@@ -487,6 +493,12 @@ void FinishAlignConfig(AlignConfig* config) {
       }
     }
     config->options.weight = WeightMode::kPerPoint;
+  }
+  // An explicit cost is solved as given: the switch to the sparser nodes'
+  // axial cost on terrain of two resolutions applies to the default only,
+  // unless sparser_nodes_ratio is given too.
+  if (config->origin.count("cost") != 0 && config->origin.count("sparser_nodes_ratio") == 0) {
+    config->options.sparser_nodes_ratio = 0;
   }
   for (const char* key : {"mask_mode", "mask_layer"}) {
     if (config->mask.empty() && config->origin.count(key) != 0 &&

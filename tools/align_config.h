@@ -1,5 +1,5 @@
 #pragma once
-// The settings of `surfreg align` (DESIGN.md 6): one table of keys, each a
+// The settings of `surfreg align` (docs/align.md): one table of keys, each a
 // field of AlignOptions or an input/output setting, read from a YAML mapping
 // ("key: value" lines) and from command-line flags of the same names.
 //

@@ -100,13 +100,21 @@ class Table {
       throw InputError(file + ": expected a YAML mapping of 'key: value' lines, found " + KindName(root));
     }
     try {
+      // Every unknown key in one message, before any value is read.
+      std::string unknown;
+      for (const auto& pair : root) {
+        if (pair.first.IsScalar() && Find(pair.first.Scalar()) == nullptr) {
+          unknown += (unknown.empty() ? "" : "; ") + config_value::YamlAt(file, pair.first.Mark()) +
+                     UnknownKeyMessage(pair.first.Scalar());
+        }
+      }
+      if (!unknown.empty()) throw InputError(unknown);
       std::map<std::string, int> seen;  // key -> line
       for (const auto& pair : root) {
         const std::string at = config_value::YamlAt(file, pair.first.Mark());
         if (!pair.first.IsScalar()) throw InputError(at + "expected a key name, found a list or mapping");
         const std::string name = pair.first.Scalar();
         const auto* entry = Find(name);
-        if (entry == nullptr) throw InputError(at + UnknownKeyMessage(name));
         const auto [previous, inserted] = seen.emplace(name, pair.first.Mark().line + 1);
         if (!inserted) {
           throw InputError(at + "key '" + name + "' given twice (also at line " +

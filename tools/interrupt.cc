@@ -58,8 +58,6 @@ void InstallInterruptHandlers() {
   std::signal(SIGXFSZ, SIG_IGN);
 }
 
-int InterruptSignal() { return g_signal; }
-
 void ThrowIfInterrupted() {
   const int signal = g_signal;
   if (signal != 0) throw Interrupted(signal);

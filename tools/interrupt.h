@@ -33,9 +33,6 @@ class Interrupted {
 // killing the process.
 void InstallInterruptHandlers();
 
-// The first signal received, or 0.
-int InterruptSignal();
-
 // Throws Interrupted if a signal was received.
 void ThrowIfInterrupted();
 

@@ -225,8 +225,6 @@ const std::vector<JawConfigKey>& JawConfigKeys() { return Table().keys(); }
 
 std::string JawConfigValue(const JawConfig& config, const std::string& key) { return Table().Get(config, key); }
 
-std::string NearestJawKey(const std::string& name) { return Table().Nearest(name); }
-
 void ApplyJawYaml(const std::string& yaml_text, const std::string& file, JawConfig* config) {
   Table().ApplyYaml(yaml_text, file, config);
 }

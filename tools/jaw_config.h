@@ -1,5 +1,5 @@
 #pragma once
-// The settings of `surfreg jaw` (DESIGN.md 6): one table of keys, read from
+// The settings of `surfreg jaw` (docs/faces.md): one table of keys, read from
 // a YAML mapping and from --KEY=VALUE flags of the same names, with the
 // precedence JawOptions' defaults < the config file < flags. Relative paths
 // are used as given (relative to the current directory), as for `align`.
@@ -67,9 +67,6 @@ const std::vector<JawConfigKey>& JawConfigKeys();
 // The value of `key` as YAML text ("axial", "[0, 0, 0]"); "" for a file key
 // naming no file. Throws InputError for an unknown key.
 std::string JawConfigValue(const JawConfig& config, const std::string& key);
-
-// The known key closest to `name`, or "" when none is close.
-std::string NearestJawKey(const std::string& name);
 
 // Applies the YAML mapping `yaml_text` (`file` names it in messages).
 void ApplyJawYaml(const std::string& yaml_text, const std::string& file, JawConfig* config);

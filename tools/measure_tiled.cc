@@ -61,12 +61,12 @@ TiledRasterSource InFrame(TiledRasterSource lonlat, const GeoFrame& frame, const
       }
     }
     PointsFromFrame(frame, crs, &points);
-    XyBox lonlat{points[0][0], points[0][1], points[0][0], points[0][1]};
+    XyBox in_crs{points[0][0], points[0][1], points[0][0], points[0][1]};
     for (const auto& p : points) {
-      lonlat.x_min = std::min(lonlat.x_min, p[0]), lonlat.x_max = std::max(lonlat.x_max, p[0]);
-      lonlat.y_min = std::min(lonlat.y_min, p[1]), lonlat.y_max = std::max(lonlat.y_max, p[1]);
+      in_crs.x_min = std::min(in_crs.x_min, p[0]), in_crs.x_max = std::max(in_crs.x_max, p[0]);
+      in_crs.y_min = std::min(in_crs.y_min, p[1]), in_crs.y_max = std::max(in_crs.y_max, p[1]);
     }
-    return cover(lonlat);
+    return cover(in_crs);
   };
   return out;
 }

@@ -78,6 +78,7 @@ DEFINE_string(holdout, "", "align: fit on the reference less this share of its t
 DEFINE_string(holdout_seed, "", "align: which tiles are held out (integer seed)");
 DEFINE_string(holdout_verdict, "", "align: converged_improved only if the held-out tiles improved too (true | false)");
 DEFINE_string(threads, "", "align: threads");
+DEFINE_string(cell_kernel, "", "align: volume cost cell kernel: best | scalar | avx2 | avx512");
 DEFINE_string(output, "", "align: write the transform JSON here");
 DEFINE_string(matrix_txt, "", "align: write the moving->reference 4x4 matrix here as text");
 DEFINE_string(aligned, "", "align: write the aligned moving surface here (.ply, .xyz, .txt; .tif: on a raster reference's grid)");
@@ -150,11 +151,16 @@ AlignConfig LoadConfig(const std::vector<std::string>& args) {
 void PrintProgress(const AlignOptions::Iteration& it, const AlignConfig& config,
                    Clock::time_point start) {
   if (FLAGS_quiet || (!config.progress && Since(start) < 1.0)) return;
-  std::fputs(AlignProgressLine(it, config.options.levels).c_str(), stderr);
+  // Stamped on the command's clock, as the stage lines are: a wide search
+  // or a stable-terrain round restarts the solve's own.
+  AlignOptions::Iteration stamped = it;
+  stamped.seconds = Since(start);
+  std::fputs(AlignProgressLine(stamped, config.options.levels).c_str(), stderr);
 }
 
-void PrintSummary(const AlignConfig& config, const Surface& reference, const Surface& moving,
-                  const AlignResult& r) {
+void PrintSummary(const AlignConfig& config, const TerrainInputs& inputs, const AlignResult& r) {
+  const Surface& reference = inputs.reference;
+  const Surface& moving = inputs.moving;
   // A tiled run holds no whole surface: its sample's sizes are in its own lines.
   const auto points = [](const Surface& s) {
     return s.size() > 0 ? "  (" + std::to_string(s.size()) + " points)" : std::string();
@@ -163,7 +169,7 @@ void PrintSummary(const AlignConfig& config, const Surface& reference, const Sur
   std::printf("moving:       %s%s\n", config.moving.c_str(), points(moving).c_str());
   std::printf("cost:         %s, free %s\n", AlignConfigValue(config, "cost").c_str(),
               AlignConfigValue(config, "free").c_str());
-  std::fputs(r.FullReport().c_str(), stdout);
+  std::fputs(r.FullReport(LengthUnit(inputs)).c_str(), stdout);
   for (const char* key : {"output", "matrix_txt", "aligned", "log"}) {
     const std::string path = AlignConfigValue(config, key);
     if (!path.empty()) std::printf("%-13s %s\n", (std::string(key) + ":").c_str(), path.c_str());
@@ -181,7 +187,9 @@ int RunAlign(const std::vector<std::string>& args) {
   const bool large = LargeInputs({config.reference, config.moving});
   if (!FLAGS_quiet && large) PrintReadingLine("align", {config.reference, config.moving});
   config.options.on_stage = [progress = config.progress || large, start](const char* stage, double) {
-    if (!FLAGS_quiet && (progress || Since(start) >= 1.0)) {
+    // A wide search is announced however short the run.
+    const bool wide = std::string(stage).rfind("wide search", 0) == 0;
+    if (!FLAGS_quiet && (progress || wide || Since(start) >= 1.0)) {
       std::fprintf(stderr, "align: %s (%.1f s)\n", stage, Since(start));
     }
   };
@@ -197,7 +205,7 @@ int RunAlign(const std::vector<std::string>& args) {
   if (FLAGS_json) {
     std::printf("%s", run.json.c_str());
   } else {
-    PrintSummary(run.config, run.inputs.reference, run.inputs.moving, result);
+    PrintSummary(run.config, run.inputs, result);
     if (run.tiled) {
       std::fputs(TiledAlignSummary(*run.tiled).c_str(), stdout);
     } else if (run.terrain) {

@@ -30,6 +30,7 @@
 // (reference, orientation, cost, trim_fraction, normal_distance, max_iterations,
 // max_fold_fraction, threads, progress) use those commands' flags of the same
 // names, looked up by name, so every key is a flag without defining any twice.
+DECLARE_bool(quiet);  // tools/run_measure.cc
 DEFINE_string(frames, "", "jaw: a folder of frames or a list a.xyz,b.xyz,...");
 DEFINE_string(boundary_y, "", "jaw: y level in the reference frame: upper at and above, lower below");
 DEFINE_string(boundary_polygon, "", "jaw: polygon file (x y per line): inside = lower part");
@@ -197,6 +198,7 @@ void PrintFrame(const JawConfig& config, const JawFrame& f) {
 
 int RunJaw(const std::vector<std::string>& args) {
   JawConfig config = LoadConfig(args);
+  if (FLAGS_quiet) config.progress = false;  // no per-frame lines (warnings still)
   const Normalization normalization = Normalize(config);
   config.options.on_frame = [&config](const JawFrame& f) { PrintFrame(config, f); };
   const JawSummary summary = TrackJaw(

@@ -33,7 +33,7 @@ DEFINE_string(volume, "overlay",
               "measure: how the volume between the surfaces is integrated: overlay (exact, on "
               "the common refinement of the two triangulations) or union (the paper's, on the "
               "triangulation of A and B together)");
-DEFINE_bool(quiet, false, "measure, align, sweep, transform: no progress lines on stderr (errors and warnings still)");
+DEFINE_bool(quiet, false, "measure, align, sweep, transform, asymmetry, jaw: no progress lines on stderr (errors and warnings still)");
 DEFINE_string(weights, "uniform",
               "measure, align: the weight of the integrals: uniform, per_point (the samples' weights, "
               "interpolated linearly) or mask:FILE (1 inside the mask, 0 outside: 'x y' text, "

@@ -81,12 +81,12 @@ const Command kCommands[] = {
      "orientation depth_limit output json", nullptr},
     {"asymmetry", RunAsymmetry,
      "FACE [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] [--map=MAP.png] [--json] "
-     "[--output=ASYMMETRY.json]",
+     "[--output=ASYMMETRY.json] [--quiet]",
      "facial asymmetry: the face against its mirror image, about x = 0 and the optimized plane",
-     "orientation depth_limit map output json", nullptr},
-    {"jaw", RunJaw, "--config JAW.yaml [--KEY=VALUE ...]",
+     "orientation depth_limit map output json quiet", nullptr},
+    {"jaw", RunJaw, "--config JAW.yaml [--KEY=VALUE ...] [--quiet]",
      "jaw motion over a 3D sequence: the lower part relative to the upper part, per frame",
-     "config", IsJawKey},
+     "config quiet", IsJawKey},
     {"transform", RunTransform,
      "INPUT --transform=T.json|T.txt --output=OUT [--inverse] [--grid=REF.tif] [--classes=C,...] "
      "[--columns=X,Y,Z] [--band=N] [--window=C,R,W,H] [--quiet]",

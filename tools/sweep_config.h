@@ -1,5 +1,5 @@
 #pragma once
-// The config of `surfreg sweep` (DESIGN.md 6): surface pairs with an
+// The config of `surfreg sweep` (docs/sweeps.md): surface pairs with an
 // optional known motion, base solver settings, the settings to sweep (lists
 // of values), the initial perturbations, the success thresholds, and the
 // outputs. A commented example: configs/sweep_example.yaml.

@@ -447,6 +447,14 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
   }
 }
 
+std::string LengthUnit(const TerrainInputs& inputs) {
+  if (inputs.frame.kind != GeoFrame::kAsGiven) return "m";
+  if (inputs.reference_crs.kind != CrsKind::kProjected) return "units";
+  if (inputs.reference_crs.metres_per_unit == 1.0) return "m";
+  if (std::abs(inputs.reference_crs.metres_per_unit - 0.3048) < 1e-6) return "ft";
+  return "units";
+}
+
 std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& in,
                            const TerrainReport& r) {
   const MeasureSummary& a = r.after;
@@ -464,7 +472,7 @@ std::string TerrainSummary(const AlignConfig& config, const TerrainInputs& in,
     text += "known motion: centroid shift " + Number(r.known_translation[0]) + ", " +
             Number(r.known_translation[1]) + ", " + Number(r.known_translation[2]) +
             "; error: rotation " + Number(r.rotation_error_deg) + " deg, translation " +
-            Number(r.translation_error) + " units (" + Number(r.translation_error / r.spacing) +
+            Number(r.translation_error) + " " + LengthUnit(in) + " (" + Number(r.translation_error / r.spacing) +
             " cells)\n";
   }
   text += "dz stable:    before " + DzStatisticsLine(r.stable_before, "") + "\n";

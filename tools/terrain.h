@@ -42,6 +42,10 @@ struct TerrainInputs {
 Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::string& key_where,
                const std::string& path);
 
+// The unit of lengths in the inputs' frame, for summaries: "m" in a metric
+// frame (UTM, ENU) or a metre CRS, "ft" in a foot CRS, else "units".
+std::string LengthUnit(const TerrainInputs& inputs);
+
 // Reads both inputs of `config` (rasters with the band and window of
 // config.terrain, point files as ReadSurface does), resolves their CRSs
 // (the raster's own, or reference_crs / moving_crs; a key overrides a file

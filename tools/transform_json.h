@@ -1,5 +1,5 @@
 #pragma once
-// The transform JSON of `surfreg align` (DESIGN.md 6): matrix (4x4 row-major,
+// The transform JSON of `surfreg align` (docs/align.md): matrix (4x4 row-major,
 // moving -> reference, input coordinates), rotation_vector, quaternion,
 // euler_deg, translation, centre, stddev, before/after measures, iterations,
 // termination, seconds, verdict, observability, the cost and free parameters,

@@ -1,4 +1,4 @@
-// Cost of re-measuring during registration (DESIGN.md 4): a PairState that
+// Cost of re-measuring during registration (docs/method.md, How a registration runs): a PairState that
 // moves B by a solver-sized step and re-locates by walking from the previous
 // locations must be at least 10x faster than a full Measure; a whole axial
 // Align of two 1e5-point clouds should take less than 20 full measures.

@@ -132,6 +132,7 @@ void MarkNodata(GDALRasterBandH band, const RasterWindow& w, Raster* raster,
   }
   for (double& v : raster->values) {
     const bool is_nodata = has_nodata != 0 && (v == nodata || v == nodata_as_stored);
+    if (!is_nodata && !std::isfinite(v)) ++raster->non_finite_cells;
     if (is_nodata || !std::isfinite(v)) v = std::numeric_limits<double>::quiet_NaN();
   }
   ApplyMask(band, w, raster, quiet);

@@ -15,6 +15,8 @@
 #include <memory>
 #include <mutex>
 
+#include <glog/logging.h>
+
 #include "measure/input_error.h"
 #include "tools/atomic_file.h"
 #include "tools/interrupt.h"
@@ -41,6 +43,11 @@ Raster ReadRaster(const std::string& path, const RasterReadOptions& options) {
   Raster raster;
   std::string error;
   if (!gdal.read_raster(path, options, &raster, &error)) throw InputError(error);
+  if (raster.non_finite_cells > 0) {
+    LOG(WARNING) << path << ": " << raster.non_finite_cells << " of "
+                 << static_cast<int64_t>(raster.columns) * raster.rows
+                 << " cells are NaN or infinite (not the band's nodata value): read as nodata";
+  }
   return raster;
 }
 

@@ -47,6 +47,9 @@ struct Raster {
   std::string crs_wkt;         // WKT of the CRS; "" if the file has none
   std::vector<double> values;  // columns * rows, row-major, row 0 at the top; NaN = nodata
   std::string source;          // the path (for messages)
+  // Cells read as nodata because they are NaN or infinite, not because they
+  // hold the band's nodata value or are masked out (ReadRaster warns).
+  int64_t non_finite_cells = 0;
 
   // Centre of cell (column, row): the geotransform at (column + 0.5, row + 0.5).
   Point2 CellCentre(int column, int row) const;
@@ -55,7 +58,8 @@ struct Raster {
 // Reads one band of `path` (any raster format GDAL reads) as doubles. A cell
 // is nodata, and becomes NaN, when it equals the band's nodata value, is
 // masked out by the band's mask (per-dataset mask, alpha band), or is NaN or
-// infinite. A file without a geotransform gets GDAL's default (0, 1, 0, 0,
+// infinite (counted in non_finite_cells, and a warning names the file and
+// the count). A file without a geotransform gets GDAL's default (0, 1, 0, 0,
 // 0, 1): cell (c, r) is centred at (c + 0.5, r + 0.5).
 Raster ReadRaster(const std::string& path, const RasterReadOptions& options = {});
 
