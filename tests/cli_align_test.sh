@@ -395,6 +395,8 @@ assert sum(f == 0 for f in flags) == s['changed_samples'], (sum(f == 0 for f in 
 rm -f "$out"/*
 expect_error "flag '--stable_map': a GeoTIFF is on the reference's grid, but the reference is no raster" \
   align "$ref" "$mov" --stable_map="$out/stable.tif" --output="$out/t.json"
+expect_error "flag '--stable_map': a PNG map is on the reference's grid, but the reference is no raster" \
+  align "$ref" "$mov" --stable_map="$out/stable.png" --output="$out/t.json"
 expect_error "flag '--stable' expects one of auto, all, got 'some'" align "$ref" "$mov" --stable=some
 
 echo "$((checks - failures)) of $checks checks passed"

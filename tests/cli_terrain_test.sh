@@ -89,6 +89,15 @@ if bad:
     sys.exit(1)
 PY
 fi
+# The stable-terrain map on the reference's grid: GeoTIFF and PNG.
+run align --config "$tmp/terrain.yaml" --stable_map="$out/stable.png"
+if [[ $rc -ne 0 ]] || [[ "$(head -c 8 "$out/stable.png" | od -An -tx1 | tr -d ' ')" != 89504e470d0a1a0a ]]; then
+  fail "terrain example: --stable_map=stable.png: expected exit 0 and a PNG"
+fi
+run align --config "$tmp/terrain.yaml" --stable_map="$out/stable.tif"
+if [[ $rc -ne 0 || ! -s "$out/stable.tif" ]]; then
+  fail "terrain example: --stable_map=stable.tif: expected exit 0 and the GeoTIFF"
+fi
 rm -rf "${out:?}"/*
 
 # --- bad rasters and CRSs: exit 2, one line, nothing written ---

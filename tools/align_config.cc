@@ -300,9 +300,9 @@ const config_table::Table<AlignConfig>& Table() {
         "reference's grid; .las from a LAS moving file: all its points, attributes kept)"},
        [](const Value& v, C* c) { c->aligned = Path(v, false); },
        [](const C& c) { return c.aligned; }},
-      {{"stable_map", "a file name (.xyz, .txt, .csv; .tif on a raster reference's grid), or nothing",
+      {{"stable_map", "a file name (.xyz, .txt, .csv; .tif or .png on a raster reference's grid), or nothing",
         "stable auto: the reference's samples flagged 1 stable, 0 changed (left out of the fit), 2 outside "
-        "the overlap; a GeoTIFF has 1, 0 and nodata"},
+        "the overlap; a GeoTIFF has 1, 0 and nodata; a PNG maps them blue, red and grey"},
        [](const Value& v, C* c) { c->stable_map = Path(v, false); },
        [](const C& c) { return c.stable_map; }},
       {{"log", "a file name, or nothing", "per-iteration CSV"},

@@ -1,5 +1,7 @@
 #include "tools/align_run.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -13,6 +15,7 @@
 #include "tools/io/raster_io.h"
 #include "tools/io/raster_resample.h"
 #include "tools/io/surface_writer.h"
+#include "tools/plot.h"
 #include "tools/run_align_terrain.h"
 #include "tools/sweep.h"
 #include "tools/transform_file.h"
@@ -21,12 +24,47 @@
 namespace surfreg {
 namespace {
 
+bool IsPngPath(const std::string& path) {
+  std::string extension = path.substr(std::min(path.size(), path.find_last_of('.')));
+  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return extension == ".png";
+}
+
 // AlignConfig::stable_map: the reference's samples with their StableFlag.
 void WriteStableMap(const AlignConfig& config, const TerrainInputs& inputs, const AlignResult& result) {
   const Surface& reference = inputs.reference;
   const std::string where = config.Where("stable_map");
   std::vector<uint8_t> flag = result.stable.flag;
   if (flag.size() != reference.size()) flag.assign(reference.size(), kStableSample);  // stable all: everything used
+  if (IsPngPath(config.stable_map)) {  // a raster reference: checked before the alignment
+    const Raster& grid = inputs.reference_grid;
+    GridField field;
+    field.columns = grid.columns;
+    field.rows = grid.rows;
+    field.values.assign(static_cast<std::size_t>(grid.columns) * grid.rows, std::nan(""));
+    // Two classes on a diverging scale: stable −1 (blue), changed +1 (red);
+    // outside the overlap no data (grey).
+    for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
+      if (flag[i] != kOutsideOverlap) field.values[inputs.reference_cells[i]] = flag[i] == kStableSample ? -1.0 : 1.0;
+    }
+    const auto& g = grid.geotransform;
+    field.x_min = std::min(g[0], g[0] + grid.columns * g[1]);
+    field.x_max = std::max(g[0], g[0] + grid.columns * g[1]);
+    field.y_min = std::min(g[3], g[3] + grid.rows * g[5]);
+    field.y_max = std::max(g[3], g[3] + grid.rows * g[5]);
+    const bool degrees = inputs.reference_crs.kind == CrsKind::kGeographic;
+    const std::string unit = LengthUnit(inputs);
+    char title[160];
+    std::snprintf(title, sizeof title, "Stable terrain: %.1f%% of the overlap, %d changed region%s left out",
+                  100 * result.stable.stable_share, result.stable.regions, result.stable.regions == 1 ? "" : "s");
+    FigureText text{title, degrees ? "longitude (deg)" : "easting (" + unit + ")",
+                    degrees ? "latitude (deg)" : "northing (" + unit + ")"};
+    MapStyle style;
+    style.limit = 1;
+    style.colorbar_label = "-1 stable (fitted), +1 changed (left out)";
+    WriteMapPng(config.stable_map, field, text, style, where);
+    return;
+  }
   if (IsGeoTiffPath(config.stable_map)) {  // a raster reference: checked before the alignment
     Raster map = inputs.reference_grid;
     map.values.assign(static_cast<std::size_t>(map.columns) * map.rows, std::nan(""));
@@ -183,10 +221,11 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     throw InputError(config.Where("aligned") + ": a GeoTIFF is resampled onto the reference's grid, "
                      "but the reference is no raster; write .ply, .xyz or .las instead");
   }
-  if (IsGeoTiffPath(config.stable_map) && !inputs.reference_is_raster) {
-    throw InputError(config.Where("stable_map") + ": a GeoTIFF is on the reference's grid, but the reference "
-                     "is no raster; write .xyz instead");
+  if ((IsGeoTiffPath(config.stable_map) || IsPngPath(config.stable_map)) && !inputs.reference_is_raster) {
+    throw InputError(config.Where("stable_map") + ": a " + (IsPngPath(config.stable_map) ? "PNG map" : "GeoTIFF") +
+                     " is on the reference's grid, but the reference is no raster; write .xyz instead");
   }
+  if (IsPngPath(config.stable_map)) RequirePngFigures(config.Where("stable_map"));
   ApplyInitialTransform(config, &config.options);
   std::vector<AlignOptions::Iteration> seen;  // the log, should Align not return one
   config.options.on_iteration = [&seen, &on_iteration](const AlignOptions::Iteration& it) {

@@ -119,11 +119,10 @@ Eigen::Vector3d Centroid(const Surface& s) {
 }
 
 // "m" when the frame is known to be metric, else the data's own units.
+// The unit in figure labels: LengthUnit's, "data units" when not known.
 std::string Units(const TerrainInputs& in) {
-  const bool metric = in.frame.kind != GeoFrame::kAsGiven ||
-                      (in.reference_crs.kind == CrsKind::kProjected &&
-                       in.reference_crs.metres_per_unit == 1.0);
-  return metric ? "m" : "data units";
+  const std::string unit = LengthUnit(in);
+  return unit == "units" ? "data units" : unit;
 }
 
 std::string Number(double value) {
