@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One-step set-up for surfreg on Debian 12:
-#   bash tools/setup.sh run    install what is missing, build (Release), run the default job
-#   bash tools/setup.sh test   install what is missing, build, run the whole test suite (ctest)
+#   bash tools/setup.sh run    install what is missing, build the program and the Python module (Release),
+#                              run the quick start
+#   bash tools/setup.sh test   install what is missing, build everything (warnings are errors), run ctest
 # Installs only Debian packages that are not installed yet (needs root or sudo
 # for that step); builds into ./build (override with SURFREG_BUILD_DIR).
 set -euo pipefail
@@ -41,14 +42,33 @@ if [ "${#missing[@]}" -gt 0 ]; then
       echo "error: need root (or sudo) to install: ${missing[*]}" >&2; exit 1
     fi
   fi
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
-    "${missing[@]}" >/dev/null
+  # Quiet on success; apt's errors (a missing package, no network, a held
+  # lock) are shown in full.
+  apt_log=$(mktemp)
+  if ! { $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq \
+           --no-install-recommends "${missing[@]}"; } >"$apt_log" 2>&1; then
+    cat "$apt_log" >&2
+    rm -f "$apt_log"
+    echo "error: apt-get could not install: ${missing[*]} (its output is above)" >&2
+    exit 1
+  fi
+  rm -f "$apt_log"
 fi
 
+# run: only the program and the Python module the quick start uses (the
+# tests and benchmarks are built by `test`); test: everything, with the
+# compiler's warnings as errors.
 echo "== configuring and building (Release) in $build_dir"
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build "$build_dir" -j "$jobs"
+if [ "$mode" = run ]; then
+  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build_dir" -j "$jobs" --target surfreg
+  if cmake --build "$build_dir" --target help | grep -qw surfreg_python; then
+    cmake --build "$build_dir" -j "$jobs" --target surfreg_python
+  fi
+else
+  cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DSURFREG_WERROR=ON >/dev/null
+  cmake --build "$build_dir" -j "$jobs"
+fi
 
 if [ "$mode" = run ]; then
   echo "== default job (README, quick start): surfreg align --config configs/terrain_volcano.yaml"
