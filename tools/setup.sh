@@ -62,7 +62,8 @@ echo "== configuring and building (Release) in $build_dir"
 if [ "$mode" = run ]; then
   cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release >/dev/null
   cmake --build "$build_dir" -j "$jobs" --target surfreg
-  if cmake --build "$build_dir" --target help | grep -qw surfreg_python; then
+  targets=$(cmake --build "$build_dir" --target help)  # not piped: grep -q would cut it short under pipefail
+  if grep -qw surfreg_python <<<"$targets"; then
     cmake --build "$build_dir" -j "$jobs" --target surfreg_python
   fi
 else
