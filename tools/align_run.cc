@@ -38,20 +38,13 @@ void WriteStableMap(const AlignConfig& config, const TerrainInputs& inputs, cons
   if (flag.size() != reference.size()) flag.assign(reference.size(), kStableSample);  // stable all: everything used
   if (IsPngPath(config.stable_map)) {  // a raster reference: checked before the alignment
     const Raster& grid = inputs.reference_grid;
-    GridField field;
-    field.columns = grid.columns;
-    field.rows = grid.rows;
-    field.values.assign(static_cast<std::size_t>(grid.columns) * grid.rows, std::nan(""));
+    GridField field =
+        MapFieldOn(grid, std::vector<double>(static_cast<std::size_t>(grid.columns) * grid.rows, std::nan("")));
     // Two classes on a diverging scale: stable −1 (blue), changed +1 (red);
     // outside the overlap no data (grey).
     for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
       if (flag[i] != kOutsideOverlap) field.values[inputs.reference_cells[i]] = flag[i] == kStableSample ? -1.0 : 1.0;
     }
-    const auto& g = grid.geotransform;
-    field.x_min = std::min(g[0], g[0] + grid.columns * g[1]);
-    field.x_max = std::max(g[0], g[0] + grid.columns * g[1]);
-    field.y_min = std::min(g[3], g[3] + grid.rows * g[5]);
-    field.y_max = std::max(g[3], g[3] + grid.rows * g[5]);
     const bool degrees = inputs.reference_crs.kind == CrsKind::kGeographic;
     const std::string unit = LengthUnit(inputs);
     char title[160];

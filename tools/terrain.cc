@@ -387,10 +387,7 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
     }
   }
   if (!t.dod_png.empty()) {
-    GridField field;
-    field.columns = dod.columns;
-    field.rows = dod.rows;
-    field.values = dod.values;
+    GridField field = MapFieldOn(dod, dod.values);
     // With a detection threshold, change within it is drawn as none (white).
     const bool thresholded = u.active || report.lod > 0;
     for (std::size_t i = 0; thresholded && i < in.reference_cells.size(); ++i) {
@@ -398,11 +395,6 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
       const double limit = u.active ? u.threshold[i] : report.lod;
       if (std::isfinite(dz) && std::fabs(dz) <= limit) field.values[in.reference_cells[i]] = 0.0;
     }
-    const auto& g = dod.geotransform;
-    field.x_min = std::min(g[0], g[0] + dod.columns * g[1]);
-    field.x_max = std::max(g[0], g[0] + dod.columns * g[1]);
-    field.y_min = std::min(g[3], g[3] + dod.rows * g[5]);
-    field.y_max = std::max(g[3], g[3] + dod.rows * g[5]);
     const bool degrees = in.reference_crs.kind == CrsKind::kGeographic;
     FigureText text{thresholded ? "Detected change after alignment (moving - reference; white: within the threshold)"
                                 : "Difference after alignment (moving - reference)",
@@ -444,6 +436,19 @@ void WriteTerrainOutputs(const AlignConfig& config, const TerrainInputs& in,
     }
     WriteFileAtomically(t.change_csv, csv, config.Where("change_csv"));
   }
+}
+
+GridField MapFieldOn(const Raster& grid, std::vector<double> values) {
+  GridField field;
+  field.columns = grid.columns;
+  field.rows = grid.rows;
+  field.values = std::move(values);
+  const auto& g = grid.geotransform;
+  field.x_min = std::min(g[0], g[0] + grid.columns * g[1]);
+  field.x_max = std::max(g[0], g[0] + grid.columns * g[1]);
+  field.y_min = std::min(g[3], g[3] + grid.rows * g[5]);
+  field.y_max = std::max(g[3], g[3] + grid.rows * g[5]);
+  return field;
 }
 
 std::string LengthUnit(const TerrainInputs& inputs) {

@@ -15,6 +15,7 @@
 #include "tools/align_config.h"
 #include "tools/geo_frame.h"
 #include "tools/json_writer.h"
+#include "tools/plot.h"
 #include "tools/io/raster_io.h"
 #include "tools/terrain_uncertainty.h"
 
@@ -41,6 +42,10 @@ struct TerrainInputs {
 // `key_where` and `path`).
 Crs ResolveCrs(const Crs& from_file, const std::string& key_text, const std::string& key_where,
                const std::string& path);
+
+// A map of `values` (row-major, one per cell of `grid`) over the grid's
+// extent, for WriteMapPng.
+GridField MapFieldOn(const Raster& grid, std::vector<double> values);
 
 // The unit of lengths in the inputs' frame, for summaries: "m" in a metric
 // frame (UTM, ENU) or a metre CRS, "ft" in a foot CRS, else "units".
