@@ -22,10 +22,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Theta = std::array<double, 6>;
 constexpr double kDegrees = 180.0 / 3.14159265358979323846;
-// Relative decrease of the cost below which Ceres stops: the trimmed cost
-// jumps as nodes enter or leave the kept set, so finer is noise.
-constexpr double kFunctionTolerance = 1e-6;
-
 double Seconds(Clock::time_point from) {
   return std::chrono::duration<double>(Clock::now() - from).count();
 }

@@ -35,7 +35,7 @@ echo "== configuring the fuzz build (clang, libFuzzer + ASan + UBSan) in $build_
 cmake -S . -B "$build_dir" \
   -DCMAKE_BUILD_TYPE=Fuzz \
   -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_CXX_FLAGS="$instrument" -DCMAKE_CXX_FLAGS_FUZZ="-O1 -g" \
+  -DCMAKE_CXX_FLAGS="$instrument" -DCMAKE_CXX_FLAGS_FUZZ="-O1 -g1" \
   -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
   -DSURFREG_FUZZ=ON -DSURFREG_BUILD_BENCHMARKS=OFF >/dev/null
 echo "== building the fuzz targets"
