@@ -87,7 +87,7 @@ struct MeasureOptions {
   // nodes, e.g. on a reference raster's cells; and each node's share of
   // the overlap's area (MeasureSummary::node_area_a).
   bool keep_node_gaps = false;
-  // One tile of a larger measure (measure/tiled_measure.h): a surface with
+  // One tile of a larger measure (terrain/tiled_measure.h): a surface with
   // an empty data domain, or an empty or sliver overlap, gives zero
   // measures instead of an InputError (the whole is judged, not the tile).
   bool allow_empty_overlap = false;
@@ -136,7 +136,7 @@ struct MeasureSummary {
   // corners are nodes in Ω (0 elsewhere, and at a repeated xy's other
   // samples). On a raster's cells away from Ω's outline it is the cell's
   // area exactly; its sum is |Ω| less the part along Ω's outline. The
-  // cellwise change budgets (measure/change_budget.h) weight dz_a by it.
+  // cellwise change budgets (terrain/change_budget.h) weight dz_a by it.
   std::vector<double> node_area_a;
   // d at each sample of B, in B's input order (with keep_node_gaps): NaN
   // except at the nodes ρ'd counts for B, i.e. B's nodes in Ω that are not

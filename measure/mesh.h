@@ -1,6 +1,6 @@
 #pragma once
-// A triangle mesh as files hold it (tools/io/mesh_reader.h): what face scans
-// come as before they become height fields (registration/face_frame.h).
+// A triangle mesh as files hold it (io/mesh_reader.h): what face scans
+// come as before they become height fields (faces/face_frame.h).
 #include <array>
 #include <cstdint>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // Internal to the overlay (measure/overlay.cc) and the overlay kept as
-// combinatorics (registration/overlay_topology.h): THE clip of a B triangle
+// combinatorics (registration/volume_cost/overlay_topology.h): THE clip of a B triangle
 // by an A triangle, so that both keep exactly the same cells with exactly
 // the same corners. Not a public interface.
 #include <algorithm>

@@ -54,20 +54,6 @@ ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions() {
   return o;
 }
 
-bool ParseCellKernel(const std::string& name, CellKernelChoice* choice) {
-  static const std::pair<const char*, CellKernelChoice> kNames[] = {{"best", CellKernelChoice::kBest},
-                                                                    {"scalar", CellKernelChoice::kScalar},
-                                                                    {"avx2", CellKernelChoice::kAvx2},
-                                                                    {"avx512", CellKernelChoice::kAvx512}};
-  for (const auto& [text, value] : kNames) {
-    if (name == text) {
-      *choice = value;
-      return true;
-    }
-  }
-  return false;
-}
-
 bool AlignOptions::IsValid(std::string* error) const {
   auto fail = [error](const std::string& message) {
     *error = message;

@@ -19,6 +19,7 @@
 #include "measure/surface.h"
 #include "registration/rigid_motion.h"
 #include "registration/stable_terrain.h"
+#include "registration/volume_cost/cell_kernel.h"
 
 namespace surfreg {
 
@@ -34,16 +35,6 @@ enum class LossKind { kNone, kHuber, kSoftL1, kCauchy };
 // accuracy the data support; no gradient tolerance (1e-16); silent.
 ceres::Solver::Options DefaultAxialSolverOptions();
 ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions();
-
-// The volume cost's inner loop, the integrals over the overlay's cells: the
-// best kernel this CPU runs (AVX-512 F/DQ/VL, then AVX2 + FMA, then
-// scalar), or one named, for comparison (one the CPU or build cannot run
-// falls back to the best, with a warning). Every kernel gives the same
-// cost to rounding.
-enum class CellKernelChoice { kBest, kScalar, kAvx2, kAvx512 };
-// "scalar", "avx2", "avx512" or "best"; false (choice untouched) for
-// another name (the CLI's key `cell_kernel`).
-bool ParseCellKernel(const std::string& name, CellKernelChoice* choice);
 
 // Parameter order everywhere: rx, ry, rz (rotation vector, radians), tx, ty, tz.
 inline constexpr std::array<const char*, 6> kParameterNames = {"rx", "ry", "rz", "tx", "ty", "tz"};

@@ -11,9 +11,9 @@
 
 #include "measure/overlay.h"
 #include "registration/axial_cost.h"
-#include "registration/volume_accumulator.h"
-#include "registration/volume_cost.h"
-#include "registration/volume_hessian.h"
+#include "registration/volume_cost/volume_accumulator.h"
+#include "registration/volume_cost/volume_cost.h"
+#include "registration/volume_cost/volume_hessian.h"
 
 namespace surfreg {
 namespace {
@@ -230,7 +230,7 @@ SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& 
   const Matrix6 meat = ScoreSpread(scores, n);
 
   // The bread: the cost's curvature from its zero set and B's kinks
-  // (registration/volume_hessian.h), one pass over the cells at θ.
+  // (registration/volume_cost/volume_hessian.h), one pass over the cells at θ.
   const Matrix6 hessian =
       (mask == nullptr ? cache.InteriorHessian(state, parallel) : InteriorVolumeHessian(state, parallel, mask)) /
       area;

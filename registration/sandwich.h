@@ -4,7 +4,7 @@
 //   C = H⁻¹ M H⁻¹,
 // with H the curvature of the per-area cost f(θ) at the solution (its line
 // integral along the gap's zero set and its kinks along B's edges,
-// registration/volume_hessian.h: what governs the estimate as the density
+// registration/volume_cost/volume_hessian.h: what governs the estimate as the density
 // of residuals at 0 does an L1 regression's), and M the spread of the
 // gradient's contributions of the B tiles, Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − p)
 // for p free parameters (the fit made the scores sum to zero along p

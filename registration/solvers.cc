@@ -14,7 +14,7 @@
 #include <Eigen/Geometry>
 #include <ceres/ceres.h>
 
-#include "registration/volume_cost.h"
+#include "registration/volume_cost/volume_cost.h"
 
 namespace surfreg {
 namespace {
@@ -388,7 +388,7 @@ Eigen::MatrixXd AxialCurvature(const PairState& state, const SolveContext& conte
 }
 
 // The volume cost's own curvature at the state's θ (per unit area, all six
-// parameters; registration/volume_hessian.h), from the overlay `cache`
+// parameters; registration/volume_cost/volume_hessian.h), from the overlay `cache`
 // builds there; zero without an overlap.
 Eigen::Matrix<double, 6, 6> FullVolumeCurvature(const PairState& state, bool parallel, VolumeCostCache& cache) {
   const double area = cache.Evaluate(state, false, parallel).area;

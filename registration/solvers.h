@@ -8,7 +8,7 @@
 // Only the free parameters are optimized; rotations are scaled by a length
 // (the moving cloud's RMS radius) so that all parameters are lengths, which
 // keeps trust regions well scaled; the line search runs in coordinates that
-// whiten the volume cost's curvature at its start (registration/volume_hessian.h;
+// whiten the volume cost's curvature at its start (registration/volume_cost/volume_hessian.h;
 // the axial cost's under a mask).
 #include <array>
 #include <string>
@@ -19,7 +19,7 @@
 #include "registration/align_options.h"
 #include "registration/axial_cost.h"
 #include "registration/pair_state.h"
-#include "registration/volume_cost.h"
+#include "registration/volume_cost/volume_cost.h"
 
 namespace surfreg {
 

@@ -24,7 +24,7 @@ TEST(AlignConfig, ShippedConfigsParseAndNameExistingData) {
     }
     FinishAlignConfig(&config);
     for (const char* key : {"reference", "moving"}) {
-      EXPECT_GE(ReadAlignSurface(config, key).size(), 3000u) << file << " " << key;
+      EXPECT_GE(ReadInput(config, key).size(), 3000u) << file << " " << key;
     }
     // Each key of the example is documented there by a comment.
     std::ifstream in(file);

@@ -1,6 +1,6 @@
 // The `surfreg align` settings (tools/align_config.h): every key from YAML
 // and from flags, precedence, each class of error message; and the writers
-// it uses (tools/io/surface_writer.h, tools/atomic_file.h). The shipped
+// it uses (io/surface_writer.h, io/atomic_file.h). The shipped
 // configs and the key reference: align_config_docs_test.cc.
 #include "tools/align_config.h"
 
@@ -18,8 +18,8 @@
 
 #include "measure/input_error.h"
 #include "tests/testing/file_checks.h"
-#include "tools/atomic_file.h"
-#include "tools/io/surface_reader.h"
+#include "io/atomic_file.h"
+#include "io/surface_reader.h"
 
 namespace surfreg {
 namespace {
@@ -482,11 +482,11 @@ TEST(AlignConfigErrors, ConfigFileAndSurfaceFiles) {
       dir.File("c.yaml", "reference: " + dir.path() + "/no_such.xyz\nmoving: b.xyz\n");
   ApplyAlignConfigFile(file, &config);
   EXPECT_EQ(config.config_file, file);
-  EXPECT_TRUE(Contains(ErrorOf([&] { ReadAlignSurface(config, "reference"); }),
+  EXPECT_TRUE(Contains(ErrorOf([&] { ReadInput(config, "reference"); }),
                        file + ":1: key 'reference': " + dir.path() + "/no_such.xyz: cannot open"));
   const std::string bad = dir.File("bad.xyz", "0 0 0\n1 0 0\n0 1 x\n");
   ApplyAlignFlag("moving", bad, &config);
-  EXPECT_TRUE(Contains(ErrorOf([&] { ReadAlignSurface(config, "moving"); }),
+  EXPECT_TRUE(Contains(ErrorOf([&] { ReadInput(config, "moving"); }),
                        "flag '--moving': " + bad + ":3: z is not a number"));
 }
 

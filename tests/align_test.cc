@@ -9,7 +9,7 @@
 #include "measure/input_error.h"
 #include "measure/weights.h"
 #include "registration/pair_state.h"
-#include "registration/volume_cost.h"
+#include "registration/volume_cost/volume_cost.h"
 #include "testing/surface_pairs.h"
 
 namespace surfreg {

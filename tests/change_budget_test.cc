@@ -1,4 +1,4 @@
-// Propagated uncertainty of change (measure/change_budget.h) and the node
+// Propagated uncertainty of change (terrain/change_budget.h) and the node
 // areas it weights dz by (MeasureSummary::node_area_a), against closed forms.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "measure/change_budget.h"
+#include "terrain/change_budget.h"
 #include "measure/measures.h"
 #include "measure/surface.h"
 

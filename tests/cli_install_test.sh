@@ -54,7 +54,7 @@ step "cmake --install" "$cmake" --install "$build" --prefix "$prefix"
 # --- the installed headers: the public ones, none of the internal ones ----------
 inc=$prefix/include/surfreg
 for header in measure/surface.h measure/measures.h registration/align.h \
-              registration/rigid_motion.h io/surface_reader.h io/surface_writer.h; do
+              registration/rigid_motion.h faces/symmetry.h io/surface_reader.h io/surface_writer.h; do
   checks=$((checks + 1))
   [[ -f "$inc/$header" ]] || fail "public header $header is not installed"
 done
@@ -89,7 +89,7 @@ while read -r header; do
 done < <(cd "$inc" && find . -name '*.h' | sed 's|^\./||' | sort)
 {
   echo ')'
-  echo 'target_link_libraries(header_check PRIVATE surfreg::registration surfreg::io)'
+  echo 'target_link_libraries(header_check PRIVATE surfreg::registration surfreg::faces surfreg::io surfreg::terrain)'
   echo 'target_compile_options(header_check PRIVATE -fsyntax-only)'
 } >>"$tmp/headers/CMakeLists.txt"
 echo "  $n_headers installed headers"
@@ -168,6 +168,37 @@ else
   SURFREG_GDAL_MODULE=$tmp/nothing.so run measure configs/data/volcano_dem.tif configs/data/volcano_dem_moved.tif
   [[ $rc -eq 2 ]] && grep -q "volcano_dem.tif: needs GDAL, but cannot load libsurfreg_gdal.so" "$tmp/stderr" ||
     fail "a module that cannot be loaded: expected exit 2 and 'needs GDAL, but cannot load'"
+  # examples/terrain_change: the terrain library gives what `surfreg measure
+  # --json` prints, to the bit (dz statistics at A's nodes, cut/fill).
+  SURFREG_GDAL_MODULE=$module run measure configs/data/volcano_dem.tif configs/data/volcano_dem_moved.tif \
+    --lod=1.5 --json
+  cp "$tmp/stdout" "$tmp/measure.json"
+  bin=$tmp/examples/terrain_change
+  SURFREG_GDAL_MODULE=$module run configs/data/volcano_dem.tif configs/data/volcano_dem_moved.tif 1.5
+  checks=$((checks + 1))
+  if [[ $rc -ne 0 ]]; then
+    fail "terrain_change of two GeoTIFFs: expected exit 0"
+  elif ! result=$(python3 - "$tmp/measure.json" "$tmp/stdout" <<'END'
+import json, sys
+m = json.load(open(sys.argv[1]))
+lines = {l.split()[0]: l.split()[1:] for l in open(sys.argv[2]) if l.strip()}
+example = {k: float(v) for k, v in zip(lines["dz"][0::2], lines["dz"][1::2])}
+example.update({"change_" + k: float(v) for k, v in zip(lines["change"][0::2], lines["change"][1::2])})
+pairs = [("count", m["dz"]["count"]), ("mean", m["dz"]["mean"]), ("median", m["dz"]["median"]),
+         ("nmad", m["dz"]["nmad"]), ("stddev", m["dz"]["stddev"]), ("rmse", m["dz"]["rmse"]),
+         ("change_lod", m["change"]["level_of_detection"]), ("change_fill", m["change"]["fill"]),
+         ("change_cut", m["change"]["cut"]), ("change_net", m["change"]["net"])]
+bad = [(k, example[k], v) for k, v in pairs if example[k] != v]
+assert not bad, bad
+assert m["change"]["fill"] > 0 and m["change"]["cut"] > 0 and m["dz"]["count"] > 1000, m["change"]
+print("dz median %.4g, NMAD %.4g over %d nodes; fill %.6g, cut %.6g" % (
+    example["median"], example["nmad"], example["count"], example["change_fill"], example["change_cut"]))
+END
+  ); then
+    fail "terrain_change differs from surfreg measure --json: $result"
+  else
+    echo "  terrain_change = surfreg measure --json: $result"
+  fi
 fi
 
 # align_two_surfaces: the printed matrix against the known motion (the

@@ -450,15 +450,21 @@ expect_input_error "flag '--moving_crs': 'NAD27' disagrees with the CRS of $tmp/
 expect_input_error "and moving $tmp/ll_b.xyz (CRS none): the reference surface has a CRS and the moving has none; give it with the key 'moving_crs' (flag --moving_crs)" \
   measure "$tmp/ll_a.asc" "$tmp/ll_b.xyz"
 # A moving DEM in another CRS is reprojected into the reference's (here
-# UTM 60S into lon/lat), then both go into the metric frame.
+# UTM 60S into lon/lat), then both go into the metric frame; the JSON and
+# the summary say so.
 if measure_json utm_into_ll "$tmp/ll_a.asc" "$tmp/utm_b.asc"; then
   python3 - "$tmp/stdout" <<'PY' || fail "lon/lat against UTM: expected the UTM 60S frame and an overlap"
 import json, sys
 j = json.load(open(sys.argv[1]))
-print("lon/lat against UTM: frame %s, overlap %.0f m2" % (j["frame"], j["overlap_area"]))
-sys.exit(0 if j["frame"].startswith("UTM zone 60S") and j["overlap_area"] > 1e6 else 1)
+print("lon/lat against UTM: frame %s, overlap %.0f m2, B reprojected from %s" % (
+    j["frame"], j["overlap_area"], j.get("b_reprojected_from")))
+sys.exit(0 if j["frame"].startswith("UTM zone 60S") and j["overlap_area"] > 1e6
+         and j.get("b_reprojected_from") == "WGS 84 / UTM zone 60S" else 1)
 PY
 fi
+run measure "$tmp/ll_a.asc" "$tmp/utm_b.asc"
+grep -q "^reprojected: *B from WGS 84 / UTM zone 60S into A's WGS 84$" "$tmp/stdout" ||
+  fail "lon/lat against UTM: the summary does not say that B was reprojected"
 expect_input_error "flag '--reference_crs': unreadable CRS 'EPSG:999999'" \
   measure "$tmp/ll_a.asc" "$tmp/ll_b.asc" --reference_crs=EPSG:999999
 expect_input_error "flag '--frame' expects one of auto, enu, utm, got 'mercator'" \

@@ -1,9 +1,9 @@
-// Tests of registration/face_frame.h against independent truth: equivariance of
+// Tests of faces/face_frame.h against independent truth: equivariance of
 // the automatic frame under rigid motions (which also checks the sign
 // heuristics), the mannequin head's known orientation, exact centring and
 // rotations (Eigen's AngleAxis), visibility against an O(V·T) brute force
 // and a two-layer mesh, and the errors.
-#include "registration/face_frame.h"
+#include "faces/face_frame.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <random>
 
 #include "tests/testing/file_checks.h"
-#include "tools/io/mesh_reader.h"
+#include "io/mesh_reader.h"
 
 namespace surfreg {
 namespace {

@@ -1,7 +1,7 @@
 // CRS parsing and the common metric frame. Truth comes from outside
 // GeographicLib: PROJ (through GDAL's OGRCoordinateTransformation), closed-
 // form ellipsoid formulas written here, and a published UTM example.
-#include "tools/geo_frame.h"
+#include "terrain/geo_frame.h"
 
 #include <gtest/gtest.h>
 #include <ogr_spatialref.h>
@@ -16,7 +16,7 @@
 
 #include "measure/input_error.h"
 #include "measure/measures.h"
-#include "tools/io/raster_io.h"
+#include "io/raster_io.h"
 
 namespace surfreg {
 namespace {

@@ -1,8 +1,8 @@
-// Jaw motion over a sequence (registration/jaw.h) against the known motions
+// Jaw motion over a sequence (faces/jaw.h) against the known motions
 // of a synthetic chewing sequence (tests/testing/chewing_sequence.h), the
 // boundary split against a brute-force classification, and the jaw config
 // (tools/jaw_config.h).
-#include "registration/jaw.h"
+#include "faces/jaw.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +18,7 @@
 #include "measure/input_error.h"
 #include "tests/testing/chewing_sequence.h"
 #include "tools/jaw_config.h"
-#include "tools/plot.h"
+#include "io/plot.h"
 
 namespace surfreg {
 namespace {

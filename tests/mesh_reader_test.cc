@@ -1,8 +1,8 @@
-// Tests of tools/io/mesh_reader.h: each format's vertices and (fan-split)
+// Tests of io/mesh_reader.h: each format's vertices and (fan-split)
 // triangles written out by hand, each error's one-line message, and the
 // orientation text.
 #include "tools/face_orientation.h"
-#include "tools/io/mesh_reader.h"
+#include "io/mesh_reader.h"
 
 #include <gtest/gtest.h>
 

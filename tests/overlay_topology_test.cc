@@ -1,4 +1,4 @@
-// The overlay kept as combinatorics (registration/overlay_topology.h) and
+// The overlay kept as combinatorics (registration/volume_cost/overlay_topology.h) and
 // the incremental volume cost built on it (VolumeCostCache), against
 // independent truth: hand-computed crossings of a hexagram, the full
 // overlay's own cells (measure/overlay.h), and the full evaluation
@@ -18,10 +18,10 @@
 #include "measure/locator.h"
 #include "measure/overlay.h"
 #include "measure/weights.h"
-#include "registration/overlay_topology.h"
+#include "registration/volume_cost/overlay_topology.h"
 #include "registration/pair_state.h"
-#include "registration/volume_accumulator.h"
-#include "registration/volume_cost.h"
+#include "registration/volume_cost/volume_accumulator.h"
+#include "registration/volume_cost/volume_cost.h"
 #include "testing/registration_sides.h"
 
 namespace surfreg {

@@ -24,7 +24,7 @@
 #include "registration/pair_state.h"
 #include "registration/rigid_motion.h"
 #include "registration/solvers.h"
-#include "registration/volume_cost.h"
+#include "registration/volume_cost/volume_cost.h"
 #include "testing/registration_sides.h"
 #include "testing/surface_pairs.h"
 

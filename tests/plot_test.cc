@@ -2,7 +2,7 @@
 // for facts that hold whatever the layout: which colours appear where, how
 // tall a bar is relative to another. The tick and colour-range helpers are
 // checked against hand-worked values.
-#include "tools/plot.h"
+#include "io/plot.h"
 
 #include <cairo.h>
 #include <gtest/gtest.h>
@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "measure/input_error.h"
-#include "tools/plot_internal.h"
+#include "io/plot_internal.h"
 
 namespace surfreg {
 namespace {

@@ -22,9 +22,9 @@
 #include "registration/align.h"
 #include "tests/testing/file_checks.h"
 #include "tools/align_config.h"
-#include "tools/geo_frame.h"
-#include "tools/io/raster_io.h"
-#include "tools/terrain.h"
+#include "terrain/geo_frame.h"
+#include "io/raster_io.h"
+#include "terrain/terrain.h"
 
 namespace surfreg {
 namespace {

@@ -3,7 +3,7 @@
 // centres), atomic writes and every error. Fixture files are written by the
 // tests, as text (.asc) or through GDAL's own API (independent of the code
 // under test).
-#include "tools/io/raster_io.h"
+#include "io/raster_io.h"
 
 #include <cpl_conv.h>
 #include <dirent.h>
@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "measure/input_error.h"
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 
 namespace surfreg {
 namespace {

@@ -25,7 +25,7 @@
 #include "registration/axial_cost.h"
 #include "registration/pair_state.h"
 #include "registration/rigid_motion.h"
-#include "registration/volume_cost.h"
+#include "registration/volume_cost/volume_cost.h"
 #include "testing/registration_sides.h"
 #include "testing/surface_pairs.h"
 

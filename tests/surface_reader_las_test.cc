@@ -1,4 +1,4 @@
-// The LAS reader (tools/io/surface_reader_las.cc): files written by
+// The LAS reader (io/surface_reader_las.cc): files written by
 // las_test_writer.h for LAS 1.2 and 1.4 headers and point formats 0, 1, 3, 6
 // (and extra bytes per record) read back to exactly X * scale + offset; the
 // classification filter; the CRS from the WKT and GeoTIFF-key VLRs; and one
@@ -16,7 +16,7 @@
 
 #include "tests/las_test_writer.h"
 #include "tests/surface_reader_test_util.h"
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 
 namespace surfreg {
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "tests/testing/file_checks.h"
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 
 namespace surfreg {
 namespace {

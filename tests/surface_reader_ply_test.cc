@@ -8,7 +8,7 @@
 #include <string>
 
 #include "tests/surface_reader_test_util.h"
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 
 namespace surfreg {
 namespace {

@@ -1,7 +1,7 @@
 // Surface readers: text (.xyz/.txt/.csv), OFF, OBJ and the by-extension
 // ReadSurface (PLY is in surface_reader_ply_test.cc). Every valid form must
 // read the exact values; every invalid one must fail with "<file>:<line>:".
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>

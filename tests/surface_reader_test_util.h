@@ -10,7 +10,7 @@
 #include <string>
 
 #include "measure/input_error.h"
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 
 namespace surfreg::reader_test {
 

@@ -1,5 +1,5 @@
-// The writers of aligned surfaces (tools/io/surface_writer.h), read back by
-// the readers, and atomic output files (tools/atomic_file.h).
+// The writers of aligned surfaces (io/surface_writer.h), read back by
+// the readers, and atomic output files (io/atomic_file.h).
 #include <dirent.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
@@ -16,10 +16,10 @@
 
 #include "measure/input_error.h"
 #include "tests/testing/file_checks.h"
-#include "tools/atomic_file.h"
-#include "tools/io/las_writer.h"
-#include "tools/io/surface_reader.h"
-#include "tools/io/surface_writer.h"
+#include "io/atomic_file.h"
+#include "io/las_writer.h"
+#include "io/surface_reader.h"
+#include "io/surface_writer.h"
 
 namespace surfreg {
 namespace {

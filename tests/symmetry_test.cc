@@ -1,9 +1,9 @@
-// Facial asymmetry (registration/symmetry.h) against independent truth:
+// Facial asymmetry (faces/symmetry.h) against independent truth:
 // an exactly symmetric node set (zero asymmetry, the exact plane), a bump of
 // closed-form volume on one cheek (ρd = 2V), a symmetric face rotated out of
 // its plane by a known motion (the plane recovered), the chained gradient
 // against central differences, and the edge cases.
-#include "registration/symmetry.h"
+#include "faces/symmetry.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "measure/input_error.h"
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 
 namespace surfreg {
 namespace {

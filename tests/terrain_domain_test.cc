@@ -16,8 +16,8 @@
 #include "measure/dz_statistics.h"
 #include "tests/testing/file_checks.h"
 #include "tools/align_config.h"
-#include "tools/io/raster_io.h"
-#include "tools/terrain.h"
+#include "io/raster_io.h"
+#include "terrain/terrain.h"
 
 namespace surfreg {
 namespace {

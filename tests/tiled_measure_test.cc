@@ -1,8 +1,8 @@
-// MeasureTiled (measure/tiled_measure.h) against Measure on the whole
+// MeasureTiled (terrain/tiled_measure.h) against Measure on the whole
 // surfaces: two synthetic rasters with nodata holes (one larger than a
 // tile) and a known change, on different grids and on one grid, for tile
 // sizes from one cell to more than the raster.
-#include "measure/tiled_measure.h"
+#include "terrain/tiled_measure.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 
 #include "measure/input_error.h"
 #include "measure/measures.h"
-#include "measure/tiled_partial.h"
+#include "terrain/tiled_partial.h"
 #include "tests/testing/raster_grid.h"
 
 namespace surfreg {
@@ -353,7 +353,7 @@ TEST(TiledMeasureTest, BlockSurfaceIsTheWholeOnesWindow) {
 }
 
 
-// --- parts: shards merged, a run resumed (measure/tiled_partial.h) ----------
+// --- parts: shards merged, a run resumed (terrain/tiled_partial.h) ----------
 
 TEST(TiledPartialTest, ShardsMergeToTheUnshardedRun) {
   const Grid a = MakeGrid(120, 97, kGridA, {kX0 + 60, kY0 - 48, 0}, false, {{50, 40, 14}}, 13u,

@@ -1,8 +1,8 @@
-// measure/tiled_motion.h: a moving raster measured moved, tile by tile,
+// terrain/tiled_motion.h: a moving raster measured moved, tile by tile,
 // against Measure on the whole surfaces moved point by point; the extent of
 // the valid samples against a brute-force scan; the sample of patches: bounded, every
 // sample once, and each reference patch covered by the moving data it needs.
-#include "measure/tiled_motion.h"
+#include "terrain/tiled_motion.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The volume cost's interior curvature (registration/volume_hessian.h)
+// The volume cost's interior curvature (registration/volume_cost/volume_hessian.h)
 // against a closed form (a V-shaped surface under a level plane), against
 // central differences of the exact gradient (A inside B, so Ω does not
 // move), and the overlay cache's version against the cell walk's.
@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "registration/pair_state.h"
-#include "registration/volume_cost.h"
-#include "registration/volume_hessian.h"
+#include "registration/volume_cost/volume_cost.h"
+#include "registration/volume_cost/volume_hessian.h"
 #include "testing/registration_sides.h"
 
 namespace surfreg {

@@ -14,17 +14,17 @@
 #include <utility>
 
 #include "measure/input_error.h"
-#include "tools/atomic_file.h"
+#include "io/atomic_file.h"
 #include "tools/align_config_values.h"
 #include "tools/config_table.h"
 #include "tools/config_value.h"
-#include "tools/io/raster_io.h"
-#include "tools/io/raster_resample.h"
+#include "io/raster_io.h"
+#include "io/raster_resample.h"
 #include "tools/yaml_value.h"
-#include "tools/io/polygon_reader.h"
-#include "tools/io/surface_reader.h"
-#include "tools/io/surface_reader_internal.h"
-#include "tools/io/surface_writer.h"
+#include "io/polygon_reader.h"
+#include "io/surface_reader.h"
+#include "io/surface_reader_internal.h"
+#include "io/surface_writer.h"
 #include "tools/transform_file.h"
 
 namespace surfreg {
@@ -378,11 +378,6 @@ void ReadInitialTransform(AlignConfig* config) {
 }
 
 }  // namespace
-
-std::string AlignConfig::Where(const std::string& key) const {
-  const auto found = origin.find(key);
-  return found != origin.end() ? found->second : "key '" + key + "'";
-}
 
 const std::vector<AlignConfigKey>& AlignConfigKeys() { return Table().keys(); }
 

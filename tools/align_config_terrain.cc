@@ -6,22 +6,11 @@
 #include <cmath>
 
 #include "tools/config_value.h"
-#include "tools/io/raster_io.h"
+#include "io/raster_io.h"
 #include "tools/measure_tiled.h"
-#include "tools/plot.h"
+#include "io/plot.h"
 
 namespace surfreg {
-
-bool TerrainSettings::Active(const std::string& reference, const std::string& moving) const {
-  // A LAS file may carry a CRS, which only the terrain reading resolves.
-  const auto las = [](const std::string& path) { return io_internal::Extension(path) == ".las"; };
-  return IsRasterPath(reference) || IsRasterPath(moving) || las(reference) || las(moving) ||
-         !reference_crs.empty() ||
-         !moving_crs.empty() || lod > 0 || !dod.empty() || !dod_png.empty() ||
-         !histogram_png.empty() || !change_csv.empty() || !known_matrix.empty() ||
-         !mask_raster.empty() || !sigma_reference.empty() || !sigma_moving.empty() ||
-         lod_confidence > 0 || !dod_sigma.empty() || !dod_thresholded.empty();
-}
 
 bool IsTerrainKey(const std::string& key) {
   for (const config_value::KeyEntry& entry : config_value::TerrainKeyTable()) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "registration/align.h"
-#include "tools/io/surface_reader_internal.h"
+#include "io/surface_reader_internal.h"
 
 namespace surfreg {
 namespace config_value {

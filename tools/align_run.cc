@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "measure/input_error.h"
-#include "tools/atomic_file.h"
-#include "tools/interrupt.h"
-#include "tools/io/las_writer.h"
-#include "tools/io/raster_io.h"
-#include "tools/io/raster_resample.h"
-#include "tools/io/surface_writer.h"
-#include "tools/plot.h"
+#include "io/atomic_file.h"
+#include "io/interrupt.h"
+#include "io/las_writer.h"
+#include "io/raster_io.h"
+#include "io/raster_resample.h"
+#include "io/surface_writer.h"
+#include "io/plot.h"
 #include "tools/run_align_terrain.h"
 #include "tools/sweep.h"
 #include "tools/transform_file.h"
@@ -92,7 +92,7 @@ std::string LogCsv(const std::vector<AlignOptions::Iteration>& log) {
 
 // Comment lines of the aligned surface file: where it came from, the frame
 // of its coordinates and of the matrix (geographic inputs were moved into a
-// metric one, tools/geo_frame.h), the matrix.
+// metric one, terrain/geo_frame.h), the matrix.
 std::vector<std::string> AlignedComments(const AlignConfig& config, const AlignResult& r,
                                          const GeoFrame& frame) {
   const bool input_frame = frame.kind == GeoFrame::kAsGiven;
@@ -192,7 +192,7 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
   for (const char* key : {"tile_stats", "patch_shifts"}) {
     if (!AlignConfigValue(config, key).empty()) throw InputError(config.Where(key) + ": needs max_memory");
   }
-  // Terrain inputs (rasters, CRSs, change outputs) go through tools/terrain.h.
+  // Terrain inputs (rasters, CRSs, change outputs) go through terrain/terrain.h.
   run.terrain = config.terrain.Active(config.reference, config.moving);
   TerrainInputs& inputs = run.inputs;
   if (run.terrain) {
@@ -205,8 +205,8 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
       MaskToFrame(inputs, config.mask_crs_wkt, config.Where("mask"), &config.options.mask);
     }
   } else {
-    inputs.reference = reference ? std::move(*reference) : ReadAlignSurface(config, "reference");
-    inputs.moving = moving ? std::move(*moving) : ReadAlignSurface(config, "moving");
+    inputs.reference = reference ? std::move(*reference) : ReadInput(config, "reference");
+    inputs.moving = moving ? std::move(*moving) : ReadInput(config, "moving");
   }
   // An aligned GeoTIFF is on the reference raster's grid, in its CRS.
   // Checked before the long work.

@@ -12,7 +12,7 @@
 #include "registration/align.h"
 #include "tools/align_config.h"
 #include "tools/align_tiled.h"
-#include "tools/terrain.h"
+#include "terrain/terrain.h"
 
 namespace surfreg {
 

@@ -9,14 +9,15 @@
 
 #include "measure/dz_statistics.h"
 #include "measure/input_error.h"
-#include "measure/tiled_motion.h"
+#include "terrain/tiled_motion.h"
 #include "tools/align_run.h"
-#include "tools/interrupt.h"
+#include "io/interrupt.h"
 #include "tools/json_writer.h"
+#include "tools/terrain_json.h"
 #include "tools/measure_tiled.h"
-#include "tools/plot.h"
-#include "tools/terrain.h"
-#include "tools/terrain_uncertainty.h"
+#include "io/plot.h"
+#include "terrain/terrain.h"
+#include "terrain/change_uncertainty.h"
 #include "tools/transform_json.h"
 
 namespace surfreg {

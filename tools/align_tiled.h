@@ -2,7 +2,7 @@
 // `surfreg align --max_memory=SIZE`: two DEMs too large to hold, aligned at
 // bounded memory (issue 24). The motion is solved on a sample of
 // full-resolution patches spread over the reference and the moving data
-// around them (measure/tiled_motion.h), as many samples as the budget holds;
+// around them (terrain/tiled_motion.h), as many samples as the budget holds;
 // then the moving DEM is measured after that motion tile by tile, with the
 // DoD streamed into its GeoTIFF and dz statistics per tile. Neither DEM is
 // ever read whole. Both must be rasters in one projected CRS (or none), or

@@ -22,7 +22,7 @@ int RunTriangulate(const std::vector<std::string>& args);
 // measure A B [--volume=overlay|union] [--weights=uniform|per_point|
 // mask:POLYGON_FILE] [--lod=L] [--reference_crs, --moving_crs, --frame,
 // --band, --window] [--json]: reads two surfaces as align does (rasters,
-// CRSs, one metric frame: tools/terrain.h), compares B with A
+// CRSs, one metric frame: terrain/terrain.h), compares B with A
 // (measure/measures.h: ρd, ρ'd, ρs, signed and cut/fill volumes over the
 // overlap of their data domains), reports the measures, the frame, counts
 // and timings. Bad flag values, bad polygon files and CRSs that disagree
@@ -62,19 +62,19 @@ int RunMergeMeasureParts(const std::vector<std::string>& args);
 
 // normalize MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D]
 // [--output=FACE.xyz] [--json]: brings a face mesh or cloud into the standard
-// face frame (registration/face_frame.h) and writes its visible height field.
+// face frame (faces/face_frame.h) and writes its visible height field.
 // tools/run_normalize.cc.
 int RunNormalize(const std::vector<std::string>& args);
 
 // asymmetry FACE [--json] [--map=MAP.png] [...]: facial asymmetry, the
 // measure between the face and its mirror image, first about x = 0 of the
 // normalized frame, then about the symmetry plane optimized with Ceres
-// (registration/symmetry.h). tools/run_asymmetry.cc.
+// (faces/symmetry.h). tools/run_asymmetry.cc.
 int RunAsymmetry(const std::vector<std::string>& args);
 
 // jaw --config JAW.yaml [--key=value ...]: jaw motion over a 3D sequence,
 // the lower part's transform relative to the upper part in every frame
-// (registration/jaw.h, tools/jaw_config.h); CSV, JSON and a plot.
+// (faces/jaw.h, tools/jaw_config.h); CSV, JSON and a plot.
 // tools/run_jaw.cc.
 int RunJaw(const std::vector<std::string>& args);
 
@@ -82,7 +82,7 @@ int RunJaw(const std::vector<std::string>& args);
 // applies a rigid transform file (align JSON or 4 x 4 text,
 // tools/transform_file.h), or its inverse, to every point of a cloud or
 // raster; writes a cloud, or a GeoTIFF resampled onto the input raster's
-// grid or REF's (tools/io/raster_resample.h). tools/run_transform.cc.
+// grid or REF's (io/raster_resample.h). tools/run_transform.cc.
 int RunTransform(const std::vector<std::string>& args);
 
 }  // namespace surfreg

@@ -15,7 +15,7 @@
 #include "measure/input_error.h"
 #include "tools/config_key.h"
 #include "tools/config_value.h"
-#include "tools/io/surface_reader_internal.h"
+#include "io/surface_reader_internal.h"
 #include "tools/yaml_value.h"
 
 namespace surfreg {

@@ -17,7 +17,7 @@
 
 #include "measure/input_error.h"
 #include "tools/align_config.h"
-#include "tools/io/surface_reader_internal.h"
+#include "io/surface_reader_internal.h"
 
 namespace surfreg {
 namespace config_value {

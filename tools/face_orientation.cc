@@ -6,7 +6,7 @@
 #include <string>
 
 #include "measure/input_error.h"
-#include "tools/io/surface_reader_internal.h"
+#include "io/surface_reader_internal.h"
 
 namespace surfreg {
 

@@ -1,9 +1,9 @@
 #pragma once
-// The text form of a face's orientation (registration/face_frame.h), as the
+// The text form of a face's orientation (faces/face_frame.h), as the
 // face commands' flags and the jaw config take it.
 #include <string>
 
-#include "registration/face_frame.h"
+#include "faces/face_frame.h"
 
 namespace surfreg {
 

@@ -8,14 +8,14 @@
 #include <filesystem>
 
 #include "measure/input_error.h"
-#include "tools/plot.h"
-#include "tools/atomic_file.h"
+#include "io/plot.h"
+#include "io/atomic_file.h"
 #include "tools/config_table.h"
 #include "tools/config_value.h"
 #include "tools/yaml_value.h"
 #include "tools/face_orientation.h"
-#include "tools/io/mesh_reader.h"
-#include "tools/io/polygon_reader.h"
+#include "io/mesh_reader.h"
+#include "io/polygon_reader.h"
 
 namespace surfreg {
 namespace {

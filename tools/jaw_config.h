@@ -19,7 +19,7 @@
 //   cost              axial | volume (axial, then volume_iterations of ρd) [axial]
 //   trim_fraction, max_iterations, step_tolerance, volume_iterations,
 //   normal_distance, predict, max_fold_fraction, threads, min_part_points:
-//                     JawOptions' fields of the same names (registration/jaw.h)
+//                     JawOptions' fields of the same names (faces/jaw.h)
 //   output_csv        per-frame CSV (frame,rx_deg,...,tz, then details) [none]
 //   output_json       per-frame 4×4 matrices and details        [none]
 //   plot              PNG of the six motion parameters over the frames [none]
@@ -33,8 +33,8 @@
 #include <string>
 #include <vector>
 
-#include "registration/face_frame.h"
-#include "registration/jaw.h"
+#include "faces/face_frame.h"
+#include "faces/jaw.h"
 #include "tools/config_key.h"
 
 namespace surfreg {

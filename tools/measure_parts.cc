@@ -11,9 +11,9 @@
 #include <set>
 
 #include "measure/input_error.h"
-#include "tools/atomic_file.h"
-#include "tools/io/raster_io.h"
-#include "tools/io/surface_reader_internal.h"
+#include "io/atomic_file.h"
+#include "io/raster_io.h"
+#include "io/surface_reader_internal.h"
 #include "tools/json_writer.h"
 #include "tools/measure_tiled.h"
 

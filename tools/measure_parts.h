@@ -1,5 +1,5 @@
 #pragma once
-// The files of a tiled measure in parts (measure/tiled_partial.h): a shard's
+// The files of a tiled measure in parts (terrain/tiled_partial.h): a shard's
 // partial result (`surfreg measure --tile=N --shard=K/N --partial=P.json`),
 // the checkpoint of a running tiled measure (for `--resume`), and the DoD
 // kept in horizontal bands of rows until they are joined into one GeoTIFF.
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "measure/tiled_partial.h"
+#include "terrain/tiled_partial.h"
 #include "tools/measure_run.h"
 
 namespace surfreg {

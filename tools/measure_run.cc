@@ -11,15 +11,17 @@
 #include <utility>
 
 #include "measure/input_error.h"
-#include "tools/atomic_file.h"
+#include "io/atomic_file.h"
 #include "tools/config_value.h"
-#include "tools/interrupt.h"
-#include "tools/io/polygon_reader.h"
-#include "tools/io/raster_io.h"
-#include "tools/io/surface_reader_internal.h"
+#include "io/interrupt.h"
+#include "io/polygon_reader.h"
+#include "io/raster_io.h"
+#include "io/surface_reader_internal.h"
 #include "tools/json_writer.h"
+#include "tools/terrain_json.h"
 #include "tools/measure_tiled.h"
-#include "tools/terrain.h"
+#include "terrain/terrain.h"
+#include "terrain/terrain_measure.h"
 
 namespace surfreg {
 namespace {
@@ -297,42 +299,22 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
                                                          ? "flag '--partial'" : "flag '--resume'") +
                      ": for a tiled measure (--tile=N or --max_memory=SIZE)");
   }
-  TerrainInputs inputs = ReadTerrainInputs(config, a.samples ? &*a.samples : nullptr,
-                                           b.samples ? &*b.samples : nullptr, /*tiled_origin=*/true);
-  a.samples.reset();  // copied into `inputs`
+  TerrainMeasure measured = MeasureTerrain(config, report.options, report.mask_crs_wkt, report.mask_file,
+                                           a.samples ? &*a.samples : nullptr, b.samples ? &*b.samples : nullptr);
+  a.samples.reset();  // copied into the measure's inputs
   b.samples.reset();
-  report.frame = inputs.frame;
-  report.crs_a = inputs.reference_crs;
-  report.crs_b = inputs.moving_crs;
-  report.metric = inputs.frame.kind != GeoFrame::kAsGiven ||
-                  (inputs.reference_crs.kind == CrsKind::kProjected &&
-                   inputs.reference_crs.metres_per_unit == 1.0);
-  if (options.weight == WeightMode::kMask) {
-    // The mask is drawn in its file's CRS (or A's): its vertices go where A went.
-    MaskToFrame(inputs, report.mask_crs_wkt, report.mask_file, &options.mask);
-  }
-  const Surface& sa = inputs.reference;
-  const Surface& sb = inputs.moving;
-  ThrowIfInterrupted();  // between the stages: reading done, measuring next
-  const Clock::time_point read = Clock::now();
-  report.summary = Measure(sa, sb, report.options);
-  if (!config.terrain.dod.empty()) {
-    if (!inputs.reference_is_raster) {
-      throw InputError(config.Where("dod") + ": the DoD is written on A's grid, but A is no raster");
-    }
-    Raster dod = inputs.reference_grid;  // B − A at A's cells, nodata outside Ω
-    dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));
-    for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
-      dod.values[inputs.reference_cells[i]] = report.summary.dz_a[i];
-    }
-    WriteGeoTiff(config.terrain.dod, dod, config.Where("dod"));
-  }
+  report.frame = measured.frame;
+  report.crs_a = measured.crs_a;
+  report.crs_b = measured.crs_b;
+  report.b_reprojected_from = measured.b_reprojected_from;
+  report.metric = measured.metric;
+  report.summary = std::move(measured.summary);
+  report.dz = measured.dz;
+  report.has_dz = true;
+  report.uncertainty = std::move(measured.uncertainty);
   report.config = config;
-  report.uncertainty = AnalyseChangeUncertainty(config, sa, sb, inputs.sigma_reference,
-                                                inputs.sigma_moving, report.summary, report.options);
-  const Clock::time_point done = Clock::now();
-  report.read_s = Seconds(read - start);
-  report.total_s = Seconds(done - start);
+  report.read_s = measured.read_s;
+  report.total_s = Seconds(Clock::now() - start);
   return report;
 }
 
@@ -360,8 +342,9 @@ std::string MeasureJson(const MeasureReport& r) {
       .String("file_b", r.file_b)
       .String("frame", r.frame.Describe())
       .String("crs_a", DescribeCrs(r.crs_a))
-      .String("crs_b", DescribeCrs(r.crs_b))
-      .String("length_unit", r.metric ? "m" : "units")
+      .String("crs_b", DescribeCrs(r.crs_b));
+  if (!r.b_reprojected_from.empty()) json.String("b_reprojected_from", r.b_reprojected_from);
+  json.String("length_unit", r.metric ? "m" : "units")
       .String("volume_mode", VolumeModeName(s.volume_mode))
       .String("weight_mode", WeightModeName(r.options.weight))
       .String("domain", DomainKindName(s.domain_kind));
@@ -392,6 +375,7 @@ std::string MeasureJson(const MeasureReport& r) {
       .Int("n_overlap_nodes", s.n_overlap_nodes)
       .Int("n_cells", s.n_cells)
       .Int("walk_steps", s.walk_steps);
+  if (r.has_dz) json.Object("dz", DzStatisticsJson(r.dz));  // at A's nodes in the overlap
   if (r.options.detect_change) {  // the keys of align's terrain.change
     JsonObject change = DetectedChangeJson(s);
     if (r.uncertainty.active) change.Object("uncertainty", ChangeUncertaintyJson(r.config, r.uncertainty));

@@ -7,11 +7,12 @@
 #include <string>
 #include <vector>
 
+#include "measure/dz_statistics.h"
 #include "measure/measures.h"
 #include "measure/surface.h"
 #include "tools/align_config.h"
-#include "tools/geo_frame.h"
-#include "tools/terrain_uncertainty.h"
+#include "terrain/geo_frame.h"
+#include "terrain/change_uncertainty.h"
 
 namespace surfreg {
 
@@ -43,10 +44,13 @@ struct MeasureReport {
   std::string mask_crs_wkt;  // the mask file's CRS ("" = A's)
   MeasureOptions options;
   MeasureSummary summary;
+  DzStatistics dz;      // dz = B − A at A's nodes in the overlap (untiled runs)
+  bool has_dz = false;
   AlignConfig config;              // the files and the terrain settings
   ChangeUncertainty uncertainty;   // with sigma_reference / sigma_moving
   GeoFrame frame;
   Crs crs_a, crs_b;
+  std::string b_reprojected_from;  // B's CRS when B was reprojected into A's, else ""
   bool metric = false;  // lengths in metres: a geographic pair's frame, or a projected CRS in m
   int32_t tile = 0;     // with `tile` or `max_memory`: the tile side (cells of A), else 0
   int64_t tiles = 0;    // and how many tiles A was cut into

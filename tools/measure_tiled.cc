@@ -12,11 +12,11 @@
 #include <memory>
 
 #include "measure/input_error.h"
-#include "tools/atomic_file.h"
-#include "tools/interrupt.h"
+#include "io/atomic_file.h"
+#include "io/interrupt.h"
 #include "tools/sweep.h"  // ParseShard
-#include "tools/io/raster_io.h"
-#include "tools/terrain.h"
+#include "io/raster_io.h"
+#include "terrain/terrain.h"
 
 namespace surfreg {
 namespace {

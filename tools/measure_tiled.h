@@ -1,6 +1,6 @@
 #pragma once
 // `surfreg measure --tile=N` / `--max_memory=SIZE`: two DEMs measured tile by
-// tile (measure/tiled_measure.h), each tile read as a window of the rasters
+// tile (terrain/tiled_measure.h), each tile read as a window of the rasters
 // (GDAL block reads), so memory is bounded by the tile, not the rasters. The
 // result equals the untiled measure (to 1e-9 relative for volumes and
 // areas). Both DEMs are in one projected CRS (or both have none), or both
@@ -11,12 +11,12 @@
 #include <string>
 
 #include "measure/measures.h"
-#include "measure/tiled_measure.h"
-#include "measure/tiled_motion.h"
+#include "terrain/tiled_measure.h"
+#include "terrain/tiled_motion.h"
 #include "tools/align_config.h"
-#include "tools/geo_frame.h"
+#include "terrain/geo_frame.h"
 #include "tools/measure_parts.h"
-#include "tools/terrain_uncertainty.h"
+#include "terrain/change_uncertainty.h"
 
 namespace surfreg {
 
@@ -92,14 +92,14 @@ struct TiledPair {
 };
 TiledPair OpenTiledPair(const AlignConfig& config, const std::string& where);
 
-// The moving raster measured after a rigid motion (measure/tiled_motion.h):
+// The moving raster measured after a rigid motion (terrain/tiled_motion.h):
 // the matrix in the rasters' coordinates and the range of its heights.
 struct MovedRaster {
   RowMajorMatrix4 matrix = kIdentityMatrix4;
   double z_min = 0, z_max = 0;
 };
 
-// A tiled measure's change budget (measure/change_budget.h): both DEMs' σ
+// A tiled measure's change budget (terrain/change_budget.h): both DEMs' σ
 // given as numbers (a σ raster is not tiled yet), so one σ_DoD for every
 // node. Active only when config gives a σ; throws InputError naming the
 // key of a σ raster.

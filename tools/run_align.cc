@@ -18,7 +18,7 @@
 #include "tools/commands.h"
 #include "tools/json_writer.h"
 #include "tools/progress_lines.h"
-#include "tools/terrain.h"
+#include "terrain/terrain.h"
 
 // Every config key is a flag. Non-boolean flags are strings, so that
 // tools/align_config.cc parses values from files and flags alike (same

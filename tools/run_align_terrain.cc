@@ -1,6 +1,7 @@
 #include "tools/run_align_terrain.h"
 
 #include "tools/json_writer.h"
+#include "tools/terrain_json.h"
 
 namespace surfreg {
 
@@ -21,7 +22,7 @@ std::string TerrainJsonMember(const AlignConfig& config, const TerrainInputs& in
       .String("domain", DomainKindName(a.domain_kind))
       .Number("excluded_area_reference", a.excluded_area_a)
       .Number("excluded_area_moving", a.excluded_area_b);
-  // Cellwise over the reference's nodes (measure/change_budget.h).
+  // Cellwise over the reference's nodes (terrain/change_budget.h).
   if (r.uncertainty.active) change.Object("uncertainty", ChangeUncertaintyJson(config, r.uncertainty));
   JsonObject terrain;
   terrain.String("frame", in.frame.Describe())

@@ -1,9 +1,10 @@
 #pragma once
-// The terrain part of `surfreg align` (tools/terrain.h) as the CLI shows it:
+// The terrain part of `surfreg align` (terrain/terrain.h) as the CLI shows it:
 // the "terrain" member of the transform JSON.
 #include <string>
 
-#include "tools/terrain.h"
+#include "terrain/terrain.h"
+#include "tools/align_config.h"
 
 namespace surfreg {
 

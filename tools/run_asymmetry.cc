@@ -1,6 +1,6 @@
 // surfreg asymmetry FACE [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D]
 // [--map=MAP.png] [--json] [--output=ASYMMETRY.json]: facial asymmetry
-// (registration/symmetry.h): the face in the standard frame against its
+// (faces/symmetry.h): the face in the standard frame against its
 // mirror image about x = 0, then about the optimized symmetry plane.
 //
 // Orientation: without --orientation, a mesh (a file with triangles) is
@@ -17,15 +17,15 @@
 #include <string>
 #include <vector>
 
-#include "registration/face_frame.h"
+#include "faces/face_frame.h"
 #include "measure/input_error.h"
-#include "registration/symmetry.h"
-#include "tools/atomic_file.h"
+#include "faces/symmetry.h"
+#include "io/atomic_file.h"
 #include "tools/commands.h"
 #include "tools/face_orientation.h"
-#include "tools/io/mesh_reader.h"
+#include "io/mesh_reader.h"
 #include "tools/json_writer.h"
-#include "tools/plot.h"
+#include "io/plot.h"
 
 DEFINE_string(map, "",
               "asymmetry: write a PNG map of the left-right difference (face - mirror) about the "

@@ -23,15 +23,15 @@
 #include "registration/align.h"
 #include "tools/align_config.h"
 #include "tools/align_run.h"
-#include "tools/atomic_file.h"
+#include "io/atomic_file.h"
 #include "tools/commands.h"
-#include "tools/interrupt.h"
-#include "tools/io/raster_resample.h"
-#include "tools/io/surface_reader_internal.h"
-#include "tools/io/surface_writer.h"
+#include "io/interrupt.h"
+#include "io/raster_resample.h"
+#include "io/surface_reader_internal.h"
+#include "io/surface_writer.h"
 #include "tools/json_writer.h"
 #include "tools/sweep.h"
-#include "tools/terrain.h"
+#include "terrain/terrain.h"
 #include "tools/transform_json.h"
 
 DECLARE_string(config);  // tools/run_align.cc
@@ -208,8 +208,8 @@ int RunAlignManifest(const std::vector<std::string>& args) {
       if (terrain) {
         inputs = ReadTerrainInputs(c);
       } else {
-        inputs.reference = ReadAlignSurface(c, "reference");
-        inputs.moving = ReadAlignSurface(c, "moving");
+        inputs.reference = ReadInput(c, "reference");
+        inputs.moving = ReadInput(c, "moving");
       }
       const Surface& reference = inputs.reference;
       const Surface& moving = inputs.moving;

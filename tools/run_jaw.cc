@@ -1,5 +1,5 @@
 // surfreg jaw --config JAW.yaml [--key=value ...]: jaw motion over a 3D
-// sequence (registration/jaw.h) with the settings of tools/jaw_config.h;
+// sequence (faces/jaw.h) with the settings of tools/jaw_config.h;
 // writes the per-frame CSV, the JSON of 4×4 matrices and the plot where
 // asked (atomically), a progress line per frame on stderr and a summary on
 // stdout.
@@ -13,17 +13,17 @@
 
 #include <Eigen/Core>
 
-#include "registration/face_frame.h"
+#include "faces/face_frame.h"
 #include "measure/input_error.h"
-#include "registration/jaw.h"
-#include "tools/atomic_file.h"
+#include "faces/jaw.h"
+#include "io/atomic_file.h"
 #include "tools/commands.h"
-#include "tools/interrupt.h"
-#include "tools/io/mesh_reader.h"
-#include "tools/io/surface_reader.h"
+#include "io/interrupt.h"
+#include "io/mesh_reader.h"
+#include "io/surface_reader.h"
 #include "tools/jaw_config.h"
 #include "tools/json_writer.h"
-#include "tools/plot.h"
+#include "io/plot.h"
 
 // The jaw's own keys as flags (strings, so tools/jaw_config.cc parses flags
 // and files alike; "" = not given). The keys jaw shares with other commands

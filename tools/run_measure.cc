@@ -2,7 +2,7 @@
 // [--domain=data|hull] [--lod=L] [--reference_crs=CRS] [--moving_crs=CRS] [--frame=auto|enu|utm]
 // [--band=N] [--window=C,R,W,H] [--json]: the volume between two surfaces and the measures
 // derived from it (measure/measures.h), cut/fill beyond a level of detection, with counts and
-// per-stage timings. Both surfaces are read as `align` reads them (tools/terrain.h: rasters with
+// per-stage timings. Both surfaces are read as `align` reads them (terrain/terrain.h: rasters with
 // their band, window and CRS) and measured in one metric frame.
 #include <gflags/gflags.h>
 #include <glog/logging.h>
@@ -15,16 +15,16 @@
 #include <vector>
 
 #include "measure/input_error.h"
-#include "tools/atomic_file.h"
+#include "io/atomic_file.h"
 #include "tools/commands.h"
-#include "tools/interrupt.h"
+#include "io/interrupt.h"
 #include "tools/json_writer.h"
 #include "tools/measure_parts.h"
 #include "tools/measure_run.h"
 #include "tools/measure_tiled.h"
 #include "tools/progress_lines.h"
 #include "tools/sweep.h"
-#include "tools/terrain_uncertainty.h"
+#include "terrain/change_uncertainty.h"
 
 // The run itself is tools/measure_run.cc (shared with the Python module);
 // its settings are these flags and the align keys of MeasureKeys(), found
@@ -83,6 +83,9 @@ void PrintText(const MeasureReport& r) {
               r.file_b.c_str(), static_cast<long long>(s.n_points_b),
               static_cast<long long>(s.n_duplicates_b), DescribeCrs(r.crs_b).c_str());
   std::printf("frame:              %s\n", r.frame.Describe().c_str());
+  if (!r.b_reprojected_from.empty()) {
+    std::printf("reprojected:        B from %s into A's %s\n", r.b_reprojected_from.c_str(), r.crs_a.name.c_str());
+  }
   std::printf("volume mode:        %s  (%s)\n", VolumeModeName(s.volume_mode),
               union_mode ? "the paper's: on the triangulation of A and B together"
                          : "exact: on the common refinement of both triangulations");

@@ -1,6 +1,6 @@
 // surfreg normalize MESH [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D]
 // [--output=FACE.xyz|.ply] [--json]: a face mesh or cloud in the standard
-// face frame (registration/face_frame.h); writes its visible height field and
+// face frame (faces/face_frame.h); writes its visible height field and
 // reports the transform.
 #include <gflags/gflags.h>
 
@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "registration/face_frame.h"
+#include "faces/face_frame.h"
 #include "measure/input_error.h"
-#include "tools/atomic_file.h"
+#include "io/atomic_file.h"
 #include "tools/commands.h"
 #include "tools/face_orientation.h"
-#include "tools/io/mesh_reader.h"
-#include "tools/io/surface_writer.h"
+#include "io/mesh_reader.h"
+#include "io/surface_writer.h"
 #include "tools/json_writer.h"
 
 // Shared with the other face commands (asymmetry, jaw): DECLARE them there.

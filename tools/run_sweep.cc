@@ -21,11 +21,11 @@
 #include <vector>
 
 #include "measure/input_error.h"
-#include "tools/atomic_file.h"
+#include "io/atomic_file.h"
 #include "tools/commands.h"
 #include "tools/measure_parts.h"
-#include "tools/io/surface_reader_internal.h"
-#include "tools/plot.h"
+#include "io/surface_reader_internal.h"
+#include "io/plot.h"
 #include "tools/sweep.h"
 #include "tools/sweep_settings.h"
 

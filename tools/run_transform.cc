@@ -3,7 +3,7 @@
 // applies a rigid transform file (tools/transform_file.h) to every point of
 // a cloud or raster and writes the result as a cloud (.xyz .txt .ply) or,
 // resampled onto a grid (the input raster's own, or REF's), as a GeoTIFF
-// (tools/io/raster_resample.h).
+// (io/raster_resample.h).
 #include <gflags/gflags.h>
 #include <sys/stat.h>
 
@@ -16,13 +16,13 @@
 #include "measure/input_error.h"
 #include "registration/align.h"
 #include "tools/align_config.h"
-#include "tools/atomic_file.h"
+#include "io/atomic_file.h"
 #include "tools/commands.h"
-#include "tools/io/las_writer.h"
-#include "tools/io/raster_io.h"
-#include "tools/io/raster_resample.h"
-#include "tools/io/surface_reader.h"
-#include "tools/io/surface_writer.h"
+#include "io/las_writer.h"
+#include "io/raster_io.h"
+#include "io/raster_resample.h"
+#include "io/surface_reader.h"
+#include "io/surface_writer.h"
 #include "tools/progress_lines.h"
 #include "tools/transform_file.h"
 

@@ -16,7 +16,7 @@
 #include "measure/grid_mesh.h"
 #include "tools/align_config.h"
 #include "tools/commands.h"
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 #include "tools/json_writer.h"
 
 DECLARE_string(domain);  // tools/run_align.cc

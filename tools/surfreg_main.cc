@@ -2,7 +2,7 @@
 //
 // Exit codes: 0 ok; 2 bad input or bad usage (one "surfreg: error: ..." line
 // on stderr, plus a usage line for usage errors); 1 internal error; 130 / 143
-// interrupted by SIGINT / SIGTERM ("surfreg: interrupted"; tools/interrupt.h);
+// interrupted by SIGINT / SIGTERM ("surfreg: interrupted"; io/interrupt.h);
 // align: 3 when the verdict is "failed" (its outputs are still written).
 #include <gflags/gflags.h>
 #include <glog/logging.h>
@@ -18,7 +18,7 @@
 #include "tools/align_config.h"
 #include "tools/cli_help.h"
 #include "tools/commands.h"
-#include "tools/interrupt.h"
+#include "io/interrupt.h"
 #include "tools/jaw_config.h"
 #include "tools/log_prefix.h"
 
@@ -313,7 +313,7 @@ int main(int argc, char** argv) {
     return code;
   } catch (const surfreg::Interrupted& e) {
     // What is complete stays (outputs written, a sweep's partial file, the
-    // --log rows); only the temporaries go. tools/interrupt.h.
+    // --log rows); only the temporaries go. io/interrupt.h.
     surfreg::RemoveTemporaries();
     std::fflush(stdout);
     std::fputs("surfreg: interrupted\n", stderr);

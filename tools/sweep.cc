@@ -14,10 +14,10 @@
 #include "measure/convex_hull.h"
 #include "measure/input_error.h"
 #include "registration/align.h"
-#include "tools/interrupt.h"
-#include "tools/io/surface_reader.h"
+#include "io/interrupt.h"
+#include "io/surface_reader.h"
 #include "tools/sweep_settings.h"
-#include "tools/terrain.h"
+#include "terrain/terrain.h"
 
 namespace surfreg {
 namespace {
@@ -330,8 +330,8 @@ void LoadSweepPairs(SweepPlan* plan) {
         data.reference = std::move(inputs.reference);
         data.moving = std::move(inputs.moving);
       } else {
-        data.reference = ReadAlignSurface(paths, "reference");
-        data.moving = ReadAlignSurface(paths, "moving");
+        data.reference = ReadInput(paths, "reference");
+        data.moving = ReadInput(paths, "moving");
       }
     } catch (const InputError& e) {
       throw InputError(pair.where + ": " + e.what());

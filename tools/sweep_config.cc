@@ -11,7 +11,7 @@
 #include <set>
 
 #include "measure/input_error.h"
-#include "tools/io/surface_reader_internal.h"
+#include "io/surface_reader_internal.h"
 #include "tools/config_value.h"
 
 namespace surfreg {

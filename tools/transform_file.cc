@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "measure/input_error.h"
-#include "tools/io/surface_reader_internal.h"
+#include "io/surface_reader_internal.h"
 
 namespace surfreg {
 namespace {

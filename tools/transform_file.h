@@ -38,7 +38,7 @@ std::string MatrixText(const Eigen::Matrix4d& m);
 // `matrix` option of PDAL's filters.transformation.
 std::string MatrixOneLine(const Eigen::Matrix4d& m);
 
-// The 16 numbers row-major (what tools/io/las_writer.h takes).
+// The 16 numbers row-major (what io/las_writer.h takes).
 std::array<double, 16> RowMajor(const Eigen::Matrix4d& m);
 
 }  // namespace surfreg

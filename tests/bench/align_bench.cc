@@ -70,8 +70,8 @@
 #include "registration/gap_weight.h"
 #include "registration/pair_state.h"
 #include "registration/rigid_motion.h"
-#include "registration/volume_cost.h"
-#include "registration/volume_kernel_simd.h"
+#include "registration/volume_cost/volume_cost.h"
+#include "registration/volume_cost/volume_kernel_simd.h"
 #include "tests/testing/surface_pairs.h"
 
 namespace surfreg {

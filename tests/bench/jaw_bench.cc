@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "measure/measures.h"
-#include "registration/jaw.h"
+#include "faces/jaw.h"
 #include "tests/testing/chewing_sequence.h"
 
 namespace surfreg {

@@ -12,14 +12,14 @@
 #include "measure/input_error.h"
 #include "measure/measures.h"
 #include "measure/surface.h"
-#include "registration/face_frame.h"
+#include "faces/face_frame.h"
 #include "tools/align_config.h"
-#include "tools/io/mesh_reader.h"
+#include "io/mesh_reader.h"
 #include "tools/jaw_config.h"
 #include "tools/sweep_config.h"
-#include "tools/io/las_writer.h"
-#include "tools/io/polygon_reader.h"
-#include "tools/io/surface_reader.h"
+#include "io/las_writer.h"
+#include "io/polygon_reader.h"
+#include "io/surface_reader.h"
 
 namespace surfreg::fuzz {
 namespace {

@@ -32,7 +32,7 @@ void FuzzObj(std::string_view data);
 // The LAS reader (ReadLas): all points with their CRS, then class 2 only;
 // and the LAS writer's MovedLas of the same bytes.
 void FuzzLas(std::string_view data);
-// The mask polygon reader (tools/io/polygon_reader.h).
+// The mask polygon reader (io/polygon_reader.h).
 void FuzzPolygon(std::string_view data);
 // The align YAML config: ApplyAlignYaml, then the option checks
 // (AlignOptions::IsValid) on what it produced.
@@ -42,9 +42,9 @@ void FuzzAlignConfig(std::string_view data);
 // ρd <= overlap × (height range), and ρd(A, B) = ρd(B, A) to a relative
 // tolerance.
 void FuzzMeasure(std::string_view data);
-// A mesh with triangles (tools/io/mesh_reader.h): the first byte picks the
+// A mesh with triangles (io/mesh_reader.h): the first byte picks the
 // format (0: .off, 1: .ply, 2: .obj, modulo 3), the rest is the file; a mesh
-// read is then normalized (registration/face_frame.h).
+// read is then normalized (faces/face_frame.h).
 void FuzzMesh(std::string_view data);
 void FuzzJawConfig(std::string_view data);    // tools/jaw_config.h, YAML text
 void FuzzSweepConfig(std::string_view data);  // tools/sweep_config.h, YAML text

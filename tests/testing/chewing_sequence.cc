@@ -10,7 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "measure/delaunay.h"
-#include "tools/io/surface_reader.h"
+#include "io/surface_reader.h"
 
 namespace surfreg {
 namespace {

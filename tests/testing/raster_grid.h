@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "measure/surface.h"
-#include "measure/tiled_measure.h"
+#include "terrain/tiled_measure.h"
 
 namespace surfreg {
 namespace testing {

@@ -1,0 +1,587 @@
+// libsurfreg_gdal.so: the only code that calls GDAL, OGR and PROJ (see
+// gdal_module.h). GDAL's C API for rasters, so that every handle has one
+// obvious owner (a unique_ptr below); OGRSpatialReference for CRSs.
+#include "io/gdal_module.h"
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+
+namespace surfreg {
+
+// Vector masks: gdal_module_vector.cc.
+bool ReadVectorRings(const std::string& path, const std::string& layer, VectorRings* out,
+                     std::string* error);
+
+namespace {
+
+void RegisterGdalOnce() {
+  static std::once_flag once;
+  std::call_once(once, [] { GDALAllRegister(); });
+}
+
+// While alive, GDAL errors and warnings on this thread go here instead of
+// stderr (GDAL's handler stack is per thread); the last failure's text is
+// kept for our own one-line message.
+class QuietGdal {
+ public:
+  QuietGdal() { CPLPushErrorHandlerEx(&Handler, this); }
+  ~QuietGdal() { CPLPopErrorHandler(); }
+  QuietGdal(const QuietGdal&) = delete;
+  QuietGdal& operator=(const QuietGdal&) = delete;
+
+  bool failed() const { return failed_; }
+  // " (GDAL: <last failure>)", or "" when GDAL reported none.
+  std::string Detail() const { return last_.empty() ? "" : " (GDAL: " + last_ + ")"; }
+  // " (<last failure>)", for CRS messages (PROJ's text names itself).
+  std::string Plain() const { return last_.empty() ? "" : " (" + last_ + ")"; }
+
+ private:
+  static void CPL_STDCALL Handler(CPLErr level, CPLErrorNum, const char* message) {
+    auto* self = static_cast<QuietGdal*>(CPLGetErrorHandlerUserData());
+    if (self == nullptr || level < CE_Failure) return;
+    self->failed_ = true;
+    self->last_ = message == nullptr ? "" : message;
+    for (char& c : self->last_) {
+      if (c == '\n' || c == '\r') c = ' ';  // our messages are one line
+    }
+  }
+
+  bool failed_ = false;
+  std::string last_;
+};
+
+struct DatasetCloser {
+  void operator()(void* dataset) const { GDALClose(static_cast<GDALDatasetH>(dataset)); }
+};
+using Dataset = std::unique_ptr<void, DatasetCloser>;
+
+// Thrown inside the module only; the entry points below turn it into their
+// error text.
+struct ModuleError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+[[noreturn]] void Fail(const std::string& where, const std::string& what) {
+  throw ModuleError(where + ": " + what);
+}
+
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.17g", value);
+  return text;
+}
+
+// The window with sizes resolved, after checking it lies inside the raster.
+RasterWindow ResolveWindow(const RasterWindow& w, int width, int height, const std::string& path) {
+  RasterWindow r = w;
+  if (r.columns == 0) r.columns = width - r.column;
+  if (r.rows == 0) r.rows = height - r.row;
+  const bool inside = w.column >= 0 && w.row >= 0 && w.columns >= 0 && w.rows >= 0 &&
+                      w.column < width && w.row < height && r.columns <= width - r.column &&
+                      r.rows <= height - r.row;
+  if (!inside) {
+    Fail(path, "window at column " + std::to_string(w.column) + ", row " + std::to_string(w.row) +
+                   " of " + std::to_string(w.columns) + " x " + std::to_string(w.rows) +
+                   " cells is outside the raster (" + std::to_string(width) + " x " +
+                   std::to_string(height) + " cells)");
+  }
+  return r;
+}
+
+// Sets to NaN every cell that the band's mask marks invalid, when the mask
+// says more than the nodata value does (per-dataset mask, alpha band).
+void ApplyMask(GDALRasterBandH band, const RasterWindow& w, Raster* raster,
+               const QuietGdal& quiet) {
+  const int flags = GDALGetMaskFlags(band);
+  if ((flags & GMF_ALL_VALID) != 0 || (flags & GMF_NODATA) != 0) return;
+  GDALRasterBandH mask = GDALGetMaskBand(band);
+  if (mask == nullptr) return;
+  std::vector<unsigned char> valid(raster->values.size());
+  if (GDALRasterIO(mask, GF_Read, w.column, w.row, w.columns, w.rows, valid.data(), w.columns,
+                   w.rows, GDT_Byte, 0, 0) != CE_None) {
+    Fail(raster->source, "cannot read the mask of the band" + quiet.Detail());
+  }
+  for (std::size_t i = 0; i < valid.size(); ++i) {
+    if (valid[i] == 0) raster->values[i] = std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+// NaN for the nodata value, infinities, and what the band's mask excludes.
+void MarkNodata(GDALRasterBandH band, const RasterWindow& w, Raster* raster,
+                const QuietGdal& quiet) {
+  int has_nodata = 0;
+  const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
+  // A Float32 band holds the nodata value rounded to float, which differs
+  // from the double GDAL reports when that is not representable (-9999.1).
+  double nodata_as_stored = nodata;
+  if (GDALGetRasterDataType(band) == GDT_Float32 && std::fabs(nodata) <= 3.4028234663852886e38) {
+    nodata_as_stored = static_cast<float>(nodata);
+  }
+  for (double& v : raster->values) {
+    const bool is_nodata = has_nodata != 0 && (v == nodata || v == nodata_as_stored);
+    if (!is_nodata && !std::isfinite(v)) ++raster->non_finite_cells;
+    if (is_nodata || !std::isfinite(v)) v = std::numeric_limits<double>::quiet_NaN();
+  }
+  ApplyMask(band, w, raster, quiet);
+}
+
+Raster ReadRasterOrThrow(const std::string& path, const RasterReadOptions& options) {
+  RegisterGdalOnce();
+  QuietGdal quiet;
+  Dataset dataset(GDALOpenEx(path.c_str(),
+                             GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
+                             nullptr, nullptr));
+  if (!dataset) Fail(path, "cannot open as a raster" + quiet.Detail());
+  GDALDatasetH ds = dataset.get();
+  const int bands = GDALGetRasterCount(ds);
+  if (options.band < 1 || options.band > bands) {
+    Fail(path, "band " + std::to_string(options.band) + " of " + std::to_string(bands));
+  }
+  const RasterWindow w =
+      ResolveWindow(options.window, GDALGetRasterXSize(ds), GDALGetRasterYSize(ds), path);
+
+  Raster raster;
+  raster.source = path;
+  raster.columns = w.columns;
+  raster.rows = w.rows;
+  double gt[6] = {0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+  if (GDALGetGeoTransform(ds, gt) != CE_None) {
+    gt[0] = 0.0, gt[1] = 1.0, gt[2] = 0.0, gt[3] = 0.0, gt[4] = 0.0, gt[5] = 1.0;
+  }
+  if (gt[2] != 0.0 || gt[4] != 0.0) {
+    Fail(path, "rotated or sheared geotransform (row/column terms " + Number(gt[2]) + ", " +
+                   Number(gt[4]) + ") is not supported; warp it to a north-up grid first");
+  }
+  if (!(gt[1] != 0.0 && gt[5] != 0.0 && std::isfinite(gt[1]) && std::isfinite(gt[5]))) {
+    Fail(path, "cell size " + Number(gt[1]) + " x " + Number(gt[5]) + " is not usable");
+  }
+  // The window's outer corner becomes the origin of its own geotransform.
+  gt[0] += w.column * gt[1];
+  gt[3] += w.row * gt[5];
+  for (int k = 0; k < 6; ++k) raster.geotransform[k] = gt[k];
+  const char* wkt = GDALGetProjectionRef(ds);
+  raster.crs_wkt = wkt == nullptr ? "" : wkt;
+
+  GDALRasterBandH band = GDALGetRasterBand(ds, options.band);
+  raster.values.resize(static_cast<std::size_t>(w.columns) * static_cast<std::size_t>(w.rows));
+  if (GDALRasterIO(band, GF_Read, w.column, w.row, w.columns, w.rows, raster.values.data(),
+                   w.columns, w.rows, GDT_Float64, 0, 0) != CE_None) {
+    Fail(path, "cannot read band " + std::to_string(options.band) + quiet.Detail());
+  }
+  MarkNodata(band, w, &raster, quiet);
+  return raster;
+}
+
+// True if some finite value, rounded to Float32, equals `candidate`.
+bool IsUsed(const std::vector<double>& values, float candidate) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  for (double v : values) {
+    if (std::isfinite(v) && std::fabs(v) <= kMax && static_cast<float>(v) == candidate) return true;
+  }
+  return false;
+}
+
+float ChooseNodata(const std::vector<double>& values) {
+  const float preferred[] = {-9999.0f, -99999.0f, -32768.0f, std::numeric_limits<float>::lowest()};
+  for (float candidate : preferred) {
+    if (!IsUsed(values, candidate)) return candidate;
+  }
+  // Every usual value is data: step down from -9999 (at most size + 1 tries).
+  for (float candidate = -10000.0f;; candidate -= 1.0f) {
+    if (!IsUsed(values, candidate)) return candidate;
+  }
+}
+
+// Sets a GDAL configuration option on this thread for the object's lifetime.
+class ScopedConfigOption {
+ public:
+  ScopedConfigOption(const char* key, const char* value) : key_(key) {
+    const char* old = CPLGetThreadLocalConfigOption(key, nullptr);
+    had_old_ = old != nullptr;
+    if (had_old_) old_ = old;
+    CPLSetThreadLocalConfigOption(key, value);
+  }
+  ~ScopedConfigOption() { CPLSetThreadLocalConfigOption(key_, had_old_ ? old_.c_str() : nullptr); }
+  ScopedConfigOption(const ScopedConfigOption&) = delete;
+  ScopedConfigOption& operator=(const ScopedConfigOption&) = delete;
+
+ private:
+  const char* key_;
+  bool had_old_ = false;
+  std::string old_;
+};
+
+// Creates and fills the GeoTIFF at `temporary` (closed on return).
+void WriteGeoTiffFile(const std::string& temporary, const Raster& raster,
+                      const std::string& where) {
+  QuietGdal quiet;
+  GDALDriverH driver = GDALGetDriverByName("GTiff");
+  if (driver == nullptr) Fail(where, "GDAL has no GTiff driver");
+  const bool tiled = raster.columns > 512 || raster.rows > 512;
+  const char* options[] = {"COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", tiled ? "TILED=YES" : nullptr,
+                           "BLOCKXSIZE=256",   "BLOCKYSIZE=256",   nullptr};
+  Dataset dataset(GDALCreate(driver, temporary.c_str(), raster.columns, raster.rows, 1, GDT_Float32,
+                             const_cast<char**>(options)));
+  if (!dataset) Fail(where, "cannot create" + quiet.Detail());
+  GDALDatasetH ds = dataset.get();
+  double gt[6];
+  for (int k = 0; k < 6; ++k) gt[k] = raster.geotransform[k];
+  if (GDALSetGeoTransform(ds, gt) != CE_None)
+    Fail(where, "cannot set the geotransform" + quiet.Detail());
+  if (!raster.crs_wkt.empty() && GDALSetProjection(ds, raster.crs_wkt.c_str()) != CE_None) {
+    Fail(where, "unreadable CRS" + quiet.Detail());
+  }
+  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+  const float nodata = ChooseNodata(raster.values);
+  if (GDALSetRasterNoDataValue(band, nodata) != CE_None) {
+    Fail(where, "cannot set the nodata value" + quiet.Detail());
+  }
+  constexpr double kMax = std::numeric_limits<float>::max();
+  std::vector<float> line(static_cast<std::size_t>(raster.columns));
+  for (int row = 0; row < raster.rows; ++row) {
+    const double* in = raster.values.data() + static_cast<std::size_t>(row) * raster.columns;
+    for (int column = 0; column < raster.columns; ++column) {
+      const double v = in[column];
+      if (std::isfinite(v) && std::fabs(v) > kMax) {
+        Fail(where, "value " + Number(v) + " at column " + std::to_string(column) + ", row " +
+                        std::to_string(row) + " does not fit Float32");
+      }
+      line[static_cast<std::size_t>(column)] = std::isfinite(v) ? static_cast<float>(v) : nodata;
+    }
+    if (GDALRasterIO(band, GF_Write, 0, row, raster.columns, 1, line.data(), raster.columns, 1,
+                     GDT_Float32, 0, 0) != CE_None) {
+      Fail(where, "cannot write" + quiet.Detail());
+    }
+  }
+  dataset.reset();  // flushes and compresses the last blocks
+  if (quiet.failed()) Fail(where, "cannot write" + quiet.Detail());
+}
+
+
+// --- CRSs ---------------------------------------------------------------
+
+// At most 60 characters of user text, for messages.
+std::string Shown(const std::string& text) {
+  std::string one_line = text.size() > 60 ? text.substr(0, 57) + "..." : text;
+  for (char& c : one_line) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return "'" + one_line + "'";
+}
+
+std::string Trim(const std::string& text) {
+  std::size_t b = 0, e = text.size();
+  while (b < e && std::isspace(static_cast<unsigned char>(text[b]))) ++b;
+  while (e > b && std::isspace(static_cast<unsigned char>(text[e - 1]))) --e;
+  return text.substr(b, e - b);
+}
+
+// "EPSG:nnnn" when the CRS has an EPSG code, or is one of the EPSG
+// catalogue but for its names or axis order (an ESRI .prj's "GCS_WGS_1984",
+// our longitude-first WGS 84), else its PROJ string, else "".
+std::string Identify(const OGRSpatialReference& srs) {
+  QuietGdal quiet;
+  const auto code_of = [](const OGRSpatialReference& s) {
+    const char* authority = s.GetAuthorityName(nullptr);
+    const char* code = s.GetAuthorityCode(nullptr);
+    return authority != nullptr && code != nullptr ? std::string(authority) + ":" + code
+                                                   : std::string();
+  };
+  std::string id = code_of(srs);
+  if (!id.empty()) return id;
+  int n = 0;
+  int* confidence = nullptr;
+  OGRSpatialReferenceH* matches = srs.FindMatches(nullptr, &n, &confidence);
+  const char* const same[] = {"CRITERION=EQUIVALENT_EXCEPT_AXIS_ORDER_GEOGCRS",
+                              "IGNORE_DATA_AXIS_TO_SRS_AXIS_MAPPING=YES", nullptr};
+  for (int i = 0; i < n && id.empty(); ++i) {
+    const OGRSpatialReference* match = OGRSpatialReference::FromHandle(matches[i]);
+    const char* authority = match->GetAuthorityName(nullptr);
+    if (authority != nullptr && std::string(authority) == "EPSG" && srs.IsSame(match, same)) {
+      id = code_of(*match);
+    }
+  }
+  if (matches != nullptr) OSRFreeSRSArray(matches);
+  CPLFree(confidence);
+  if (!id.empty()) return id;
+  char* proj = nullptr;
+  if (srs.exportToProj4(&proj) == OGRERR_NONE && proj != nullptr) id = Trim(proj);
+  CPLFree(proj);
+  return id;
+}
+
+// The CRS of `wkt` with x = easting/longitude, y = northing/latitude; null
+// if unreadable.
+std::unique_ptr<OGRSpatialReference> Import(const std::string& wkt) {
+  auto srs = std::make_unique<OGRSpatialReference>();
+  srs->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  QuietGdal quiet;
+  if (wkt.empty() || srs->importFromWkt(wkt.c_str()) != OGRERR_NONE) return nullptr;
+  return srs;
+}
+
+bool ParseCrs(const std::string& text, CrsFacts* crs, std::string* error) {
+  OGRSpatialReference srs;
+  QuietGdal quiet;
+  // Config text must not make us read files or the network.
+  const char* const options[] = {"ALLOW_NETWORK_ACCESS=NO", "ALLOW_FILE_ACCESS=NO", nullptr};
+  if (srs.SetFromUserInput(text.c_str(), options) != OGRERR_NONE) {
+    *error = "unreadable CRS " + Shown(text) + quiet.Plain();
+    return false;
+  }
+  const char* name = srs.GetName();
+  crs->name = name != nullptr && *name != '\0' ? name : Shown(text);
+  const std::string what = "CRS '" + crs->name + "'";
+  if (srs.IsGeocentric()) {
+    *error = what + " is geocentric; a height field needs a geographic or projected CRS";
+    return false;
+  }
+  if (srs.IsGeographic()) {
+    const double degree = std::acos(-1.0) / 180.0;
+    if (std::fabs(srs.GetAngularUnits() - degree) > 1e-12 * degree) {
+      *error = what + ": angular unit is not the degree";
+      return false;
+    }
+    crs->kind = CrsFacts::kGeographic;
+  } else if (srs.IsProjected() || srs.IsLocal()) {
+    crs->kind = CrsFacts::kProjected;
+    crs->metres_per_unit = srs.GetLinearUnits();
+  } else {
+    *error = what + " is neither projected nor geographic";
+    return false;
+  }
+  char* wkt = nullptr;
+  const char* const wkt_options[] = {"FORMAT=WKT2_2019", nullptr};
+  if (srs.exportToWkt(&wkt, wkt_options) != OGRERR_NONE || wkt == nullptr) {
+    CPLFree(wkt);
+    *error = what + ": cannot be written as WKT" + quiet.Plain();
+    return false;
+  }
+  crs->wkt = wkt;
+  CPLFree(wkt);
+  return true;
+}
+
+std::string IdentifyCrs(const std::string& wkt) {
+  const auto srs = Import(wkt);
+  return srs ? Identify(*srs) : "";
+}
+
+std::string IdentifyUtm(const std::string& wkt, int zone, bool north) {
+  const auto geographic = Import(wkt);
+  if (!geographic) return "";
+  OGRSpatialReference utm;
+  QuietGdal quiet;
+  if (utm.CopyGeogCSFrom(geographic.get()) != OGRERR_NONE ||
+      utm.SetUTM(zone, north ? TRUE : FALSE) != OGRERR_NONE) {
+    return "";
+  }
+  return Identify(utm);
+}
+
+bool DatumOf(const std::string& wkt, CrsDatum* datum) {
+  const auto srs = Import(wkt);
+  if (!srs) return false;
+  OGRErr error = OGRERR_NONE;
+  const double a = srs->GetSemiMajor(&error);
+  if (error != OGRERR_NONE || !(a > 0)) return false;
+  const double inverse_f = srs->GetInvFlattening(&error);
+  datum->a = a;
+  datum->f = inverse_f > 0 ? 1.0 / inverse_f : 0.0;  // 0 = sphere
+  datum->prime_meridian_deg = srs->GetPrimeMeridian();
+  const char* name = srs->GetAttrValue("GEOGCS");
+  datum->name = name != nullptr ? name : "";
+  return true;
+}
+
+int SameCrs(const std::string& wkt_a, const std::string& wkt_b, bool geographic_only) {
+  const auto a = Import(wkt_a), b = Import(wkt_b);
+  if (!a || !b) return -1;
+  return (geographic_only ? a->IsSameGeogCS(b.get()) : a->IsSame(b.get())) ? 1 : 0;
+}
+
+bool ProjectedToLonLat(const std::string& wkt, double x, double y, double* lat, double* lon) {
+  QuietGdal quiet;
+  const auto source = Import(wkt);
+  if (!source) return false;
+  OGRSpatialReference wgs84;
+  wgs84.SetWellKnownGeogCS("WGS84");
+  wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+  std::unique_ptr<OGRCoordinateTransformation> transform(
+      OGRCreateCoordinateTransformation(source.get(), &wgs84));
+  if (!transform) return false;
+  double px = x, py = y;
+  if (!transform->Transform(1, &px, &py)) return false;
+  *lon = px, *lat = py;
+  return true;
+}
+
+bool TransformPoints(const std::string& from_wkt, const std::string& to_wkt,
+                     std::vector<std::array<double, 3>>* points, std::string* error) {
+  QuietGdal quiet;
+  const auto from = Import(from_wkt), to = Import(to_wkt);
+  if (!from || !to) {
+    *error = "unreadable CRS" + quiet.Plain();
+    return false;
+  }
+  std::unique_ptr<OGRCoordinateTransformation> transform(
+      OGRCreateCoordinateTransformation(from.get(), to.get()));
+  if (!transform) {
+    *error = "no transformation between the two CRSs" + quiet.Plain();
+    return false;
+  }
+  const std::size_t n = points->size();
+  std::vector<double> x(n), y(n), z(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = (*points)[i][0], y[i] = (*points)[i][1], z[i] = (*points)[i][2];
+  std::vector<int> ok(n, 0);
+  // In blocks: PROJ's per-call overhead is large for one point, and an int
+  // count caps a call anyway.
+  constexpr std::size_t kBlock = 1 << 16;
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const int count = static_cast<int>(std::min(kBlock, n - b));
+    transform->Transform(count, &x[b], &y[b], &z[b], ok.data() + b);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!ok[i] || !std::isfinite(x[i]) || !std::isfinite(y[i]) || !std::isfinite(z[i])) {
+      char what[160];
+      std::snprintf(what, sizeof(what), "point %zu (%.9g, %.9g) cannot be transformed", i + 1,
+                    (*points)[i][0], (*points)[i][1]);
+      *error = what + quiet.Plain();
+      return false;
+    }
+    (*points)[i] = {x[i], y[i], z[i]};
+  }
+  return true;
+}
+
+// --- the entry points ---------------------------------------------------
+
+// Runs `body`, turning what it throws into `*error`.
+template <typename Body>
+bool Guarded(std::string* error, const std::string& where, Body body) {
+  try {
+    body();
+    return true;
+  } catch (const ModuleError& e) {
+    *error = e.what();
+  } catch (const std::bad_alloc&) {
+    *error = where + ": out of memory";
+  } catch (const std::exception& e) {
+    *error = where + ": " + e.what();
+  }
+  return false;
+}
+
+bool ReadRasterEntry(const std::string& path, const RasterReadOptions& options, Raster* raster,
+                     std::string* error) {
+  return Guarded(error, path, [&] { *raster = ReadRasterOrThrow(path, options); });
+}
+
+bool WriteGeoTiffEntry(const std::string& file, const Raster& raster, const std::string& where,
+                       std::string* error) {
+  return Guarded(error, where, [&] {
+    RegisterGdalOnce();
+    // No .aux.xml side file: what GeoTIFF tags cannot hold is not kept.
+    const ScopedConfigOption no_side_file("GDAL_PAM_ENABLED", "NO");
+    WriteGeoTiffFile(file, raster, where);
+  });
+}
+
+// A GeoTIFF being written window by window (GdalModule::open_geotiff).
+struct GeoTiffStream {
+  Dataset dataset;
+  GDALRasterBandH band = nullptr;
+  std::string where;
+  std::vector<float> buffer;
+};
+
+constexpr float kStreamNodata = -9999.0f;
+
+void* OpenGeoTiffEntry(const std::string& file, int columns, int rows,
+                       const std::array<double, 6>& geotransform, const std::string& crs_wkt,
+                       const std::string& where, std::string* error) {
+  auto stream = std::make_unique<GeoTiffStream>();
+  stream->where = where;
+  const bool ok = Guarded(error, where, [&] {
+    RegisterGdalOnce();
+    const ScopedConfigOption no_side_file("GDAL_PAM_ENABLED", "NO");
+    QuietGdal quiet;
+    GDALDriverH driver = GDALGetDriverByName("GTiff");
+    if (driver == nullptr) Fail(where, "GDAL has no GTiff driver");
+    const char* options[] = {"COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", "TILED=YES",
+                             "BLOCKXSIZE=256",   "BLOCKYSIZE=256",   nullptr};
+    stream->dataset.reset(GDALCreate(driver, file.c_str(), columns, rows, 1, GDT_Float32,
+                                     const_cast<char**>(options)));
+    if (!stream->dataset) Fail(where, "cannot create" + quiet.Detail());
+    GDALDatasetH ds = stream->dataset.get();
+    double gt[6];
+    for (int k = 0; k < 6; ++k) gt[k] = geotransform[k];
+    if (GDALSetGeoTransform(ds, gt) != CE_None) Fail(where, "cannot set the geotransform" + quiet.Detail());
+    if (!crs_wkt.empty() && GDALSetProjection(ds, crs_wkt.c_str()) != CE_None) {
+      Fail(where, "unreadable CRS" + quiet.Detail());
+    }
+    stream->band = GDALGetRasterBand(ds, 1);
+    if (GDALSetRasterNoDataValue(stream->band, kStreamNodata) != CE_None) {
+      Fail(where, "cannot set the nodata value" + quiet.Detail());
+    }
+  });
+  return ok ? stream.release() : nullptr;
+}
+
+bool WriteGeoTiffWindowEntry(void* writer, int column, int row, int columns, int rows,
+                             const double* values, std::string* error) {
+  auto* stream = static_cast<GeoTiffStream*>(writer);
+  return Guarded(error, stream->where, [&] {
+    QuietGdal quiet;
+    constexpr double kMax = std::numeric_limits<float>::max();
+    stream->buffer.resize(static_cast<std::size_t>(columns) * rows);
+    for (std::size_t i = 0; i < stream->buffer.size(); ++i) {
+      const double v = values[i];
+      if (std::isfinite(v) && (std::fabs(v) > kMax || static_cast<float>(v) == kStreamNodata)) {
+        Fail(stream->where, "value " + Number(v) + " near column " + std::to_string(column) +
+                                ", row " + std::to_string(row) +
+                                (std::fabs(v) > kMax ? " does not fit Float32" : " is the nodata value"));
+      }
+      stream->buffer[i] = std::isfinite(v) ? static_cast<float>(v) : kStreamNodata;
+    }
+    if (GDALRasterIO(stream->band, GF_Write, column, row, columns, rows, stream->buffer.data(),
+                     columns, rows, GDT_Float32, 0, 0) != CE_None) {
+      Fail(stream->where, "cannot write" + quiet.Detail());
+    }
+  });
+}
+
+bool CloseGeoTiffEntry(void* writer, std::string* error) {
+  std::unique_ptr<GeoTiffStream> stream(static_cast<GeoTiffStream*>(writer));
+  return Guarded(error, stream->where, [&] {
+    QuietGdal quiet;
+    stream->dataset.reset();  // flushes and compresses the last blocks
+    if (quiet.failed()) Fail(stream->where, "cannot write" + quiet.Detail());
+  });
+}
+
+const GdalModule kModule = {kGdalModuleVersion, &ReadRasterEntry, &WriteGeoTiffEntry, &ParseCrs,
+                            &IdentifyCrs,       &IdentifyUtm,     &DatumOf,
+                            &SameCrs,           &ProjectedToLonLat, &TransformPoints,
+                            &ReadVectorRings,   &OpenGeoTiffEntry,  &WriteGeoTiffWindowEntry,
+                            &CloseGeoTiffEntry};
+
+}  // namespace
+}  // namespace surfreg
+
+extern "C" __attribute__((visibility("default"))) const surfreg::GdalModule* surfreg_gdal_module() {
+  return &surfreg::kModule;
+}

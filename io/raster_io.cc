@@ -1,0 +1,176 @@
+// Raster reading and GeoTIFF writing (see raster_io.h): the GDAL calls are
+// in the GDAL module (gdal_module.h); here the checks, the conversion to a
+// surface and the atomic replacement of the output.
+#include "io/raster_io.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <mutex>
+
+#include <glog/logging.h>
+
+#include "measure/input_error.h"
+#include "io/atomic_file.h"
+#include "io/interrupt.h"
+#include "io/gdal_module.h"
+#include "io/surface_reader_internal.h"
+
+namespace surfreg {
+namespace {
+
+[[noreturn]] void Fail(const std::string& where, const std::string& what) {
+  throw InputError(where + ": " + what);
+}
+
+}  // namespace
+
+Point2 Raster::CellCentre(int column, int row) const {
+  const double c = column + 0.5, r = row + 0.5;
+  const auto& gt = geotransform;
+  return {gt[0] + c * gt[1] + r * gt[2], gt[3] + c * gt[4] + r * gt[5]};
+}
+
+Raster ReadRaster(const std::string& path, const RasterReadOptions& options) {
+  const GdalModule& gdal = Gdal(path);
+  Raster raster;
+  std::string error;
+  if (!gdal.read_raster(path, options, &raster, &error)) throw InputError(error);
+  if (raster.non_finite_cells > 0) {
+    LOG(WARNING) << path << ": " << raster.non_finite_cells << " of "
+                 << static_cast<int64_t>(raster.columns) * raster.rows
+                 << " cells are NaN or infinite (not the band's nodata value): read as nodata";
+  }
+  return raster;
+}
+
+Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_sample,
+                        double origin_step) {
+  std::vector<std::array<double, 3>> points;
+  std::vector<RasterCell> cells;
+  if (cell_of_sample != nullptr) cell_of_sample->clear();
+  for (int row = 0; row < raster.rows; ++row) {
+    for (int column = 0; column < raster.columns; ++column) {
+      const int64_t cell = static_cast<int64_t>(row) * raster.columns + column;
+      const double z = raster.values[static_cast<std::size_t>(cell)];
+      if (!std::isfinite(z)) continue;
+      const Point2 centre = raster.CellCentre(column, row);
+      points.push_back({centre.x, centre.y, z});
+      cells.push_back({column, row});
+      if (cell_of_sample != nullptr) cell_of_sample->push_back(cell);
+    }
+  }
+  if (points.empty()) Fail(raster.source, "every cell is nodata");
+  Surface surface = MakeSurface(points, {}, raster.source, origin_step);
+  surface.raster_cell = std::move(cells);  // meshed on its own cells (measure/grid_mesh.h)
+  ValidateSurface(surface);
+  return surface;
+}
+
+namespace {
+
+std::string TemporaryName(const std::string& path) {
+  static std::atomic<unsigned> counter{0};
+  return path + ".tmp-" + std::to_string(getpid()) + "-" + std::to_string(counter++);
+}
+
+}  // namespace
+
+void WriteGeoTiff(const std::string& path, const Raster& raster, const std::string& label) {
+  const std::string where = label + ": '" + path + "'";
+  const std::size_t cells =
+      static_cast<std::size_t>(std::max(raster.columns, 0)) * std::max(raster.rows, 0);
+  if (raster.columns <= 0 || raster.rows <= 0 || raster.values.size() != cells) {
+    Fail(where, "raster of " + std::to_string(raster.columns) + " x " +
+                    std::to_string(raster.rows) + " cells has " +
+                    std::to_string(raster.values.size()) + " values");
+  }
+  CheckOutputPath(path, label);
+  const GdalModule& gdal = Gdal(where);
+  const std::string temporary = TemporaryName(path);
+  const int slot = RegisterTemporary(temporary);  // an interrupted run removes it
+  try {
+    std::string error;
+    if (!gdal.write_geotiff(temporary, raster, where, &error)) throw InputError(error);
+    if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+      Fail(where, std::string("cannot rename the temporary file: ") + std::strerror(errno));
+    }
+  } catch (...) {
+    std::remove(temporary.c_str());
+    UnregisterTemporary(slot);
+    throw;
+  }
+  UnregisterTemporary(slot);
+}
+
+GeoTiffStreamWriter::GeoTiffStreamWriter(const std::string& path, int columns, int rows,
+                                         const std::array<double, 6>& geotransform,
+                                         const std::string& crs_wkt, const std::string& label)
+    : path_(path), where_(label + ": '" + path + "'") {
+  if (columns <= 0 || rows <= 0) {
+    Fail(where_, "raster of " + std::to_string(columns) + " x " + std::to_string(rows) + " cells");
+  }
+  CheckOutputPath(path, label);
+  const GdalModule& gdal = Gdal(where_);
+  temporary_ = TemporaryName(path);
+  slot_ = RegisterTemporary(temporary_);  // an interrupted run removes it
+  std::string error;
+  writer_ = gdal.open_geotiff(temporary_, columns, rows, geotransform, crs_wkt, where_, &error);
+  if (writer_ == nullptr) {
+    std::remove(temporary_.c_str());
+    UnregisterTemporary(slot_);
+    slot_ = -1;
+    throw InputError(error);
+  }
+}
+
+GeoTiffStreamWriter::~GeoTiffStreamWriter() {
+  if (slot_ < 0) return;  // finished, or never opened
+  std::string ignored;
+  if (writer_ != nullptr) Gdal(where_).close_geotiff(writer_, &ignored);
+  std::remove(temporary_.c_str());
+  UnregisterTemporary(slot_);
+}
+
+void GeoTiffStreamWriter::Write(int column, int row, int columns, int rows,
+                                const std::vector<double>& values) {
+  if (values.size() != static_cast<std::size_t>(columns) * rows) {
+    Fail(where_, "a window of " + std::to_string(columns) + " x " + std::to_string(rows) +
+                     " cells has " + std::to_string(values.size()) + " values");
+  }
+  std::string error;
+  if (!Gdal(where_).write_geotiff_window(writer_, column, row, columns, rows, values.data(), &error)) {
+    throw InputError(error);
+  }
+}
+
+void GeoTiffStreamWriter::Finish() {
+  std::string error;
+  void* writer = writer_;
+  writer_ = nullptr;  // closed below whatever happens
+  if (!Gdal(where_).close_geotiff(writer, &error)) throw InputError(error);
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    Fail(where_, std::string("cannot rename the temporary file: ") + std::strerror(errno));
+  }
+  UnregisterTemporary(slot_);
+  slot_ = -1;
+}
+
+bool IsRasterPath(const std::string& path) {
+  static const char* const kExtensions[] = {".tif", ".tiff", ".vrt", ".asc",  ".img", ".bil",
+                                            ".hgt", ".dem",  ".nc",  ".gpkg", ".flt"};
+  const std::string ext = io_internal::Extension(path);
+  for (const char* known : kExtensions) {
+    if (ext == known) return true;
+  }
+  return false;
+}
+
+}  // namespace surfreg

@@ -1,0 +1,288 @@
+#include "registration/volume_cost/overlay_topology.h"
+
+#include <algorithm>
+#include <limits>
+#include <thread>
+
+#include "measure/overlay.h"
+#include "measure/predicates.h"
+
+namespace surfreg {
+namespace {
+
+inline int Sign(double v) { return (v > 0.0) - (v < 0.0); }
+
+// The full overlay's clip (measure/overlay_clip.h), with labels: so the
+// cells kept are exactly the ones it keeps. Returns the number of corners,
+// 0 for an empty or zero-area result.
+int ClipLabeled(const Point2 a[3], const Point2 b[3], const int8_t s[3][3], uint8_t* code) {
+  const int8_t* const sides[3] = {s[0], s[1], s[2]};
+  double x[8], y[8], twice_area;
+  return overlay_internal::ClipTriangle(a, b, sides, x, y, &twice_area, code);
+}
+
+}  // namespace
+
+// The exact search of one A triangle: a breadth-first search over the B
+// triangles whose closures meet it, from seeds (as measure/overlay.cc).
+struct OverlayTopology::Searcher {
+  std::vector<int32_t> b_stamp;     // per B triangle: the search that queued it
+  std::vector<int32_t> side_stamp;  // per B vertex: the search its `sides` are for
+  std::vector<std::array<int8_t, 3>> sides;
+  std::vector<int32_t> queue;
+  std::vector<TopologyCell> fresh;                 // cells found by Repair
+  std::vector<std::array<int64_t, 3>> fresh_runs;  // (T_A, first, count) in `fresh`
+  int32_t stamp = 0;
+  TopologyStats stats;
+  // Current A triangle.
+  const std::vector<Point2>* pb = nullptr;
+  const Triangulation* mb = nullptr;
+  const uint8_t* keep_b = nullptr;  // null: all
+  Point2 a[3];
+
+  void Size(int32_t num_b_triangles, int64_t num_b_points) {
+    if (static_cast<int32_t>(b_stamp.size()) != num_b_triangles) b_stamp.assign(num_b_triangles, -1);
+    if (static_cast<int64_t>(side_stamp.size()) != num_b_points) {
+      side_stamp.assign(num_b_points, -1);
+      sides.resize(num_b_points);
+    }
+    stats = TopologyStats();
+  }
+
+  void Begin(const Point2* corners) {
+    if (stamp == std::numeric_limits<int32_t>::max()) {
+      std::fill(b_stamp.begin(), b_stamp.end(), -1);
+      std::fill(side_stamp.begin(), side_stamp.end(), -1);
+      stamp = 0;
+    }
+    ++stamp;
+    for (int k = 0; k < 3; ++k) a[k] = corners[k];
+    queue.clear();
+    ++stats.triangles_searched;
+  }
+
+  void Push(int32_t tb) {
+    if (tb < 0 || b_stamp[tb] == stamp) return;
+    b_stamp[tb] = stamp;
+    queue.push_back(tb);
+  }
+
+  const int8_t* Sides(int32_t u) {
+    if (side_stamp[u] != stamp) {
+      side_stamp[u] = stamp;
+      for (int i = 0; i < 3; ++i) {
+        sides[u][i] = static_cast<int8_t>(Sign(Orient2D(a[(i + 1) % 3], a[(i + 2) % 3], (*pb)[u])));
+      }
+    }
+    return sides[u].data();
+  }
+
+  // Whether the closures of T_A and tb meet: no edge line of either has the
+  // other triangle strictly outside.
+  bool Meets(int32_t tb, const int8_t* s[3]) const {
+    for (int k = 0; k < 3; ++k) {
+      if (s[k][0] >= 0 && s[k][1] >= 0 && s[k][2] >= 0) return true;
+    }
+    for (int i = 0; i < 3; ++i) {
+      if (s[0][i] < 0 && s[1][i] < 0 && s[2][i] < 0) return false;
+    }
+    const int32_t* v = &mb->triangles[3 * tb];
+    for (int j = 0; j < 3; ++j) {
+      const Point2& p = (*pb)[v[(j + 1) % 3]];
+      const Point2& q = (*pb)[v[(j + 2) % 3]];
+      if (Orient2D(p, q, a[0]) < 0 && Orient2D(p, q, a[1]) < 0 && Orient2D(p, q, a[2]) < 0) return false;
+    }
+    return true;
+  }
+
+  // Runs the queued search; appends the cells to `out`. Returns whether any
+  // B triangle met T_A.
+  bool Run(std::vector<TopologyCell>* out) {
+    bool met = false;
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+      const int32_t tb = queue[head];
+      ++stats.pairs_tested;
+      const int32_t* v = &mb->triangles[3 * tb];
+      const int8_t* s[3] = {Sides(v[0]), Sides(v[1]), Sides(v[2])};
+      if (!Meets(tb, s)) continue;
+      met = true;
+      int8_t signs[3][3];
+      for (int k = 0; k < 3; ++k) std::copy(s[k], s[k] + 3, signs[k]);
+      const Point2 b[3] = {(*pb)[v[0]], (*pb)[v[1]], (*pb)[v[2]]};
+      TopologyCell cell;
+      cell.triangle_b = tb;
+      cell.num_corners = static_cast<uint8_t>(ClipLabeled(a, b, signs, cell.corner.data()));
+      if (cell.num_corners >= 3 && (keep_b == nullptr || keep_b[tb])) out->push_back(cell);
+      for (int j = 0; j < 3; ++j) Push(mb->neighbors[3 * tb + j]);
+    }
+    return met;
+  }
+};
+
+OverlayTopology::OverlayTopology() = default;
+OverlayTopology::~OverlayTopology() = default;
+
+void OverlayTopology::SizeSearchers(const Triangulation& mesh_a, const Triangulation& mesh_b,
+                                    int64_t num_b) {
+  (void)mesh_a;
+  for (auto& s : searcher_) {
+    if (!s) s = std::make_unique<Searcher>();
+    s->Size(mesh_b.num_triangles(), num_b);
+  }
+}
+
+TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
+                                     const std::vector<Location>& a_in_b,
+                                     const std::vector<Point2>& points_b, const Triangulation& mesh_b,
+                                     const std::vector<Location>& b_in_a, bool parallel,
+                                     const uint8_t* keep_a, const uint8_t* keep_b) {
+  SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
+  const int32_t na = mesh_a.num_triangles();
+  // The pairs that make cells, from the full overlay, by T_A.
+  std::vector<std::pair<int32_t, int32_t>> pairs[2];
+  auto keep = [](std::vector<std::pair<int32_t, int32_t>>* list) {
+    return [list](const OverlayCell& cell) { list->push_back({cell.triangle_a, cell.triangle_b}); };
+  };
+  OverlayStats overlay;
+  if (parallel) {
+    overlay = ForEachOverlayCellInTwo(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a,
+                                      keep(&pairs[0]), keep(&pairs[1]));
+  } else {
+    overlay = ForEachOverlayCell(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, keep(&pairs[0]));
+  }
+  begin_.assign(na + 1, 0);
+  count_.assign(na, 0);
+  for (const auto& list : pairs) {
+    for (const auto& p : list) ++begin_[p.first + 1];
+  }
+  for (int32_t t = 0; t < na; ++t) begin_[t + 1] += begin_[t];
+  cells_.assign(begin_[na], TopologyCell());
+  for (const auto& list : pairs) {
+    for (const auto& p : list) cells_[begin_[p.first] + count_[p.first]++].triangle_b = p.second;
+  }
+  begin_.pop_back();
+  // Label each pair's cell (the same clip: the same cells).
+  auto label = [&](Searcher& s, int32_t lo, int32_t hi) {
+    s.pb = &points_b;
+    s.mb = &mesh_b;
+    for (int32_t ta = lo; ta < hi; ++ta) {
+      const int32_t* va = &mesh_a.triangles[3 * ta];
+      const Point2 a[3] = {points_a[va[0]], points_a[va[1]], points_a[va[2]]};
+      s.Begin(a);
+      TopologyCell* cells = cells_.data() + begin_[ta];
+      int32_t kept = 0;
+      if (keep_a != nullptr && !keep_a[ta]) {
+        count_[ta] = 0;
+        continue;
+      }
+      for (int32_t k = 0; k < count_[ta]; ++k) {
+        const int32_t tb = cells[k].triangle_b;
+        if (keep_b != nullptr && !keep_b[tb]) continue;
+        const int32_t* vb = &mesh_b.triangles[3 * tb];
+        int8_t signs[3][3];
+        for (int c = 0; c < 3; ++c) std::copy(s.Sides(vb[c]), s.Sides(vb[c]) + 3, signs[c]);
+        const Point2 b[3] = {points_b[vb[0]], points_b[vb[1]], points_b[vb[2]]};
+        TopologyCell cell;
+        cell.triangle_b = tb;
+        cell.num_corners = static_cast<uint8_t>(ClipLabeled(a, b, signs, cell.corner.data()));
+        if (cell.num_corners >= 3) cells[kept++] = cell;
+      }
+      count_[ta] = kept;
+    }
+  };
+  const int32_t middle = parallel ? na / 2 : na;
+  std::thread worker;
+  if (parallel) worker = std::thread([&] { label(*searcher_[1], middle, na); });
+  label(*searcher_[0], 0, middle);
+  if (parallel) worker.join();
+  live_ = 0;
+  for (int32_t t = 0; t < na; ++t) live_ += count_[t];
+  TopologyStats stats;
+  stats.triangles_searched = na;
+  stats.pairs_tested = overlay.pairs_tested;
+  stats.cells = live_;
+  return stats;
+}
+
+TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
+                                      const Triangulation& mesh_a,
+                                      const std::vector<Location>& a_in_b,
+                                      const std::vector<Point2>& points_b,
+                                      const Triangulation& mesh_b, const std::vector<int32_t>& dirty,
+                                      const std::vector<std::pair<int32_t, int32_t>>& seeds,
+                                      bool parallel, const uint8_t* keep_a,
+                                      const uint8_t* keep_b) {
+  SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
+  const int32_t na = mesh_a.num_triangles();
+  const int32_t middle = parallel ? na / 2 : na;
+  // Reads only the old topology; writes only its own searcher.
+  auto repair = [&](Searcher& s, int32_t lo, int32_t hi) {
+    s.pb = &points_b;
+    s.mb = &mesh_b;
+    s.keep_b = keep_b;
+    s.fresh.clear();
+    s.fresh_runs.clear();
+    auto d = std::lower_bound(dirty.begin(), dirty.end(), lo);
+    auto e = std::lower_bound(seeds.begin(), seeds.end(), std::make_pair(lo, -1));
+    for (; d != dirty.end() && *d < hi; ++d) {
+      const int32_t ta = *d;
+      if (keep_a != nullptr && !keep_a[ta]) {  // junk: no cells, never searched
+        s.fresh_runs.push_back({ta, static_cast<int64_t>(s.fresh.size()), 0});
+        continue;
+      }
+      const int32_t* va = &mesh_a.triangles[3 * ta];
+      const Point2 a[3] = {points_a[va[0]], points_a[va[1]], points_a[va[2]]};
+      s.Begin(a);
+      for (int32_t k = 0; k < count_[ta]; ++k) s.Push(cells_of(ta)[k].triangle_b);
+      for (int k = 0; k < 3; ++k) {
+        if (a_in_b[va[k]].found()) s.Push(a_in_b[va[k]].triangle);
+      }
+      while (e != seeds.end() && e->first < ta) ++e;
+      for (; e != seeds.end() && e->first == ta; ++e) s.Push(e->second);
+      const int64_t first = static_cast<int64_t>(s.fresh.size());
+      if (!s.Run(&s.fresh)) {
+        // Nothing met from there: perhaps T_A only now reaches into B
+        // across its hull; start from its neighbours' cells.
+        for (int i = 0; i < 3; ++i) {
+          const int32_t next = mesh_a.neighbors[3 * ta + i];
+          if (next < 0) continue;
+          for (int32_t k = 0; k < count_[next]; ++k) s.Push(cells_of(next)[k].triangle_b);
+        }
+        s.Run(&s.fresh);
+      }
+      s.fresh_runs.push_back({ta, first, static_cast<int64_t>(s.fresh.size()) - first});
+    }
+  };
+  std::thread worker;
+  if (parallel) worker = std::thread([&] { repair(*searcher_[1], middle, na); });
+  repair(*searcher_[0], 0, middle);
+  if (parallel) worker.join();
+  TopologyStats stats;
+  for (auto& s : searcher_) {
+    const int64_t base = static_cast<int64_t>(cells_.size());
+    cells_.insert(cells_.end(), s->fresh.begin(), s->fresh.end());
+    for (const auto& run : s->fresh_runs) {
+      live_ += run[2] - count_[run[0]];
+      begin_[run[0]] = base + run[1];
+      count_[run[0]] = static_cast<int32_t>(run[2]);
+    }
+    stats.triangles_searched += s->stats.triangles_searched;
+    stats.pairs_tested += s->stats.pairs_tested;
+  }
+  if (static_cast<int64_t>(cells_.size()) > 2 * live_ + 4096) Compact();
+  stats.cells = live_;
+  return stats;
+}
+
+void OverlayTopology::Compact() {
+  std::vector<TopologyCell> packed;
+  packed.reserve(static_cast<std::size_t>(live_ + live_ / 2));
+  for (std::size_t t = 0; t < begin_.size(); ++t) {
+    const int64_t first = static_cast<int64_t>(packed.size());
+    packed.insert(packed.end(), cells_.begin() + begin_[t], cells_.begin() + begin_[t] + count_[t]);
+    begin_[t] = first;
+  }
+  cells_.swap(packed);
+}
+
+}  // namespace surfreg

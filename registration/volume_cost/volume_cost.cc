@@ -1,0 +1,359 @@
+#include "registration/volume_cost/volume_cost.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include "measure/gap_volume.h"
+#include "measure/overlay.h"
+#include "measure/volume.h"
+#include "measure/weights.h"
+#include "registration/volume_cost/volume_cost_cache.h"
+
+namespace surfreg {
+
+VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
+                                   const MaskRegion* mask) {
+  VolumeAccumulator first(state, gradient, mask), second(state, gradient, mask);
+  ForEachCellOfState(state, parallel, first, second);
+  VolumeCostValue total = first.value;
+  total.abs += second.value.abs;
+  total.area += second.value.area;
+  total.d_abs += second.value.d_abs;
+  total.d_area += second.value.d_area;
+  total.cells += second.value.cells;
+  return total;
+}
+
+// ------------------------------------------------------------ incremental
+
+using volume_internal::GradientOf;
+using volume_internal::Pack;
+using volume_internal::PackedLocation;
+using volume_internal::PartBins;
+using volume_internal::Vector6;
+
+
+void VolumeCostCache::Impl::Bind(const PairState& s) {
+  state = &s;
+  reference = &s.reference();
+  moving = &s.moving();
+  const Triangulation& mesh = reference->mesh;
+  const int32_t nt = mesh.num_triangles();
+  star_begin.assign(reference->xy.size() + 1, 0);
+  for (int32_t v : mesh.triangles) ++star_begin[v + 1];
+  for (std::size_t v = 0; v + 1 < star_begin.size(); ++v) star_begin[v + 1] += star_begin[v];
+  star.resize(mesh.triangles.size());
+  std::vector<int32_t> fill(star_begin.begin(), star_begin.end() - 1);
+  for (int32_t t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) star[fill[mesh.triangles[3 * t + k]]++] = t;
+  }
+  // Each A triangle's corners and ∇F_A, read by both cell kernels.
+  record_a.resize(nt);
+  extra_a.resize(nt);
+  for (int32_t t = 0; t < nt; ++t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    const auto& xy = reference->xy;
+    const auto& z = reference->z;
+    const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+    volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, false, &record_a[t], &extra_a[t]);
+  }
+  BindWeights();
+  built = false;
+}
+
+// μ's plane on each A triangle (both kernels read them): the weights are
+// fixed with the reference; empty without weights.
+void VolumeCostCache::Impl::BindWeights() {
+  weight_a.clear();
+  if (reference->weight.empty()) return;
+  const Triangulation& mesh = reference->mesh;
+  const auto& w = reference->weight;
+  const auto& xy = reference->xy;
+  weight_a.resize(mesh.num_triangles());
+  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+    const int32_t* v = &mesh.triangles[3 * t];
+    const Plane mu = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
+    weight_a[t] = {mu.z0, mu.gx, mu.gy};
+  }
+}
+
+// The A triangles whose cells may have changed since the last evaluation:
+// around every vertex whose location in the other mesh changed (a vertex
+// crossing an edge of the other mesh is the only event that changes which
+// pairs meet and which edges cross). A B vertex moves straight in A's fixed
+// frame: the triangles it left and entered (with the edge or vertex it was
+// on), and, if those are not neighbours, everything around both.
+void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
+  const Triangulation& mesh_a = reference->mesh;
+  mark.assign(mesh_a.num_triangles(), 0);
+  seeds.clear();
+  auto mark_star = [&](int32_t v) {
+    for (int32_t k = star_begin[v]; k < star_begin[v + 1]; ++k) mark[star[k]] = 1;
+  };
+  const auto& a_in_b = s.a_in_b();
+  for (std::size_t v = 0; v < a_in_b.size(); ++v) {
+    const PackedLocation now = Pack(a_in_b[v]);
+    if (now != last_a[v] && (now.where != Where::kOutside || last_a[v].where != Where::kOutside)) {
+      mark_star(static_cast<int32_t>(v));
+    }
+  }
+  const auto& b_in_a = s.b_in_a();
+  auto mark_location = [&](const PackedLocation& l) {
+    if (l.triangle < 0) return;
+    mark[l.triangle] = 1;
+    if (l.where == Where::kOnEdge) {
+      const int32_t next = mesh_a.neighbors[3 * l.triangle + l.index];
+      if (next >= 0) mark[next] = 1;
+    } else if (l.where == Where::kOnVertex) {
+      mark_star(mesh_a.triangles[3 * l.triangle + l.index]);
+    }
+  };
+  for (std::size_t u = 0; u < b_in_a.size(); ++u) {
+    const PackedLocation now = Pack(b_in_a[u]);
+    const PackedLocation before = last_b[u];
+    // Outside A's hull before and after: where the walk left the mesh
+    // changes, the overlay does not.
+    if (!(now != before) || (now.where == Where::kOutside && before.where == Where::kOutside)) continue;
+    mark_location(before);
+    mark_location(now);
+    if (now.triangle >= 0 && before.triangle >= 0 && now.triangle != before.triangle) {
+      bool adjacent = false;
+      for (int i = 0; i < 3; ++i) adjacent |= mesh_a.neighbors[3 * before.triangle + i] == now.triangle;
+      if (!adjacent) {
+        for (int k = 0; k < 3; ++k) {
+          mark_star(mesh_a.triangles[3 * before.triangle + k]);
+          mark_star(mesh_a.triangles[3 * now.triangle + k]);
+        }
+      }
+    }
+    const int32_t tb = s.moving_mesh().vertex_triangle[u];
+    if (b_in_a[u].found() && tb >= 0) seeds.push_back({now.triangle, tb});
+  }
+  dirty.clear();
+  for (int32_t t = 0; t < mesh_a.num_triangles(); ++t) {
+    if (mark[t]) dirty.push_back(t);
+  }
+  std::sort(seeds.begin(), seeds.end());
+}
+
+
+VolumeCostCache::VolumeCostCache(double max_dirty_fraction, CellKernelChoice kernel)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->max_dirty_fraction = max_dirty_fraction;
+  impl_->cell_kernel = volume_internal::ResolveCellKernel(kernel);
+}
+VolumeCostCache::~VolumeCostCache() = default;
+void VolumeCostCache::Reset() { impl_->built = false; }
+const VolumeCostCacheStats& VolumeCostCache::stats() const { return impl_->stats; }
+
+namespace {
+
+// Runs f(lo, hi, part) over [0, n) on one or two threads (fixed split).
+template <class F>
+void Split(int32_t n, bool parallel, F&& f) {
+  if (!parallel) {
+    f(0, n, 0);
+    return;
+  }
+  std::thread worker([&] { f(n / 2, n, 1); });
+  f(0, n / 2, 0);
+  worker.join();
+}
+
+void AddInto(const VolumeCostValue& v, VolumeCostValue* total) {
+  total->abs += v.abs;
+  total->area += v.area;
+  total->d_abs += v.d_abs;
+  total->d_area += v.d_area;
+  total->cells += v.cells;
+}
+
+}  // namespace
+
+int GradientBins::Index(double x, double y) const {
+  const int i = std::clamp(static_cast<int>(std::floor((x - x0) / side)), 0, n - 1);
+  const int j = std::clamp(static_cast<int>(std::floor((y - y0) / side)), 0, n - 1);
+  return j * n + i;
+}
+
+// Brings the overlay's topology to the state's pose: built whole (first
+// call, a remesh, far from the last pose twice), repaired around what moved;
+// false: far from the topology's pose, which is kept for the plain full path.
+bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, bool parallel) {
+  const Triangulation& mesh_a = reference->mesh;
+  const Triangulation& mesh_b = s.moving_mesh();
+  bool build = !built || remeshes != s.surface_version();
+  if (!build) {
+    MarkDirty(s);
+    build = dirty.size() > max_dirty_fraction * mesh_a.num_triangles();
+    if (build && !binning && (!fell_back || s.theta() == fallback_theta)) {
+      // Far from the topology's pose: Build + labelling would cost more
+      // than the plain full path, and a solver often comes back (a
+      // rejected trial step), so keep the topology and its pose and
+      // evaluate plainly. Too far at another pose right after: the solver
+      // has moved on; build.
+      fell_back = true;
+      fallback_theta = s.theta();
+      return false;
+    }
+  }
+  fell_back = false;
+  if (build) {
+    topology.Build(reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), parallel,
+                   reference->domain.data(), s.active_b().data());
+    built = true;
+    remeshes = s.surface_version();
+    ++stats.full_builds;
+  } else if (!dirty.empty()) {
+    const TopologyStats t = topology.Repair(reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, dirty,
+                                            seeds, parallel, reference->domain.data(), s.active_b().data());
+    stats.triangles_searched += t.triangles_searched;
+  }
+  last_a.resize(s.a_in_b().size());
+  last_b.resize(s.b_in_a().size());
+  for (std::size_t v = 0; v < last_a.size(); ++v) last_a[v] = Pack(s.a_in_b()[v]);
+  for (std::size_t u = 0; u < last_b.size(); ++u) last_b[u] = Pack(s.b_in_a()[u]);
+  return true;
+}
+
+// ∇F̂_B' and the hull bit on each moved B triangle (and its bin).
+void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, bool parallel, const GradientBins* bins) {
+  const Triangulation& mesh_b = s.moving_mesh();
+  const int32_t nb = mesh_b.num_triangles();
+  record_b.resize(nb);
+  extra_b.resize(nb);
+  if (binning) {
+    bin_of_b.resize(nb);
+    for (PartBins& part : part_bins) part.Reset(bins->n * bins->n);
+  }
+  const auto& xy = s.moved_xy();
+  const auto& z = s.moved_z();
+  Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
+    for (int32_t t = lo; t < hi; ++t) {
+      const int32_t* v = &mesh_b.triangles[3 * t];
+      const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+      // An edge of B's surface: the boundary term's cells (the moving part of ∂Ω).
+      const bool hull = s.MovingBoundaryEdge(t, 0) || s.MovingBoundaryEdge(t, 1) ||
+                        s.MovingBoundaryEdge(t, 2);
+      volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, hull, &record_b[t], &extra_b[t]);
+      if (binning) {
+        bin_of_b[t] = bins->Index((xy[v[0]].x + xy[v[1]].x + xy[v[2]].x) / 3,
+                                  (xy[v[0]].y + xy[v[1]].y + xy[v[2]].y) / 3);
+      }
+    }
+  });
+}
+
+// The interior gradient from each B triangle's moments (zeroed for the next
+// call): with q affine on T_B, Σ s|P| q(c) = W q0 + Q C; rows as
+// VolumeAccumulator::AddPart. Each triangle's share also to its bin.
+void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, bool parallel, GradientBins* bins,
+                                                VolumeCostValue* total) {
+  const Triangulation& mesh_b = s.moving_mesh();
+  const auto& xy = s.moved_xy();
+  const auto& q = s.moved_q();
+  const Eigen::Matrix3d mt = s.derivative().m.transpose();
+  Eigen::Vector3d rotation[2], translation[2];
+  Split(mesh_b.num_triangles(), parallel, [&](int32_t lo, int32_t hi, int part) {
+    Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
+    for (int32_t t = lo; t < hi; ++t) {
+      Moment& m0 = moments[0][t];
+      double w = m0.w, cx = m0.x, cy = m0.y;
+      m0 = {0.0, 0.0, 0.0};
+      if (parallel) {  // one thread leaves moments[1] zero: not worth a pass over memory
+        Moment& m1 = moments[1][t];
+        w += m1.w, cx += m1.x, cy += m1.y;
+        m1 = {0.0, 0.0, 0.0};
+      }
+      if (w == 0 && cx == 0 && cy == 0) continue;
+      const int32_t* v = &mesh_b.triangles[3 * t];
+      const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
+      const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
+      const double det = ax * by - ay * bx;
+      const double l1 = (by * cx - bx * cy) / det, l2 = (ax * cy - ay * cx) / det;
+      const Eigen::Vector3d sum = w * q[v[0]] + l1 * (q[v[1]] - q[v[0]]) + l2 * (q[v[2]] - q[v[0]]);
+      const Eigen::Vector3d normal(-record_b[t].gx, -record_b[t].gy, 1.0);
+      r += normal.cross(sum);
+      tr += w * normal;
+      if (binning) {
+        const int32_t b = bin_of_b[t];
+        part_bins[part].d_abs[b] += (Vector6() << -mt * normal.cross(sum), w * normal).finished();
+        part_bins[part].used[b] = 1;
+      }
+    }
+    rotation[part] = r;
+    translation[part] = tr;
+  });
+  if (!parallel) rotation[1] = translation[1] = Eigen::Vector3d::Zero();
+  if (binning) {
+    for (const PartBins& part : part_bins) {
+      for (std::size_t b = 0; b < part.used.size(); ++b) {
+        if (!part.used[b]) continue;
+        bins->d_abs[b] += part.d_abs[b];
+        bins->d_area[b] += part.d_area[b];
+        bins->used[b] = 1;
+      }
+    }
+  }
+  total->d_abs.head<3>() -= mt * (rotation[0] + rotation[1]);
+  total->d_abs.tail<3>() += translation[0] + translation[1];
+}
+
+VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, bool parallel,
+                                          const MaskRegion* mask, GradientBins* bins) {
+  Impl& m = *impl_;
+  m.binning = bins != nullptr && gradient && mask == nullptr && bins->n > 0;
+  if (bins != nullptr) {
+    const int n = m.binning ? bins->n * bins->n : 0;
+    bins->d_abs.assign(n, Vector6::Zero());
+    bins->d_area.assign(n, Vector6::Zero());
+    bins->used.assign(n, 0);
+  }
+  if (m.state != &s || m.reference != &s.reference() || m.moving != &s.moving()) m.Bind(s);
+  const int32_t na = m.reference->mesh.num_triangles();
+  ++m.stats.evaluations;
+  m.stats.triangles += na;
+  if (!m.UpdateTopology(s, parallel)) {
+    const VolumeCostValue plain = EvaluateVolumeCost(s, gradient, parallel, mask);
+    ++m.stats.fallbacks;
+    m.stats.cells += plain.cells;
+    return plain;
+  }
+  VolumeCostValue parts[2];
+  if (mask != nullptr) {
+    Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
+      m.Generic(s, gradient, mask, lo, hi, &parts[part]);
+    });
+    AddInto(parts[1], &parts[0]);
+    m.stats.cells += parts[0].cells;
+    return parts[0];
+  }
+  const bool weighted = !m.reference->weight.empty();
+  const CellKernel kernel = m.cell_kernel;  // a vector kernel where the CPU has one (weighted or not)
+  // Weights added or dropped since Bind: their planes again.
+  if (m.weight_a.size() != (weighted ? static_cast<std::size_t>(na) : 0u)) m.BindWeights();
+  m.RecordMovedTriangles(s, parallel, bins);
+  if (gradient) {
+    for (auto& moment : m.moments) moment.resize(s.moving_mesh().num_triangles(), Moment{0.0, 0.0, 0.0});
+  }
+  Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
+    if (kernel != CellKernel::kScalar) {
+      m.IntegrateSimd(kernel, s, gradient, lo, hi, part, &parts[part]);
+    } else if (weighted) {
+      m.Integrate<true>(s, gradient, lo, hi, part, &parts[part]);
+    } else {
+      m.Integrate<false>(s, gradient, lo, hi, part, &parts[part]);
+    }
+  });
+  AddInto(parts[1], &parts[0]);
+  VolumeCostValue total = parts[0];
+  m.stats.cells += total.cells;
+  if (gradient) m.AddInteriorGradient(s, parallel, bins, &total);
+  return total;
+}
+
+}  // namespace surfreg

@@ -1,0 +1,75 @@
+#pragma once
+// The uncertainty of terrain change for `surfreg align` (docs/terrain.md):
+// each DEM's vertical standard error from the keys sigma_reference and
+// sigma_moving (one number, or a σ raster on that DEM's grid), propagated to
+// the DoD at the reference's nodes, thresholded at lod / lod_confidence, and
+// the cellwise change budget of terrain/change_budget.h.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "terrain/change_budget.h"
+#include "measure/measures.h"
+#include "measure/surface.h"
+#include "terrain/terrain_request.h"
+#include "io/raster_io.h"
+
+namespace surfreg {
+
+// σ at each sample of one input (`key` "reference" or "moving"; the value of
+// key sigma_<key>): the number for every sample, or the σ raster's value at
+// each sample's cell. A σ raster must be read on the DEM's own grid (same
+// window, size and geotransform) and have a finite value >= 0 at each of
+// the DEM's valid cells; anything else is an InputError naming the key.
+// Empty when the key is not given. `cells`: RasterToSurface's cell of each
+// sample (empty for a point cloud, which takes numbers only).
+std::vector<double> SigmaPerSample(const TerrainRequest& config, const std::string& key,
+                                   std::size_t samples, const Raster& grid,
+                                   const std::vector<int64_t>& cells);
+
+struct ChangeUncertainty {
+  bool active = false;              // some σ was given
+  std::vector<double> sigma_dod;    // per reference sample; NaN outside Ω
+  std::vector<double> threshold;    // per reference sample: max(lod, t σ_DoD); NaN outside Ω
+  ChangeBudget budget;
+  // The motion's own uncertainty carried to the budget (AddRegistrationUncertainty):
+  // ± one standard error of fill, cut and net from the motion's covariance
+  // alone (a registration error shifts every node alike: fully correlated),
+  // and combined with the independent DEM errors in quadrature.
+  bool registration = false;
+  double fill_sigma_registration = 0, cut_sigma_registration = 0, net_sigma_registration = 0;
+  double fill_sigma_total = 0, cut_sigma_total = 0, net_sigma_total = 0;
+};
+
+// σ_DoD at the reference's samples after the motion: the reference's own σ
+// and the moving DEM's σ interpolated at each reference node on the moved
+// surface (linearly, on its mesh, as dz is); then the budget of `after`
+// (measured with keep_node_gaps) at lod and lod_confidence. `moved` is the
+// moving surface after the motion, in the reference's frame, sample for
+// sample as the input; `options` those of `after`.
+ChangeUncertainty AnalyseChangeUncertainty(const TerrainRequest& config, const Surface& reference,
+                                           const Surface& moved, const std::vector<double>& sigma_reference,
+                                           const std::vector<double>& sigma_moving,
+                                           const MeasureSummary& after, const MeasureOptions& options);
+
+// Adds the registration's share: the derivative of dz at every reference
+// node in each of the six motion parameters (central differences of two
+// measures each, a step of one standard deviation), summed over the budget's
+// gain and loss nodes with their areas into g, and σ² = gᵀ C g for the
+// motion's covariance C (AlignResult::covariance, parameters about the
+// centroid `centre`, input coordinates). Parameters with zero or undefined
+// variance add nothing.
+void AddRegistrationUncertainty(const Surface& reference, const Surface& moving,
+                                const std::array<double, 3>& rotation_vector,
+                                const std::array<double, 3>& translation, const std::array<double, 3>& centre,
+                                const Eigen::Matrix<double, 6, 6>& covariance, const MeasureSummary& after,
+                                const MeasureOptions& options, ChangeUncertainty* u);
+
+// Summary lines for people (no trailing newline), `units` "m" or "data units".
+std::string ChangeUncertaintySummary(const TerrainRequest& config, const ChangeUncertainty& u,
+                                     const std::string& units);
+
+}  // namespace surfreg

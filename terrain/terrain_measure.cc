@@ -1,0 +1,51 @@
+#include "terrain/terrain_measure.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "io/interrupt.h"
+#include "io/raster_io.h"
+#include "measure/input_error.h"
+#include "terrain/terrain.h"
+
+namespace surfreg {
+
+TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions options,
+                              const std::string& mask_crs_wkt, const std::string& mask_where,
+                              const Surface* a, const Surface* b) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  TerrainInputs inputs = ReadTerrainInputs(request, a, b, /*tiled_origin=*/true);
+  TerrainMeasure m;
+  m.frame = inputs.frame;
+  m.crs_a = inputs.reference_crs;
+  m.crs_b = inputs.moving_crs;
+  m.b_reprojected_from = inputs.moving_reprojected_from;
+  m.metric = LengthUnit(inputs) == "m";
+  if (options.weight == WeightMode::kMask) {
+    // The mask is drawn in its file's CRS (or A's): its vertices go where A went.
+    MaskToFrame(inputs, mask_crs_wkt, mask_where, &options.mask);
+  }
+  if (options.detect_change) options.level_of_detection = request.terrain.lod;
+  options.keep_node_gaps = true;  // dz at A's nodes: statistics, DoD, budget
+  ThrowIfInterrupted();           // between the stages: reading done, measuring next
+  m.read_s = std::chrono::duration<double>(Clock::now() - start).count();
+  m.summary = Measure(inputs.reference, inputs.moving, options);
+  m.dz = ComputeDzStatistics(m.summary.dz_a);
+  if (!request.terrain.dod.empty()) {
+    if (!inputs.reference_is_raster) {
+      throw InputError(request.Where("dod") + ": the DoD is written on A's grid, but A is no raster");
+    }
+    Raster dod = inputs.reference_grid;  // B − A at A's cells, nodata outside Ω
+    dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));
+    for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
+      dod.values[inputs.reference_cells[i]] = m.summary.dz_a[i];
+    }
+    WriteGeoTiff(request.terrain.dod, dod, request.Where("dod"));
+  }
+  m.uncertainty = AnalyseChangeUncertainty(request, inputs.reference, inputs.moving, inputs.sigma_reference,
+                                           inputs.sigma_moving, m.summary, options);
+  return m;
+}
+
+}  // namespace surfreg
