@@ -74,8 +74,8 @@ MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
   return m;
 }
 
-double MeasureOfCost(const AlignOptions& options, const MeasureSummary& s) {
-  return options.cost == CostKind::kAxial ? s.rho_d_axial : s.mean_abs_dz;
+double MeasureOfCost(CostKind cost, const MeasureSummary& s) {
+  return cost == CostKind::kAxial ? s.rho_d_axial : s.mean_abs_dz;
 }
 
 }  // namespace
@@ -99,7 +99,7 @@ Information StddevAt(PairState& state, const SolveContext& context, const AlignO
   // those jumps (1.15 → 1.81 RMS error / σ under Gaussian noise,
   // stddev_calibration_test). The volume cost's bread is in closed form.
   const SandwichEstimate sandwich = [&] {
-    if (options.cost != CostKind::kAxial) {
+    if (context.solve_cost != CostKind::kAxial) {
       return solved != nullptr ? SandwichCovariance(*solved, context, cache) : SandwichCovariance(state, context);
     }
     std::array<double, 6> step{};
@@ -170,13 +170,12 @@ void SetMotion(const std::array<double, 6>& theta, const Eigen::Vector3d& centre
 
 // The verdict from the solve and the two measures; true if the initial
 // motion is to be kept (the solve failed or did not lower the measure).
-bool Judge(const Starts& starts, const AlignOptions& options, bool failed, AlignResult* result,
-           std::string* reason) {
+bool Judge(const Starts& starts, CostKind cost, bool failed, AlignResult* result, std::string* reason) {
   if (failed) {
     result->verdict = Verdict::kFailed;
     return true;
   }
-  if (!(MeasureOfCost(options, result->after) < MeasureOfCost(options, result->before))) {
+  if (!(MeasureOfCost(cost, result->after) < MeasureOfCost(cost, result->before))) {
     result->verdict = starts.best.converged ? Verdict::kConvergedNotImproved : Verdict::kFailed;
     *reason = "the measure did not decrease; the initial motion is kept";
     return true;
@@ -249,7 +248,7 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
     }
   }
   const bool information_at_theta = !failed;
-  const bool kept = Judge(starts, options, failed, result, &reason);
+  const bool kept = Judge(starts, context.solve_cost, failed, result, &reason);
   if (kept) {
     theta = theta0;
     result->after = result->before;
@@ -268,13 +267,12 @@ void Finish(const Surface& reference, const Surface& moving, const Level& finest
 // `motion_only`: only the solved motion (rotation_vector, translation) and
 // a verdict from the solver alone (converged or failed): no measures, no
 // information; for the subsample σ's many small alignments.
-AlignResult AlignFrom(const Surface& reference, const Surface& moving, const AlignOptions& options_in,
+AlignResult AlignFrom(const Surface& reference, const Surface& moving, const AlignOptions& options,
                       bool motion_only = false) {
   const Clock::time_point start = Clock::now();
   std::string error;
-  if (!options_in.IsValid(&error)) throw InputError("align options: " + error);
-  align_steps::CheckPerPointWeights(reference, options_in);
-  AlignOptions options = options_in;
+  if (!options.IsValid(&error)) throw InputError("align options: " + error);
+  align_steps::CheckPerPointWeights(reference, options);
   const std::array<double, 3> shift = {moving.origin[0] - reference.origin[0], moving.origin[1] - reference.origin[1],
                                        moving.origin[2] - reference.origin[2]};
   const MeasureOptions measure_options = MeasureOptionsFor(options);
@@ -284,15 +282,16 @@ AlignResult AlignFrom(const Surface& reference, const Surface& moving, const Ali
       reference, moving, options, shift, motion_only ? nullptr : &measure_options,
       motion_only ? nullptr : &measure_reference);
   const Level& finest = *levels.back();
-  align_steps::ChooseSparserNodes(levels, &options);
-  SolveContext context = align_steps::MakeContext(&options, finest, reference);
+  // The plan, resolved once: the options are read, never written.
+  SolveContext context =
+      align_steps::MakeContext(&options, align_steps::SparserNodesChosen(finest, options), levels, reference);
   AlignResult result;
   context.log = &result.log;
-  result.solve_cost = options.cost == CostKind::kVolume                             ? "volume"
-                      : options.axial_nodes == AlignOptions::AxialNodes::kSparser ? "axial at the sparser surface's nodes"
-                                                                                  : "axial";
+  result.solve_cost = context.solve_cost == CostKind::kVolume ? "volume"
+                      : context.sparser_nodes                 ? "axial at the sparser surface's nodes"
+                                                              : "axial";
   const std::array<double, 6> theta0 = InitialTheta(options, finest.moving.centroid, reference.origin);
-  align_steps::CheckStart(finest, theta0, moving, context, &options);
+  align_steps::CheckStart(finest, theta0, moving, &context);
   const Eigen::Vector3d centre = finest.moving.centroid;
   // The measure before the motion is needed only for the verdict: it runs
   // beside the solve, whose prealignment keeps one core busy.
@@ -341,7 +340,7 @@ AlignResult AlignWithSearch(const Surface& reference, const Surface& moving, con
   // (a previous run's result) does not improve either, but its surfaces lie
   // as close as samplings do: nothing to search for.
   const bool close = result.sampling_gap > 0 &&
-                     MeasureOfCost(options, result.after) <= kWideSearchGapFactor * result.sampling_gap;
+                     MeasureOfCost(options.cost, result.after) <= kWideSearchGapFactor * result.sampling_gap;
   const bool poor = result.verdict == Verdict::kFailed ||
                     (result.verdict == Verdict::kConvergedNotImproved && !close);
   const bool apart = result.verdict == Verdict::kConvergedImproved && result.sampling_gap > 0 && !close;
@@ -359,7 +358,7 @@ AlignResult AlignWithSearch(const Surface& reference, const Surface& moving, con
   // Real change between the surfaces also leaves them apart: then the search
   // finds the same minimum, or a worse one, and the first result stays.
   const bool better = second.verdict == Verdict::kConvergedImproved &&
-                      (poor || MeasureOfCost(options, second.after) < MeasureOfCost(options, result.after));
+                      (poor || MeasureOfCost(options.cost, second.after) < MeasureOfCost(options.cost, result.after));
   if (better) return second;
   result.seconds = second.seconds;
   return result;

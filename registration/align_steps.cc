@@ -110,22 +110,25 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
   return levels;
 }
 
-void ChooseSparserNodes(const std::vector<std::unique_ptr<Level>>& levels, AlignOptions* options) {
-  const DensityCorrection& density = levels.back()->density;
+bool SparserNodesChosen(const Level& finest, const AlignOptions& options) {
+  const DensityCorrection& density = finest.density;
   // A density check that ran (share > 0) and found the curvature mixed.
   const bool mixed = density.one_sign_share > 0 && !density.applied;
-  if (options->cost != CostKind::kVolume || !(options->sparser_nodes_ratio > 0) ||
-      density.ratio < options->sparser_nodes_ratio || !mixed || options->weight == WeightMode::kPerPoint) {
-    return;
-  }
-  options->cost = CostKind::kAxial;
-  options->axial_nodes = AlignOptions::AxialNodes::kSparser;
-  for (const auto& level : levels) level->reference.weight.clear();  // the slope and gap weights
+  return options.cost == CostKind::kVolume && options.sparser_nodes_ratio > 0 &&
+         density.ratio >= options.sparser_nodes_ratio && mixed && options.weight != WeightMode::kPerPoint;
 }
 
-SolveContext MakeContext(const AlignOptions* options, const Level& finest, const Surface& reference) {
+SolveContext MakeContext(const AlignOptions* options, bool sparser_nodes,
+                         const std::vector<std::unique_ptr<Level>>& levels, const Surface& reference) {
+  const Level& finest = *levels.back();
   SolveContext context;
   context.options = options;
+  context.solve_cost = sparser_nodes ? CostKind::kAxial : options->cost;
+  context.sparser_nodes = sparser_nodes || (options->cost == CostKind::kAxial &&
+                                            options->axial_nodes == AlignOptions::AxialNodes::kSparser);
+  if (sparser_nodes) {
+    for (const auto& level : levels) level->reference.weight.clear();  // the slope and gap weights
+  }
   context.rotation_scale = std::max(RmsRadius(finest.moving), 1e-300);
   if (options->weight == WeightMode::kMask && !options->mask.empty()) {
     // Ω lies within the reference: exclude's enclosing ring need only cover it.
@@ -134,7 +137,7 @@ SolveContext MakeContext(const AlignOptions* options, const Level& finest, const
   }
   context.axial.trim_fraction = options->trim_fraction;
   context.axial.normal_distance = options->normal_distance;
-  if (options->cost == CostKind::kAxial && options->axial_nodes == AlignOptions::AxialNodes::kSparser) {
+  if (context.solve_cost == CostKind::kAxial && context.sparser_nodes) {
     // finest.density.reference: the reference is the sparser (area per sample).
     (finest.density.reference ? context.axial.moving_nodes : context.axial.reference_nodes) = false;
   }
@@ -144,10 +147,11 @@ SolveContext MakeContext(const AlignOptions* options, const Level& finest, const
 // The start must not fold the moving surface; the axial cost's automatic
 // loss scale is taken there.
 void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const Surface& moving,
-                const SolveContext& context, AlignOptions* options) {
+                SolveContext* context) {
+  const AlignOptions* options = context->options;
   UpdateStats stats;
   const bool loss_scale_wanted =
-      options->cost == CostKind::kAxial && options->loss != LossKind::kNone && !(options->loss_scale > 0);
+      context->solve_cost == CostKind::kAxial && options->loss != LossKind::kNone && !(options->loss_scale > 0);
   // Only the loss scale needs B located there (a whole PairState).
   std::optional<PairState> check;
   if (loss_scale_wanted) check.emplace(finest.reference, finest.moving, options->max_fold_fraction);
@@ -157,7 +161,7 @@ void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const 
                      " triangles turn over in the xy projection (tilt too large for a height field)");
   }
   if (loss_scale_wanted) {
-    options->loss_scale = AutomaticLossScale(*check, context.axial, 1e-9 * context.rotation_scale);
+    context->loss_scale = AutomaticLossScale(*check, context->axial, 1e-9 * context->rotation_scale);
   }
 }
 
@@ -178,13 +182,13 @@ constexpr double kRefineRatio = 5.0;
 
 Prealignment PrealignSides(const Surface& reference, const Surface& moving,
                            const std::vector<std::unique_ptr<Level>>& levels, const std::array<double, 3>& shift,
-                           const AlignOptions& options) {
+                           const AlignOptions& options, CostKind solve_cost) {
   Prealignment out;
   const Level& coarsest = *levels.front();
   const double n_a = static_cast<double>(coarsest.reference.xy.size());
   const double n_b = static_cast<double>(coarsest.moving.points.size());
   const double keep_a = std::min(1.0, kPrealignPoints / n_a), keep_b = std::min(1.0, kPrealignPoints / n_b);
-  if (options.cost != CostKind::kVolume || !options.prealign || std::min(keep_a, keep_b) >= 1) return out;
+  if (solve_cost != CostKind::kVolume || !options.prealign || std::min(keep_a, keep_b) >= 1) return out;
   const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
   Level& sides = out.sides.emplace();
   RunBoth(options.num_threads > 1, [&] {
@@ -216,7 +220,8 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const Prea
   Eigen::Matrix<double, 6, 6> refined_curvature = Eigen::Matrix<double, 6, 6>::Zero();
   double refined_cost = 0;
   for (std::size_t l = 0; l < levels.size(); ++l) {
-    const bool keep = options.cost == CostKind::kVolume && l + 1 == levels.size();
+    const bool volume = context.solve_cost == CostKind::kVolume;
+    const bool keep = volume && l + 1 == levels.size();
     auto state_ptr = std::make_shared<PairState>(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
     PairState& state = *state_ptr;
     state.set_parallel(options.num_threads > 1);
@@ -224,7 +229,7 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const Prea
     if (keep) cache = std::make_shared<VolumeCostCache>(kSolveDirtyFraction, options.cell_kernel);
     context.level = static_cast<int>(l);
     context.seconds_offset = Seconds(start);
-    if (options.cost == CostKind::kVolume && options.prealign && l == 0) {
+    if (volume && options.prealign && l == 0) {
       context.cost = "axial";
       std::optional<PairState> subsampled;  // each start from the sides' own meshes
       if (prealign.sides) {
@@ -253,10 +258,9 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const Prea
     // twentieth of that.
     VolumeWhitening whitening;
     if (l == 0 && !refined_curvature.isZero()) whitening.given = &refined_curvature, whitening.given_cost = refined_cost;
-    context.cost = options.cost == CostKind::kAxial ? "axial" : "volume";
+    context.cost = volume ? "volume" : "axial";
     context.seconds_offset = Seconds(start);
-    *solved = options.cost == CostKind::kAxial ? SolveAxial(state, context, theta)
-                                               : SolveVolume(state, context, theta, cache.get(), whitening);
+    *solved = volume ? SolveVolume(state, context, theta, cache.get(), whitening) : SolveAxial(state, context, theta);
     starts->iterations += std::max(0, solved->iterations);
     starts->remeshes += state.remeshes();
     if (!solved->usable) return false;
@@ -286,7 +290,7 @@ Starts SolveFromStarts(const Surface& reference, const Surface& moving,
   }
   const double spacing = std::sqrt(finest.moving.hull_area / static_cast<double>(finest.moving.points.size()));
   const double start_shift = options.multi_start_shift > 0 ? options.multi_start_shift : 5.0 * spacing;
-  const Prealignment prealign = PrealignSides(reference, moving, levels, shift, options);
+  const Prealignment prealign = PrealignSides(reference, moving, levels, shift, options, context.solve_cost);
   for (int s = 0; s <= options.multi_start; ++s) {
     context.start = s;
     SolveResult solved;

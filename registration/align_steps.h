@@ -59,19 +59,23 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
                                                   const MeasureOptions* measure_options = nullptr,
                                                   std::unique_ptr<MeasureReference>* measure_reference = nullptr);
 
-SolveContext MakeContext(const AlignOptions* options, const Level& finest, const Surface& reference);
-
 // AlignOptions::sparser_nodes_ratio: with the volume cost, surfaces of
 // different densities whose curvature changes sign (the finest level's
-// density check) switch `options` to the axial cost at the sparser
-// surface's nodes, and drop the volume cost's slope and gap weights from
-// the levels (per-point weights: nothing changes).
-void ChooseSparserNodes(const std::vector<std::unique_ptr<Level>>& levels, AlignOptions* options);
+// density check) are solved with the axial cost at the sparser surface's
+// nodes (per-point weights: never).
+bool SparserNodesChosen(const Level& finest, const AlignOptions& options);
+
+// The solve's context: the options, and what the solve runs resolved from
+// them and the data (the cost, the axial cost's nodes). `sparser_nodes`
+// (SparserNodesChosen) also drops the volume cost's slope and gap weights
+// from the levels.
+SolveContext MakeContext(const AlignOptions* options, bool sparser_nodes,
+                         const std::vector<std::unique_ptr<Level>>& levels, const Surface& reference);
 
 // The start must not fold the moving surface; the axial cost's automatic
-// loss scale is taken there.
+// loss scale is taken there (into context->loss_scale).
 void CheckStart(const Level& finest, const std::array<double, 6>& theta0, const Surface& moving,
-                const SolveContext& context, AlignOptions* options);
+                SolveContext* context);
 
 // What the starts (AlignOptions::multi_start, each through every level)
 // found: the lowest final cost.

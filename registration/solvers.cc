@@ -241,7 +241,7 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
   std::vector<double> x = map.Reduce(theta0);
   const std::size_t nodes = state.reference().xy.size() + state.moving().points.size();
 
-  double scale = options.loss_scale;
+  double scale = context.loss_scale > 0 ? context.loss_scale : options.loss_scale;
   if (options.loss != LossKind::kNone && !(scale > 0)) {
     scale = state.Update(theta0) ? AutomaticLossScale(state, context.axial, 1e-12) : 1.0;
   }

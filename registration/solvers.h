@@ -25,6 +25,14 @@ namespace surfreg {
 
 struct SolveContext {
   const AlignOptions* options = nullptr;
+  // What the alignment solves, resolved once from the options and the data
+  // (align_steps::MakeContext, CheckStart; the options are never written):
+  // the cost (the options', or the axial cost at the sparser surface's
+  // nodes for terrain of two resolutions), and the axial loss's scale
+  // (> 0: measured at the start; else the options' loss_scale).
+  CostKind solve_cost = CostKind::kVolume;
+  bool sparser_nodes = false;  // the axial residuals at the sparser surface's nodes only
+  double loss_scale = 0;
   AxialSettings axial;
   double rotation_scale = 1.0;  // length that multiplies radians
   int level = 0, start = 0;
