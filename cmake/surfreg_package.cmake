@@ -27,12 +27,12 @@ target_compile_features(surfreg_measure PUBLIC cxx_std_17)
 # each other as "measure/x.h", "io/x.h".
 set(SURFREG_PUBLIC_MEASURE_HEADERS
   convex_hull.h delaunay.h domain.h dz_statistics.h grid_mesh.h
-  input_error.h mask_region.h measures.h mesh.h surface.h volume.h)
+  input_error.h mask_region.h measure_keys.h measures.h mesh.h option_keys.h surface.h volume.h)
 set(SURFREG_PUBLIC_REGISTRATION_HEADERS
-  align.h align_options.h align_result.h holdout.h rigid_motion.h stable_terrain.h)
+  align.h align_keys.h align_options.h align_result.h holdout.h rigid_motion.h stable_terrain.h)
 set(SURFREG_PUBLIC_FACES_HEADERS face_frame.h jaw.h symmetry.h)
 set(SURFREG_PUBLIC_TERRAIN_HEADERS change_budget.h change_uncertainty.h geo_frame.h terrain.h
-  terrain_measure.h terrain_request.h tiled_measure.h tiled_motion.h tiled_partial.h)
+  terrain_keys.h terrain_measure.h terrain_request.h tiled_measure.h tiled_motion.h tiled_partial.h)
 set(SURFREG_PUBLIC_IO_HEADERS
   mesh_reader.h plot.h polygon_reader.h raster_io.h surface_reader.h surface_writer.h)
 list(TRANSFORM SURFREG_PUBLIC_MEASURE_HEADERS PREPEND ${PROJECT_SOURCE_DIR}/measure/)

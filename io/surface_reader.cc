@@ -31,43 +31,6 @@ void Fail(const std::string& name, std::size_t line, const std::string& what) {
   throw InputError(message);
 }
 
-std::string Quote(std::string_view token) {
-  constexpr std::size_t kMaxShown = 40;
-  std::string out = "'";
-  for (std::size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
-    const auto c = static_cast<unsigned char>(token[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      char hex[8];
-      std::snprintf(hex, sizeof(hex), "\\x%02x", c);
-      out += hex;
-    }
-  }
-  if (token.size() > kMaxShown) out += "...";
-  return out + "'";
-}
-
-NumberStatus ParseNumber(std::string_view token, double* value) {
-  const char* first = token.data();
-  const char* last = first + token.size();
-  // from_chars rejects '+' but some writers emit it; "+-1" must stay an error.
-  if (first != last && *first == '+' && last - first > 1 && first[1] != '-' && first[1] != '+') {
-    ++first;
-  }
-  const auto [ptr, ec] = std::from_chars(first, last, *value);
-  if (ptr != last || first == last) return NumberStatus::kNotANumber;
-  if (ec == std::errc::result_out_of_range) {
-    // Over- or underflow: strtod tells them apart; an underflow to zero or a
-    // subnormal is a fine value, an overflow is not.
-    const std::string copy(first, last);
-    errno = 0;
-    *value = std::strtod(copy.c_str(), nullptr);
-    return std::isinf(*value) ? NumberStatus::kOutOfRange : NumberStatus::kOk;
-  }
-  return ec == std::errc() ? NumberStatus::kOk : NumberStatus::kNotANumber;
-}
-
 bool ParseCount(std::string_view token, unsigned long long* value) {
   const char* last = token.data() + token.size();
   const auto [ptr, ec] = std::from_chars(token.data(), last, *value);

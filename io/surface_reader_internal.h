@@ -11,22 +11,18 @@
 #include <vector>
 
 #include "io/surface_reader.h"
+#include "measure/option_keys.h"
 
 namespace surfreg::io_internal {
 
 // Throws InputError "<name>:<line>: <what>", or "<name>: <what>" if line == 0.
 [[noreturn]] void Fail(const std::string& name, std::size_t line, const std::string& what);
 
-// `token` in single quotes for a message: shortened, non-printables escaped,
-// so that a binary file never produces a multi-line or huge message.
-std::string Quote(std::string_view token);
-
-enum class NumberStatus { kOk, kNotANumber, kOutOfRange };
-
-// Parses the whole of `token` as a double (an optional leading '+' is
-// allowed). "nan" and "inf" parse (kOk): callers check finiteness so they can
-// say which value is bad.
-NumberStatus ParseNumber(std::string_view token, double* value);
+// Quote, NumberStatus and ParseNumber (measure/option_keys.h), as the
+// readers have always named them.
+using ::surfreg::NumberStatus;
+using ::surfreg::ParseNumber;
+using ::surfreg::Quote;
 
 // Parses the whole of `token` as a non-negative integer.
 bool ParseCount(std::string_view token, unsigned long long* value);

@@ -157,4 +157,14 @@ std::array<double, 3> RasterOrigin(const std::array<double, 6>& gt, int32_t colu
 std::function<SampleWindow(const XyBox&)> AffineGridCover(const std::array<double, 6>& geotransform,
                                                           int32_t columns, int32_t rows);
 
+// Bytes a tile of side `tile` (cells) takes while measured: both windows,
+// their meshes and the overlay (about 700 bytes per reference cell, measured
+// on the tests' pairs), and the tile side that fits in `bytes`.
+double TileBytes(int32_t tile);
+int32_t TileForMemory(double bytes);
+
+// Parses a memory size: "512M", "2G", "1.5GiB", "800000000" (bytes).
+// Throws InputError starting with `where`.
+double ParseMemorySize(const std::string& text, const std::string& where);
+
 }  // namespace surfreg

@@ -18,7 +18,7 @@
 #include "measure/surface.h"
 #include "registration/align.h"
 #include "terrain/terrain_request.h"
-#include "tools/config_key.h"
+#include "measure/option_keys.h"
 #include "io/surface_reader.h"
 
 namespace surfreg {
@@ -60,9 +60,6 @@ std::string AlignConfigValue(const AlignConfig& config, const std::string& key);
 // The known key closest to `name` (edit distance, or one containing the
 // other), or "" when none is close.
 std::string NearestAlignKey(const std::string& name);
-
-// The same among `keys` (e.g. the keys `measure` takes).
-std::string NearestKey(const std::string& name, const std::vector<std::string>& keys);
 
 // Applies the YAML mapping `yaml_text` on top of *config; `file` names it in
 // messages. Rejects text that is not a mapping, unknown and repeated keys,

@@ -1,14 +1,8 @@
 // The terrain keys of `surfreg align` (docs/terrain.md): how rasters are
 // read, which geographic frame both surfaces are brought into, and the change
-// outputs. Parsed like every other key (tools/config_value.h).
-#include <algorithm>
-#include <cctype>
-#include <cmath>
-
+// outputs, defined in terrain/terrain_keys.h and lifted into align's table.
+#include "terrain/terrain_keys.h"
 #include "tools/config_value.h"
-#include "io/raster_io.h"
-#include "tools/measure_tiled.h"
-#include "io/plot.h"
 
 namespace surfreg {
 
@@ -20,169 +14,17 @@ bool IsTerrainKey(const std::string& key) {
 }
 
 namespace config_value {
-namespace {
-
-std::array<int, 4> Window(const Value& v) {
-  const std::vector<std::string> items = Items(v);
-  if (items.size() != 4) Reject(v);
-  std::array<int, 4> window;
-  for (int k = 0; k < 4; ++k) {
-    Value item = v;
-    item.kind = Value::kScalar;
-    item.text = items[k];
-    window[k] = Integer(item, 0);
-  }
-  return window;
-}
-
-std::vector<double> Matrix(const Value& v) {
-  const std::vector<std::string> items = Items(v);
-  if (items.empty()) return {};
-  if (items.size() != 16 && items.size() != 12) Reject(v);
-  std::vector<double> m;
-  for (const std::string& item : items) m.push_back(NumberOf(v, item));
-  if (m.size() == 12) m.insert(m.end(), {0.0, 0.0, 0.0, 1.0});
-  if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1) Reject(v);
-  return m;
-}
-
-std::string MatrixText(const std::vector<double>& m) {
-  std::string out = "[";
-  for (std::size_t k = 0; k < m.size(); ++k) out += (k ? ", " : "") + Text(m[k]);
-  return out + "]";
-}
-
-const char* const kFrames[] = {"auto", "enu", "utm"};
-
-// A vertical standard error: a number >= 0, or the name of a σ raster.
-std::string Sigma(const Value& v) {
-  const std::string text = Path(v, false);
-  double value = 0;
-  if (io_internal::ParseNumber(text, &value) == io_internal::NumberStatus::kOk) {
-    if (!(std::isfinite(value) && value >= 0)) Reject(v);
-    return text;
-  }
-  if (!text.empty() && !IsRasterPath(text)) Reject(v);
-  return text;
-}
-
-}  // namespace
-
-void CheckTerrainOutput(const std::string& key, const std::string& path, const std::string& where) {
-  std::string extension = path.substr(std::min(path.size(), path.find_last_of('.')));
-  for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  const bool png = key == "dod_png" || key == "histogram_png";
-  const bool tif = key == "dod" || key == "dod_sigma" || key == "dod_thresholded";
-  if (tif && extension != ".tif" && extension != ".tiff") {
-    throw InputError(where + ": written as GeoTIFF; expected a name ending in .tif, got '" + path + "'");
-  }
-  if (png && extension != ".png") {
-    throw InputError(where + ": expected a name ending in .png, got '" + path + "'");
-  }
-  if (png) RequirePngFigures(where);
-}
 
 const std::vector<KeyEntry>& TerrainKeyTable() {
-  static const std::vector<KeyEntry> table = {
-      {{"reference_crs", "a CRS (EPSG:4326, EPSG:32760, WKT, lonlat), or nothing",
-        "the reference's coordinate system when its file does not say (rasters carry their own)"},
-       [](const Value& v, C* c) { c->terrain.reference_crs = Path(v, false); },
-       [](const C& c) { return c.terrain.reference_crs; }},
-      {{"moving_crs", "a CRS (EPSG:4326, EPSG:32760, WKT, lonlat), or nothing",
-        "the moving surface's coordinate system when its file does not say"},
-       [](const Value& v, C* c) { c->terrain.moving_crs = Path(v, false); },
-       [](const C& c) { return c.terrain.moving_crs; }},
-      {{"frame", "one of auto, enu, utm",
-        "metric frame for geographic (lon/lat) inputs: UTM if both share a zone (auto), or local "
-        "east-north-up about the overlap's centre"},
-       [](const Value& v, C* c) {
-         const std::string text = Scalar(v);
-         if (std::find(std::begin(kFrames), std::end(kFrames), text) == std::end(kFrames)) Reject(v);
-         c->terrain.frame = text;
-       },
-       [](const C& c) { return c.terrain.frame; }},
-      {{"band", "an integer >= 1", "raster band read from raster inputs"},
-       [](const Value& v, C* c) { c->terrain.band = Integer(v, 1); },
-       [](const C& c) { return std::to_string(c.terrain.band); }},
-      {{"window", "a list of 4 integers >= 0 [column, row, columns, rows]",
-        "part of each raster input read (columns/rows 0 = to the edge)"},
-       [](const Value& v, C* c) { c->terrain.window = Window(v); },
-       [](const C& c) {
-         const auto& w = c.terrain.window;
-         return "[" + std::to_string(w[0]) + ", " + std::to_string(w[1]) + ", " +
-                std::to_string(w[2]) + ", " + std::to_string(w[3]) + "]";
-       }},
-      {{"lod", "a number >= 0",
-        "level of detection (data units): |dz| below it counts as no change in cut/fill"},
-       [](const Value& v, C* c) { c->terrain.lod = Number(v, 0, HUGE_VAL); },
-       [](const C& c) { return Text(c.terrain.lod); }},
-      {{"sigma_reference", "a number >= 0 or a raster file name (on the reference's grid), or nothing",
-        "the reference DEM's vertical standard error (data units): one value, or one per cell"},
-       [](const Value& v, C* c) { c->terrain.sigma_reference = Sigma(v); },
-       [](const C& c) { return c.terrain.sigma_reference; }},
-      {{"sigma_moving", "a number >= 0 or a raster file name (on the moving DEM's grid), or nothing",
-        "the moving DEM's vertical standard error (data units): one value, or one per cell"},
-       [](const Value& v, C* c) { c->terrain.sigma_moving = Sigma(v); },
-       [](const C& c) { return c.terrain.sigma_moving; }},
-      {{"lod_confidence", "a number in (0, 1), or 0 for none",
-        "change only where |dz| > t sigma_DoD, t the two-sided normal quantile (0.95: 1.96); "
-        "needs sigma_reference or sigma_moving"},
-       [](const Value& v, C* c) {
-         const double value = Number(v, 0, 1, "[)");
-         c->terrain.lod_confidence = value;
-       },
-       [](const C& c) { return Text(c.terrain.lod_confidence); }},
-      {{"dod_sigma", "a .tif file name, or nothing",
-        "the DoD's propagated standard error on the reference raster's grid"},
-       [](const Value& v, C* c) { c->terrain.dod_sigma = Path(v, false); },
-       [](const C& c) { return c.terrain.dod_sigma; }},
-      {{"dod_thresholded", "a .tif file name, or nothing",
-        "the DoD with |dz| at or below its threshold set to 0 (reference raster's grid)"},
-       [](const Value& v, C* c) { c->terrain.dod_thresholded = Path(v, false); },
-       [](const C& c) { return c.terrain.dod_thresholded; }},
-      {{"dod", "a .tif file name, or nothing",
-        "difference of the aligned surfaces (moving - reference) on the reference raster's grid"},
-       [](const Value& v, C* c) { c->terrain.dod = Path(v, false); },
-       [](const C& c) { return c.terrain.dod; }},
-      {{"dod_png", "a .png file name, or nothing", "map of the difference after alignment"},
-       [](const Value& v, C* c) { c->terrain.dod_png = Path(v, false); },
-       [](const C& c) { return c.terrain.dod_png; }},
-      {{"histogram_png", "a .png file name, or nothing",
-        "histograms of dz on stable terrain before and after alignment"},
-       [](const Value& v, C* c) { c->terrain.histogram_png = Path(v, false); },
-       [](const C& c) { return c.terrain.histogram_png; }},
-      {{"change_csv", "a file name, or nothing",
-        "x, y, z, dz before, dz after, stable at every reference sample"},
-       [](const Value& v, C* c) { c->terrain.change_csv = Path(v, false); },
-       [](const C& c) { return c.terrain.change_csv; }},
-      {{"known_matrix", "a list of 16 (or 12) numbers, or []",
-        "the true moving -> reference matrix (row-major), when known: the errors are reported"},
-       [](const Value& v, C* c) { c->terrain.known_matrix = Matrix(v); },
-       [](const C& c) { return MatrixText(c.terrain.known_matrix); }},
-      {{"max_memory", "a memory size such as 512M or 2G, or nothing",
-        "two DEMs aligned at bounded memory: the motion solved on full-resolution patches "
-        "spread over the reference, the change measured tile by tile; nothing = untiled"},
-       [](const Value& v, C* c) {
-         const std::string text = v.kind == Value::kNull ? std::string() : Scalar(v);
-         if (!text.empty()) ParseMemorySize(text, v.where);
-         c->terrain.max_memory = text;
-       },
-       [](const C& c) { return c.terrain.max_memory; }},
-      {{"tile_stats", "a .csv file name, or nothing",
-        "with max_memory: dz after alignment per tile (median, NMAD, RMSE), where the fit is worse"},
-       [](const Value& v, C* c) { c->terrain.tile_stats = Path(v, false); },
-       [](const C& c) { return c.terrain.tile_stats; }},
-      {{"patch_shifts", "a .csv file name, or nothing",
-        "with max_memory: each sampled patch aligned alone (translation from the whole motion): "
-        "its shift against the whole motion, a map of spatially varying misregistration"},
-       [](const Value& v, C* c) { c->terrain.patch_shifts = Path(v, false); },
-       [](const C& c) { return c.terrain.patch_shifts; }},
-      {{"mask_raster", "a raster file name, or nothing",
-        "stable terrain as a raster in the reference's CRS: weight 1 at reference samples on "
-        "non-zero valid cells, 0 elsewhere (not with 'mask')"},
-       [](const Value& v, C* c) { c->terrain.mask_raster = Path(v, false); },
-       [](const C& c) { return c.terrain.mask_raster; }},
-  };
+  // The terrain library's keys (terrain/terrain_keys.h) as keys of the config.
+  static const std::vector<KeyEntry> table = [] {
+    std::vector<KeyEntry> keys;
+    for (const TerrainSettingEntry& entry : TerrainSettingKeys()) {
+      keys.push_back({entry.key, [&entry](const Value& v, C* c) { entry.set(v, &c->terrain); },
+                      [&entry](const C& c) { return entry.get(c.terrain); }});
+    }
+    return keys;
+  }();
   return table;
 }
 

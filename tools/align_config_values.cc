@@ -8,39 +8,6 @@
 namespace surfreg {
 namespace config_value {
 
-std::array<bool, 6> FreeParameters(const Value& v) {
-  std::array<bool, 6> free = {false, false, false, false, false, false};
-  const std::vector<std::string> items = Items(v);
-  if (items.empty()) Reject(v);
-  for (const std::string& item : items) {
-    const auto set = [&free](int first, int last) {
-      for (int k = first; k < last; ++k) free[k] = true;
-    };
-    if (item == "all") {
-      set(0, 6);
-    } else if (item == "rotation") {
-      set(0, 3);
-    } else if (item == "translation") {
-      set(3, 6);
-    } else {
-      const auto* name = std::find(kParameterNames.begin(), kParameterNames.end(), item);
-      if (name == kParameterNames.end()) Reject(v);
-      const int k = static_cast<int>(name - kParameterNames.begin());
-      set(k, k + 1);
-    }
-  }
-  return free;
-}
-
-std::string FreeText(const std::array<bool, 6>& free) {
-  if (std::all_of(free.begin(), free.end(), [](bool b) { return b; })) return "all";
-  std::string out;
-  for (int k = 0; k < 6; ++k) {
-    if (free[k]) out += std::string(out.empty() ? "" : ", ") + kParameterNames[k];
-  }
-  return "[" + out + "]";
-}
-
 std::vector<int> Classes(const Value& v) {
   if (v.kind == Value::kNull) return {};
   std::vector<int> classes;

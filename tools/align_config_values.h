@@ -11,11 +11,6 @@
 namespace surfreg {
 namespace config_value {
 
-// free: parameter names (rx ... tz) and groups (rotation, translation, all),
-// united; at least one.
-std::array<bool, 6> FreeParameters(const Value& v);
-std::string FreeText(const std::array<bool, 6>& free);  // "all" or "[rx, tz]"
-
 // classes: LAS classifications 0-255; an empty list (or nothing) keeps all.
 std::vector<int> Classes(const Value& v);
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "measure/input_error.h"
-#include "tools/config_key.h"
+#include "measure/option_keys.h"
 #include "tools/config_value.h"
 #include "io/surface_reader_internal.h"
 #include "tools/yaml_value.h"

@@ -35,7 +35,7 @@
 
 #include "faces/face_frame.h"
 #include "faces/jaw.h"
-#include "tools/config_key.h"
+#include "measure/option_keys.h"
 
 namespace surfreg {
 

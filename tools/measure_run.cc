@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "measure/input_error.h"
+#include "terrain/terrain_keys.h"
 #include "io/atomic_file.h"
 #include "tools/config_value.h"
 #include "io/interrupt.h"
@@ -240,7 +241,7 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
       throw InputError(config.Where("dod") + ": the DoD is written on A's grid, but A ('" +
                        report.file_a + "') is no raster");
     }
-    config_value::CheckTerrainOutput("dod", path, config.Where("dod"));
+    CheckTerrainOutput("dod", path, config.Where("dod"));
     CheckOutputPath(path, config.Where("dod"));
     for (const std::string& input : {report.file_a, report.file_b}) {
       std::error_code ignored;

@@ -21,10 +21,6 @@
 namespace surfreg {
 namespace {
 
-// Per reference cell while a tile is measured: the two windows' samples and
-// meshes, the overlay and the per-node outputs. Measured with the peak RSS
-// of tiles of 100-512 cells (600-650 bytes), with room to spare.
-constexpr double kBytesPerCell = 700;
 
 // A lon/lat raster's windows in `frame` (input points moved by
 // PointsToFrame, relative to `origin`); a box of the frame found back as the
@@ -168,37 +164,6 @@ TiledPair OpenTiledPair(const AlignConfig& config, const std::string& where) {
   pair.source_a = InFrame(lonlat_a, pair.frame, a.crs, pair.origin, z_min, z_max);
   pair.source_b = InFrame(lonlat_b, pair.frame, b.crs, pair.origin, z_min, z_max);
   return pair;
-}
-
-double TileBytes(int32_t tile) { return kBytesPerCell * static_cast<double>(tile) * tile; }
-
-int32_t TileForMemory(double bytes) {
-  const double side = std::floor(std::sqrt(std::max(bytes, 0.0) / kBytesPerCell));
-  return static_cast<int32_t>(std::clamp(side, 16.0, 32768.0));
-}
-
-double ParseMemorySize(const std::string& text, const std::string& where) {
-  const char* begin = text.c_str();
-  char* end = nullptr;
-  const double number = std::strtod(begin, &end);
-  std::string unit(end);
-  for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();                  // "MB", "GiB"
-  if (unit.size() == 2 && unit[1] == 'I') unit.pop_back();                      // "Mi", "Gi"
-  double scale = 0;
-  if (unit.empty()) scale = 1;
-  if (unit == "K") scale = 1024.0;
-  if (unit == "M") scale = 1024.0 * 1024;
-  if (unit == "G") scale = 1024.0 * 1024 * 1024;
-  if (end == begin || scale == 0 || !std::isfinite(number) || number <= 0) {
-    throw InputError(where + " expects a memory size such as 512M or 2G, got '" + text + "'");
-  }
-  const double bytes = number * scale;
-  if (bytes < TileBytes(16)) {
-    throw InputError(where + ": " + text + " is less than the smallest tile needs (16 x 16 cells, " +
-                     std::to_string(static_cast<int64_t>(TileBytes(16) / 1024)) + " KiB)");
-  }
-  return bytes;
 }
 
 TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions options,

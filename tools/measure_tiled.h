@@ -20,16 +20,6 @@
 
 namespace surfreg {
 
-// Bytes a tile of side `tile` (cells) takes while measured: both windows,
-// their meshes and the overlay (about 700 bytes per reference cell, measured
-// on the tests' pairs), and the tile side that fits in `bytes`.
-double TileBytes(int32_t tile);
-int32_t TileForMemory(double bytes);
-
-// Parses a memory size: "512M", "2G", "1.5GiB", "800000000" (bytes).
-// Throws InputError starting with `where`.
-double ParseMemorySize(const std::string& text, const std::string& where);
-
 // A tiled measure in parts (tools/measure_parts.h): shard K of N, its
 // partial's path, and whether to resume an interrupted run. Every tiled run
 // keeps its state in a directory (StateDirectory) while it runs: the state
