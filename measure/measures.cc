@@ -456,28 +456,29 @@ MeasureSummary Measure(const MeasureReference& a, const Surface& b, const Measur
   return MeasureWith(a.surface(), b, options, &a.impl());
 }
 
-std::string MeasureSummary::BriefReport() const {
-  char text[1280];
+std::string MeasureSummary::BriefReport(const std::string& units) const {
+  const char* u = units.c_str();
+  char text[1600];
   std::snprintf(
       text, sizeof text,
-      "rho_d (volume between)   %.9g units^3\n"
-      "rho'_d (mean node gap)   %.9g units\n"
+      "rho_d (volume between)   %.9g %s^3\n"
+      "rho'_d (mean node gap)   %.9g %s\n"
       "rho_s (1 / rho_d)        %.9g\n"
-      "overlap area             %.9g units^2\n"
-      "%-24s %.9g / %.9g units^2 (excluded from the hulls %.9g / %.9g)\n"
-      "mean |dz|                %.9g units\n"
-      "signed volume (B - A)    %.9g units^3\n"
-      "B above A (fill)         %.9g units^3\n"
-      "B below A (cut)          %.9g units^3\n"
+      "overlap area             %.9g %s^2\n"
+      "%-24s %.9g / %.9g %s^2 (excluded from the hulls %.9g / %.9g)\n"
+      "mean |dz|                %.9g %s\n"
+      "signed volume (B - A)    %.9g %s^3\n"
+      "B above A (fill)         %.9g %s^3\n"
+      "B below A (cut)          %.9g %s^3\n"
       "points A / B             %lld / %lld (duplicates merged %lld / %lld)\n"
       "overlap nodes            %lld\n"
       "%s cells            %lld\n"
       "time (s)                 triangulate %.3f, domain %.3f, tree %.3f, locate %.3f, "
       "interpolate %.3f, volume %.3f, total %.3f\n",
-      rho_d, rho_d_axial, rho_s, overlap_area,
+      rho_d, u, rho_d_axial, u, rho_s, overlap_area, u,
       domain_kind == DomainKind::kHull ? "hull areas A / B" : "data domain areas A / B",
-      domain_area_a, domain_area_b, excluded_area_a, excluded_area_b, mean_abs_dz, signed_volume,
-      volume_above, volume_below, static_cast<long long>(n_points_a),
+      domain_area_a, domain_area_b, u, excluded_area_a, excluded_area_b, mean_abs_dz, u,
+      signed_volume, u, volume_above, u, volume_below, u, static_cast<long long>(n_points_a),
       static_cast<long long>(n_points_b),
       static_cast<long long>(n_duplicates_a), static_cast<long long>(n_duplicates_b),
       static_cast<long long>(n_overlap_nodes), VolumeModeName(volume_mode),

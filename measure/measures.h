@@ -151,8 +151,9 @@ struct MeasureSummary {
   VolumeMode volume_mode = VolumeMode::kOverlay;
   MeasureTimings timings;
 
-  // A few lines for people: the measures with units, counts, timings.
-  std::string BriefReport() const;
+  // A few lines for people: the measures in `units` (the data's length
+  // unit: "m" for terrain in a metric frame), counts, timings.
+  std::string BriefReport(const std::string& units = "units") const;
 };
 
 // Compares surface B with surface A. Throws InputError for invalid surfaces

@@ -1,229 +1,275 @@
-// The Python module `surfreg`: measure(), merge() and align(), the CLI's
-// `measure --json`, `merge` and `align --json` as dicts. Both run the CLI's own code
-// (tools/measure_run.h, tools/align_run.h) and parse its JSON document, so
-// keys and values are the CLI's by construction; only "matrix" becomes a
-// 4 x 4 numpy array.
+// The Python module `surfreg`: the libraries' types and entry points —
+// Surface (measure/surface.h, io/surface_reader.h), measure() → Measure
+// (measure/measures.h), align() → Alignment (registration/align.h) and
+// terrain_change() → TerrainChange (terrain/terrain_measure.h). Options are
+// keywords with the names, values and messages of the config keys, from the
+// libraries' key tables (measure/measure_keys.h, registration/align_keys.h,
+// terrain/terrain_keys.h). The CLI's code is not linked.
+#include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 
-#include <array>
-#include <cstdio>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "io/surface_reader.h"
 #include "measure/input_error.h"
-#include "measure/surface.h"
-#include "tools/align_config.h"
-#include "tools/align_run.h"
-#include "tools/measure_parts.h"
-#include "tools/measure_run.h"
-#include "tools/measure_tiled.h"
+#include "measure/measure_keys.h"
+#include "measure/measures.h"
+#include "registration/align.h"
+#include "registration/align_keys.h"
+#include "terrain/terrain_keys.h"
+#include "terrain/terrain_measure.h"
+#include "tools/python/python_values.h"
 
 namespace py = pybind11;
 
-namespace surfreg {
+namespace surfreg::python {
 namespace {
 
-bool IsPath(const py::handle& value) {
-  return py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) ||
-         py::isinstance(value, py::module_::import("os").attr("PathLike"));
+std::string Keyword(const py::handle& name) { return "keyword '" + py::str(name).cast<std::string>() + "'"; }
+
+py::array_t<double> Array(const std::vector<double>& values) {
+  return py::array_t<double>(static_cast<py::ssize_t>(values.size()), values.data());
 }
 
-std::string PathText(const py::handle& value) {
-  return py::module_::import("os").attr("fsdecode")(value).cast<std::string>();
-}
-
-// Appends the scalar items of `value` (nested lists, tuples and arrays
-// flattened, e.g. a 4 x 4 known_matrix) as a flag holds them.
-void AppendItems(const py::handle& value, const std::string& where, std::vector<std::string>* out) {
-  const py::module_ numpy = py::module_::import("numpy");
-  if (py::isinstance(value, numpy.attr("ndarray"))) {
-    AppendItems(value.attr("ravel")().attr("tolist")(), where, out);
-  } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
-    for (const py::handle item : value) AppendItems(item, where, out);
-  } else if (py::isinstance(value, numpy.attr("generic"))) {
-    AppendItems(value.attr("item")(), where, out);  // numpy scalars as Python's
-  } else if (value.is_none()) {
-    out->push_back("");  // a file key: no file; any other key rejects it
-  } else if (py::isinstance<py::bool_>(value)) {
-    out->push_back(value.cast<bool>() ? "true" : "false");
-  } else if (py::isinstance<py::int_>(value)) {
-    out->push_back(py::str(value).cast<std::string>());
-  } else if (py::isinstance<py::float_>(value)) {
-    out->push_back(py::repr(value).cast<std::string>());  // shortest text that reads back exactly
-  } else if (IsPath(value)) {
-    out->push_back(PathText(value));
-  } else {
-    throw InputError(where + ": cannot take a value of type " +
-                     py::str(value.get_type().attr("__name__")).cast<std::string>());
+// The samples in input coordinates (origin + local), (N, 3).
+py::array_t<double> Points(const Surface& s) {
+  py::array_t<double> out({static_cast<py::ssize_t>(s.size()), py::ssize_t{3}});
+  auto p = out.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    p(i, 0) = s.origin[0] + s.xy[i].x;
+    p(i, 1) = s.origin[1] + s.xy[i].y;
+    p(i, 2) = s.origin[2] + s.z[i];
   }
+  return out;
 }
 
-// Keyword arguments as the CLI's settings: "keyword 'cost'" starts their
-// messages where the CLI's say "flag '--cost'".
-std::vector<Setting> Settings(const py::kwargs& kwargs) {
-  std::vector<Setting> settings;
+Surface ReadSurfacePy(const py::object& path, const py::object& classes, const py::object& columns) {
+  if (!IsPath(path)) throw InputError("argument path: expected a file path");
+  ReadOptions options;
+  if (!classes.is_none()) options.classes = classes.cast<std::vector<int>>();
+  if (!columns.is_none()) {
+    for (const py::handle c : columns) options.columns.push_back(py::str(c).cast<std::string>());
+  }
+  const std::string text = PathText(path);
+  py::gil_scoped_release release;
+  return ReadSurface(text, options);
+}
+
+MeasureSummary MeasurePy(const py::object& a, const py::object& b, const py::kwargs& kwargs) {
+  MeasureOptions options;
   for (const auto& [name, value] : kwargs) {
-    Setting s;
-    s.key = py::str(name).cast<std::string>();
-    s.where = "keyword '" + s.key + "'";
-    std::vector<std::string> items;
-    AppendItems(value, s.where, &items);
-    const bool list = py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value) ||
-                      py::isinstance(value, py::module_::import("numpy").attr("ndarray"));
-    if (list) {
-      for (std::size_t i = 0; i < items.size(); ++i) s.value += (i ? ", " : "") + items[i];
-      s.value = "[" + s.value + "]";
-    } else {
-      s.value = items.front();
+    SetOption(MeasureOptionKeys(), py::str(name).cast<std::string>(), ValueOf(value, Keyword(name)), &options);
+  }
+  const Surface sa = SurfaceOf(a, "array A"), sb = SurfaceOf(b, "array B");
+  py::gil_scoped_release release;  // the inputs are C++ copies by now
+  return Measure(sa, sb, options);
+}
+
+AlignResult AlignPy(const py::object& reference, const py::object& moving, const py::object& initial_matrix,
+                    const py::kwargs& kwargs) {
+  AlignOptions options;
+  for (const auto& [name, value] : kwargs) {
+    SetAlignOption(py::str(name).cast<std::string>(), ValueOf(value, Keyword(name)), &options);
+  }
+  if (!initial_matrix.is_none()) {
+    const Eigen::Matrix4d m = initial_matrix.cast<Eigen::Matrix4d>();
+    if (!IsRigid(m)) {
+      throw InputError("keyword 'initial_matrix': not a rigid motion (a rotation and a shift, last row 0 0 0 1)");
     }
-    settings.push_back(std::move(s));
+    options.initial_reference_from_moving = Rigid3d::FromMatrix(m);
   }
-  return settings;
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError(error);
+  const Surface r = SurfaceOf(reference, "array reference"), m = SurfaceOf(moving, "array moving");
+  py::gil_scoped_release release;
+  return Align(r, m, options);
 }
 
-// A file path (str, bytes, os.PathLike), or an (N, 3) / (N, 4) array of x,
-// y, z[, weight] copied into a Surface (checked as a file's samples are),
-// named `name` in messages and in the result.
-SurfaceInput ToSurface(const py::object& value, const std::string& name) {
-  if (IsPath(value)) return {PathText(value), std::nullopt};
-  using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-  const Array array = Array::ensure(value);
-  if (!array) {
-    throw InputError(name + ": expected a file path or an (N, 3) or (N, 4) array of x, y, z[, "
-                     "weight], got " + py::str(value.get_type().attr("__name__")).cast<std::string>());
+TerrainMeasure TerrainChangePy(const py::object& reference, const py::object& moving, const py::kwargs& kwargs) {
+  TerrainRequest request;
+  MeasureOptions options;
+  options.detect_change = true;
+  for (const auto& [name, value] : kwargs) {
+    const std::string key = py::str(name).cast<std::string>();
+    config_value::Value v = ValueOf(value, Keyword(name));
+    if (const TerrainSettingEntry* entry = FindTerrainSetting(key)) {
+      v.expected = entry->key.type;
+      entry->set(v, &request.terrain);
+      if (key == "dod" || key == "dod_sigma" || key == "dod_thresholded") {
+        CheckTerrainOutput(key, entry->get(request.terrain), v.where);
+      }
+      request.origin[key] = v.where;
+    } else {
+      SetOption(MeasureOptionKeys(), key, std::move(v), &options);
+    }
   }
-  const std::string shape = py::str(py::tuple(array.attr("shape"))).cast<std::string>();
-  if (array.ndim() != 2 || (array.shape(1) != 3 && array.shape(1) != 4)) {
-    throw InputError(name + ": expected an (N, 3) or (N, 4) array of x, y, z[, weight], got shape " +
-                     shape);
+  for (const char* key : {"dod_png", "histogram_png", "change_csv", "known_matrix", "max_memory", "tile_stats",
+                          "patch_shifts", "mask_raster"}) {
+    if (request.Given(key)) throw InputError(request.Where(key) + ": terrain_change does not take it (align's key)");
   }
-  const auto data = array.unchecked<2>();
-  const py::ssize_t n = array.shape(0), columns = array.shape(1);
-  std::vector<std::array<double, 3>> points(static_cast<std::size_t>(n));
-  std::vector<double> weight;
-  if (columns == 4) weight.resize(static_cast<std::size_t>(n));
-  for (py::ssize_t i = 0; i < n; ++i) {
-    points[i] = {data(i, 0), data(i, 1), data(i, 2)};
-    if (columns == 4) weight[i] = data(i, 3);
-  }
-  Surface surface = MakeSurface(points, std::move(weight), name);
-  ValidateSurface(surface);
-  return {name, std::move(surface)};
+  std::optional<Surface> a, b;
+  if (IsPath(reference)) request.reference = PathText(reference); else a = SurfaceOf(reference, "array reference");
+  if (IsPath(moving)) request.moving = PathText(moving); else b = SurfaceOf(moving, "array moving");
+  if (a) request.reference = a->source;
+  if (b) request.moving = b->source;
+  py::gil_scoped_release release;
+  return MeasureTerrain(request, options, "", "mask", a ? &*a : nullptr, b ? &*b : nullptr);
 }
 
-// The CLI's JSON document as a dict; "matrix" as a 4 x 4 float64 array.
-py::dict ToDict(const std::string& json) {
-  py::dict result = py::module_::import("json").attr("loads")(json);
-  if (result.contains("matrix")) {
-    result["matrix"] = py::module_::import("numpy").attr("array")(result["matrix"], "float64");
-  }
-  return result;
+py::dict Stddev(const std::array<double, 6>& values) {
+  py::dict out;
+  for (int k = 0; k < 6; ++k) out[kParameterNames[k]] = values[k];
+  return out;
 }
 
-// shard="K/N", partial="P.json", resume=True: a tiled measure in parts, as
-// the CLI's --shard, --partial and --resume (tools/measure_tiled.h).
-TiledParts PartsOf(py::kwargs* kwargs) {
-  std::string shard, partial;
-  bool resume = false;
-  auto take = [kwargs](const char* key) {
-    py::object value = py::none();
-    if (kwargs->contains(key)) value = kwargs->attr("pop")(key);
-    return value;
-  };
-  const py::object s = take("shard"), p = take("partial"), r = take("resume");
-  if (!s.is_none()) shard = py::str(s).cast<std::string>();
-  if (!p.is_none()) {
-    if (!IsPath(p)) throw InputError("keyword 'partial': expected a file path");
-    partial = PathText(p);
-  }
-  if (!r.is_none()) {
-    if (!py::isinstance<py::bool_>(r)) throw InputError("keyword 'resume': expected True or False");
-    resume = r.cast<bool>();
-  }
-  return TiledPartsOf(shard, partial, resume, [](const std::string& key) { return "keyword '" + key + "'"; },
-                      "partial='P.json'");
-}
+void BindResults(py::module_& m) {
+  py::class_<MeasureSummary>(m, "Measure", "B measured against A (measure/measures.h); lengths in data units")
+      .def_readonly("rho_d", &MeasureSummary::rho_d, "the volume between the surfaces over the overlap")
+      .def_readonly("rho_d_axial", &MeasureSummary::rho_d_axial, "mean |dz| at the nodes in the overlap")
+      .def_readonly("rho_s", &MeasureSummary::rho_s, "1 / rho_d (1 when rho_d = 0)")
+      .def_readonly("overlap_area", &MeasureSummary::overlap_area)
+      .def_readonly("weight_integral", &MeasureSummary::weight_integral)
+      .def_readonly("mean_abs_dz", &MeasureSummary::mean_abs_dz)
+      .def_readonly("signed_volume", &MeasureSummary::signed_volume)
+      .def_readonly("volume_above", &MeasureSummary::volume_above, "B above A (fill)")
+      .def_readonly("volume_below", &MeasureSummary::volume_below, "B below A (cut)")
+      .def_readonly("level_of_detection", &MeasureSummary::level_of_detection)
+      .def_readonly("fill_detected", &MeasureSummary::fill_detected)
+      .def_readonly("cut_detected", &MeasureSummary::cut_detected)
+      .def_readonly("fill_area", &MeasureSummary::fill_area)
+      .def_readonly("cut_area", &MeasureSummary::cut_area)
+      .def_readonly("domain_area_a", &MeasureSummary::domain_area_a)
+      .def_readonly("domain_area_b", &MeasureSummary::domain_area_b)
+      .def_readonly("n_points_a", &MeasureSummary::n_points_a)
+      .def_readonly("n_points_b", &MeasureSummary::n_points_b)
+      .def_readonly("n_overlap_nodes", &MeasureSummary::n_overlap_nodes)
+      .def_readonly("n_cells", &MeasureSummary::n_cells)
+      .def_property_readonly("volume_mode", [](const MeasureSummary& s) { return VolumeModeName(s.volume_mode); })
+      .def_property_readonly("domain", [](const MeasureSummary& s) {
+        return s.domain_kind == DomainKind::kData ? "data" : "hull";
+      })
+      .def("report", &MeasureSummary::BriefReport, py::arg("units") = "units",
+           "the measures for people, lengths named `units`")
+      .def("__repr__", [](const MeasureSummary& s) {
+        return "<surfreg.Measure rho_d=" + py::repr(py::float_(s.rho_d)).cast<std::string>() +
+               " rho_d_axial=" + py::repr(py::float_(s.rho_d_axial)).cast<std::string>() + ">";
+      });
 
-py::object MeasurePy(const py::object& a, const py::object& b, py::kwargs kwargs) {
-  const TiledParts parts = PartsOf(&kwargs);
-  const std::vector<Setting> settings = Settings(kwargs);
-  SurfaceInput sa = ToSurface(a, "array A"), sb = ToSurface(b, "array B");
-  std::string json;
-  {
-    py::gil_scoped_release release;  // the inputs are C++ copies by now
-    const MeasureReport report = MeasureSurfaces(std::move(sa), std::move(sb), settings, nullptr, &parts);
-    if (parts.shards > 1) return py::none();  // the shard's result is its partial file
-    json = MeasureJson(report);
-  }
-  return ToDict(json);
-}
+  py::class_<AlignResult>(m, "Alignment", "moving aligned onto reference (registration/align_result.h)")
+      .def_readonly("matrix", &AlignResult::matrix, "4 x 4, moving input coordinates -> reference's")
+      .def_readonly("rotation_vector", &AlignResult::rotation_vector, "radians")
+      .def_readonly("euler_deg", &AlignResult::euler_deg, "rx, ry, rz: R = Rz Ry Rx")
+      .def_readonly("translation", &AlignResult::translation, "the shift of the moving centroid")
+      .def_readonly("centre", &AlignResult::centre, "the moving centroid, input coordinates")
+      .def_property_readonly("stddev", [](const AlignResult& r) { return Stddev(r.stddev); },
+                             "standard deviations: rx, ry, rz (radians), tx, ty, tz")
+      .def_readonly("covariance", &AlignResult::covariance, "6 x 6, rx ry rz tx ty tz")
+      .def_readonly("condition_number", &AlignResult::condition_number)
+      .def_readonly("before", &AlignResult::before, "Measure at the initial motion")
+      .def_readonly("after", &AlignResult::after, "Measure at the final motion")
+      .def_readonly("overlap_fraction_before", &AlignResult::overlap_fraction_before)
+      .def_readonly("overlap_fraction_after", &AlignResult::overlap_fraction_after)
+      .def_readonly("iterations", &AlignResult::iterations)
+      .def_property_readonly("verdict", [](const AlignResult& r) { return VerdictName(r.verdict); })
+      .def_readonly("verdict_reason", &AlignResult::verdict_reason)
+      .def_readonly("solve_cost", &AlignResult::solve_cost, "the cost solved: volume or axial")
+      .def_readonly("wide_search_ran", &AlignResult::wide_search_ran)
+      .def_readonly("stddev_source", &AlignResult::stddev_source)
+      .def_readonly("seconds", &AlignResult::seconds)
+      .def("report", [](const AlignResult& r) { return r.FullReport(); }, "the summary `surfreg align` prints")
+      .def("__repr__", [](const AlignResult& r) {
+        return std::string("<surfreg.Alignment ") + VerdictName(r.verdict) + ">";
+      });
 
-py::dict MergePy(const py::object& out, const py::list& parts, const py::object& dod) {
-  std::vector<std::string> args;
-  if (!IsPath(out)) throw InputError("argument out: expected a file path");
-  args.push_back(PathText(out));
-  for (const py::handle part : parts) {
-    if (!IsPath(part)) throw InputError("argument parts: expected file paths");
-    args.push_back(PathText(part));
-  }
-  if (args.size() < 2) throw InputError("argument parts: no parts to merge");
-  const std::string dod_path = dod.is_none() ? std::string() : PathText(dod);
-  {
-    py::gil_scoped_release release;
-    MergeMeasureParts(args, dod_path, false, [](const MeasureReport&) {});
-  }
-  return ToDict(py::module_::import("pathlib").attr("Path")(args[0]).attr("read_text")().cast<std::string>());
-}
+  py::class_<DzStatistics>(m, "DzStatistics", "dz = B - A at A's nodes in the overlap")
+      .def_readonly("count", &DzStatistics::count)
+      .def_readonly("mean", &DzStatistics::mean)
+      .def_readonly("median", &DzStatistics::median)
+      .def_readonly("nmad", &DzStatistics::nmad)
+      .def_readonly("stddev", &DzStatistics::stddev)
+      .def_readonly("rmse", &DzStatistics::rmse)
+      .def_readonly("le90", &DzStatistics::le90)
+      .def_readonly("min", &DzStatistics::min)
+      .def_readonly("max", &DzStatistics::max);
 
-py::dict AlignPy(const py::object& reference, const py::object& moving, const py::kwargs& kwargs) {
-  const std::vector<Setting> settings = Settings(kwargs);
-  SurfaceInput r = ToSurface(reference, "array reference");
-  SurfaceInput m = ToSurface(moving, "array moving");
-  AlignConfig config;
-  ApplyAlignArguments(r.name, m.name, &config);
-  for (const Setting& s : settings) ApplyAlignSetting(s.key, s.value, s.where, &config);
-  FinishAlignConfig(&config);
-  const bool progress = config.progress;
-  const int levels = config.options.levels;
-  std::string json;
-  {
-    py::gil_scoped_release release;  // the inputs are C++ copies by now
-    json = AlignSurfaces(std::move(config), std::move(r.samples), std::move(m.samples),
-                         [progress, levels](const AlignOptions::Iteration& it) {
-                           if (progress) std::fputs(AlignProgressLine(it, levels).c_str(), stderr);
-                         })
-               .json;
-  }
-  return ToDict(json);
+  py::class_<TerrainMeasure>(m, "TerrainChange", "two surveys differenced as they lie (terrain/terrain_measure.h)")
+      .def_readonly("measure", &TerrainMeasure::summary, "B against A in the common frame")
+      .def_readonly("dz", &TerrainMeasure::dz)
+      .def_property_readonly("dz_a", [](const TerrainMeasure& t) { return Array(t.summary.dz_a); },
+                             "dz at each sample of A, input order (NaN outside the overlap)")
+      .def_property_readonly("fill", [](const TerrainMeasure& t) { return t.summary.fill_detected; })
+      .def_property_readonly("cut", [](const TerrainMeasure& t) { return t.summary.cut_detected; })
+      .def_property_readonly("net", [](const TerrainMeasure& t) {
+        return t.summary.fill_detected - t.summary.cut_detected;
+      })
+      .def_property_readonly("net_sigma_independent", [](const TerrainMeasure& t) {
+        return t.uncertainty.active ? t.uncertainty.budget.net_sigma_independent : std::nan("");
+      }, "the net change's sigma, cells independent (NaN without sigma_reference / sigma_moving)")
+      .def_property_readonly("net_sigma_correlated", [](const TerrainMeasure& t) {
+        return t.uncertainty.active ? t.uncertainty.budget.net_sigma_correlated : std::nan("");
+      }, "the net change's sigma, errors fully correlated")
+      .def_property_readonly("frame", [](const TerrainMeasure& t) { return t.frame.Describe(); })
+      .def_readonly("b_reprojected_from", &TerrainMeasure::b_reprojected_from)
+      .def_readonly("metric", &TerrainMeasure::metric, "lengths in metres")
+      .def("report", [](const TerrainMeasure& t) { return t.summary.BriefReport(t.metric ? "m" : "units"); },
+           "the measures for people, in metres in a metric frame");
 }
 
 }  // namespace
-}  // namespace surfreg
+}  // namespace surfreg::python
 
 PYBIND11_MODULE(surfreg, m) {
-  m.doc() = "surfreg: the volume between two height-field surfaces, and their rigid alignment";
+  using namespace surfreg;
+  using namespace surfreg::python;
+  m.doc() = "surfreg: the volume between two height-field surfaces, their rigid alignment, and terrain change";
   m.attr("__version__") = SURFREG_VERSION;
-  // Bad input: a ValueError (this subclass) with the CLI's one-line message.
-  py::register_exception<surfreg::InputError>(m, "InputError", PyExc_ValueError);
-  m.def("measure", &surfreg::MeasurePy, py::arg("a"), py::arg("b"),
-        "measure(a, b, **options) -> dict\n\n"
-        "`surfreg measure A B --json` as a dict: B against A. A surface is a file path or an\n"
-        "(N, 3) / (N, 4) float64 array of x, y, z[, weight]; options are measure's flags\n"
-        "(volume, weights, domain, lod, reference_crs, ...) as keywords. Tiled DEMs (tile,\n"
-        "max_memory) also take shard='K/N' with partial='P.json' (returns None: join the\n"
-        "parts with merge()) and resume=True (go on after a killed run).");
-  m.def("merge", &surfreg::MergePy, py::arg("out"), py::arg("parts"), py::arg("dod") = py::none(),
-        "merge(out, parts, dod=None) -> dict\n\n"
-        "`surfreg merge OUT.json P1.json ...`: the partials of a sharded tiled measure joined\n"
-        "into the unsharded result, written to `out` and returned as measure() returns it;\n"
-        "with dod, the shards' DoD bands joined into that GeoTIFF.");
-  m.def("align", &surfreg::AlignPy, py::arg("reference"), py::arg("moving"),
-        "align(reference, moving, **options) -> dict\n\n"
-        "`surfreg align REFERENCE MOVING --json` as a dict: the rigid motion of moving onto\n"
-        "reference (\"matrix\": 4 x 4 numpy array, moving -> reference, input coordinates),\n"
-        "the measures before and after, the verdict. Options are align's config keys\n"
-        "(cost, free, max_iterations, output, ...) as keywords.");
+  // Bad input: a ValueError (this subclass) with the library's one-line message.
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+
+  py::class_<Surface>(m, "Surface", "a height field z = f(x, y) sampled at points (measure/surface.h)")
+      .def(py::init([](const py::object& points, const std::string& name) { return SurfaceFromArray(points, name); }),
+           py::arg("points"), py::arg("name") = "array",
+           "from an (N, 3) or (N, 4) array of x, y, z[, weight]")
+      .def_property_readonly("points", &Points, "(N, 3) x, y, z in input coordinates")
+      .def_property_readonly("weights", [](const Surface& s) -> py::object {
+        if (s.weight.empty()) return py::none();
+        return Array(s.weight);
+      })
+      .def_readonly("name", &Surface::source)
+      .def_property_readonly("is_raster", &Surface::raster_grid)
+      .def("__len__", &Surface::size)
+      .def("__repr__", [](const Surface& s) {
+        return "<surfreg.Surface '" + s.source + "' " + std::to_string(s.size()) + " points>";
+      });
+  BindResults(m);
+
+  m.def("read_surface", &ReadSurfacePy, py::arg("path"), py::arg("classes") = py::none(),
+        py::arg("columns") = py::none(),
+        "read_surface(path, classes=None, columns=None) -> Surface\n\n"
+        "A surface file (.xyz .txt .csv .ply .off .obj .las, or a GDAL raster); classes: LAS\n"
+        "classifications kept; columns: a text cloud's x, y, z[, weight] columns.");
+  m.def("measure", &MeasurePy, py::arg("a"), py::arg("b"),
+        "measure(a, b, **options) -> Measure\n\n"
+        "B against A. A surface is a Surface, a file path or an (N, 3) / (N, 4) array.\n"
+        "Options: volume, weights, lod, min_overlap_fraction, domain, domain_max_edge_spacings,\n"
+        "domain_min_thinness (docs/measure.md).");
+  m.def("align", &AlignPy, py::arg("reference"), py::arg("moving"), py::arg("initial_matrix") = py::none(),
+        "align(reference, moving, initial_matrix=None, **options) -> Alignment\n\n"
+        "The rigid motion of moving onto reference (matrix: moving -> reference, input\n"
+        "coordinates), the measures before and after, sigma and the verdict. initial_matrix:\n"
+        "a 4 x 4 start. Options: align's option keys (cost, free, levels, max_iterations,\n"
+        "stable, ...; docs/align.md).");
+  m.def("terrain_change", &TerrainChangePy, py::arg("reference"), py::arg("moving"),
+        "terrain_change(reference, moving, **keys) -> TerrainChange\n\n"
+        "Two DEMs or clouds (files or arrays) in one metric frame, differenced as they lie:\n"
+        "dz statistics at the reference's nodes, cut and fill beyond lod, the change budget\n"
+        "with sigma_reference / sigma_moving, the DoD GeoTIFF with dod=. Keys: the terrain\n"
+        "keys (reference_crs, moving_crs, frame, band, window, lod, sigma_*, lod_confidence,\n"
+        "dod, dod_sigma, dod_thresholded; docs/terrain.md) and measure()'s options.");
 }
