@@ -25,6 +25,7 @@
 #include "tools/face_orientation.h"
 #include "io/mesh_reader.h"
 #include "tools/json_writer.h"
+#include "tools/key_flags.h"
 #include "io/plot.h"
 
 DEFINE_string(map, "",
@@ -32,7 +33,6 @@ DEFINE_string(map, "",
               "refined plane here");
 DECLARE_string(orientation);  // tools/run_normalize.cc
 DECLARE_double(depth_limit);  // tools/run_normalize.cc
-DECLARE_string(output);       // tools/run_align.cc
 
 namespace surfreg {
 namespace {
@@ -68,7 +68,7 @@ FaceFrameOptions CheckFlags() {
     RequirePngFigures("flag '--map'");
     CheckOutputPath(FLAGS_map, "flag '--map'");
   }
-  if (!FLAGS_output.empty()) CheckOutputPath(FLAGS_output, "flag '--output'");
+  if (!KeyFlag("output").empty()) CheckOutputPath(KeyFlag("output"), "flag '--output'");
   return options;
 }
 
@@ -143,7 +143,7 @@ void PrintText(const std::string& file, const FaceFrameOptions& options, const S
               r.seconds_refine, r.termination.c_str(), r.seconds);
   if (!r.note.empty()) std::printf("note: %s\n", r.note.c_str());
   if (!FLAGS_map.empty()) std::printf("map: %s\n", FLAGS_map.c_str());
-  if (!FLAGS_output.empty()) std::printf("written: %s\n", FLAGS_output.c_str());
+  if (!KeyFlag("output").empty()) std::printf("written: %s\n", KeyFlag("output").c_str());
 }
 
 void WriteMap(const Surface& face, const SymmetryPlane& plane) {
@@ -196,7 +196,7 @@ int RunAsymmetry(const std::vector<std::string>& args) {
   }
   if (!FLAGS_map.empty()) WriteMap(face, result.refined.plane);
   const std::string json = ResultJson(args[0], frame_options, face, result);
-  if (!FLAGS_output.empty()) WriteFileAtomically(FLAGS_output, json + "\n", "flag '--output'");
+  if (!KeyFlag("output").empty()) WriteFileAtomically(KeyFlag("output"), json + "\n", "flag '--output'");
   if (FLAGS_json) {
     std::printf("%s\n", json.c_str());
   } else {

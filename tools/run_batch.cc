@@ -33,9 +33,9 @@
 #include "tools/sweep.h"
 #include "terrain/terrain.h"
 #include "tools/transform_json.h"
+#include "tools/key_flags.h"
 
 DECLARE_string(config);  // tools/run_align.cc
-DECLARE_string(output);
 DECLARE_string(manifest);
 DECLARE_string(shard);  // tools/run_sweep.cc
 
@@ -176,7 +176,7 @@ int RunAlignManifest(const std::vector<std::string>& args) {
   if (!args.empty())
     throw UsageError("align: give either --manifest PAIRS.csv or REFERENCE MOVING, not both");
   const Shard shard = ParseShard(FLAGS_shard, "flag '--shard'");
-  if (!FLAGS_output.empty()) CheckOutputPath(FLAGS_output, "flag '--output'");
+  if (!KeyFlag("output").empty()) CheckOutputPath(KeyFlag("output"), "flag '--output'");
   const std::vector<Row> rows = ReadManifest(BaseConfig(), shard);
   CsvTable summary;
   summary.header = {"run_id",
@@ -244,10 +244,10 @@ int RunAlignManifest(const std::vector<std::string>& args) {
     }
   }
   const std::string text = FormatCsv(summary);
-  if (FLAGS_output.empty()) {
+  if (KeyFlag("output").empty()) {
     std::printf("%s", text.c_str());
   } else {
-    WriteFileAtomically(FLAGS_output, text, "flag '--output'");
+    WriteFileAtomically(KeyFlag("output"), text, "flag '--output'");
   }
   if (failed > 0) {
     throw InputError(std::to_string(failed) + " of " + std::to_string(rows.size()) +

@@ -24,6 +24,7 @@
 #include "tools/measure_tiled.h"
 #include "tools/progress_lines.h"
 #include "tools/sweep.h"
+#include "tools/key_flags.h"
 #include "terrain/change_uncertainty.h"
 
 // The run itself is tools/measure_run.cc (shared with the Python module);
@@ -48,7 +49,6 @@ DEFINE_string(partial, "",
               "for 'surfreg merge OUT.json P1.json ...'");
 DECLARE_string(shard);  // tools/run_sweep.cc: "K/N"
 DECLARE_bool(resume);   // tools/run_sweep.cc
-DECLARE_string(dod);    // tools/run_align.cc (an align key)
 
 DEFINE_string(max_memory, "",
               "measure, align: a memory budget such as 512M or 2G, from which the tile side is chosen "
@@ -219,7 +219,7 @@ int RunMeasure(const std::vector<std::string>& args) {
 }
 
 int RunMergeMeasureParts(const std::vector<std::string>& args) {
-  return MergeMeasureParts(args, FLAGS_dod, FLAGS_json, PrintText);
+  return MergeMeasureParts(args, KeyFlag("dod"), FLAGS_json, PrintText);
 }
 
 }  // namespace surfreg

@@ -18,6 +18,7 @@
 #include "io/mesh_reader.h"
 #include "io/surface_writer.h"
 #include "tools/json_writer.h"
+#include "tools/key_flags.h"
 
 // Shared with the other face commands (asymmetry, jaw): DECLARE them there.
 DEFINE_string(orientation, "auto",
@@ -26,7 +27,6 @@ DEFINE_string(orientation, "auto",
 DEFINE_double(depth_limit, 0.0,
               "normalize, asymmetry: keep points at most this far behind the nose tip (data "
               "units; 0 = all visible points)");
-DECLARE_string(output);  // tools/run_align.cc
 
 namespace surfreg {
 namespace {
@@ -84,7 +84,7 @@ void PrintText(const std::string& file, const Mesh& mesh, const FaceFrameOptions
   std::printf("nose tip:     (%s, %s, 0) in the frame; (%s, %s, %s) in the input\n",
               Number(frame.nose_tip[0]).c_str(), Number(frame.nose_tip[1]).c_str(),
               Number(tip[0]).c_str(), Number(tip[1]).c_str(), Number(tip[2]).c_str());
-  if (!FLAGS_output.empty()) std::printf("written:      %s\n", FLAGS_output.c_str());
+  if (!KeyFlag("output").empty()) std::printf("written:      %s\n", KeyFlag("output").c_str());
 }
 
 void PrintJson(const std::string& file, const Mesh& mesh, const FaceFrameOptions& options,
@@ -104,7 +104,7 @@ void PrintJson(const std::string& file, const Mesh& mesh, const FaceFrameOptions
       .Raw("translation", JsonArray(Numbers(frame.translation.data(), 3)))
       .Raw("nose_tip", JsonArray(Numbers(frame.nose_tip.data(), 3)))
       .Raw("nose_tip_input", JsonArray(Numbers(NoseTipInput(mesh, frame).data(), 3)));
-  if (!FLAGS_output.empty()) json.String("output", FLAGS_output);
+  if (!KeyFlag("output").empty()) json.String("output", KeyFlag("output"));
   std::printf("%s\n", json.str().c_str());
 }
 
@@ -121,16 +121,16 @@ int RunNormalize(const std::vector<std::string>& args) {
                      Number(FLAGS_depth_limit));
   }
   options.depth_limit = FLAGS_depth_limit;
-  if (!FLAGS_output.empty()) {
-    if (!IsWritableSurfacePath(FLAGS_output)) {
-      throw InputError("flag '--output': " + FLAGS_output +
+  if (!KeyFlag("output").empty()) {
+    if (!IsWritableSurfacePath(KeyFlag("output"))) {
+      throw InputError("flag '--output': " + KeyFlag("output") +
                        ": unknown output format (expected .xyz, .txt, .ply or .las)");
     }
-    CheckOutputPath(FLAGS_output, "flag '--output'");
+    CheckOutputPath(KeyFlag("output"), "flag '--output'");
   }
   const Mesh mesh = ReadMesh(args[0]);
   const FaceFrame frame = NormalizeFace(mesh, options);
-  if (!FLAGS_output.empty()) {
+  if (!KeyFlag("output").empty()) {
     std::string rotation;
     for (int k = 0; k < 9; ++k) rotation += (k ? " " : "") + JsonNumber(frame.rotation[k]);
     const std::vector<std::string> comments = {
@@ -140,7 +140,7 @@ int RunNormalize(const std::vector<std::string>& args) {
         "translation: " + JsonNumber(frame.translation[0]) + " " +
             JsonNumber(frame.translation[1]) + " " + JsonNumber(frame.translation[2]),
     };
-    WriteSurface(FLAGS_output, FaceSurface(frame, args[0]), "flag '--output'", comments);
+    WriteSurface(KeyFlag("output"), FaceSurface(frame, args[0]), "flag '--output'", comments);
   }
   if (FLAGS_json) {
     PrintJson(args[0], mesh, options, frame);

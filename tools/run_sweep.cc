@@ -28,10 +28,10 @@
 #include "io/plot.h"
 #include "tools/sweep.h"
 #include "tools/sweep_settings.h"
+#include "tools/key_flags.h"
 
 DECLARE_string(config);  // tools/run_align.cc
 DECLARE_bool(quiet);     // tools/run_measure.cc
-DECLARE_string(output);
 DEFINE_int32(jobs, 0,
              "sweep: parallel runs (default: the config's jobs, else the number of cores)");
 DEFINE_string(shard, "", "sweep, align --manifest: run only slice K of N (K/N, 1-based)");
@@ -281,8 +281,8 @@ int RunSweep(const std::vector<std::string>& args) {
   if (FLAGS_config.empty()) throw UsageError("sweep: missing --config FILE.yaml");
   const SweepConfig config = ReadSweepConfig(FLAGS_config);
   SweepPlan plan = PlanSweep(config);
-  const std::string output = FLAGS_output.empty() ? config.output : FLAGS_output;
-  const std::string where = FLAGS_output.empty() ? config.output_where : "flag '--output'";
+  const std::string output = KeyFlag("output").empty() ? config.output : KeyFlag("output");
+  const std::string where = KeyFlag("output").empty() ? config.output_where : "flag '--output'";
   if (output.size() < 5 || output.substr(output.size() - 4) != ".csv") {
     throw InputError(where + " expects a file name ending in .csv, got '" + output + "'");
   }

@@ -25,6 +25,7 @@
 #include "io/surface_writer.h"
 #include "tools/progress_lines.h"
 #include "tools/transform_file.h"
+#include "tools/key_flags.h"
 
 DEFINE_string(transform, "",
               "transform: the rigid transform file: surfreg's align JSON or a 4x4 text matrix "
@@ -33,11 +34,6 @@ DEFINE_bool(inverse, false, "transform: apply the inverse of the transform");
 DEFINE_string(grid, "",
               "transform: a raster whose grid (size, geotransform, CRS) a .tif output is "
               "resampled onto (default: the input raster's own)");
-DECLARE_string(output);  // tools/run_align.cc
-DECLARE_string(classes);
-DECLARE_string(columns);
-DECLARE_string(band);    // tools/run_align.cc
-DECLARE_string(window);
 DECLARE_bool(quiet);  // tools/run_measure.cc
 
 namespace surfreg {
@@ -55,21 +51,21 @@ void CheckFlags(const std::string& input, bool raster_out, bool raster_in) {
   if (FLAGS_transform.empty()) {
     throw InputError("flag '--transform' is required: the transform file (align JSON or 4x4 text)");
   }
-  if (FLAGS_output.empty()) throw InputError("flag '--output' is required: the file to write");
-  if (!raster_out && !IsWritableSurfacePath(FLAGS_output)) {
-    throw InputError("flag '--output': cannot write '" + FLAGS_output +
+  if (KeyFlag("output").empty()) throw InputError("flag '--output' is required: the file to write");
+  if (!raster_out && !IsWritableSurfacePath(KeyFlag("output"))) {
+    throw InputError("flag '--output': cannot write '" + KeyFlag("output") +
                      "' (expected a name ending in .xyz, .txt, .ply, .las or .tif)");
   }
   if (raster_out && !raster_in && FLAGS_grid.empty()) {
     throw InputError("flag '--output': a cloud written as GeoTIFF needs a grid: give --grid=REF.tif");
   }
   if (!FLAGS_grid.empty() && !raster_out) {
-    throw InputError("flag '--grid': a grid is only for a .tif output, not '" + FLAGS_output + "'");
+    throw InputError("flag '--grid': a grid is only for a .tif output, not '" + KeyFlag("output") + "'");
   }
-  CheckOutputPath(FLAGS_output, "flag '--output'");
+  CheckOutputPath(KeyFlag("output"), "flag '--output'");
   for (const std::string& other : {input, FLAGS_transform, FLAGS_grid}) {
-    if (!other.empty() && SameFile(FLAGS_output, other)) {
-      throw InputError("flag '--output': '" + FLAGS_output + "' is also an input");
+    if (!other.empty() && SameFile(KeyFlag("output"), other)) {
+      throw InputError("flag '--output': '" + KeyFlag("output") + "' is also an input");
     }
   }
 }
@@ -77,8 +73,8 @@ void CheckFlags(const std::string& input, bool raster_out, bool raster_in) {
 // --classes and --columns as align reads them (same values and messages).
 ReadOptions CloudReadOptions(bool raster_in) {
   AlignConfig settings;
-  for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"classes", FLAGS_classes},
-                                   {"columns", FLAGS_columns}}) {
+  for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"classes", KeyFlag("classes")},
+                                   {"columns", KeyFlag("columns")}}) {
     if (value.empty()) continue;
     if (raster_in) throw InputError(std::string("flag '--") + key + "': INPUT is a raster, not a cloud");
     ApplyAlignFlag(key, value, &settings);
@@ -92,8 +88,8 @@ ReadOptions CloudReadOptions(bool raster_in) {
 // --band and --window as align reads them, for a raster INPUT.
 RasterReadOptions RasterOptions(bool raster_in) {
   AlignConfig settings;
-  for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"band", FLAGS_band},
-                                   {"window", FLAGS_window}}) {
+  for (const auto& [key, value] : {std::pair<const char*, const std::string&>{"band", KeyFlag("band")},
+                                   {"window", KeyFlag("window")}}) {
     if (value.empty()) continue;
     if (!raster_in) throw InputError(std::string("flag '--") + key + "': INPUT is a cloud, not a raster");
     ApplyAlignFlag(key, value, &settings);
@@ -112,7 +108,7 @@ int RunTransform(const std::vector<std::string>& args) {
   if (args.size() > 1) throw UsageError("transform: too many arguments");
   const std::string& input = args[0];
   const bool raster_in = IsRasterPath(input);
-  const bool raster_out = IsGeoTiffPath(FLAGS_output);
+  const bool raster_out = IsGeoTiffPath(KeyFlag("output"));
   CheckFlags(input, raster_out, raster_in);
   const ReadOptions read_options = CloudReadOptions(raster_in);
   const RasterReadOptions raster_options = RasterOptions(raster_in);
@@ -133,14 +129,14 @@ int RunTransform(const std::vector<std::string>& args) {
   if (!FLAGS_grid.empty()) grid = ReadRaster(FLAGS_grid);
   const Surface moved = TransformSurface(surface, m);
   if (loud) {
-    std::fprintf(stderr, "transform: writing %s%s\n", FLAGS_output.c_str(),
+    std::fprintf(stderr, "transform: writing %s%s\n", KeyFlag("output").c_str(),
                  raster_out ? " (resampled onto the grid)" : "");
   }
   if (raster_out) {
-    WriteGeoTiff(FLAGS_output, ResampleOntoGrid(moved, grid), "flag '--output'");
-  } else if (IsLasPath(input) && IsLasPath(FLAGS_output)) {
+    WriteGeoTiff(KeyFlag("output"), ResampleOntoGrid(moved, grid), "flag '--output'");
+  } else if (IsLasPath(input) && IsLasPath(KeyFlag("output"))) {
     // The file's own records moved: every class and attribute kept.
-    WriteMovedLas(input, RowMajor(m), FLAGS_output, "flag '--output'");
+    WriteMovedLas(input, RowMajor(m), KeyFlag("output"), "flag '--output'");
   } else {
     std::vector<std::string> comments = {
         input + " moved by " + (FLAGS_inverse ? "the inverse of " : "") + FLAGS_transform +
@@ -151,11 +147,11 @@ int RunTransform(const std::vector<std::string>& args) {
                     m(i, 3));
       comments.push_back(row);
     }
-    WriteSurface(FLAGS_output, moved, "flag '--output'", comments);
+    WriteSurface(KeyFlag("output"), moved, "flag '--output'", comments);
   }
   std::printf("%s: %zu points moved by %s%s -> %s\n", input.c_str(), surface.size(),
               FLAGS_inverse ? "the inverse of " : "", FLAGS_transform.c_str(),
-              FLAGS_output.c_str());
+              KeyFlag("output").c_str());
   return 0;
 }
 

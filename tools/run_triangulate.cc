@@ -18,10 +18,8 @@
 #include "tools/commands.h"
 #include "io/surface_reader.h"
 #include "tools/json_writer.h"
+#include "tools/key_flags.h"
 
-DECLARE_string(domain);  // tools/run_align.cc
-DECLARE_string(domain_max_edge_spacings);
-DECLARE_string(domain_min_thinness);
 
 namespace surfreg {
 namespace {
@@ -114,8 +112,8 @@ int RunTriangulate(const std::vector<std::string>& args) {
   if (args.size() > 1) throw UsageError("triangulate: too many arguments");
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
-  DomainRule rule = DomainRuleFromFlags(FLAGS_domain, FLAGS_domain_max_edge_spacings,
-                                        FLAGS_domain_min_thinness);
+  DomainRule rule = DomainRuleFromFlags(KeyFlag("domain"), KeyFlag("domain_max_edge_spacings"),
+                                        KeyFlag("domain_min_thinness"));
   const Surface surface = ReadSurface(args[0]);
   rule.grid = surface.raster_grid();
   const Clock::time_point read = Clock::now();

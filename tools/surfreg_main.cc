@@ -20,6 +20,7 @@
 #include "tools/commands.h"
 #include "io/interrupt.h"
 #include "tools/jaw_config.h"
+#include "tools/key_flags.h"
 #include "tools/log_prefix.h"
 
 namespace surfreg {
@@ -297,6 +298,7 @@ int main(int argc, char** argv) {
                            (SURFREG_HAS_PLOTS ? "yes" : "no, built without Cairo") + ")");
   gflags::SetUsageMessage("<command> [arguments] [flags]; run 'surfreg help' for the commands");
   google::InitGoogleLogging(argv[0], &surfreg::LogPrefix);  // surfreg: warning: ...
+  surfreg::RegisterKeyFlags();  // before anything reads or parses a flag
   surfreg::InstallInterruptHandlers();
   try {
     const int code = surfreg::Dispatch(argc, argv);

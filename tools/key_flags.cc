@@ -1,0 +1,67 @@
+#include "tools/key_flags.h"
+
+#include <gflags/gflags.h>
+#include <glog/logging.h>
+
+#include <cstring>
+#include <deque>
+#include <map>
+
+#include "tools/align_config.h"
+
+namespace surfreg {
+namespace {
+
+// gflags keeps pointers to a flag's name, help and values for the life of
+// the program: they live here, in containers that never move an element.
+struct FlagStorage {
+  std::deque<std::string> help;
+  std::deque<std::string> strings;  // current, default, current, ...
+  std::deque<bool> bools;
+  std::map<std::string, const std::string*> by_name;
+};
+
+FlagStorage& Storage() {
+  static FlagStorage* storage = new FlagStorage;  // never destroyed: gflags outlives main
+  return *storage;
+}
+
+// CheckCommandFlags (tools/surfreg_main.cc) tells the program's own flags
+// by their file under tools/.
+constexpr char kFlagFile[] = "tools/key_flags.cc";
+
+}  // namespace
+
+void RegisterKeyFlags() {
+  static bool registered = false;
+  if (registered) return;
+  registered = true;
+  FlagStorage& s = Storage();
+  const AlignConfig defaults;
+  for (const AlignConfigKey& key : AlignConfigKeys()) {
+    gflags::CommandLineFlagInfo existing;
+    if (gflags::GetCommandLineFlagInfo(key.name, &existing)) continue;
+    s.help.push_back(std::string("align: ") + key.help);
+    const char* help = s.help.back().c_str();
+    if (std::strcmp(key.type, "true or false") == 0) {
+      s.bools.push_back(AlignConfigValue(defaults, key.name) == "true");
+      bool* current = &s.bools.back();
+      s.bools.push_back(*current);
+      gflags::FlagRegisterer(key.name, help, kFlagFile, current, &s.bools.back());
+    } else {
+      s.strings.emplace_back();
+      std::string* current = &s.strings.back();
+      s.strings.emplace_back();
+      gflags::FlagRegisterer(key.name, help, kFlagFile, current, &s.strings.back());
+      s.by_name[key.name] = current;
+    }
+  }
+}
+
+const std::string& KeyFlag(const char* name) {
+  const auto it = Storage().by_name.find(name);
+  CHECK(it != Storage().by_name.end()) << "no string flag made for key " << name;
+  return *it->second;
+}
+
+}  // namespace surfreg
