@@ -37,9 +37,7 @@ void SetOption(const std::vector<config_value::Entry<Options>>& table, const std
     }
     names.push_back(entry.key.name);
   }
-  const std::string nearest = NearestKey(name, names);
-  throw InputError(value.where + ": unknown key " + Quote(name) +
-                   (nearest.empty() ? std::string() : " (did you mean '" + nearest + "'?)"));
+  throw InputError(value.where + ": unknown key " + Quote(name) + UnknownKeyHint(name, names));
 }
 
 }  // namespace surfreg

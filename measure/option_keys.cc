@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
+#include <utility>
 
 namespace surfreg {
 
@@ -65,6 +66,21 @@ std::string NearestKey(const std::string& name, const std::vector<std::string>& 
     }
   }
   return best;
+}
+
+std::string UnknownKeyHint(const std::string& name, const std::vector<std::string>& keys,
+                           const std::string& prefix) {
+  // Keys folded into another: a config written for an earlier release
+  // says what to write instead.
+  static const std::pair<const char*, const char*> kRetired[] = {
+      {"axial_nodes", "cost: axial_sparser for 'sparser', cost: axial for 'both'"},
+      {"sparser_nodes_ratio", "cost: auto, which switches at 2.5, or cost: volume, which never does"},
+  };
+  for (const auto& [retired, instead] : kRetired) {
+    if (name == retired) return std::string(" (replaced by ") + instead + ")";
+  }
+  const std::string nearest = NearestKey(name, keys);
+  return nearest.empty() ? std::string() : " (did you mean '" + prefix + nearest + "'?)";
 }
 
 }  // namespace surfreg

@@ -43,6 +43,12 @@ NumberStatus ParseNumber(std::string_view token, double* value);
 // the other; '-' read as '_'), or "" when none is close.
 std::string NearestKey(const std::string& name, const std::vector<std::string>& keys);
 
+// What follows "unknown key 'x'": " (replaced by cost: axial_sparser)" for a
+// key the product no longer has, else " (did you mean 'y'?)" with the
+// nearest of `keys` (`prefix` before it: "--" for flags), else "".
+std::string UnknownKeyHint(const std::string& name, const std::vector<std::string>& keys,
+                           const std::string& prefix = "");
+
 namespace config_value {
 
 // One value to set, from a YAML node or a flag's text.

@@ -74,8 +74,10 @@ MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
   return m;
 }
 
+// The measure the user's cost choice is judged by: the volume's unless an
+// axial cost was chosen.
 double MeasureOfCost(CostKind cost, const MeasureSummary& s) {
-  return cost == CostKind::kAxial ? s.rho_d_axial : s.mean_abs_dz;
+  return cost == CostKind::kAxial || cost == CostKind::kAxialSparser ? s.rho_d_axial : s.mean_abs_dz;
 }
 
 }  // namespace

@@ -14,9 +14,10 @@ using namespace config_value;
 
 constexpr double kPi = 3.14159265358979323846;
 
-const Names<CostKind> kCosts = {{"axial", CostKind::kAxial}, {"volume", CostKind::kVolume}};
-const Names<AlignOptions::AxialNodes> kAxialNodes = {{"both", AlignOptions::AxialNodes::kBoth},
-                                                     {"sparser", AlignOptions::AxialNodes::kSparser}};
+const Names<CostKind> kCosts = {{"auto", CostKind::kAuto},
+                                {"volume", CostKind::kVolume},
+                                {"axial", CostKind::kAxial},
+                                {"axial_sparser", CostKind::kAxialSparser}};
 const Names<AlignOptions::WideSearch> kWideSearches = {{"auto", AlignOptions::WideSearch::kAuto},
                                                       {"always", AlignOptions::WideSearch::kAlways},
                                                       {"never", AlignOptions::WideSearch::kNever}};
@@ -92,9 +93,10 @@ AlignOptionEntry Domain(const char* name) {
 
 const std::vector<AlignOptionEntry>& AlignOptionKeys() {
   static const std::vector<AlignOptionEntry> keys = {
-      {{"cost", "one of axial, volume",
-        "axial: least squares on the vertical gaps at the nodes (rho'_d); volume: rho_d per "
-        "unit overlap area"},
+      {{"cost", "one of auto, volume, axial, axial_sparser",
+        "auto: volume, or axial_sparser for terrain of two resolutions (2.5 x apart in area per sample, of mixed "
+        "curvature); volume: rho_d per unit overlap area; axial: least squares on the vertical gaps at both "
+        "surfaces' nodes (rho'_d); axial_sparser: the axial cost at the sparser surface's nodes only"},
        [](const Value& v, AlignOptions* o) { o->cost = Choice(v, kCosts); },
        [](const AlignOptions& o) { return NameOf(o.cost, kCosts); }},
       {{"prealign", "true or false",
@@ -147,10 +149,6 @@ const std::vector<AlignOptionEntry>& AlignOptionKeys() {
         "volume cost: weight by f / (f + local interpolation gap), f = this x its median; 0 = off"},
        [](const Value& v, AlignOptions* o) { o->gap_weight = Number(v, 0, 100); },
        [](const AlignOptions& o) { return Text(o.gap_weight); }},
-      {{"axial_nodes", "one of both, sparser",
-        "axial cost: residuals at both surfaces' nodes, or only at the sparser surface's (different resolutions)"},
-       [](const Value& v, AlignOptions* o) { o->axial_nodes = Choice(v, kAxialNodes); },
-       [](const AlignOptions& o) { return NameOf(o.axial_nodes, kAxialNodes); }},
       {{"density_correction", "0 or a number in [1, 1e6]",
         "correct the sparser surface's chords for its curvature when its area per sample is this many times the "
         "other's; 0 = off"},
@@ -160,15 +158,6 @@ const std::vector<AlignOptionEntry>& AlignOptionKeys() {
          o->density_correction = r;
        },
        [](const AlignOptions& o) { return Text(o.density_correction); }},
-      {{"sparser_nodes_ratio", "0 or a number in [1, 1e6]",
-        "cost volume: surfaces this many times apart in area per sample, of mixed curvature (terrain), are solved "
-        "with the axial cost at the sparser one's nodes; 0 = never"},
-       [](const Value& v, AlignOptions* o) {
-         const double r = Number(v, 0, 1e6);
-         if (r != 0 && r < 1) Reject(v);
-         o->sparser_nodes_ratio = r;
-       },
-       [](const AlignOptions& o) { return Text(o.sparser_nodes_ratio); }},
       {{"free", "a list of rx, ry, rz, tx, ty, tz, rotation, translation, all",
         "the parameters the solver may change (the others keep their initial value)"},
        [](const Value& v, AlignOptions* o) { o->free = FreeParameters(v); },

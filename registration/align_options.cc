@@ -101,14 +101,14 @@ bool AlignOptions::IsValid(std::string* error) const {
       }
     }
   }
-  if (cost == CostKind::kVolume && trim_fraction > 0) return fail("trim_fraction applies to the axial cost only");
+  if ((cost == CostKind::kVolume || cost == CostKind::kAuto) && trim_fraction > 0) {
+    return fail("trim_fraction applies to cost axial or axial_sparser only");
+  }
   if (num_threads < 1) return fail("threads must be >= 1");
   if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");
   if (!(gap_weight >= 0 && gap_weight <= 100)) return fail("gap_weight must be in [0, 100]");
   if (!(density_correction == 0 || (density_correction >= 1 && density_correction <= 1e6)))
     return fail("density_correction must be 0 (off) or a ratio in [1, 1e6]");
-  if (!(sparser_nodes_ratio == 0 || (sparser_nodes_ratio >= 1 && sparser_nodes_ratio <= 1e6)))
-    return fail("sparser_nodes_ratio must be 0 (never) or a ratio in [1, 1e6]");
   if (!(holdout_fraction >= 0 && holdout_fraction < 0.9)) return fail("holdout must be in [0, 0.9)");
   if (!(stable.grow_sigmas > 0 && stable.seed_sigmas >= stable.grow_sigmas && std::isfinite(stable.seed_sigmas))) {
     return fail("stable_sigmas must be finite and at least stable_grow_sigmas, which must be > 0");

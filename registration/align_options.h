@@ -23,7 +23,23 @@
 
 namespace surfreg {
 
-enum class CostKind { kAxial, kVolume };
+// The cost the solve minimizes (AlignOptions::cost).
+//   kAuto: the volume cost, except for terrain of two resolutions (one
+//     surface has at least kSparserNodesRatio times the other's area per
+//     sample and its curvature changes sign from place to place), which is
+//     solved as kAxialSparser. Terrain sampled 3 : 1: errors 0.78 × / 0.76 ×
+//     the volume cost's, 4 : 1: 0.63 × / 0.64 ×; 2 : 1: 1.11 × / 1.17 ×
+//     (docs/registration.md), hence 2.5 between.
+//   kVolume: ρd per unit overlap area, whatever the data.
+//   kAxial: least squares on the vertical gaps at both surfaces' nodes (ρ'd).
+//   kAxialSparser: the axial cost at the sparser surface's nodes only (by
+//     area per sample), each against the denser interpolation, with no slope
+//     or gap weight: for DEMs or clouds of different resolutions, where the
+//     sparser interpolation's own error would fill the cost. Not for faces,
+//     where the vertical gaps on steep flanks make it worse.
+// An explicit choice is always solved as given.
+enum class CostKind { kAuto, kVolume, kAxial, kAxialSparser };
+inline constexpr double kSparserNodesRatio = 2.5;
 enum class LossKind { kNone, kHuber, kSoftL1, kCauchy };
 
 // The Ceres options Align starts from (AlignOptions::axial_solver and
@@ -40,10 +56,10 @@ ceres::GradientProblemSolver::Options DefaultVolumeSolverOptions();
 inline constexpr std::array<const char*, 6> kParameterNames = {"rx", "ry", "rz", "tx", "ty", "tz"};
 
 struct AlignOptions {
-  // The volume cost is the default: on two different samplings of one
+  // The volume cost is the default's: on two different samplings of one
   // surface its minimum lies closer to the true motion than the axial
   // cost's (measured: tests/align_test.cc, docs/registration.md).
-  CostKind cost = CostKind::kVolume;
+  CostKind cost = CostKind::kAuto;
   // Volume cost: first solve with the axial cost (trust region, fast and
   // with a wide basin) on the coarsest level, subsampled to at most about
   // 5000 points of each surface (it only has to land in the volume cost's
@@ -89,24 +105,6 @@ struct AlignOptions {
   // Clean faces sampled 4 : 1: translation errors 5-8 × smaller
   // (docs/registration.md). The reported measures stay on the data as sampled.
   double density_correction = 1.2;
-  // The axial cost's residuals: at both surfaces' nodes (ρ'd), or only at
-  // the sparser surface's (by area per sample), each against the denser
-  // interpolation: for two DEMs or clouds of different resolutions, where
-  // the sparser interpolation's own error would fill the cost (terrain
-  // sampled 4 : 1: errors 0.63 × / 0.64 × the default volume cost's;
-  // docs/registration.md). Not for faces, where the vertical gaps on steep
-  // flanks make it worse. With `cost: axial` only.
-  enum class AxialNodes { kBoth, kSparser };
-  AxialNodes axial_nodes = AxialNodes::kBoth;
-  // With `cost: volume`: when one surface has at least this many times the
-  // other's area per sample and its curvature changes sign from place to
-  // place (terrain: density_correction's one-sign share below 60%, so that
-  // check must be on), the solve uses the axial cost at the sparser
-  // surface's nodes instead (axial_nodes: sparser; no slope or gap weight).
-  // Terrain sampled 3 : 1: errors 0.78 × / 0.76 × the volume cost's, 4 : 1:
-  // 0.63 × / 0.64 ×; 2 : 1: 1.11 × / 1.17 × (docs/registration.md), hence
-  // 2.5 between. 0 = never.
-  double sparser_nodes_ratio = 2.5;
   // Which of rx, ry, rz, tx, ty, tz the solver may change; the others keep
   // their initial value.
   std::array<bool, 6> free = {true, true, true, true, true, true};

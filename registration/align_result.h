@@ -73,8 +73,8 @@ struct AlignResult {
   double density_ratio = 1;
   std::string chord_correction = "none";
   // The cost the solve minimized: "volume", "axial", or "axial at the
-  // sparser surface's nodes" (AlignOptions::sparser_nodes_ratio or
-  // axial_nodes: sparser).
+  // sparser surface's nodes" (cost axial_sparser, or auto on terrain of two
+  // resolutions).
   std::string solve_cost = "volume";
   // The sum of both surfaces' interpolation gaps (per surface: the mean
   // vertical distance from a sample to the least-squares plane through its

@@ -169,7 +169,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   // The first classification on the gaps less the rigid correction most of
   // the overlap agrees on (rigid_consensus.h): the first fit is pulled by
   // what changed, which would blur the change in its gaps.
-  const bool sparser = result.solve_cost != "volume" && options.cost == CostKind::kVolume;
+  const bool sparser = result.solve_cost != "volume" && options.cost == CostKind::kAuto;
   AlignResult last = result;
   GapField gaps = GapsAt(reference, moving, result.matrix, options);
   const ConsensusFit consensus = RigidConsensus(reference, adjacency, gaps.dz, eligible);
@@ -192,8 +192,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   while (stable.rounds < rule.max_rounds && stable.stable_samples >= min_samples) {
     AlignOptions round = RoundOptions(options, last);
     if (sparser) {
-      round.cost = CostKind::kAxial;
-      round.axial_nodes = AlignOptions::AxialNodes::kSparser;
+      round.cost = CostKind::kAxialSparser;
     }
     AlignResult next = AlignMotionOnly(Weighted(reference, user, stable), moving, round);
     if (next.verdict == Verdict::kFailed) break;
@@ -220,8 +219,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
     final_options.weight = WeightMode::kPerPoint;
     final_options.mask.clear();
     if (sparser) {
-      final_options.cost = CostKind::kAxial;
-      final_options.axial_nodes = AlignOptions::AxialNodes::kSparser;
+      final_options.cost = CostKind::kAxialSparser;
     }
     AlignResult final_result = Align(Weighted(reference, user, stable), moving, final_options);
     if (final_result.verdict != Verdict::kFailed || result.verdict == Verdict::kFailed) {

@@ -93,7 +93,7 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
       out->reference = shared ? std::move(*shared)
                               : PrepareReference(reference, keep, options.domain);  // weights kept per point
       if (options.weight != WeightMode::kPerPoint) out->reference.weight.clear();
-      if (options.cost == CostKind::kVolume) {
+      if (options.cost == CostKind::kVolume || options.cost == CostKind::kAuto) {
         ApplySlopeWeight(options.slope_weight, &out->reference);
         ApplyGapWeight(options.gap_weight, &out->reference);
       }
@@ -114,8 +114,8 @@ bool SparserNodesChosen(const Level& finest, const AlignOptions& options) {
   const DensityCorrection& density = finest.density;
   // A density check that ran (share > 0) and found the curvature mixed.
   const bool mixed = density.one_sign_share > 0 && !density.applied;
-  return options.cost == CostKind::kVolume && options.sparser_nodes_ratio > 0 &&
-         density.ratio >= options.sparser_nodes_ratio && mixed && options.weight != WeightMode::kPerPoint;
+  return options.cost == CostKind::kAuto && density.ratio >= kSparserNodesRatio && mixed &&
+         options.weight != WeightMode::kPerPoint;
 }
 
 SolveContext MakeContext(const AlignOptions* options, bool sparser_nodes,
@@ -123,9 +123,9 @@ SolveContext MakeContext(const AlignOptions* options, bool sparser_nodes,
   const Level& finest = *levels.back();
   SolveContext context;
   context.options = options;
-  context.solve_cost = sparser_nodes ? CostKind::kAxial : options->cost;
-  context.sparser_nodes = sparser_nodes || (options->cost == CostKind::kAxial &&
-                                            options->axial_nodes == AlignOptions::AxialNodes::kSparser);
+  context.sparser_nodes = sparser_nodes || options->cost == CostKind::kAxialSparser;
+  context.solve_cost =
+      context.sparser_nodes || options->cost == CostKind::kAxial ? CostKind::kAxial : CostKind::kVolume;
   if (sparser_nodes) {
     for (const auto& level : levels) level->reference.weight.clear();  // the slope and gap weights
   }

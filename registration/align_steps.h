@@ -59,10 +59,10 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
                                                   const MeasureOptions* measure_options = nullptr,
                                                   std::unique_ptr<MeasureReference>* measure_reference = nullptr);
 
-// AlignOptions::sparser_nodes_ratio: with the volume cost, surfaces of
-// different densities whose curvature changes sign (the finest level's
-// density check) are solved with the axial cost at the sparser surface's
-// nodes (per-point weights: never).
+// cost auto (align_options.h CostKind): surfaces kSparserNodesRatio or more
+// apart in density whose curvature changes sign (the finest level's density
+// check) are solved with the axial cost at the sparser surface's nodes
+// (per-point weights: never).
 bool SparserNodesChosen(const Level& finest, const AlignOptions& options);
 
 // The solve's context: the options, and what the solve runs resolved from

@@ -76,7 +76,7 @@ struct AxialSettings {
   bool normal_distance = false;
   // Which surfaces' nodes give residuals: both (ρ'd), or only one, e.g. the
   // sparser one's samples against the denser interpolation
-  // (AlignOptions::axial_nodes).
+  // (CostKind::kAxialSparser).
   bool reference_nodes = true;
   bool moving_nodes = true;
 };

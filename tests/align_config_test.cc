@@ -54,7 +54,7 @@ TEST(AlignConfig, DefaultsAreAlignOptionsDefaults) {
   const AlignOptions defaults;
   EXPECT_EQ(config.options.cost, defaults.cost);
   EXPECT_EQ(AlignConfigValue(config, "cost"),
-            defaults.cost == CostKind::kAxial ? "axial" : "volume");
+            defaults.cost == CostKind::kAuto ? "auto" : "not the default");
   EXPECT_EQ(AlignConfigValue(config, "loss"), "none");
   EXPECT_EQ(AlignConfigValue(config, "trust_region"), "levenberg_marquardt");
   EXPECT_EQ(AlignConfigValue(config, "line_search"), "lbfgs");
@@ -145,8 +145,6 @@ normal_distance: false
 slope_weight: 1.5
 gap_weight: 0.7
 density_correction: 2.5
-sparser_nodes_ratio: 3.5
-axial_nodes: sparser
 weights: per_point
 domain: hull
 domain_max_edge_spacings: 4.5
@@ -187,8 +185,6 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(o.slope_weight, 1.5);
   EXPECT_EQ(o.gap_weight, 0.7);
   EXPECT_EQ(o.density_correction, 2.5);
-  EXPECT_EQ(o.sparser_nodes_ratio, 3.5);
-  EXPECT_EQ(o.axial_nodes, AlignOptions::AxialNodes::kSparser);
   EXPECT_TRUE(c.per_point_weights);
   EXPECT_EQ(o.domain.kind, DomainKind::kHull);
   EXPECT_EQ(o.domain.max_edge_spacings, 4.5);
@@ -378,7 +374,7 @@ TEST(AlignConfigErrors, WrongTypeNamesKeyLineTypeAndValue) {
 
 TEST(AlignConfigErrors, UnknownEnumValueListsTheAllowed) {
   EXPECT_TRUE(Contains(YamlError("cost: axail"),
-                       "t.yaml:1: key 'cost' expects one of axial, volume, got 'axail'"));
+                       "t.yaml:1: key 'cost' expects one of auto, volume, axial, axial_sparser, got 'axail'"));
   EXPECT_TRUE(Contains(YamlError("loss: l1"), "expects one of none, huber, soft_l1, cauchy"));
   EXPECT_TRUE(Contains(YamlError("trust_region: lm"), "one of levenberg_marquardt, dogleg"));
   EXPECT_TRUE(Contains(FlagError("line_search", "cg"),

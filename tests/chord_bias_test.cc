@@ -180,7 +180,7 @@ TEST(ChordBiasTest, AlignOfAFacePairSampledFourToOne) {
   ASSERT_EQ(corrected.verdict, Verdict::kConvergedImproved);
   EXPECT_EQ(plain.chord_correction, "none");
   EXPECT_EQ(corrected.chord_correction, "moving");
-  // Curved one way: the volume cost stays (sparser_nodes_ratio is for terrain).
+  // Curved one way: the volume cost stays (the automatic switch is for terrain).
   EXPECT_EQ(corrected.solve_cost, "volume");
   EXPECT_EQ(plain.solve_cost, "volume");
   EXPECT_NEAR(corrected.density_ratio, 4.0, 0.6);
@@ -255,7 +255,7 @@ TEST(AxialNodesTest, TheSparserSurfacesNodesAlignTerrainOfTwoResolutions) {
   AlignOptions options;
   options.cost = CostKind::kAxial;
   const AlignResult at_both = Align(a, b, options);
-  options.axial_nodes = AlignOptions::AxialNodes::kSparser;
+  options.cost = CostKind::kAxialSparser;
   const AlignResult at_sparser = Align(a, b, options);
   ASSERT_EQ(at_both.verdict, Verdict::kConvergedImproved);
   ASSERT_EQ(at_sparser.verdict, Verdict::kConvergedImproved);
@@ -269,20 +269,30 @@ TEST(AxialNodesTest, TheSparserSurfacesNodesAlignTerrainOfTwoResolutions) {
   EXPECT_EQ(at_sparser.solve_cost, "axial at the sparser surface's nodes");
   EXPECT_EQ(at_both.solve_cost, "axial");
 
-  // The default (volume cost) chooses the same for terrain 4 : 1, mixed
+  // The default (cost auto) chooses the same for terrain 4 : 1, mixed
   // curvature: the same motion as asked for explicitly.
   const AlignResult automatic = Align(a, b);
   EXPECT_EQ(automatic.solve_cost, "axial at the sparser surface's nodes");
   EXPECT_GT(automatic.density_ratio, 3.5);
   EXPECT_TRUE((automatic.matrix - at_sparser.matrix).cwiseAbs().maxCoeff() < 1e-12)
       << automatic.matrix << "\n" << at_sparser.matrix;
-  AlignOptions never;
-  never.sparser_nodes_ratio = 0;
-  const AlignResult volume = Align(a, b, never);
-  EXPECT_EQ(volume.solve_cost, "volume");
-  AlignOptions above;
-  above.sparser_nodes_ratio = 1.1 * automatic.density_ratio;
-  EXPECT_EQ(Align(a, b, above).solve_cost, "volume");
+  // An explicit volume cost is never replaced.
+  AlignOptions volume_cost;
+  volume_cost.cost = CostKind::kVolume;
+  EXPECT_EQ(Align(a, b, volume_cost).solve_cost, "volume");
+}
+
+// Below kSparserNodesRatio the automatic choice stays with the volume cost:
+// terrain sampled 2 : 1 (below 2.5).
+TEST(AxialNodesTest, TerrainCloseInResolutionKeepsTheVolumeCost) {
+  const auto dense = testing::SampleUniform(testing::SmoothTerrain, 2000, 0, 100, 0, 100, 53);
+  const auto sparse = testing::SampleUniform(testing::SmoothTerrain, 1000, 0, 100, 0, 100, 54);
+  const Surface a = MakeSurface(dense, {}, "dense");
+  const Surface b = MakeSurface(sparse, {}, "sparse");
+  const AlignResult automatic = Align(a, b);
+  EXPECT_LT(automatic.density_ratio, kSparserNodesRatio);
+  EXPECT_GT(automatic.density_ratio, 1.5);
+  EXPECT_EQ(automatic.solve_cost, "volume");
 }
 
 TEST(ChordBiasTest, RatiosBelowOneAreRefused) {
@@ -295,10 +305,11 @@ TEST(ChordBiasTest, RatiosBelowOneAreRefused) {
   EXPECT_TRUE(options.IsValid(&error)) << error;
   options.density_correction = 1;
   EXPECT_TRUE(options.IsValid(&error)) << error;
-  options.sparser_nodes_ratio = 0.9;
+  // trim_fraction trims the axial residuals: refused with a volume cost.
+  options.trim_fraction = 0.1;
   EXPECT_FALSE(options.IsValid(&error));
-  EXPECT_NE(error.find("sparser_nodes_ratio"), std::string::npos) << error;
-  options.sparser_nodes_ratio = 0;
+  EXPECT_NE(error.find("trim_fraction"), std::string::npos) << error;
+  options.cost = CostKind::kAxialSparser;
   EXPECT_TRUE(options.IsValid(&error)) << error;
 }
 

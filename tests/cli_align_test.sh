@@ -310,18 +310,12 @@ else
     fail "align REF QUARTER: no 'solved with:' line in the summary"
   check "two resolutions: the sparser nodes' cost, known motion recovered" "
 r = load('$tmp/quarter.json')
-assert r['cost'] == 'volume' and r['solve_cost'] == \"axial at the sparser surface's nodes\", r['solve_cost']
+assert r['cost'] == 'auto' and r['solve_cost'] == \"axial at the sparser surface's nodes\", r['solve_cost']
 assert r['density_ratio'] > 4, r['density_ratio']
 assert r['verdict'] == 'converged_improved', (r['verdict'], r['verdict_reason'])
 angle, shift = motion_error(r['matrix'], expected('$tmp/quarter.xyz'), [(0, 0, 100), (860, 600, 100)])
 print('  quarter: rotation off by %.5f deg, points off by %.3g' % (angle, shift))
 assert angle < 0.05 and shift < 1.0, (angle, shift)
-"
-  run align "$ref" "$tmp/quarter.xyz" --sparser_nodes_ratio=0 --json
-  cp "$tmp/stdout" "$tmp/quarter0.json"
-  check "sparser_nodes_ratio=0 keeps the volume cost" "
-r = load('$tmp/quarter0.json')
-assert r['solve_cost'] == 'volume', r['solve_cost']
 "
   run align "$ref" "$tmp/quarter.xyz" --cost=volume --json
   cp "$tmp/stdout" "$tmp/quarter_volume.json"
@@ -329,12 +323,18 @@ assert r['solve_cost'] == 'volume', r['solve_cost']
 r = load('$tmp/quarter_volume.json')
 assert r['cost'] == 'volume' and r['solve_cost'] == 'volume', r['solve_cost']
 "
-  run align "$ref" "$tmp/quarter.xyz" --cost=volume --sparser_nodes_ratio=2.5 --json
-  cp "$tmp/stdout" "$tmp/quarter_both.json"
-  check "an explicit cost with an explicit sparser_nodes_ratio switches" "
-r = load('$tmp/quarter_both.json')
-assert r['solve_cost'] == \"axial at the sparser surface's nodes\", r['solve_cost']
+  run align "$ref" "$tmp/quarter.xyz" --cost=axial_sparser --json
+  cp "$tmp/stdout" "$tmp/quarter_sparser.json"
+  check "an explicit --cost=axial_sparser gives the automatic choice's motion" "
+r = load('$tmp/quarter_sparser.json'); q = load('$tmp/quarter.json')
+assert r['cost'] == 'axial_sparser' and r['solve_cost'] == \"axial at the sparser surface's nodes\", r['solve_cost']
+assert max(abs(x - y) for a, b in zip(r['matrix'], q['matrix']) for x, y in zip(a, b)) < 1e-12
 "
+  run align "$ref" "$tmp/quarter.xyz" --sparser_nodes_ratio=0
+  checks=$((checks + 1))
+  if [[ $rc -ne 2 ]] || ! grep -qF "unknown flag '--sparser_nodes_ratio=0' (replaced by cost: auto, which" "$tmp/stderr"; then
+    fail "a retired key does not say what replaced it: $(cat "$tmp/stderr")"
+  fi
 fi
 
 # --- an exclude mask with a hole: GeoJSON (OGR) and text give one alignment ---

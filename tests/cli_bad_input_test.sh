@@ -105,6 +105,10 @@ expect_error "fewer_declared_ascii.ply:58: a line of data after the 50 vertices"
 expect_error "far.xyz and good.xyz do not overlap" measure far.xyz good.xyz
 expect_error "sliver.xyz and good.xyz overlap only in a sliver" measure sliver.xyz good.xyz
 expect_error "missing.xyz: cannot open" measure missing.xyz good.xyz
+# measure's keys are the library's table (measure/measure_keys.h): its messages.
+expect_error "flag '--volume' expects one of overlay, union, got 'uni'" measure good.xyz good.xyz --volume=uni
+expect_error "flag '--min_overlap_fraction' expects a number in [0, 1], got '2'" \
+  measure good.xyz good.xyz --min_overlap_fraction=2
 
 # Duplicate xy with different heights: accepted, heights averaged, counted and warned about.
 run measure duplicates.xyz good.xyz --json

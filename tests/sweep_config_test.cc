@@ -181,7 +181,7 @@ TEST(SweepConfig, BadCombinationNamesTheSetting) {
       "s.yaml");
   EXPECT_TRUE(
       Contains(ErrorOf([&] { PlanSweep(c); }),
-               "s.yaml:5: key 'sweep.trim_fraction': trim_fraction applies to the axial cost only "
+               "s.yaml:5: key 'sweep.trim_fraction': trim_fraction applies to cost axial or axial_sparser only "
                "(setting 3: cost=volume, trim_fraction=0.1)"));
 }
 

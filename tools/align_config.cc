@@ -69,9 +69,7 @@ const config_table::Table<AlignConfig>& Table() {
       Option("normal_distance"),
       Option("slope_weight"),
       Option("gap_weight"),
-      Option("axial_nodes"),
       Option("density_correction"),
-      Option("sparser_nodes_ratio"),
       Option("free"),
       Option("levels"),
       Option("level_factor"),
@@ -300,12 +298,6 @@ void FinishAlignConfig(AlignConfig* config) {
       }
     }
     config->options.weight = WeightMode::kPerPoint;
-  }
-  // An explicit cost is solved as given: the switch to the sparser nodes'
-  // axial cost on terrain of two resolutions applies to the default only,
-  // unless sparser_nodes_ratio is given too.
-  if (config->origin.count("cost") != 0 && config->origin.count("sparser_nodes_ratio") == 0) {
-    config->options.sparser_nodes_ratio = 0;
   }
   for (const char* key : {"mask_mode", "mask_layer"}) {
     if (config->mask.empty() && config->origin.count(key) != 0 &&

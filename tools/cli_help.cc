@@ -2,12 +2,14 @@
 
 #include <gflags/gflags.h>
 
+#include <algorithm>
 #include <set>
 #include <sstream>
 #include <vector>
 
 #include "tools/align_config.h"
 #include "tools/jaw_config.h"
+#include "measure/measure_keys.h"
 #include "tools/measure_run.h"
 
 namespace surfreg {
@@ -94,8 +96,17 @@ std::string CommandKeysHelp(const std::string& command, const std::string& flags
       keys.push_back({key.name, key.type, JawConfigValue(defaults, key.name), key.help});
     }
   } else if (command == "measure") {
+    static const MeasureOptions measure_defaults;
     for (const std::string& name : MeasureKeys()) {
-      // Most are align's keys; measure's own flags (volume, weights) come first.
+      // The library's measure keys, as the table defines them (weights: the
+      // CLI's flag, which also takes mask:FILE); then the CLI's own flags
+      // and align's keys.
+      const auto library = std::find_if(MeasureOptionKeys().begin(), MeasureOptionKeys().end(),
+                                        [&name](const MeasureOptionEntry& e) { return name == e.key.name; });
+      if (library != MeasureOptionKeys().end() && name != "weights") {
+        keys.push_back({name, library->key.type, library->get(measure_defaults), library->key.help});
+        continue;
+      }
       Entry flag;
       gflags::CommandLineFlagInfo info;
       const bool own = gflags::GetCommandLineFlagInfo(name.c_str(), &info) &&

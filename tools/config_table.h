@@ -46,10 +46,8 @@ class Table {
 
   // "unknown key 'x' (did you mean 'y'?)", or the list of known keys.
   std::string UnknownKeyMessage(const std::string& name) const {
-    const std::string nearest = Nearest(name);
-    if (!nearest.empty()) {
-      return "unknown key " + io_internal::Quote(name) + " (did you mean '" + nearest + "'?)";
-    }
+    const std::string hint = UnknownKeyHint(name, names_);
+    if (!hint.empty()) return "unknown key " + io_internal::Quote(name) + hint;
     std::string known;
     for (const std::string& key : names_) known += (known.empty() ? "" : ", ") + key;
     return "unknown key " + io_internal::Quote(name) + " (known keys: " + known + ")";

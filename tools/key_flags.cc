@@ -7,6 +7,7 @@
 #include <deque>
 #include <map>
 
+#include "measure/measure_keys.h"
 #include "tools/align_config.h"
 
 namespace surfreg {
@@ -55,6 +56,18 @@ void RegisterKeyFlags() {
       gflags::FlagRegisterer(key.name, help, kFlagFile, current, &s.strings.back());
       s.by_name[key.name] = current;
     }
+  }
+  // measure's keys that align does not have (volume, min_overlap_fraction):
+  // string flags, "" = not given; their values are checked by the table.
+  for (const MeasureOptionEntry& entry : MeasureOptionKeys()) {
+    gflags::CommandLineFlagInfo existing;
+    if (gflags::GetCommandLineFlagInfo(entry.key.name, &existing)) continue;
+    s.help.push_back(std::string("measure: ") + entry.key.help);
+    s.strings.emplace_back();
+    std::string* current = &s.strings.back();
+    s.strings.emplace_back();
+    gflags::FlagRegisterer(entry.key.name, s.help.back().c_str(), kFlagFile, current, &s.strings.back());
+    s.by_name[entry.key.name] = current;
   }
 }
 

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "measure/input_error.h"
+#include "measure/measure_keys.h"
 #include "terrain/terrain_keys.h"
 #include "io/atomic_file.h"
 #include "tools/config_value.h"
@@ -35,15 +36,19 @@ constexpr const char* kTerrainKeys[] = {"reference_crs", "moving_crs",      "fra
                                         "band",          "window",          "lod",
                                         "sigma_reference", "sigma_moving", "lod_confidence",
                                         "classes",       "columns",         "dod"};
-constexpr const char* kDomainKeys[] = {"domain", "domain_max_edge_spacings", "domain_min_thinness"};
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-VolumeMode ParseVolumeMode(const std::string& value, const std::string& where) {
-  if (value == "overlay") return VolumeMode::kOverlay;
-  if (value == "union") return VolumeMode::kUnion;
-  throw InputError("bad value " + io_internal::Quote(value) + " for " + where +
-                   " (expected overlay or union)");
+// The library's measure keys that the CLI reads as they are (volume,
+// min_overlap_fraction, the domain keys): one definition for flags and
+// Python (measure/measure_keys.h). `weights` also takes mask:FILE here,
+// and `lod` is read with the terrain settings.
+bool LibraryKey(const std::string& key) {
+  if (key == "weights" || key == "lod") return false;
+  for (const MeasureOptionEntry& entry : MeasureOptionKeys()) {
+    if (key == entry.key.name) return true;
+  }
+  return false;
 }
 
 // weights = uniform | per_point | mask:POLYGON_FILE
@@ -170,9 +175,11 @@ std::string PartSettings(const MeasureReport& report, const std::vector<Setting>
 
 const std::vector<std::string>& MeasureKeys() {
   static const std::vector<std::string> keys = [] {
-    std::vector<std::string> out = {"volume", "weights", "mask_mode", "mask_layer", "tile",
-                                    "max_memory"};
-    out.insert(out.end(), std::begin(kDomainKeys), std::end(kDomainKeys));
+    std::vector<std::string> out;
+    for (const MeasureOptionEntry& entry : MeasureOptionKeys()) {
+      if (std::string(entry.key.name) != "lod") out.push_back(entry.key.name);
+    }
+    for (const char* key : {"mask_mode", "mask_layer", "tile", "max_memory"}) out.push_back(key);
     out.insert(out.end(), std::begin(kTerrainKeys), std::end(kTerrainKeys));
     return out;
   }();
@@ -190,14 +197,13 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   // Settings first: a bad value is reported before any file is read.
   MeasureOptions& options = report.options;
   options.on_progress = on_progress;
-  const Setting* volume = Find(settings, "volume");
-  options.volume = volume ? ParseVolumeMode(volume->value, volume->where) : VolumeMode::kOverlay;
-  AlignConfig domain;  // align's domain keys: the same values, defaults and messages
-  for (const char* key : kDomainKeys) {
-    const Setting* s = Find(settings, key);
-    if (s != nullptr && !s->value.empty()) ApplyAlignSetting(key, s->value, s->where, &domain);
+  for (const Setting& s : settings) {  // in order: the last setting of a key wins
+    if (!LibraryKey(s.key)) continue;
+    config_value::Value value;
+    value.text = s.value;
+    value.where = s.where;
+    SetOption(MeasureOptionKeys(), s.key, std::move(value), &options);
   }
-  options.domain = domain.options.domain;
   if (const Setting* s = Find(settings, "mask_layer")) report.mask_layer = s->value;
   if (const Setting* s = Find(settings, "mask_mode")) {
     if (s->value == "exclude") {

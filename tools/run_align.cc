@@ -86,7 +86,9 @@ void PrintSummary(const AlignConfig& config, const TerrainInputs& inputs, const 
   };
   std::printf("reference:    %s%s\n", config.reference.c_str(), points(reference).c_str());
   std::printf("moving:       %s%s\n", config.moving.c_str(), points(moving).c_str());
-  std::printf("cost:         %s, free %s\n", AlignConfigValue(config, "cost").c_str(),
+  // `auto` says what it chose.
+  const std::string cost = AlignConfigValue(config, "cost");
+  std::printf("cost:         %s, free %s\n", (cost == "auto" ? "auto (" + r.solve_cost + ")" : cost).c_str(),
               AlignConfigValue(config, "free").c_str());
   std::fputs(r.FullReport(LengthUnit(inputs)).c_str(), stdout);
   for (const char* key : {"output", "matrix_txt", "aligned", "log"}) {

@@ -28,12 +28,8 @@
 #include "terrain/change_uncertainty.h"
 
 // The run itself is tools/measure_run.cc (shared with the Python module);
-// its settings are these flags and the align keys of MeasureKeys(), found
-// by name (tools/run_align.cc defines those).
-DEFINE_string(volume, "overlay",
-              "measure: how the volume between the surfaces is integrated: overlay (exact, on "
-              "the common refinement of the two triangulations) or union (the paper's, on the "
-              "triangulation of A and B together)");
+// its settings are these flags, the library's measure keys and the align
+// keys of MeasureKeys(), found by name (tools/key_flags.cc makes those).
 DEFINE_bool(quiet, false, "measure, align, sweep, transform, asymmetry, jaw: no progress lines on stderr (errors and warnings still)");
 DEFINE_string(weights, "uniform",
               "measure, align: the weight of the integrals: uniform, per_point (the samples' weights, "

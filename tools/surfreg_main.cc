@@ -7,6 +7,7 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -18,6 +19,7 @@
 #include "tools/align_config.h"
 #include "tools/cli_help.h"
 #include "tools/commands.h"
+#include "tools/measure_run.h"
 #include "io/interrupt.h"
 #include "tools/jaw_config.h"
 #include "tools/key_flags.h"
@@ -45,6 +47,11 @@ bool IsAlignKey(const std::string& name) {
   return false;
 }
 
+bool IsMeasureKey(const std::string& name) {
+  const std::vector<std::string>& keys = MeasureKeys();
+  return std::find(keys.begin(), keys.end(), name) != keys.end();
+}
+
 bool IsJawKey(const std::string& name) {
   for (const JawConfigKey& key : JawConfigKeys()) {
     if (name == key.name) return true;
@@ -58,17 +65,15 @@ const Command kCommands[] = {
      "json domain domain_max_edge_spacings domain_min_thinness", nullptr},
     {"measure", RunMeasure,
      "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:FILE] "
-     "[--mask_mode=include|exclude] [--mask_layer=NAME] [--domain=data|hull] [--lod=L] [--reference_crs=CRS] [--moving_crs=CRS] "
+     "[--mask_mode=include|exclude] [--mask_layer=NAME] [--domain=data|hull] [--min_overlap_fraction=F] [--lod=L] "
+     "[--reference_crs=CRS] [--moving_crs=CRS] "
      "[--frame=auto|enu|utm] [--band=N] [--window=C,R,W,H] [--sigma_reference=S|RASTER] "
      "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--classes=C,...] [--columns=X,Y,Z] "
      "[--tile=N | --max_memory=SIZE] [--shard=K/N --partial=P.json] [--resume] [--dod=DOD.tif] "
      "[--json] [--quiet]",
      "compare surface B with A in one metric frame: volume between them (rho_d), mean gap, "
      "cut/fill (with propagated uncertainty when each DEM's sigma is given), timings",
-     "json volume weights mask_mode mask_layer domain domain_max_edge_spacings domain_min_thinness "
-     "reference_crs moving_crs frame band window lod sigma_reference sigma_moving lod_confidence "
-     "classes columns quiet tile max_memory dod shard partial resume",
-     nullptr},
+     "json quiet shard partial resume", IsMeasureKey},
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json] [--quiet]",
      "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary",
@@ -147,8 +152,7 @@ std::string UnknownFlag(const std::string& arg, const std::string& name) {
   for (const gflags::CommandLineFlagInfo& info : flags) {
     if (OwnFlag(info)) names.push_back(info.name);
   }
-  const std::string nearest = NearestKey(name, names);
-  return "unknown flag '" + arg + "'" + (nearest.empty() ? "" : " (did you mean '--" + nearest + "'?)");
+  return "unknown flag '" + arg + "'" + UnknownKeyHint(name, names, "--");
 }
 
 std::string CommandUsage(const Command& command) {

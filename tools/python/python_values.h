@@ -1,7 +1,7 @@
 #pragma once
 // Python values as the libraries take them: keyword arguments as key values
 // (measure/option_keys.h, so a keyword gets the messages a config key gets,
-// "keyword 'cost' expects one of axial, volume, got 'fast'"), and surfaces
+// "keyword 'cost' expects one of auto, volume, axial, axial_sparser, got 'fast'"), and surfaces
 // given as a file path, a Surface or an (N, 3) / (N, 4) array.
 #include <pybind11/pybind11.h>
 
