@@ -234,14 +234,11 @@ VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation&
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
                            const WeightField& mu, bool parallel, double lod,
                            const OmegaDomains& domains) {
+  // Two halves on one thread or two: the same sums (overlay.h).
   CellIntegrator first(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod, domains);
-  if (!parallel) {
-    ForEachOverlayCell(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, std::ref(first));
-    return first.result;
-  }
   CellIntegrator second(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod, domains);
   ForEachOverlayCellInTwo(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, std::ref(first),
-                          std::ref(second));
+                          std::ref(second), parallel);
   VolumeResult result = first.result;
   result.gap += second.result.gap;
   result.change += second.result.change;

@@ -285,20 +285,29 @@ OverlayStats ForEachOverlayCellInTwo(const std::vector<Point2>& points_a,
                                      const Triangulation& mesh_b,
                                      const std::vector<Location>& b_in_a,
                                      const std::function<void(const OverlayCell&)>& visit_first,
-                                     const std::function<void(const OverlayCell&)>& visit_second) {
+                                     const std::function<void(const OverlayCell&)>& visit_second,
+                                     bool parallel) {
   const int32_t n = mesh_a.num_triangles();
   const int32_t middle = n / 2;
   std::vector<char> done(n, 0);
   OverlayBuilder first(points_a, mesh_a, points_b, mesh_b, done, 0, middle);
   OverlayBuilder second(points_a, mesh_a, points_b, mesh_b, done, middle, n);
   OverlayStats second_stats;
-  std::thread worker([&] {
+  const auto run_second = [&] {
     second.SeedFromLocations(a_in_b, b_in_a);
     second_stats = second.Run(visit_second);
-  });
-  first.SeedFromLocations(a_in_b, b_in_a);
-  OverlayStats stats = first.Run(visit_first);
-  worker.join();
+  };
+  OverlayStats stats;
+  if (parallel) {
+    std::thread worker(run_second);
+    first.SeedFromLocations(a_in_b, b_in_a);
+    stats = first.Run(visit_first);
+    worker.join();
+  } else {
+    first.SeedFromLocations(a_in_b, b_in_a);
+    stats = first.Run(visit_first);
+    run_second();
+  }
   // Triangles reached only across the boundary between the halves.
   OverlayBuilder rest(points_a, mesh_a, points_b, mesh_b, done, 0, n);
   for (const auto* handoff : {&first.handoff(), &second.handoff()}) {

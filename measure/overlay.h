@@ -43,12 +43,16 @@ OverlayStats ForEachOverlayCell(const std::vector<Point2>& points_a, const Trian
                                 const std::vector<Location>& b_in_a,
                                 const std::function<void(const OverlayCell&)>& visit);
 
-// The same cells, visited by two threads, each over half of A's triangles
-// (by index: a spatially coherent half), then the few triangles reached only
-// across the boundary on the calling thread. `visit_first` is called from the
-// calling thread only and `visit_second` from the other thread only, so each
-// may accumulate without locks. Which cells each sees depends only on the
-// input, never on timing.
+// The same cells, in two halves of A's triangles (by index: spatially
+// coherent halves), then the few triangles reached only across the boundary.
+// With `parallel` the second half runs on another thread; without, after the
+// first. Either way `visit_second` sees the second half's cells and
+// `visit_first` the others, each in the same order: which cells each sees and
+// in which order depends only on the input, never on timing or the thread
+// count, so sums made per visitor and added first + second are the same bits
+// on one thread as on two. `visit_first` is called from the calling thread
+// only and `visit_second` from one thread only, so each may accumulate
+// without locks.
 OverlayStats ForEachOverlayCellInTwo(const std::vector<Point2>& points_a,
                                      const Triangulation& mesh_a,
                                      const std::vector<Location>& a_in_b,
@@ -56,6 +60,7 @@ OverlayStats ForEachOverlayCellInTwo(const std::vector<Point2>& points_a,
                                      const Triangulation& mesh_b,
                                      const std::vector<Location>& b_in_a,
                                      const std::function<void(const OverlayCell&)>& visit_first,
-                                     const std::function<void(const OverlayCell&)>& visit_second);
+                                     const std::function<void(const OverlayCell&)>& visit_second,
+                                     bool parallel = true);
 
 }  // namespace surfreg

@@ -143,13 +143,10 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
   auto keep = [](std::vector<std::pair<int32_t, int32_t>>* list) {
     return [list](const OverlayCell& cell) { list->push_back({cell.triangle_a, cell.triangle_b}); };
   };
-  OverlayStats overlay;
-  if (parallel) {
-    overlay = ForEachOverlayCellInTwo(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a,
-                                      keep(&pairs[0]), keep(&pairs[1]));
-  } else {
-    overlay = ForEachOverlayCell(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, keep(&pairs[0]));
-  }
+  // The same two lists on one thread or two (overlay.h): the cells' order,
+  // and so every sum over them, does not depend on the thread count.
+  const OverlayStats overlay = ForEachOverlayCellInTwo(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a,
+                                                       keep(&pairs[0]), keep(&pairs[1]), parallel);
   begin_.assign(na + 1, 0);
   count_.assign(na, 0);
   for (const auto& list : pairs) {

@@ -379,19 +379,15 @@ class VolumeAccumulator {
   bool has_hull_edge_ = false;
 };
 
-// Every cell of the overlay of A and the state's moved B, to `first` (and,
-// with `parallel`, those of the second half of A's triangles to `second`,
-// on another thread; see ForEachOverlayCellInTwo).
+// Every cell of the overlay of A and the state's moved B: those of the
+// second half of A's triangles to `second` (on another thread with
+// `parallel`), the others to `first`; the same split on one thread, so the
+// sums do not depend on the thread count (ForEachOverlayCellInTwo).
 template <class Visitor>
 void ForEachCellOfState(const PairState& state, bool parallel, Visitor& first, Visitor& second) {
   const ReferenceSide& a = state.reference();
-  if (parallel) {
-    ForEachOverlayCellInTwo(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
-                            std::ref(first), std::ref(second));
-  } else {
-    ForEachOverlayCell(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
-                       std::ref(first));
-  }
+  ForEachOverlayCellInTwo(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
+                          std::ref(first), std::ref(second), parallel);
 }
 
 }  // namespace volume_internal

@@ -152,11 +152,14 @@ const VolumeCostCacheStats& VolumeCostCache::stats() const { return impl_->stats
 
 namespace {
 
-// Runs f(lo, hi, part) over [0, n) on one or two threads (fixed split).
+// Runs f(lo, hi, part) over the two halves of [0, n), on two threads or one
+// after the other: the same split either way, so sums made per part and
+// added in order do not depend on the thread count.
 template <class F>
 void Split(int32_t n, bool parallel, F&& f) {
   if (!parallel) {
-    f(0, n, 0);
+    f(0, n / 2, 0);
+    f(n / 2, n, 1);
     return;
   }
   std::thread worker([&] { f(n / 2, n, 1); });
@@ -264,11 +267,9 @@ void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, bool paralle
       Moment& m0 = moments[0][t];
       double w = m0.w, cx = m0.x, cy = m0.y;
       m0 = {0.0, 0.0, 0.0};
-      if (parallel) {  // one thread leaves moments[1] zero: not worth a pass over memory
-        Moment& m1 = moments[1][t];
-        w += m1.w, cx += m1.x, cy += m1.y;
-        m1 = {0.0, 0.0, 0.0};
-      }
+      Moment& m1 = moments[1][t];
+      w += m1.w, cx += m1.x, cy += m1.y;
+      m1 = {0.0, 0.0, 0.0};
       if (w == 0 && cx == 0 && cy == 0) continue;
       const int32_t* v = &mesh_b.triangles[3 * t];
       const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
@@ -288,7 +289,6 @@ void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, bool paralle
     rotation[part] = r;
     translation[part] = tr;
   });
-  if (!parallel) rotation[1] = translation[1] = Eigen::Vector3d::Zero();
   if (binning) {
     for (const PartBins& part : part_bins) {
       for (std::size_t b = 0; b < part.used.size(); ++b) {

@@ -206,12 +206,14 @@ Matrix6 VolumeCostCache::InteriorHessian(const PairState& s, bool parallel) cons
       m.Curvature<false>(s, lo, hi, &parts[part]);
     }
   };
+  // The same halves on one thread: the sum does not depend on the thread count.
   if (parallel) {
     std::thread worker([&] { run(na / 2, na, 1); });
     run(0, na / 2, 0);
     worker.join();
   } else {
-    run(0, na, 0);
+    run(0, na / 2, 0);
+    run(na / 2, na, 1);
   }
   return parts[0] + parts[1];
 }
