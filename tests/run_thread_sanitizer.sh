@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# The tests of the parallel stages under ThreadSanitizer (GCC), in their own
+# build directory (part of .ci/run): the overlay in two halves, the volume
+# cost's cache and Hessian split in two, the location of both clouds side by
+# side, the sandwich's tile sums, and the thread-count determinism tests,
+# each of which runs its stages on two threads. Only these test programs are
+# built, so the step stays short.
+#
+#   bash tests/run_thread_sanitizer.sh          configure, build, run them
+#   SURFREG_TSAN_BUILD_DIR=dir ...              build somewhere else (default build-tsan)
+#
+# Any report (a data race, a lock-order inversion) fails the test that made
+# it (halt_on_error), and the script fails if any test fails.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir="${SURFREG_TSAN_BUILD_DIR:-build-tsan}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+targets=(thread_determinism_test overlay_test overlay_topology_test volume_hessian_test pair_state_test
+         measures_test)
+sanitize="-fsanitize=thread -fno-omit-frame-pointer"
+echo "== configuring the ThreadSanitizer build (GCC, -O1 -g1) in $build_dir"
+cmake -S . -B "$build_dir" \
+  -DCMAKE_BUILD_TYPE=Tsan \
+  -DCMAKE_CXX_COMPILER=g++ \
+  -DCMAKE_CXX_FLAGS_TSAN="-O1 -g1 $sanitize" \
+  -DCMAKE_EXE_LINKER_FLAGS_TSAN="$sanitize" \
+  -DCMAKE_SHARED_LINKER_FLAGS_TSAN="$sanitize" \
+  -DCMAKE_GTEST_DISCOVER_TESTS_DISCOVERY_MODE=PRE_TEST \
+  -DSURFREG_BUILD_BENCHMARKS=OFF -DSURFREG_FUZZ=OFF -DSURFREG_PYTHON=OFF >/dev/null
+echo "== building ${targets[*]}"
+cmake --build "$build_dir" -j "$jobs" --target "${targets[@]}"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+status=0
+for t in "${targets[@]}"; do
+  echo "== $t under ThreadSanitizer"
+  if ! "$build_dir/tests/$t" --gtest_brief=1; then
+    echo "FAIL: $t under ThreadSanitizer" >&2
+    status=1
+  fi
+done
+exit $status
