@@ -8,13 +8,18 @@
 namespace surfreg {
 namespace {
 
-// The q-quantile (0..1) of sorted values, linear between order statistics.
-double Quantile(const std::vector<double>& sorted, double q) {
-  const double position = q * static_cast<double>(sorted.size() - 1);
+// The q-quantile (0..1) of `values`, linear between order statistics (as
+// of the sorted values); reorders them. Selection, not a sort: linear.
+double Quantile(std::vector<double>& values, double q) {
+  const double position = q * static_cast<double>(values.size() - 1);
   const std::size_t below = static_cast<std::size_t>(std::floor(position));
-  const std::size_t above = std::min(below + 1, sorted.size() - 1);
+  const std::size_t above = std::min(below + 1, values.size() - 1);
   const double t = position - static_cast<double>(below);
-  return sorted[below] + t * (sorted[above] - sorted[below]);
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(below), values.end());
+  const double low = values[below];
+  const double high =
+      above == below ? low : *std::min_element(values.begin() + static_cast<std::ptrdiff_t>(above), values.end());
+  return low + t * (high - low);
 }
 
 }  // namespace
@@ -44,19 +49,17 @@ DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vecto
   s.mean = mean;
   s.stddev = values.size() > 1 ? std::sqrt(m2 / static_cast<double>(values.size() - 1)) : 0.0;
   s.rmse = std::sqrt(squares / static_cast<double>(values.size()));
-  std::sort(values.begin(), values.end());
-  s.min = values.front();
-  s.max = values.back();
+  const auto [lowest, highest] = std::minmax_element(values.begin(), values.end());
+  s.min = *lowest;
+  s.max = *highest;
   s.median = Quantile(values, 0.5);
-  std::vector<double> deviation(values.size()), magnitude(values.size());
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    deviation[k] = std::fabs(values[k] - s.median);
-    magnitude[k] = std::fabs(values[k]);
+  for (double& v : values) v = std::fabs(v - s.median);  // deviations
+  s.nmad = 1.4826 * Quantile(values, 0.5);
+  values.clear();  // now |dz|, in the buffer of the deviations
+  for (std::size_t i = 0; i < dz.size(); ++i) {
+    if ((keep.empty() || keep[i]) && std::isfinite(dz[i])) values.push_back(std::fabs(dz[i]));
   }
-  std::sort(deviation.begin(), deviation.end());
-  std::sort(magnitude.begin(), magnitude.end());
-  s.nmad = 1.4826 * Quantile(deviation, 0.5);
-  s.le90 = Quantile(magnitude, 0.9);
+  s.le90 = Quantile(values, 0.9);
   return s;
 }
 

@@ -1,6 +1,7 @@
 #include "measure/measures.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include "measure/delaunay.h"
 #include "measure/gap_volume.h"
 #include "measure/grid_mesh.h"
+#include "measure/grid_pair.h"
 #include "measure/input_error.h"
 #include "measure/locator.h"
 #include "measure/predicates.h"
@@ -86,8 +88,8 @@ std::vector<int32_t> SortSpatially(Prepared& s) {
 }
 
 // A surface whose domain is empty has nothing to compare.
-void CheckDomain(const Surface& s, const Prepared& p, const DomainRule& rule, const char* name) {
-  if (p.domain.area > 0.0) return;
+void CheckDomain(const Surface& s, double domain_area, const DomainRule& rule, const char* name) {
+  if (domain_area > 0.0) return;
   throw InputError((s.source.empty() ? std::string(name) : s.source) + ": no part of it is data (" +
                    (rule.grid ? "no raster cell has all four corners valid"
                               : "every triangle bridges a gap or is an outline sliver") +
@@ -196,8 +198,8 @@ void PreparePair(const Surface& a, const Surface& b, const MeasureOptions& optio
     DomainRule rule_a = options.domain, rule_b = options.domain;
     rule_a.grid = a.raster_grid();
     rule_b.grid = b.raster_grid();
-    CheckDomain(a, pair->a, rule_a, "surface A");
-    CheckDomain(b, pair->b, rule_b, "surface B");
+    CheckDomain(a, pair->a.domain.area, rule_a, "surface A");
+    CheckDomain(b, pair->b.domain.area, rule_b, "surface B");
   }
 }
 
@@ -262,10 +264,10 @@ NodeStage GapsAtNodes(const Prepared& pa, const Prepared& pb, const std::vector<
 }
 
 // Refuses an empty or sliver overlap (unless allowed), naming both surfaces.
-void CheckOverlap(const Surface& a, const Surface& b, const Prepared& pa, const Prepared& pb,
+void CheckOverlap(const Surface& a, const Surface& b, double domain_area_a, double domain_area_b,
                   const VolumeResult& volume, const MeasureOptions& options) {
   // The domains' areas: the hulls' with DomainKind::kHull.
-  const double smaller = std::min(pa.domain.area, pb.domain.area);
+  const double smaller = std::min(domain_area_a, domain_area_b);
   const char* what = options.domain.kind == DomainKind::kHull ? "hull" : "data domain";
   if (!options.allow_empty_overlap &&
       (!(volume.area > options.min_overlap_fraction * smaller) || volume.cells == 0)) {
@@ -313,18 +315,19 @@ void KeepNodeGaps(const PreparedPair& pair, const NodeStage& nodes, MeasureSumma
 }
 
 // The summary's volumes, areas and change from the volume stage.
-void SetVolumeFields(const VolumeResult& volume, const Prepared& pa, const Prepared& pb,
+// Hull and domain areas first.
+void SetVolumeFields(const VolumeResult& volume, const std::array<double, 4>& areas,
                      const MeasureOptions& options, MeasureSummary* out) {
   MeasureSummary& summary = *out;
   summary.rho_d = volume.gap.abs;
   summary.overlap_area = volume.area;
-  summary.hull_area_a = pa.hull_area;
-  summary.hull_area_b = pb.hull_area;
+  summary.hull_area_a = areas[0];
+  summary.hull_area_b = areas[1];
   summary.domain_kind = options.domain.kind;
-  summary.domain_area_a = pa.domain.area;
-  summary.domain_area_b = pb.domain.area;
-  summary.excluded_area_a = pa.hull_area - pa.domain.area;
-  summary.excluded_area_b = pb.hull_area - pb.domain.area;
+  summary.domain_area_a = areas[2];
+  summary.domain_area_b = areas[3];
+  summary.excluded_area_a = areas[0] - areas[2];
+  summary.excluded_area_b = areas[1] - areas[3];
   summary.weight_integral = volume.gap.weight;
   summary.signed_volume = volume.gap.signed_volume;
   summary.volume_above = volume.gap.above;
@@ -349,7 +352,7 @@ MeasureReference::MeasureReference(const Surface& a, const MeasureOptions& optio
   PrepareSide(a, no_shift, options.domain, [](const char*, double) {}, nullptr, &impl_->prepared, &impl_->order);
   DomainRule rule = options.domain;
   rule.grid = a.raster_grid();
-  if (!options.allow_empty_overlap) CheckDomain(a, impl_->prepared, rule, "surface A");
+  if (!options.allow_empty_overlap) CheckDomain(a, impl_->prepared.domain.area, rule, "surface A");
 }
 
 MeasureReference::~MeasureReference() = default;
@@ -371,6 +374,36 @@ PreparedSurface MeasureReference::prepared() const {
 }
 
 namespace {
+
+// Two rasters on one grid, by their cells (grid_pair.h); false for the
+// general path.
+template <typename Progress>
+bool MeasureGrids(const Surface& a, const Surface& b, const MeasureOptions& options,
+                  const Progress& progress, MeasureSummary* out) {
+  const Clock::time_point stage = Clock::now();
+  GridPairResult grid;
+  if (!MeasureOnSameGrid(a, b, options, &grid)) return false;
+  progress("volume (one grid)", 0.6);
+  MeasureSummary& summary = *out;
+  if (!options.allow_empty_overlap) {
+    DomainRule rule = options.domain;
+    rule.grid = true;
+    CheckDomain(a, grid.domain_area_a, rule, "surface A");
+    CheckDomain(b, grid.domain_area_b, rule, "surface B");
+  }
+  CheckOverlap(a, b, grid.domain_area_a, grid.domain_area_b, grid.volume, options);
+  SetVolumeFields(grid.volume, {grid.hull_area_a, grid.hull_area_b, grid.domain_area_a, grid.domain_area_b},
+                  options, &summary);
+  summary.rho_d_axial = grid.rho_d_axial;
+  summary.n_overlap_nodes = grid.n_overlap_nodes;
+  if (options.keep_node_gaps) {
+    summary.dz_a = std::move(grid.dz_a);
+    summary.node_area_a = std::move(grid.node_area_a);
+    summary.dz_b.assign(b.size(), std::nan(""));  // every node of B in Ω is one of A's
+  }
+  summary.timings.volume = Seconds(stage);
+  return true;
+}
 
 bool SameRule(const DomainRule& x, const DomainRule& y) {
   return x.kind == y.kind && x.max_edge_spacings == y.max_edge_spacings &&
@@ -399,6 +432,10 @@ MeasureSummary MeasureWith(const Surface& a, const Surface& b, const MeasureOpti
   summary.n_points_a = static_cast<int64_t>(a.size());
   summary.n_points_b = static_cast<int64_t>(b.size());
 
+  if (MeasureGrids(a, b, options, progress, &summary)) {
+    summary.timings.total = Seconds(start);
+    return summary;
+  }
   PreparedPair pair;
   PreparePair(a, b, options, progress, given, &pair, &summary);
   const Prepared& pa = pair.a;
@@ -436,8 +473,8 @@ MeasureSummary MeasureWith(const Surface& a, const Surface& b, const MeasureOpti
   }
   summary.timings.volume = Seconds(stage);
 
-  CheckOverlap(a, b, pa, pb, volume, options);
-  SetVolumeFields(volume, pa, pb, options, &summary);
+  CheckOverlap(a, b, pa.domain.area, pb.domain.area, volume, options);
+  SetVolumeFields(volume, {pa.hull_area, pb.hull_area, pa.domain.area, pb.domain.area}, options, &summary);
   if (options.keep_node_gaps) KeepNodeGaps(pair, nodes, &summary);
   summary.timings.total = Seconds(start);
   return summary;

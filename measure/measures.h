@@ -91,6 +91,10 @@ struct MeasureOptions {
   // an empty data domain, or an empty or sliver overlap, gives zero
   // measures instead of an InputError (the whole is judged, not the tile).
   bool allow_empty_overlap = false;
+  // Two rasters sampling one grid are measured from their cells (closed
+  // form per cell, no triangulation: measure/grid_pair.h), equal to the
+  // general path to rounding; false takes the general path (comparisons).
+  bool grid_shortcut = true;
   // Called at the start of each stage (from the calling thread), e.g. for a
   // progress line with an estimate of the time left.
   std::function<void(const MeasureProgress&)> on_progress;

@@ -58,17 +58,23 @@ OneInput ReadOne(const TerrainRequest& config, const std::string& key, const Sur
       options.window = {w[0], w[1], w[2], w[3]};
       in.grid = ReadRaster(path, options);
       in.is_raster = true;
-      in.surface = RasterToSurface(in.grid, &in.cells);
       if (origin != nullptr && (key == "reference" || origin->has_value())) {
         if (!origin->has_value()) {
           *origin = RasterOrigin(in.grid.geotransform, in.grid.columns, in.grid.rows);
         }
-        // The same samples (both row-major, nodata skipped), other doubles.
-        Surface s = RasterBlockToSurface(in.grid.geotransform, {0, 0, in.grid.columns, in.grid.rows},
-                                         in.grid.values, **origin, in.surface.source);
-        in.surface.origin = s.origin;
-        in.surface.xy = std::move(s.xy);
-        in.surface.z = std::move(s.z);
+        // RasterToSurface's samples (row-major, nodata skipped) about the
+        // shared origin, made in one pass.
+        in.surface = RasterBlockToSurface(in.grid.geotransform, {0, 0, in.grid.columns, in.grid.rows},
+                                          in.grid.values, **origin, in.grid.source);
+        if (in.surface.xy.empty()) throw InputError(in.grid.source + ": every cell is nodata");
+        ValidateSurface(in.surface);
+        in.cells.resize(in.surface.size());
+        for (std::size_t i = 0; i < in.cells.size(); ++i) {
+          const RasterCell& cell = in.surface.raster_cell[i];
+          in.cells[i] = static_cast<int64_t>(cell.row) * in.grid.columns + cell.column;
+        }
+      } else {
+        in.surface = RasterToSurface(in.grid, &in.cells);
       }
       if (!in.grid.crs_wkt.empty()) file_crs = ParseCrs(in.grid.crs_wkt, path);
       in.grid.values.clear();

@@ -451,6 +451,11 @@ Surface RasterBlockToSurface(const std::array<double, 6>& gt, const SampleWindow
                      std::to_string(values.size()) + " values for a window of " +
                      std::to_string(window.columns) + " x " + std::to_string(window.rows));
   }
+  const std::size_t count =
+      static_cast<std::size_t>(std::count_if(values.begin(), values.end(), [](double v) { return std::isfinite(v); }));
+  s.xy.reserve(count);
+  s.z.reserve(count);
+  s.raster_cell.reserve(count);
   std::size_t k = 0;
   for (int32_t row = window.row; row < window.row + window.rows; ++row) {
     for (int32_t column = window.column; column < window.column + window.columns; ++column, ++k) {

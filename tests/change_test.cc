@@ -12,6 +12,7 @@
 // scaled by (1 − L/h), so fill = A_L (h − L)/3 + L A_L, A_L = A_0 (1 − L/h)².
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -242,6 +243,38 @@ TEST(DzStatistics, NmadOfGaussianSamplesIsSigma) {
   EXPECT_NEAR(s.nmad, 0.05, 0.0015);
   EXPECT_NEAR(s.median, 0.3, 0.001);
   EXPECT_GT(s.stddev, 0.1);
+}
+
+// Selection (nth_element) against a full sort: the same order statistics,
+// for odd and even counts, ties and a mask.
+TEST(DzStatistics, QuantilesEqualThoseOfTheSortedValues) {
+  std::mt19937_64 random(7);
+  std::uniform_int_distribution<int> level(-40, 40);
+  for (const int n : {2, 3, 10, 11, 1000, 1001}) {
+    std::vector<double> dz(n);
+    std::vector<bool> keep(n);
+    for (int i = 0; i < n; ++i) dz[i] = 0.25 * level(random), keep[i] = i % 7 != 3;
+    std::vector<double> kept;
+    for (int i = 0; i < n; ++i) {
+      if (keep[i]) kept.push_back(dz[i]);
+    }
+    const auto quantile = [](std::vector<double> v, double q) {
+      std::sort(v.begin(), v.end());
+      const double position = q * static_cast<double>(v.size() - 1);
+      const std::size_t below = static_cast<std::size_t>(std::floor(position));
+      const std::size_t above = std::min(below + 1, v.size() - 1);
+      return v[below] + (position - static_cast<double>(below)) * (v[above] - v[below]);
+    };
+    const double median = quantile(kept, 0.5);
+    std::vector<double> deviation, magnitude;
+    for (const double v : kept) deviation.push_back(std::fabs(v - median)), magnitude.push_back(std::fabs(v));
+    const DzStatistics s = ComputeDzStatistics(dz, keep);
+    EXPECT_EQ(s.median, median) << n;
+    EXPECT_EQ(s.nmad, 1.4826 * quantile(deviation, 0.5)) << n;
+    EXPECT_EQ(s.le90, quantile(magnitude, 0.9)) << n;
+    EXPECT_EQ(s.min, *std::min_element(kept.begin(), kept.end())) << n;
+    EXPECT_EQ(s.max, *std::max_element(kept.begin(), kept.end())) << n;
+  }
 }
 
 }  // namespace
