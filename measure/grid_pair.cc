@@ -7,6 +7,7 @@
 #include "measure/convex_hull.h"
 #include "measure/predicates.h"
 #include "measure/run_both.h"
+#include "measure/volume.h"
 #include "measure/weights.h"
 
 namespace surfreg {
@@ -138,22 +139,26 @@ struct GridSide {
     return shift.x == 0.0 && shift.y == 0.0 ? p : Point2{p.x + shift.x, p.y + shift.y};
   }
   double Z(int32_t i) const { return surface->z[i] + z_shift; }
-  // The four corners (c, r) (c+1, r) (c+1, r+1) (c, r+1) of cell (c, r), in
-  // index coordinates; false unless all are samples.
-  bool Corners(int64_t c, int64_t r, int32_t k[4]) const {
-    k[0] = index.At(c + index.c0, r + index.r0);
-    k[1] = index.At(c + 1 + index.c0, r + index.r0);
-    k[2] = index.At(c + 1 + index.c0, r + 1 + index.r0);
-    k[3] = index.At(c + index.c0, r + 1 + index.r0);
-    return k[0] >= 0 && k[1] >= 0 && k[2] >= 0 && k[3] >= 0;
+  // Rows of the index and of the completeness flags (null outside it).
+  const int32_t* SampleRow(int64_t r) const {
+    return r < 0 || r >= index.rows ? nullptr : &index.sample[static_cast<std::size_t>(r * index.columns)];
   }
-  bool Complete(int64_t c, int64_t r) const {  // index coordinates
-    if (c < 0 || r < 0 || c >= index.columns || r >= index.rows) return false;
-    return complete[static_cast<std::size_t>(r * index.columns + c)] != 0;
+  const uint8_t* CompleteRow(int64_t r) const {
+    return r < 0 || r >= index.rows ? nullptr : &complete[static_cast<std::size_t>(r * index.columns)];
   }
-  // A corner of a complete cell: a vertex of the data domain.
-  bool DomainVertex(int64_t c, int64_t r) const {
-    return Complete(c - 1, r - 1) || Complete(c, r - 1) || Complete(c - 1, r) || Complete(c, r);
+  // The corners (c, r) (c+1, r) (c+1, r+1) (c, r+1) of cell c of the rows
+  // `here` and `below` (index coordinates; c + 1 inside the row).
+  static void Corners(const int32_t* here, const int32_t* below, int64_t c, int32_t k[4]) {
+    k[0] = here[c], k[1] = here[c + 1], k[2] = below[c + 1], k[3] = below[c];
+  }
+  // A corner of a complete cell (the cells c − 1 and c of the rows r − 1
+  // and r, flags `above` and `here`): a vertex of the data domain.
+  bool DomainVertex(const uint8_t* above, const uint8_t* here, int64_t c) const {
+    const auto complete_at = [this](const uint8_t* row, int64_t k) {
+      return row != nullptr && k >= 0 && k < index.columns && row[k] != 0;
+    };
+    return complete_at(above, c - 1) || complete_at(above, c) || complete_at(here, c - 1) ||
+           complete_at(here, c);
   }
 };
 
@@ -163,12 +168,17 @@ struct GridSide {
 bool MarkComplete(GridSide* side, int64_t begin, int64_t end, double sign, double* area) {
   double twice = 0.0;
   bool ok = true;
+  const int64_t columns = side->index.columns;
   for (int64_t r = begin; r < end; ++r) {
-    for (int64_t c = 0; c < side->index.columns; ++c) {
+    uint8_t* flags = &side->complete[static_cast<std::size_t>(r * columns)];
+    const int32_t* here = side->SampleRow(r);
+    const int32_t* below = side->SampleRow(r + 1);
+    if (below == nullptr) continue;  // the last row starts no cell
+    for (int64_t c = 0; c + 1 < columns; ++c) {
       int32_t k[4];
-      const bool whole = side->Corners(c, r, k);
-      side->complete[static_cast<std::size_t>(r * side->index.columns + c)] = whole;
-      if (!whole) continue;
+      GridSide::Corners(here, below, c, k);
+      if (k[0] < 0 || k[1] < 0 || k[2] < 0 || k[3] < 0) continue;
+      flags[c] = 1;
       const Point2 p[4] = {side->Xy(k[0]), side->Xy(k[1]), side->Xy(k[2]), side->Xy(k[3])};
       const double o1 = Orient2D(p[0], p[1], p[2]), o2 = Orient2D(p[0], p[2], p[3]);
       if (!(o1 * sign > 0.0 && o2 * sign > 0.0)) ok = false;
@@ -177,6 +187,44 @@ bool MarkComplete(GridSide* side, int64_t begin, int64_t end, double sign, doubl
   }
   *area = 0.5 * twice;
   return ok;
+}
+
+// ∫ max(e, 0) and the area where e > 0 over a triangle of area `area` on
+// which e is linear with corner values e[0..2]: the part where e > 0 is the
+// triangle itself, a corner's triangle cut off by the line e = 0 (its share
+// of the area the product of the two edge fractions), or the triangle less
+// such a corner; so the clip of the general overlay in closed form.
+struct PositivePart {
+  double integral = 0, area = 0;
+};
+PositivePart PositiveOver(double area, const double e[3]) {
+  const int above = (e[0] > 0.0) + (e[1] > 0.0) + (e[2] > 0.0);
+  if (above == 0) return {};
+  if (above == 3) return {area * (e[0] + e[1] + e[2]) / 3.0, area};
+  // The lone corner: the one above (one above) or the one not (two above).
+  const int k = above == 1 ? (e[0] > 0.0 ? 0 : e[1] > 0.0 ? 1 : 2) : (e[0] <= 0.0 ? 0 : e[1] <= 0.0 ? 1 : 2);
+  const double lone = e[k], o1 = e[(k + 1) % 3], o2 = e[(k + 2) % 3];
+  const double corner = area * (lone / (lone - o1)) * (lone / (lone - o2));  // where e has lone's sign
+  if (above == 1) return {corner * lone / 3.0, corner};
+  return {area * (e[0] + e[1] + e[2]) / 3.0 - corner * lone / 3.0, area - corner};
+}
+
+// One grid triangle (counter-clockwise corners p, gaps d) with μ = 1: the
+// overlay cell integrator's results (IntegrateConvex, uniform) in closed form.
+void IntegrateTriangle(const Point2 p[3], const double d[3], double lod, VolumeResult* result) {
+  const double area = 0.5 * TwiceArea(p[0], p[1], p[2]);
+  if (!(area > 0.0)) return;
+  result->gap += IntegrateGap(area, d[0], d[1], d[2]);
+  result->area += area;
+  if (lod < 0.0) return;
+  const double fill_e[3] = {d[0] - lod, d[1] - lod, d[2] - lod};
+  const double cut_e[3] = {-d[0] - lod, -d[1] - lod, -d[2] - lod};
+  const PositivePart fill = PositiveOver(area, fill_e), cut = PositiveOver(area, cut_e);
+  // ∫_{d > L} d = ∫ max(d − L, 0) + L · |{d > L}|, and so for the cut.
+  result->change.fill += fill.integral + lod * fill.area;
+  result->change.fill_area += fill.area;
+  result->change.cut += cut.integral + lod * cut.area;
+  result->change.cut_area += cut.area;
 }
 
 struct HalfSums {
@@ -251,33 +299,49 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
                                          no_weight, no_locations, no_locations);
   const double lod = options.detect_change ? options.level_of_detection : -1.0;
   const bool keep = options.keep_node_gaps;
+  const bool uniform = options.weight == WeightMode::kUniform;
   std::vector<uint8_t> omega(a.size(), 0);
   if (keep) result.dz_a.assign(a.size(), std::nan(""));
 
   // Ω's nodes and cells over rows [begin, end) of A's index. Index
   // coordinates: A's (c, r) is B's (c + shift_c, r + shift_r).
   const int64_t shift_c = sa.index.c0 - dc - sb.index.c0, shift_r = sa.index.r0 - dr - sb.index.r0;
+  const int64_t columns_b = sb.index.columns;
+  // A's columns whose B column is inside B's index.
+  const int64_t c_begin = std::max<int64_t>(0, -shift_c);
+  const int64_t c_end = std::min<int64_t>(sa.index.columns, columns_b - shift_c);
   const auto rows = [&](int64_t begin, int64_t end, HalfSums* sums) {
     for (int64_t r = begin; r < end; ++r) {
-      for (int64_t c = 0; c < sa.index.columns; ++c) {
-        const int32_t i = sa.index.sample[static_cast<std::size_t>(r * sa.index.columns + c)];
-        if (i < 0 || !sa.DomainVertex(c, r)) continue;
-        const int64_t cb = c + shift_c, rb = r + shift_r;
-        const int32_t j = sb.index.At(cb + sb.index.c0, rb + sb.index.r0);
-        if (j < 0 || !sb.DomainVertex(cb, rb)) continue;
+      const int64_t rb = r + shift_r;
+      const int32_t* a_here = sa.SampleRow(r);
+      const int32_t* b_here = sb.SampleRow(rb);
+      if (b_here == nullptr) continue;  // no node or cell of B in this row
+      const uint8_t* a_above = sa.CompleteRow(r - 1);
+      const uint8_t* a_flags = sa.CompleteRow(r);
+      const uint8_t* b_above = sb.CompleteRow(rb - 1);
+      const uint8_t* b_flags = sb.CompleteRow(rb);
+      for (int64_t c = c_begin; c < c_end; ++c) {
+        const int32_t i = a_here[c], j = b_here[c + shift_c];
+        if (i < 0 || j < 0 || !sa.DomainVertex(a_above, a_flags, c) ||
+            !sb.DomainVertex(b_above, b_flags, c + shift_c)) {
+          continue;
+        }
         omega[i] = 1;
         const double d = sb.Z(j) - a.z[i];
         if (keep) result.dz_a[i] = d;
-        const double w = mu.AtNodeA(i);
+        const double w = uniform ? 1.0 : mu.AtNodeA(i);
         sums->gap_sum += w * std::fabs(d);
         sums->node_weight += w;
         ++sums->nodes;
       }
-      for (int64_t c = 0; c < sa.index.columns; ++c) {
-        if (!sa.Complete(c, r) || !sb.Complete(c + shift_c, r + shift_r)) continue;
+      const int32_t* a_below = sa.SampleRow(r + 1);
+      const int32_t* b_below = sb.SampleRow(rb + 1);
+      if (a_below == nullptr || b_below == nullptr) continue;
+      for (int64_t c = c_begin; c < c_end; ++c) {
+        if (!a_flags[c] || !b_flags[c + shift_c]) continue;
         int32_t ka[4], kb[4];
-        sa.Corners(c, r, ka);
-        sb.Corners(c + shift_c, r + shift_r, kb);
+        GridSide::Corners(a_here, a_below, c, ka);
+        GridSide::Corners(b_here, b_below, c + shift_c, kb);
         Point2 p[4];
         double d[4];
         for (int k = 0; k < 4; ++k) p[k] = a.xy[ka[k]], d[k] = sb.Z(kb[k]) - a.z[ka[k]];
@@ -286,8 +350,13 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
         for (const auto& t : triangles) {
           const int k0 = t[0], k1 = sign > 0.0 ? t[1] : t[2], k2 = sign > 0.0 ? t[2] : t[1];
           const Point2 corners[3] = {p[k0], p[k1], p[k2]};
-          const Plane gap = PlaneThrough(p[k0], p[k1], p[k2], d[k0], d[k1], d[k2]);
-          IntegrateConvex(corners, 3, gap, mu, Plane(), &sums->volume, lod);
+          if (uniform) {
+            const double gaps[3] = {d[k0], d[k1], d[k2]};
+            IntegrateTriangle(corners, gaps, lod, &sums->volume);
+          } else {
+            const Plane gap = PlaneThrough(p[k0], p[k1], p[k2], d[k0], d[k1], d[k2]);
+            IntegrateConvex(corners, 3, gap, mu, Plane(), &sums->volume, lod);
+          }
           ++sums->volume.cells;
         }
       }
@@ -311,11 +380,14 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
 
   if (keep) {  // a third of each of A's domain triangles with its corners in Ω
     result.node_area_a.assign(a.size(), 0.0);
-    for (int64_t r = 0; r < sa.index.rows; ++r) {
-      for (int64_t c = 0; c < sa.index.columns; ++c) {
+    for (int64_t r = 0; r + 1 < sa.index.rows; ++r) {
+      const uint8_t* flags = sa.CompleteRow(r);
+      const int32_t* here = sa.SampleRow(r);
+      const int32_t* below = sa.SampleRow(r + 1);
+      for (int64_t c = 0; c + 1 < sa.index.columns; ++c) {
+        if (!flags[c]) continue;
         int32_t k[4];
-        if (!sa.Complete(c, r)) continue;
-        sa.Corners(c, r, k);
+        GridSide::Corners(here, below, c, k);
         const int triangles[2][3] = {{0, 1, 2}, {0, 2, 3}};
         for (const auto& t : triangles) {
           if (!omega[k[t[0]]] || !omega[k[t[1]]] || !omega[k[t[2]]]) continue;
