@@ -20,7 +20,7 @@ using MeasureOptionEntry = config_value::Entry<MeasureOptions>;
 const std::vector<DomainRuleEntry>& DomainRuleKeys();
 
 // volume, weights (uniform | per_point), lod (a level of detection: change
-// detection on), min_overlap_fraction and the domain keys.
+// detection on), min_overlap_fraction, threads and the domain keys.
 const std::vector<MeasureOptionEntry>& MeasureOptionKeys();
 
 // Sets key `name` of `table` from `value` (value.where starts the messages);

@@ -130,6 +130,15 @@ assert aa['mean_abs_dz'] == 0 and close(aa['overlap_area'], 860 * 600, 1e-12), a
 "
 fi
 
+# threads: one thread and eight give the same bits (the stages' fixed halves).
+if measure_json one_thread "$a" "$b" --threads=1 && measure_json eight_threads "$a" "$b" --threads=8; then
+  check "--threads=1 and --threads=8: the same numbers" "
+one, eight = r('one_thread'), r('eight_threads')
+for key in ('rho_d', 'rho_d_axial', 'signed_volume', 'overlap_area', 'n_overlap_nodes', 'n_cells'):
+    assert one[key] == eight[key], (key, one[key], eight[key])
+"
+fi
+
 if measure_json ba "$b" "$a"; then
   check "measure B A = measure A B with above and below swapped" "
 ab, ba = r('ab'), r('ba')
