@@ -7,9 +7,12 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <future>
 #include <optional>
 
 #include "measure/input_error.h"
+#include "measure/run_both.h"
 #include "terrain/tiled_measure.h"
 #include "measure/weights.h"
 #include "io/atomic_file.h"
@@ -37,10 +40,23 @@ struct Named : InputError {
   using InputError::InputError;
 };
 
+// The raster of input `key` (its band and window); errors without the key.
+Raster ReadInputRaster(const TerrainRequest& config, const std::string& key) {
+  const std::string& path = InputPath(config, key);
+  // A raster has no classes or columns to pick.
+  io_internal::CheckOptionsFit(InputReadOptions(config, key), io_internal::OptionFit::kOther, "raster", path);
+  RasterReadOptions options;
+  options.band = config.terrain.band;
+  const auto& w = config.terrain.window;
+  options.window = {w[0], w[1], w[2], w[3]};
+  return ReadRaster(path, options);
+}
+
 // `origin` (may be null): a raster's samples are made relative to it, the
 // reference's first setting it (RasterOrigin), as a tiled measure does.
+// `read_before` (may be null): the input's raster, read already.
 OneInput ReadOne(const TerrainRequest& config, const std::string& key, const Surface* given,
-                 std::optional<std::array<double, 3>>* origin) {
+                 std::optional<std::array<double, 3>>* origin, Raster* read_before = nullptr) {
   const std::string& path = InputPath(config, key);
   const std::string crs_key = key + "_crs";
   OneInput in;
@@ -49,14 +65,7 @@ OneInput ReadOne(const TerrainRequest& config, const std::string& key, const Sur
     if (given != nullptr) {
       in.surface = *given;
     } else if (IsRasterPath(path)) {
-      // A raster has no classes or columns to pick.
-      io_internal::CheckOptionsFit(InputReadOptions(config, key), io_internal::OptionFit::kOther,
-                                   "raster", path);
-      RasterReadOptions options;
-      options.band = config.terrain.band;
-      const auto& w = config.terrain.window;
-      options.window = {w[0], w[1], w[2], w[3]};
-      in.grid = ReadRaster(path, options);
+      in.grid = read_before != nullptr ? std::move(*read_before) : ReadInputRaster(config, key);
       in.is_raster = true;
       if (origin != nullptr && (key == "reference" || origin->has_value())) {
         if (!origin->has_value()) {
@@ -221,13 +230,59 @@ void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const
 }
 
 TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* given_reference,
-                                const Surface* given_moving, bool tiled_origin) {
+                                const Surface* given_moving, bool tiled_origin,
+                                std::optional<bool> parallel) {
   std::optional<std::array<double, 3>> origin;
-  OneInput reference = ReadOne(config, "reference", given_reference, tiled_origin ? &origin : nullptr);
+  std::optional<std::array<double, 3>>* shared_origin = tiled_origin ? &origin : nullptr;
+  // Side by side: the reference, and the moving surface. Two rasters share
+  // the reference's origin (tiled_origin): the moving one's samples wait for
+  // it (a promise kept, or broken by the reference's error).
+  const bool moving_raster = given_moving == nullptr && IsRasterPath(InputPath(config, "moving"));
+  const bool both_rasters = moving_raster && given_reference == nullptr && IsRasterPath(InputPath(config, "reference"));
+  const auto read_named = [&config](const std::string& key) {
+    try {
+      return ReadInputRaster(config, key);
+    } catch (const InputError& e) {
+      throw InputError(config.Where(key) + ": " + e.what());  // as ReadOne names it
+    }
+  };
+  std::promise<std::optional<std::array<double, 3>>> origin_kept;
+  std::future<std::optional<std::array<double, 3>>> origin_of_reference = origin_kept.get_future();
+  OneInput reference, moving;
+  Raster moving_grid;
+  RunBoth(
+      parallel.value_or(config.options.num_threads > 1),
+      [&] {
+        if (!both_rasters) {
+          reference = ReadOne(config, "reference", given_reference, shared_origin);
+          return;
+        }
+        Raster grid;
+        try {
+          grid = read_named("reference");
+          if (shared_origin != nullptr) origin = RasterOrigin(grid.geotransform, grid.columns, grid.rows);
+        } catch (...) {
+          origin_kept.set_exception(std::current_exception());
+          throw;
+        }
+        origin_kept.set_value(origin);
+        reference = ReadOne(config, "reference", nullptr, shared_origin, &grid);
+      },
+      [&] {
+        if (!moving_raster) {
+          moving = ReadOne(config, "moving", given_moving, nullptr);  // no raster: no origin
+          return;
+        }
+        moving_grid = read_named("moving");
+        if (!both_rasters) return;  // a cloud reference: RasterToSurface's own origin, made after
+        std::optional<std::array<double, 3>> moving_origin = origin_of_reference.get();
+        moving = ReadOne(config, "moving", nullptr, shared_origin != nullptr ? &moving_origin : nullptr,
+                         &moving_grid);
+      });
   if (!config.terrain.mask_raster.empty()) {
     reference.surface.weight = MaskRasterWeights(config, reference.surface, reference.crs);
   }
-  OneInput moving = ReadOne(config, "moving", given_moving, tiled_origin ? &origin : nullptr);
+  if (moving_raster && !both_rasters) moving = ReadOne(config, "moving", nullptr, shared_origin, &moving_grid);
   std::vector<double> sigma_reference =
       SigmaPerSample(config, "reference", reference.surface.size(), reference.grid, reference.cells);
   std::vector<double> sigma_moving =

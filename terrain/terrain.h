@@ -6,6 +6,7 @@
 // before and after, and the figures.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -63,9 +64,12 @@ std::string LengthUnit(const TerrainInputs& inputs);
 // `tiled_origin`: two rasters read from files both take the origin of the
 // reference's extent (RasterOrigin), as a tiled measure gives them, so that
 // the untiled measure computes with the very same doubles (its DoD is then
-// the tiled one to the bit).
+// the tiled one to the bit). The two files are read side by side on two
+// threads when `parallel` (default: config's threads > 1); the result is the
+// same, and of two bad inputs the reference's error is the one reported.
 TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* reference = nullptr,
-                                const Surface* moving = nullptr, bool tiled_origin = false);
+                                const Surface* moving = nullptr, bool tiled_origin = false,
+                                std::optional<bool> parallel = std::nullopt);
 
 // Mask rings given in the mask file's CRS (`mask_crs_wkt`; "" = the
 // reference's) into the frame `in` works in: reprojected into the
