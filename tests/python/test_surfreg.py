@@ -152,6 +152,9 @@ def test_measure_options_are_the_config_keys():
     beyond = surfreg.measure(a, b, lod=0.1)
     assert beyond.cut_detected == pytest.approx(0.2 * beyond.overlap_area, rel=1e-9)
     assert surfreg.measure(a, b, lod=0.3).cut_detected == 0.0
+    # threads: the same bits on one thread and on eight.
+    one, eight = surfreg.measure(a, b, threads=1), surfreg.measure(a, b, threads=8)
+    assert one.rho_d == eight.rho_d and one.rho_d_axial == eight.rho_d_axial
 
 
 def test_per_point_weights_from_a_fourth_column(tmp_path):
