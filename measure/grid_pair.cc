@@ -40,7 +40,7 @@ bool BuildIndex(const std::vector<RasterCell>& cells, GridIndex* index) {
   index->c0 = c_lo, index->r0 = r_lo;
   index->columns = c_hi - c_lo + 1, index->rows = r_hi - r_lo + 1;
   const int64_t most = kMaxBoxPerSample * static_cast<int64_t>(cells.size()) + 4096;
-  if (index->columns > most || index->rows > most || index->rows * index->columns > most) {
+  if (index->columns > most || index->rows > most || index->rows > most / index->columns) {
     return false;
   }
   index->sample.assign(static_cast<std::size_t>(index->rows * index->columns), -1);

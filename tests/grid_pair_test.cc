@@ -189,6 +189,12 @@ TEST(GridPairTest, OtherGridsAreLeftToTheGeneralPath) {
   Surface flipped = Window(g, 0, 0, 20, 15, Changed);
   for (RasterCell& cell : flipped.raster_cell) cell.row = 14 - cell.row;
   EXPECT_FALSE(MeasureOnSameGrid(a, flipped, MeasureOptions(), &out));
+  // A far-away sample: a box of cells too sparse for a dense index.
+  Surface sparse = Window(g, 0, 0, 20, 15, Changed);
+  sparse.raster_cell.push_back({2000000, 0});
+  sparse.xy.push_back({sparse.xy[0].x + 2e7, sparse.xy[0].y});
+  sparse.z.push_back(sparse.z[0]);
+  EXPECT_FALSE(MeasureOnSameGrid(a, sparse, MeasureOptions(), &out));
   Surface scattered = Window(g, 0, 0, 20, 15, Changed);
   scattered.raster_cell.clear();
   EXPECT_FALSE(MeasureOnSameGrid(a, scattered, MeasureOptions(), &out));
