@@ -1,7 +1,8 @@
 #pragma once
-// Two rasters sampling one grid (issue 47): the measure from the grid's own
-// cells, without a triangulation, a spanning tree, walks or the general
-// overlay. Internal, for measures.cc.
+// Two rasters sampling one grid, or one lattice offset by a fraction of a
+// cell (issue 47): the measure from the grids' own cells, without a
+// triangulation, a spanning tree, walks or the general overlay. Internal,
+// for measures.cc (grid_pair.cc, grid_sweep.cc).
 //
 // When both surfaces' samples lie on one lattice (each surface's positions
 // an affine function of its cells, the two the same function up to a
@@ -30,6 +31,9 @@ struct GridPairResult {
   // With keep_node_gaps, in A's input order (as MeasureSummary's): d at
   // A's nodes in Ω (NaN elsewhere) and each node's share of the area.
   std::vector<double> dz_a, node_area_a;
+  // d at B's nodes in Ω that are not A's (MeasureSummary::dz_b); empty when
+  // every such node is one of A's (one grid).
+  std::vector<double> dz_b;
 };
 
 // True, with *out filled, if A and B are rasters on one grid as above and
@@ -39,5 +43,13 @@ struct GridPairResult {
 // sparse for a dense index). `options` must be valid.
 bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions& options,
                        GridPairResult* out);
+
+// The same for two rasters on lattices of the same cell vectors offset by a
+// fraction of a cell (in either direction), with uniform weights: a sweep
+// over A's cells, each triangle clipped by the triangles of the B cells
+// around it (the general overlay's cells and cell integrator), and each
+// node located in the other's cells with exact orientation tests.
+bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptions& options,
+                          GridPairResult* out);
 
 }  // namespace surfreg

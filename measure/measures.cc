@@ -382,7 +382,7 @@ bool MeasureGrids(const Surface& a, const Surface& b, const MeasureOptions& opti
                   const Progress& progress, MeasureSummary* out) {
   const Clock::time_point stage = Clock::now();
   GridPairResult grid;
-  if (!MeasureOnSameGrid(a, b, options, &grid)) return false;
+  if (!MeasureOnSameGrid(a, b, options, &grid) && !MeasureOnOffsetGrids(a, b, options, &grid)) return false;
   progress("volume (one grid)", 0.6);
   MeasureSummary& summary = *out;
   if (!options.allow_empty_overlap) {
@@ -399,7 +399,11 @@ bool MeasureGrids(const Surface& a, const Surface& b, const MeasureOptions& opti
   if (options.keep_node_gaps) {
     summary.dz_a = std::move(grid.dz_a);
     summary.node_area_a = std::move(grid.node_area_a);
-    summary.dz_b.assign(b.size(), std::nan(""));  // every node of B in Ω is one of A's
+    if (grid.dz_b.empty()) {
+      summary.dz_b.assign(b.size(), std::nan(""));  // every node of B in Ω is one of A's
+    } else {
+      summary.dz_b = std::move(grid.dz_b);
+    }
   }
   summary.timings.volume = Seconds(stage);
   return true;

@@ -1,9 +1,10 @@
-// Two rasters on one grid measured by their cells (measure/grid_pair.h):
-// every field of the summary equals the general path's (triangulation,
-// walks, overlay) to rounding, on windows of one lattice with holes, after a
-// mirror or a rotation of the lattice, with masks and a level of detection;
-// closed forms for a constant change; the cases it must leave to the
-// general path; the same bits on one and two threads.
+// Two rasters on one grid, or on one lattice offset by a fraction of a
+// cell, measured by their cells (measure/grid_pair.h): every field of the
+// summary equals the general path's (triangulation, walks, overlay) to
+// rounding, on windows with holes, after a mirror or a rotation of the
+// lattice, with masks and a level of detection; closed forms for a
+// constant change; the cases it must leave to the general path; the same
+// bits on one and two threads.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -12,6 +13,7 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "measure/grid_pair.h"
@@ -65,9 +67,13 @@ void ExpectNear(double general, double grid, const char* what) {
 }
 
 // Every field of the two summaries, to rounding.
-void ExpectSameMeasure(const Surface& a, const Surface& b, MeasureOptions options) {
+void ExpectSameMeasure(const Surface& a, const Surface& b, MeasureOptions options, bool offset = false) {
   GridPairResult direct;
-  ASSERT_TRUE(MeasureOnSameGrid(a, b, options, &direct)) << "not taken as one grid";
+  if (offset) {
+    ASSERT_TRUE(MeasureOnOffsetGrids(a, b, options, &direct)) << "not taken as offset grids";
+  } else {
+    ASSERT_TRUE(MeasureOnSameGrid(a, b, options, &direct)) << "not taken as one grid";
+  }
   const MeasureSummary grid = Measure(a, b, options);
   const MeasureSummary general = Measure(a, b, General(options));
   ExpectNear(general.rho_d, grid.rho_d, "rho_d");
@@ -208,6 +214,52 @@ TEST(GridPairTest, OtherGridsAreLeftToTheGeneralPath) {
   EXPECT_GT(Measure(a, Window(offset, 0, 0, 20, 15, Changed)).rho_d, 0.0);
 }
 
+Lattice OffsetBy(Lattice g, double columns, double rows) {  // the lattice moved by a fraction of a cell
+  g.origin = {g.origin[0] + columns * g.u[0] + rows * g.v[0], g.origin[1] + columns * g.u[1] + rows * g.v[1]};
+  return g;
+}
+
+TEST(GridPairTest, OffsetLatticesWithHolesEqualTheGeneralPath) {
+  const Lattice g;
+  const Lattice moved = OffsetBy(g, 0.37, -0.61);
+  const Surface a = HoledA();
+  const Surface b = Window(moved, 3, -2, 45, 28, Changed, HoleB);
+  MeasureOptions options;
+  options.keep_node_gaps = true;
+  ExpectSameMeasure(a, b, options, /*offset=*/true);
+  options.detect_change = true;
+  options.level_of_detection = 0.3;
+  ExpectSameMeasure(a, b, options, true);
+  ExpectSameMeasure(b, a, options, true);  // and the other way round
+  Lattice turned;  // a turned lattice of 2 by 3 m cells, rows going up
+  turned.origin = {10.0, 20.0};
+  turned.u = {2.0 * std::cos(0.5236), 2.0 * std::sin(0.5236)};
+  turned.v = {-3.0 * std::sin(0.5236), 3.0 * std::cos(0.5236)};
+  ExpectSameMeasure(Window(turned, 0, 0, 30, 25, Rough, HoleA),
+                    Window(OffsetBy(turned, 0.8, 0.25), 0, 0, 30, 25, Changed, HoleB), options, true);
+}
+
+TEST(GridPairTest, OffsetsOnALatticeLineAreLeftToTheGeneralPath) {
+  const Lattice g;
+  const Surface a = HoledA();
+  GridPairResult out;
+  // Nodes on the other's rows, on its columns, or on its diagonals.
+  for (const auto& [dc, dr] : std::vector<std::pair<double, double>>{{0.5, 0.0}, {0.0, 0.3}, {0.4, 0.4}}) {
+    const Surface b = Window(OffsetBy(g, dc, dr), 0, 0, 40, 30, Changed);
+    EXPECT_FALSE(MeasureOnOffsetGrids(a, b, MeasureOptions(), &out)) << dc << " " << dr;
+    EXPECT_GT(Measure(a, b).rho_d, 0.0);
+  }
+  const Surface b = Window(OffsetBy(g, 0.37, -0.61), 0, 0, 40, 30, Changed);
+  MeasureOptions mask;  // masks and per-point weights: the general path
+  mask.weight = WeightMode::kMask;
+  mask.mask = {{{500033.3, 3999987.1}, {500301.7, 3999903.3}, {500150.2, 3999731.9}}};
+  EXPECT_FALSE(MeasureOnOffsetGrids(a, b, mask, &out));
+  Lattice finer = g;
+  finer.u = {5.0, 0.0};
+  EXPECT_FALSE(MeasureOnOffsetGrids(a, Window(finer, 0, 0, 20, 15, Changed), MeasureOptions(), &out));
+  EXPECT_FALSE(MeasureOnOffsetGrids(a, Window(g, 2, 1, 20, 15, Changed), MeasureOptions(), &out));  // one grid
+}
+
 std::string MessageOf(const Surface& a, const Surface& b, const MeasureOptions& options) {
   try {
     Measure(a, b, options);
@@ -236,20 +288,25 @@ TEST(GridPairTest, NoOverlapAndNoCellsGiveTheGeneralPathsMessages) {
 TEST(GridPairTest, OneAndTwoThreadsGiveTheSameBits) {
   const Lattice g;
   const Surface a = Window(g, 0, 0, 40, 31, Rough, HoleA);
-  const Surface b = Window(g, 3, -2, 45, 28, Changed, HoleB);
   MeasureOptions serial;
   serial.parallel = false;
   serial.keep_node_gaps = true;
   MeasureOptions parallel = serial;
   parallel.parallel = true;
-  const MeasureSummary one = Measure(a, b, serial), two = Measure(a, b, parallel);
-  EXPECT_EQ(one.rho_d, two.rho_d);
-  EXPECT_EQ(one.rho_d_axial, two.rho_d_axial);
-  EXPECT_EQ(one.signed_volume, two.signed_volume);
-  EXPECT_EQ(one.overlap_area, two.overlap_area);
-  ASSERT_EQ(one.dz_a.size(), two.dz_a.size());
-  EXPECT_EQ(0, std::memcmp(one.dz_a.data(), two.dz_a.data(), one.dz_a.size() * sizeof(double)));
-  EXPECT_EQ(one.node_area_a, two.node_area_a);
+  // One grid, and a grid offset by a fraction of a cell.
+  for (const Surface& b : {Window(g, 3, -2, 45, 28, Changed, HoleB),
+                           Window(OffsetBy(g, 0.37, -0.61), 3, -2, 45, 28, Changed, HoleB)}) {
+    const MeasureSummary one = Measure(a, b, serial), two = Measure(a, b, parallel);
+    EXPECT_EQ(one.rho_d, two.rho_d);
+    EXPECT_EQ(one.rho_d_axial, two.rho_d_axial);
+    EXPECT_EQ(one.signed_volume, two.signed_volume);
+    EXPECT_EQ(one.overlap_area, two.overlap_area);
+    ASSERT_EQ(one.dz_a.size(), two.dz_a.size());
+    EXPECT_EQ(0, std::memcmp(one.dz_a.data(), two.dz_a.data(), one.dz_a.size() * sizeof(double)));
+    ASSERT_EQ(one.dz_b.size(), two.dz_b.size());
+    EXPECT_EQ(0, std::memcmp(one.dz_b.data(), two.dz_b.data(), one.dz_b.size() * sizeof(double)));
+    EXPECT_EQ(one.node_area_a, two.node_area_a);
+  }
 }
 
 }  // namespace

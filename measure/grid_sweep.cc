@@ -1,0 +1,220 @@
+// Two rasters on lattices of the same cell vectors, offset by a fraction of
+// a cell (grid_pair.h, MeasureOnOffsetGrids). In A's index space B's
+// lattice lines sit at the same fractional offsets in every A cell, so the
+// overlay cut one A cell into the same pieces as every other: the pattern
+// of pieces is clipped once in index space (each piece with its A triangle,
+// its B cell and triangle, and the barycentric weights of its corners), and
+// each cell's integrals follow from its corners' heights. A node of one
+// lies at the same place in a cell of the other (strictly inside one
+// triangle: offsets on a lattice line are left to the general path).
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "measure/grid_cells.h"
+#include "measure/grid_pair.h"
+#include "measure/run_both.h"
+#include "measure/volume.h"
+
+namespace surfreg {
+
+using namespace grid_cells;
+
+namespace {
+
+// The rule's two triangles in a cell's corners (0,0) (1,0) (1,1) (0,1), as
+// indices into those four, counter-clockwise in index space.
+constexpr int kRule[2][3] = {{0, 1, 2}, {0, 2, 3}};
+constexpr double kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+
+// Barycentric weights of (x, y) in rule triangle h of the unit cell.
+std::array<double, 3> Weights(int h, double x, double y) {
+  if (h == 0) return {1.0 - x, x - y, y};  // (0,0) (1,0) (1,1)
+  return {1.0 - y, x, y - x};              // (0,0) (1,1) (0,1)
+}
+
+// One piece of an A cell: A's triangle `a`, the B cell (dc, dr) from the
+// cell's base B cell and its triangle `b`; corners by their weights in both
+// triangles, and the fan's areas (index units).
+struct Piece {
+  int a = 0, b = 0, dc = 0, dr = 0, corners = 0;
+  double wa[9][3], wb[9][3];
+  double fan[7];
+};
+
+// The pieces of the unit A cell when B's cell (0, 0) starts at (-fx, -fy)
+// (0 < fx, fy < 1): B cells (0..1, 0..1) cover it.
+std::vector<Piece> PiecePattern(double fx, double fy) {
+  std::vector<Piece> pieces;
+  for (int a = 0; a < 2; ++a) {
+    const Point2 ta[3] = {{kCorner[kRule[a][0]][0], kCorner[kRule[a][0]][1]},
+                          {kCorner[kRule[a][1]][0], kCorner[kRule[a][1]][1]},
+                          {kCorner[kRule[a][2]][0], kCorner[kRule[a][2]][1]}};
+    for (int dr = 0; dr < 2; ++dr) {
+      for (int dc = 0; dc < 2; ++dc) {
+        for (int b = 0; b < 2; ++b) {
+          std::array<Point2, 3> tb;
+          for (int k = 0; k < 3; ++k) {
+            tb[k] = {dc - fx + kCorner[kRule[b][k]][0], dr - fy + kCorner[kRule[b][k]][1]};
+          }
+          Point2 out[9];
+          const int m = ClipByTriangle(ta, 3, tb, out);
+          if (m < 3) continue;
+          Piece piece;
+          piece.a = a, piece.b = b, piece.dc = dc, piece.dr = dr, piece.corners = m;
+          double total = 0.0;
+          for (int k = 1; k + 1 < m; ++k) {
+            piece.fan[k - 1] = 0.5 * TwiceArea(out[0], out[k], out[k + 1]);
+            total += piece.fan[k - 1];
+          }
+          if (!(total > 1e-12)) continue;  // B's triangle only touches A's
+          for (int k = 0; k < m; ++k) {
+            const std::array<double, 3> wa = Weights(a, out[k].x, out[k].y);
+            const std::array<double, 3> wb = Weights(b, out[k].x - dc + fx, out[k].y - dr + fy);
+            for (int i = 0; i < 3; ++i) piece.wa[k][i] = wa[i], piece.wb[k][i] = wb[i];
+          }
+          pieces.push_back(piece);
+        }
+      }
+    }
+  }
+  return pieces;
+}
+
+double Fraction(double x) { return x - std::floor(x); }
+
+}  // namespace
+
+bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptions& options,
+                          GridPairResult* out) {
+  if (!options.grid_shortcut || !a.raster_grid() || !b.raster_grid() || options.volume != VolumeMode::kOverlay ||
+      options.domain.kind != DomainKind::kData || options.weight != WeightMode::kUniform) {
+    return false;
+  }
+  GridSide sa, sb;
+  if (!IndexSides(a, b, &sa, &sb)) return false;
+  const double magnitude = std::max(Magnitude(a), Magnitude(b));
+  GridAffine ga, gb;
+  double tolerance_a = 0, tolerance_b = 0;
+  if (!FitAffine(a, magnitude, &ga, &tolerance_a) || !FitAffine(b, magnitude, &gb, &tolerance_b)) return false;
+  // The same cell vectors (to 1e-9 of a cell).
+  const double cell = std::min(std::hypot(ga.u.x, ga.u.y), std::hypot(ga.v.x, ga.v.y));
+  if (!Near(ga.u, gb.u, 1e-9 * cell) || !Near(ga.v, gb.v, 1e-9 * cell)) return false;
+  const double cross = ga.u.x * ga.v.y - ga.u.y * ga.v.x;
+  // B's side-index origin in A's side-index coordinates: (ox, oy).
+  const Point2 q{gb.origin.x + sb.shift.x - ga.origin.x, gb.origin.y + sb.shift.y - ga.origin.y};
+  const double ox = static_cast<double>(ga.c0 - sa.index.c0) + (q.x * ga.v.y - q.y * ga.v.x) / cross -
+                    static_cast<double>(gb.c0 - sb.index.c0);
+  const double oy = static_cast<double>(ga.r0 - sa.index.r0) + (ga.u.x * q.y - ga.u.y * q.x) / cross -
+                    static_cast<double>(gb.r0 - sb.index.r0);
+  if (!(std::fabs(ox) < 1e9 && std::fabs(oy) < 1e9)) return false;
+  // A cell (c, r) meets B cells (c + kx + 0..1, r + ky + 0..1); nodes fall
+  // strictly inside triangles unless an offset puts them on a line of the
+  // other lattice (a whole-cell offset is one grid: MeasureOnSameGrid's).
+  const int64_t kx = static_cast<int64_t>(std::floor(-ox)), ky = static_cast<int64_t>(std::floor(-oy));
+  const double fx = Fraction(-ox), fy = Fraction(-oy);
+  constexpr double kMargin = 1e-6;
+  const auto on_line = [](double f) { return f < kMargin || f > 1.0 - kMargin; };
+  if (on_line(fx) || on_line(fy) || on_line(Fraction(fx - fy))) return false;
+  const double sign = cross > 0.0 ? 1.0 : -1.0;
+  GridPairResult& result = *out;
+  result = GridPairResult();
+  if (!MarkBoth(&sa, &sb, sign, options.parallel, &result.domain_area_a, &result.domain_area_b)) return false;
+
+  const std::vector<Piece> pieces = PiecePattern(fx, fy);
+  const double area_scale = std::fabs(cross);  // xy area of one index unit
+  const double lod = options.detect_change ? options.level_of_detection : -1.0;
+  const bool keep = options.keep_node_gaps;
+  std::vector<uint8_t> omega_a(a.size(), 0);
+  if (keep) result.dz_a.assign(a.size(), std::nan("")), result.dz_b.assign(b.size(), std::nan(""));
+  // A's node at the corner (0, 0) of its cell lies in B's cell (c + kx,
+  // r + ky) at (fx, fy); B's node in A's cell (c - kx - 1, r - ky - 1) at
+  // (1 - fx, 1 - fy).
+  const int node_in_b = fx > fy ? 0 : 1, node_in_a = fy > fx ? 0 : 1;
+  const std::array<double, 3> w_in_b = Weights(node_in_b, fx, fy), w_in_a = Weights(node_in_a, 1 - fx, 1 - fy);
+
+  // The four corners' samples of complete cell (c, r) of a side, or false.
+  const auto corners = [](const GridSide& side, int64_t c, int64_t r, int32_t k[4]) {
+    const uint8_t* flags = side.CompleteRow(r);
+    if (flags == nullptr || c < 0 || c >= side.index.columns || !flags[c]) return false;
+    GridSide::Corners(side.SampleRow(r), side.SampleRow(r + 1), c, k);
+    return true;
+  };
+  // The surface's interpolant at the point of rule triangle h with weights w.
+  const auto at = [](const GridSide& side, const int32_t k[4], int h, const std::array<double, 3>& w) {
+    return w[0] * side.Z(k[kRule[h][0]]) + w[1] * side.Z(k[kRule[h][1]]) + w[2] * side.Z(k[kRule[h][2]]);
+  };
+  // Nodes of `from` in rows [begin, end) inside `to`'s domain.
+  const auto nodes = [&](const GridSide& from, const GridSide& to, int64_t dc, int64_t dr, int h,
+                         const std::array<double, 3>& w, double sign_of_gap, std::vector<uint8_t>* omega,
+                         std::vector<double>* gaps, int64_t begin, int64_t end, HalfSums* sums) {
+    for (int64_t r = begin; r < end; ++r) {
+      const int32_t* here = from.SampleRow(r);
+      const uint8_t* above = from.CompleteRow(r - 1);
+      const uint8_t* flags = from.CompleteRow(r);
+      for (int64_t c = 0; c < from.index.columns; ++c) {
+        const int32_t i = here[c];
+        int32_t k[4];
+        if (i < 0 || !from.DomainVertex(above, flags, c) || !corners(to, c + dc, r + dr, k)) continue;
+        const double d = sign_of_gap * (at(to, k, h, w) - from.Z(i));
+        if (omega != nullptr) (*omega)[i] = 1;
+        if (gaps != nullptr) (*gaps)[i] = d;
+        sums->gap_sum += std::fabs(d);
+        sums->node_weight += 1.0;
+        ++sums->nodes;
+      }
+    }
+  };
+  // The pieces of A's cells in rows [begin, end).
+  const auto cells = [&](int64_t begin, int64_t end, VolumeResult* volume) {
+    for (int64_t r = begin; r < end; ++r) {
+      for (int64_t c = 0; c < sa.index.columns; ++c) {
+        int32_t ka[4];
+        if (!corners(sa, c, r, ka)) continue;
+        int32_t kb[2][2][4];
+        bool whole[2][2];
+        for (int dr = 0; dr < 2; ++dr) {
+          for (int dc = 0; dc < 2; ++dc) whole[dr][dc] = corners(sb, c + kx + dc, r + ky + dr, kb[dr][dc]);
+        }
+        for (const Piece& piece : pieces) {
+          if (!whole[piece.dr][piece.dc]) continue;
+          const int32_t* k = kb[piece.dr][piece.dc];
+          double d[9];
+          for (int v = 0; v < piece.corners; ++v) {
+            double za = 0.0, zb = 0.0;
+            for (int i = 0; i < 3; ++i) {
+              za += piece.wa[v][i] * sa.Z(ka[kRule[piece.a][i]]);
+              zb += piece.wb[v][i] * sb.Z(k[kRule[piece.b][i]]);
+            }
+            d[v] = zb - za;
+          }
+          for (int v = 1; v + 1 < piece.corners; ++v) {
+            const double gaps[3] = {d[0], d[v], d[v + 1]};
+            IntegrateTriangleOfArea(area_scale * piece.fan[v - 1], gaps, lod, volume);
+          }
+          ++volume->cells;
+        }
+      }
+    }
+  };
+  const int64_t mid_a = sa.index.rows / 2, mid_b = sb.index.rows / 2;
+  HalfSums half[2], half_b[2];
+  const auto run = [&](int h) {
+    const int64_t a0 = h == 0 ? 0 : mid_a, a1 = h == 0 ? mid_a : sa.index.rows;
+    const int64_t b0 = h == 0 ? 0 : mid_b, b1 = h == 0 ? mid_b : sb.index.rows;
+    nodes(sa, sb, kx, ky, node_in_b, w_in_b, 1.0, &omega_a, keep ? &result.dz_a : nullptr, a0, a1, &half[h]);
+    nodes(sb, sa, -kx - 1, -ky - 1, node_in_a, w_in_a, -1.0, nullptr, keep ? &result.dz_b : nullptr, b0, b1,
+          &half_b[h]);
+    cells(a0, a1, &half[h].volume);
+  };
+  RunBoth(options.parallel, [&] { run(0); }, [&] { run(1); });
+  for (int h = 0; h < 2; ++h) {  // B's nodes after A's, as the general path sums them
+    half[h].gap_sum += half_b[h].gap_sum;
+    half[h].node_weight += half_b[h].node_weight;
+    half[h].nodes += half_b[h].nodes;
+  }
+  FinishResult(half, sa, sb, omega_a, keep, &result);
+  return true;
+}
+
+}  // namespace surfreg
