@@ -38,7 +38,7 @@ std::array<double, 3> Weights(int h, double x, double y) {
 // triangles, and the fan's areas (index units).
 struct Piece {
   int a = 0, b = 0, dc = 0, dr = 0, corners = 0;
-  double wa[9][3], wb[9][3];
+  double wa[9][4], wb[9][4];  // per corner of the piece, weights of the cells' four corners
   double fan[7];
 };
 
@@ -71,7 +71,8 @@ std::vector<Piece> PiecePattern(double fx, double fy) {
           for (int k = 0; k < m; ++k) {
             const std::array<double, 3> wa = Weights(a, out[k].x, out[k].y);
             const std::array<double, 3> wb = Weights(b, out[k].x - dc + fx, out[k].y - dr + fy);
-            for (int i = 0; i < 3; ++i) piece.wa[k][i] = wa[i], piece.wb[k][i] = wb[i];
+            for (int i = 0; i < 4; ++i) piece.wa[k][i] = piece.wb[k][i] = 0.0;
+            for (int i = 0; i < 3; ++i) piece.wa[k][kRule[a][i]] = wa[i], piece.wb[k][kRule[b][i]] = wb[i];
           }
           pieces.push_back(piece);
         }
@@ -171,22 +172,26 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
       for (int64_t c = 0; c < sa.index.columns; ++c) {
         int32_t ka[4];
         if (!corners(sa, c, r, ka)) continue;
-        int32_t kb[2][2][4];
+        // The heights of A's four corners and of the four B cells' corners.
+        double za[4], zb[2][2][4];
         bool whole[2][2];
+        for (int k = 0; k < 4; ++k) za[k] = sa.Z(ka[k]);
         for (int dr = 0; dr < 2; ++dr) {
-          for (int dc = 0; dc < 2; ++dc) whole[dr][dc] = corners(sb, c + kx + dc, r + ky + dr, kb[dr][dc]);
+          for (int dc = 0; dc < 2; ++dc) {
+            int32_t kb[4];
+            whole[dr][dc] = corners(sb, c + kx + dc, r + ky + dr, kb);
+            for (int k = 0; k < 4 && whole[dr][dc]; ++k) zb[dr][dc][k] = sb.Z(kb[k]);
+          }
         }
         for (const Piece& piece : pieces) {
           if (!whole[piece.dr][piece.dc]) continue;
-          const int32_t* k = kb[piece.dr][piece.dc];
+          const double* z = zb[piece.dr][piece.dc];
           double d[9];
           for (int v = 0; v < piece.corners; ++v) {
-            double za = 0.0, zb = 0.0;
-            for (int i = 0; i < 3; ++i) {
-              za += piece.wa[v][i] * sa.Z(ka[kRule[piece.a][i]]);
-              zb += piece.wb[v][i] * sb.Z(k[kRule[piece.b][i]]);
-            }
-            d[v] = zb - za;
+            const double* wa = piece.wa[v];
+            const double* wb = piece.wb[v];
+            d[v] = (wb[0] * z[0] + wb[1] * z[1] + wb[2] * z[2] + wb[3] * z[3]) -
+                   (wa[0] * za[0] + wa[1] * za[1] + wa[2] * za[2] + wa[3] * za[3]);
           }
           for (int v = 1; v + 1 < piece.corners; ++v) {
             const double gaps[3] = {d[0], d[v], d[v + 1]};
