@@ -98,9 +98,15 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
   GridAffine ga, gb;
   double tolerance_a = 0, tolerance_b = 0;
   if (!FitAffine(a, magnitude, &ga, &tolerance_a) || !FitAffine(b, magnitude, &gb, &tolerance_b)) return false;
-  // The same cell vectors (to 1e-9 of a cell).
+  // The same cell vectors: every sample of B on A's vectors from B's origin
+  // (so a turn between the grids, however small, that moves a sample by
+  // more than the tolerance over B's extent is the general path's).
   const double cell = std::min(std::hypot(ga.u.x, ga.u.y), std::hypot(ga.v.x, ga.v.y));
   if (!Near(ga.u, gb.u, 1e-9 * cell) || !Near(ga.v, gb.v, 1e-9 * cell)) return false;
+  gb.u = ga.u, gb.v = ga.v;
+  for (std::size_t j = 0; j < b.size(); ++j) {
+    if (!Near(gb.At(b.raster_cell[j].column, b.raster_cell[j].row), b.xy[j], tolerance_b)) return false;
+  }
   const double cross = ga.u.x * ga.v.y - ga.u.y * ga.v.x;
   // B's side-index origin in A's side-index coordinates: (ox, oy).
   const Point2 q{gb.origin.x + sb.shift.x - ga.origin.x, gb.origin.y + sb.shift.y - ga.origin.y};

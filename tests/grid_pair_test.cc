@@ -258,6 +258,13 @@ TEST(GridPairTest, OffsetsOnALatticeLineAreLeftToTheGeneralPath) {
   finer.u = {5.0, 0.0};
   EXPECT_FALSE(MeasureOnOffsetGrids(a, Window(finer, 0, 0, 20, 15, Changed), MeasureOptions(), &out));
   EXPECT_FALSE(MeasureOnOffsetGrids(a, Window(g, 2, 1, 20, 15, Changed), MeasureOptions(), &out));  // one grid
+  // Turned by 8e-10 rad: cell vectors equal to 1e-9 of a cell, but the far
+  // samples 3e-8 cells off A's lattice.
+  Lattice turned = OffsetBy(g, 0.37, -0.61);
+  const double angle = 8e-10;
+  turned.u = {10.0 * std::cos(angle), 10.0 * std::sin(angle)};
+  turned.v = {10.0 * std::sin(angle), -10.0 * std::cos(angle)};
+  EXPECT_FALSE(MeasureOnOffsetGrids(a, Window(turned, 0, 0, 40, 30, Changed), MeasureOptions(), &out));
 }
 
 std::string MessageOf(const Surface& a, const Surface& b, const MeasureOptions& options) {
