@@ -1,6 +1,7 @@
 #include "measure/grid_cells.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -85,19 +86,42 @@ double Magnitude(const Surface& s) {
 }
 
 // The area of the convex hull of a grid's samples: each row's samples are
-// on one line, so its two ends stand for it.
-double HullArea(const std::vector<Point2>& xy, const GridIndex& index, Point2 shift) {
-  std::vector<Point2> ends;
+// on one line, so its two ends stand for it; the hull is taken in index
+// space, exactly in integers (rows of collinear ends would send every
+// floating-point orientation test to the exact stage), times a cell's area.
+__extension__ typedef __int128 Wide;  // products of two index differences, exactly
+
+double HullArea(const GridIndex& index, double cell_area) {
+  using Corner = std::array<int64_t, 2>;
+  std::vector<Corner> ends;
   for (int64_t r = 0; r < index.rows; ++r) {
     const int32_t* row = &index.sample[static_cast<std::size_t>(r * index.columns)];
     int64_t first = 0, last = index.columns - 1;
     while (first <= last && row[first] < 0) ++first;
     while (last > first && row[last] < 0) --last;
     if (first > last) continue;
-    ends.push_back({xy[row[first]].x + shift.x, xy[row[first]].y + shift.y});
-    if (last != first) ends.push_back({xy[row[last]].x + shift.x, xy[row[last]].y + shift.y});
+    ends.push_back({first, r});
+    if (last != first) ends.push_back({last, r});
   }
-  return PolygonArea(ConvexHull(std::move(ends)));
+  std::sort(ends.begin(), ends.end());
+  const auto turn = [](const Corner& o, const Corner& p, const Corner& q) {
+    return static_cast<Wide>(p[0] - o[0]) * (q[1] - o[1]) - static_cast<Wide>(p[1] - o[1]) * (q[0] - o[0]);
+  };
+  std::vector<Corner> hull(2 * ends.size() + 1);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < ends.size(); ++i) {  // lower chain, then upper (Andrew)
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], ends[i]) <= 0) --k;
+    hull[k++] = ends[i];
+  }
+  for (std::size_t i = ends.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], ends[i]) <= 0) --k;
+    hull[k++] = ends[i];
+  }
+  Wide twice = 0;
+  for (std::size_t i = 0; i + 1 < k; ++i) {
+    twice += static_cast<Wide>(hull[i][0]) * hull[i + 1][1] - static_cast<Wide>(hull[i + 1][0]) * hull[i][1];
+  }
+  return 0.5 * static_cast<double>(twice < 0 ? -twice : twice) * cell_area;
 }
 
 bool MarkComplete(GridSide* side, int64_t begin, int64_t end, double sign, double* area) {
@@ -228,8 +252,8 @@ void FinishResult(const HalfSums half[2], const GridSide& side_a, const GridSide
   const double node_weight = half[0].node_weight + half[1].node_weight;
   result->rho_d_axial = node_weight > 0.0 ? (half[0].gap_sum + half[1].gap_sum) / node_weight : 0.0;
   result->n_overlap_nodes = half[0].nodes + half[1].nodes;
-  result->hull_area_a = HullArea(side_a.surface->xy, side_a.index, {0.0, 0.0});
-  result->hull_area_b = HullArea(side_b.surface->xy, side_b.index, side_b.shift);
+  result->hull_area_a = HullArea(side_a.index, side_a.cell_area);
+  result->hull_area_b = HullArea(side_b.index, side_b.cell_area);
   if (keep) result->node_area_a = NodeAreas(side_a, *side_a.surface, omega_a);
 }
 

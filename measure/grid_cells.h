@@ -49,8 +49,9 @@ bool FitAffine(const Surface& s, double magnitude, GridAffine* fit, double* tole
 // The largest input coordinate of a surface's samples (origin included).
 double Magnitude(const Surface& s);
 
-// The area of the convex hull of a grid's samples (xy + shift).
-double HullArea(const std::vector<Point2>& xy, const GridIndex& index, Point2 shift);
+// The area of the convex hull of a grid's samples, on a lattice of cells of
+// area `cell_area`.
+double HullArea(const GridIndex& index, double cell_area);
 
 // One surface on the grid: its index, positions in A's frame and heights.
 struct GridSide {
@@ -60,6 +61,7 @@ struct GridSide {
   double z_shift = 0;  // added to its z
   std::vector<uint8_t> complete;  // per index cell: its four corners are samples
   double domain_area = 0;
+  double cell_area = 0;  // of the lattice's cells (the hull's area in index units times this)
 
   Point2 Xy(int32_t i) const {
     const Point2& p = surface->xy[i];

@@ -45,6 +45,7 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
   }
 
   const double sign = cross > 0.0 ? 1.0 : -1.0;
+  sa.cell_area = sb.cell_area = std::fabs(cross);
   double area_a = 0.0, area_b = 0.0;
   if (!MarkBoth(&sa, &sb, sign, options.parallel, &area_a, &area_b)) return false;
   const int64_t mid_a = sa.index.rows / 2;

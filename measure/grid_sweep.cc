@@ -124,6 +124,7 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
   const auto on_line = [](double f) { return f < kMargin || f > 1.0 - kMargin; };
   if (on_line(fx) || on_line(fy) || on_line(Fraction(fx - fy))) return false;
   const double sign = cross > 0.0 ? 1.0 : -1.0;
+  sa.cell_area = sb.cell_area = std::fabs(cross);
   GridPairResult& result = *out;
   result = GridPairResult();
   if (!MarkBoth(&sa, &sb, sign, options.parallel, &result.domain_area_a, &result.domain_area_b)) return false;

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "measure/grid_cells.h"
 #include "measure/input_error.h"
 #include "measure/mask_region.h"
 #include "measure/predicates.h"
@@ -17,6 +18,30 @@
 
 namespace surfreg {
 namespace {
+
+// The convex hull of a tile's samples. On an affine grid (to rounding) each
+// row's samples lie on one line, so the row's two ends stand for it: no
+// orientation test on a whole row of collinear points (each would need the
+// exact stage). Otherwise (a grid turned into another frame) all samples.
+std::vector<Point2> TileHull(const Surface& s) {
+  grid_cells::GridAffine fit;
+  double tolerance = 0.0;
+  if (!s.raster_grid() || !grid_cells::FitAffine(s, grid_cells::Magnitude(s), &fit, &tolerance)) {
+    return ConvexHull(s.xy);
+  }
+  std::vector<Point2> ends;
+  for (std::size_t i = 0; i < s.size();) {  // runs of one row (the reader's row-major order)
+    std::size_t first = i, last = i, j = i;
+    for (; j < s.size() && s.raster_cell[j].row == s.raster_cell[i].row; ++j) {
+      if (s.raster_cell[j].column < s.raster_cell[first].column) first = j;
+      if (s.raster_cell[j].column > s.raster_cell[last].column) last = j;
+    }
+    ends.push_back(s.xy[first]);
+    if (last != first) ends.push_back(s.xy[last]);
+    i = j;
+  }
+  return ConvexHull(std::move(ends));
+}
 
 using tiled_internal::CompleteCellArea;
 using tiled_internal::MergeHull;
@@ -134,7 +159,7 @@ void MovingPass(const TiledRasterSource& moving, const TiledMeasureOptions& opti
           ++totals->sum.n_points_b;
         }
       }
-      MergeHull(ConvexHull(b.xy), &totals->hull_b);
+      MergeHull(TileHull(b), &totals->hull_b);
       ++progress->done;
       if (options.on_progress) options.on_progress(*progress);
     }
@@ -339,7 +364,7 @@ struct PartRun {
     int64_t cells = 0;
     totals.domain_area_a += CompleteCellArea(a, index, c0, c1, r0, r1, &cells);
     totals.complete_cells_a += cells;
-    MergeHull(ConvexHull(a.xy), &totals.hull_a);
+    MergeHull(TileHull(a), &totals.hull_a);
     // The tile's own DoD: dz and its part of each node's area.
     const std::size_t n = static_cast<std::size_t>(window.columns) * window.rows;
     std::vector<double> dz(n, kNaN), area(n, 0.0);
