@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 
-#include "measure/convex_hull.h"
 #include "measure/predicates.h"
 #include "measure/run_both.h"
 #include "measure/volume.h"

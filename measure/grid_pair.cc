@@ -2,12 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "measure/grid_cells.h"
-#include "measure/predicates.h"
 #include "measure/run_both.h"
-#include "measure/volume.h"
 #include "measure/weights.h"
 
 namespace surfreg {
