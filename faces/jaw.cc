@@ -1,4 +1,5 @@
 #include "faces/jaw.h"
+#include "measure/tasks.h"
 
 #include <algorithm>
 #include <chrono>
@@ -207,7 +208,7 @@ AxialSolve SolveAxialPart(PairState& state, const Theta& theta0, double scale, i
   solver.function_tolerance = 1e-6;
   solver.gradient_tolerance = 1e-16;
   solver.parameter_tolerance = 1e-10;  // step_tolerance (absolute) is the one that matters
-  solver.num_threads = std::max(1, options.num_threads);
+  solver.num_threads = ExecutionFor(options.num_threads).threads;
   solver.logging_type = ceres::SILENT;
   solver.minimizer_progress_to_stdout = false;
   StepTolerance step(options.step_tolerance);
@@ -278,7 +279,7 @@ JawPartResult RegisterPart(const ReferencePart& reference, const Surface& part,
   }
   state.Update(theta);
   result.rho_d_axial_after = MeanAbsResidual(state);
-  const VolumeCostValue volume = EvaluateVolumeCost(state, false, options.num_threads > 1);
+  const VolumeCostValue volume = EvaluateVolumeCost(state, false, ExecutionFor(options.num_threads));
   result.mean_abs_dz_after = volume.PerArea();
   result.overlap_area_after = volume.area;
   result.reference_from_frame = RigidOfTheta(theta, moving.centroid, origin).ToMatrix();
@@ -326,7 +327,7 @@ bool JawOptions::IsValid(std::string* error) const {
   if (!(step_tolerance > 0) || !std::isfinite(step_tolerance)) return fail("step_tolerance must be > 0");
   if (volume_iterations < 0) return fail("volume_iterations must be >= 0");
   if (!(max_fold_fraction >= 0 && max_fold_fraction <= 1)) return fail("max_fold_fraction must be in [0, 1]");
-  if (num_threads < 1) return fail("threads must be >= 1");
+  if (num_threads < 0) return fail("threads must be >= 1 (0: every core)");
   if (min_part_points < 3) return fail("min_part_points must be >= 3");
   return true;
 }

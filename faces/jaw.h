@@ -109,7 +109,7 @@ struct JawOptions {
   // Share of a part's area whose triangles may turn over in projection
   // before the part counts as folded (pair_state.h).
   double max_fold_fraction = 0.5;
-  int num_threads = 2;  // the volume measure and refinement use two threads if > 1
+  int num_threads = 0;  // for the volume measure and refinement; 0: every core
   // A part with fewer points than this after the split is an error.
   int min_part_points = 50;
   // Called once per frame, in processing order (not frame order).

@@ -11,6 +11,7 @@
 #include <ceres/rotation.h>
 
 #include "measure/delaunay.h"
+#include "measure/tasks.h"
 #include "measure/input_error.h"
 #include "measure/locator.h"
 #include "measure/spatial_sort.h"
@@ -142,7 +143,7 @@ struct SymmetryObjective::State {
   double scale = 1;  // L: the face's RMS radius in xy
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // B's centroid, input coordinates
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // the face's origin
-  bool parallel = true;
+  Execution execution;
 
   // The plane (n, d) at x.
   template <typename T>
@@ -179,7 +180,7 @@ SymmetryObjective::SymmetryObjective(const Surface& face, const SymmetryPlane& b
                                      const SymmetryOptions& options, double keep_fraction)
     : state_(new State) {
   State& s = *state_;
-  s.parallel = options.parallel;
+  s.execution = ExecutionFor(options.threads);
   s.n0 = ToVector(base.normal).normalized();
   s.d0 = base.offset;
   ComplementBasis(s.n0, &s.u, &s.v);
@@ -221,7 +222,7 @@ bool SymmetryObjective::Evaluate(const double* x, double* cost, double* gradient
   for (int k = 0; k < 6; ++k) theta[k] = theta_jet[k].a;
   if (!state_->pair->Update(theta)) return false;
   const VolumeCostValue value =
-      EvaluateVolumeCost(*state_->pair, gradient != nullptr, state_->parallel);
+      EvaluateVolumeCost(*state_->pair, gradient != nullptr, state_->execution);
   if (!(value.area > 0)) return false;
   *cost = value.PerArea();
   if (gradient != nullptr) {
@@ -304,7 +305,7 @@ PassResult SolvePass(const Surface& face, const SymmetryPlane& base,
 SymmetryEstimate MeasurePlane(const Surface& face, const SymmetryPlane& plane,
                               const SymmetryOptions& options) {
   MeasureOptions measure;
-  measure.parallel = options.parallel;
+  measure.threads = options.threads;
   measure.keep_node_gaps = options.keep_node_gaps;
   SymmetryEstimate estimate;
   estimate.plane = plane;

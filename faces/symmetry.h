@@ -80,7 +80,7 @@ struct SymmetryOptions {
   // triangles may turn over in projection (slivers on steep sides) before a
   // step counts as infeasible.
   double max_fold_fraction = 0.5;
-  bool parallel = true;  // two threads in Measure and the cost
+  int threads = 0;  // for Measure and the cost; 0: every core
   // Keep the gap at every face sample in both estimates' summaries
   // (MeasureSummary::dz_a: mirror minus face, NaN outside the overlap).
   bool keep_node_gaps = false;

@@ -232,18 +232,21 @@ VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation&
                            const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
                            const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
-                           const WeightField& mu, bool parallel, double lod,
+                           const WeightField& mu, const Execution& execution, double lod,
                            const OmegaDomains& domains) {
-  // Two halves on one thread or two: the same sums (overlay.h).
-  CellIntegrator first(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod, domains);
-  CellIntegrator second(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod, domains);
-  ForEachOverlayCellInTwo(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, std::ref(first),
-                          std::ref(second), parallel);
-  VolumeResult result = first.result;
-  result.gap += second.result.gap;
-  result.change += second.result.change;
-  result.area += second.result.area;
-  result.cells += second.result.cells;
+  // A visitor per chunk, added in chunk order: the same sums on any number
+  // of threads (overlay.h).
+  const int chunks = OverlayChunks(mesh_a);
+  std::vector<CellIntegrator> parts(chunks, CellIntegrator(xy_a, mesh_a, z_a, xy_b, mesh_b, z_b, mu, lod, domains));
+  ForEachOverlayCellInChunks(xy_a, mesh_a, a_in_b, xy_b, mesh_b, b_in_a, chunks,
+                             [&](int c, const OverlayCell& cell) { parts[c](cell); }, execution);
+  VolumeResult result = parts[0].result;
+  for (int c = 1; c < chunks; ++c) {
+    result.gap += parts[c].result.gap;
+    result.change += parts[c].result.change;
+    result.area += parts[c].result.area;
+    result.cells += parts[c].result.cells;
+  }
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include "measure/delaunay.h"
 #include "measure/domain.h"
 #include "measure/locator.h"
+#include "measure/tasks.h"
 #include "measure/volume.h"
 #include "measure/weights.h"
 
@@ -64,15 +65,15 @@ int ClipByTriangle(const Point2* polygon, int n, const std::array<Point2, 3>& tr
 void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightField& mu,
                      const Plane& mu_plane, VolumeResult* result, double lod = -1.0);
 
-// With `parallel`, on two threads (overlay.h, ForEachOverlayCellInTwo); the
-// result is deterministic but may differ from the serial one in rounding.
+// On the threads `execution` allows, in chunks (overlay.h,
+// ForEachOverlayCellInChunks): the same bits on any number of threads.
 // Cells whose A or B triangle is outside its domain contribute nothing (and
 // are not counted in `cells`).
 VolumeResult OverlayVolume(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                            const std::vector<double>& z_a, const std::vector<Location>& a_in_b,
                            const std::vector<Point2>& xy_b, const Triangulation& mesh_b,
                            const std::vector<double>& z_b, const std::vector<Location>& b_in_a,
-                           const WeightField& mu, bool parallel = false, double lod = -1.0,
+                           const WeightField& mu, const Execution& execution = Execution{1}, double lod = -1.0,
                            const OmegaDomains& domains = OmegaDomains());
 
 // The union's triangles use the paper's closed form for ∫|d| (volume.h,

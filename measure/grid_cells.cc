@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "measure/predicates.h"
-#include "measure/run_both.h"
+#include "measure/tasks.h"
 #include "measure/volume.h"
 
 namespace surfreg {
@@ -191,24 +191,26 @@ void IntegrateTriangleOfArea(double area, const double d[3], double lod, VolumeR
 }
 
 
-bool MarkBoth(GridSide* a, GridSide* b, double sign, bool parallel, double* area_a, double* area_b) {
+int RowChunks(int64_t rows) { return ChunksFor(rows, 16); }
+
+bool MarkBoth(GridSide* a, GridSide* b, double sign, const Execution& execution, double* area_a,
+              double* area_b) {
   a->complete.assign(a->index.sample.size(), 0);
   b->complete.assign(b->index.sample.size(), 0);
-  bool ok[4] = {true, true, true, true};
-  double area[4] = {0, 0, 0, 0};
-  const int64_t mid_a = a->index.rows / 2, mid_b = b->index.rows / 2;
-  RunBoth(parallel,
-          [&] {
-            ok[0] = MarkComplete(a, 0, mid_a, sign, &area[0]);
-            ok[1] = MarkComplete(b, 0, mid_b, sign, &area[1]);
-          },
-          [&] {
-            ok[2] = MarkComplete(a, mid_a, a->index.rows, sign, &area[2]);
-            ok[3] = MarkComplete(b, mid_b, b->index.rows, sign, &area[3]);
-          });
-  *area_a = area[0] + area[2];
-  *area_b = area[1] + area[3];
-  return ok[0] && ok[1] && ok[2] && ok[3];
+  const auto mark = [&](GridSide* side, double* total) {
+    const int chunks = RowChunks(side->index.rows);
+    std::vector<double> area(chunks, 0.0);
+    std::vector<uint8_t> ok(chunks, 1);
+    ForEachChunk(execution, side->index.rows, chunks, [&](int c, int64_t begin, int64_t end) {
+      ok[c] = MarkComplete(side, begin, end, sign, &area[c]);
+    });
+    *total = 0.0;
+    for (int c = 0; c < chunks; ++c) *total += area[c];
+    return std::all_of(ok.begin(), ok.end(), [](uint8_t v) { return v != 0; });
+  };
+  const bool ok_a = mark(a, area_a);
+  const bool ok_b = mark(b, area_b);
+  return ok_a && ok_b;
 }
 
 std::vector<double> NodeAreas(const GridSide& side_a, const Surface& a, const std::vector<uint8_t>& omega) {
@@ -239,18 +241,22 @@ bool IndexSides(const Surface& a, const Surface& b, GridSide* side_a, GridSide* 
   return BuildIndex(a.raster_cell, &side_a->index) && BuildIndex(b.raster_cell, &side_b->index);
 }
 
-void FinishResult(const HalfSums half[2], const GridSide& side_a, const GridSide& side_b,
+void FinishResult(const std::vector<ChunkSums>& parts, const GridSide& side_a, const GridSide& side_b,
                   const std::vector<uint8_t>& omega_a, bool keep, GridPairResult* result) {
   VolumeResult& volume = result->volume;
-  for (int h = 0; h < 2; ++h) {
-    volume.gap += half[h].volume.gap;
-    volume.change += half[h].volume.change;
-    volume.area += half[h].volume.area;
-    volume.cells += half[h].volume.cells;
+  double gap_sum = 0.0, node_weight = 0.0;
+  int64_t nodes = 0;
+  for (const ChunkSums& part : parts) {
+    volume.gap += part.volume.gap;
+    volume.change += part.volume.change;
+    volume.area += part.volume.area;
+    volume.cells += part.volume.cells;
+    gap_sum += part.gap_sum;
+    node_weight += part.node_weight;
+    nodes += part.nodes;
   }
-  const double node_weight = half[0].node_weight + half[1].node_weight;
-  result->rho_d_axial = node_weight > 0.0 ? (half[0].gap_sum + half[1].gap_sum) / node_weight : 0.0;
-  result->n_overlap_nodes = half[0].nodes + half[1].nodes;
+  result->rho_d_axial = node_weight > 0.0 ? gap_sum / node_weight : 0.0;
+  result->n_overlap_nodes = nodes;
   result->hull_area_a = HullArea(side_a.index, side_a.cell_area);
   result->hull_area_b = HullArea(side_b.index, side_b.cell_area);
   if (keep) result->node_area_a = NodeAreas(side_a, *side_a.surface, omega_a);

@@ -8,6 +8,7 @@
 #include "measure/gap_volume.h"
 #include "measure/grid_pair.h"
 #include "measure/surface.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 namespace grid_cells {
@@ -96,9 +97,14 @@ struct GridSide {
 // (a fold or a degenerate cell).
 bool MarkComplete(GridSide* side, int64_t begin, int64_t end, double sign, double* area);
 
-// Both sides' MarkComplete over all rows, each in two halves (on two
-// threads when `parallel`); false if either finds a fold.
-bool MarkBoth(GridSide* a, GridSide* b, double sign, bool parallel, double* area_a, double* area_b);
+// Both sides' MarkComplete over all rows, in chunks of rows (RowChunks) on
+// the threads `execution` allows; false if either finds a fold.
+bool MarkBoth(GridSide* a, GridSide* b, double sign, const Execution& execution, double* area_a,
+              double* area_b);
+
+// The number of row chunks for a grid of `rows` rows: a function of the
+// size only, so every sum made per chunk is the same on any thread count.
+int RowChunks(int64_t rows);
 
 // A third of each of A's domain triangles whose corners are all in Ω
 // (`omega`, per sample of a), per sample: MeasureSummary::node_area_a.
@@ -110,8 +116,8 @@ void IntegrateTriangle(const Point2 p[3], const double d[3], double lod, VolumeR
 // The same for a triangle of area `area` (its corners' gaps d).
 void IntegrateTriangleOfArea(double area, const double d[3], double lod, VolumeResult* result);
 
-// One half of the rows' sums.
-struct HalfSums {
+// One chunk of rows' sums.
+struct ChunkSums {
   VolumeResult volume;
   double gap_sum = 0, node_weight = 0;
   int64_t nodes = 0;
@@ -121,9 +127,9 @@ struct HalfSums {
 // indexed; false as BuildIndex.
 bool IndexSides(const Surface& a, const Surface& b, GridSide* side_a, GridSide* side_b);
 
-// The two halves' sums (the volume, ρ'd and Ω's nodes), both hulls' areas
-// and, with `keep`, A's node areas (NodeAreas) into `result`.
-void FinishResult(const HalfSums half[2], const GridSide& side_a, const GridSide& side_b,
+// The chunks' sums in order (the volume, ρ'd and Ω's nodes), both hulls'
+// areas and, with `keep`, A's node areas (NodeAreas) into `result`.
+void FinishResult(const std::vector<ChunkSums>& parts, const GridSide& side_a, const GridSide& side_b,
                   const std::vector<uint8_t>& omega_a, bool keep, GridPairResult* result);
 
 }  // namespace grid_cells

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "measure/grid_cells.h"
-#include "measure/run_both.h"
+#include "measure/tasks.h"
 #include "measure/weights.h"
 
 namespace surfreg {
@@ -44,8 +44,7 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
   const double sign = cross > 0.0 ? 1.0 : -1.0;
   sa.cell_area = sb.cell_area = std::fabs(cross);
   double area_a = 0.0, area_b = 0.0;
-  if (!MarkBoth(&sa, &sb, sign, options.parallel, &area_a, &area_b)) return false;
-  const int64_t mid_a = sa.index.rows / 2;
+  if (!MarkBoth(&sa, &sb, sign, ExecutionFor(options.threads), &area_a, &area_b)) return false;
   GridPairResult& result = *out;
   result = GridPairResult();
   result.domain_area_a = area_a;
@@ -71,7 +70,7 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
   // A's columns whose B column is inside B's index.
   const int64_t c_begin = std::max<int64_t>(0, -shift_c);
   const int64_t c_end = std::min<int64_t>(sa.index.columns, columns_b - shift_c);
-  const auto rows = [&](int64_t begin, int64_t end, HalfSums* sums) {
+  const auto rows = [&](int64_t begin, int64_t end, ChunkSums* sums) {
     for (int64_t r = begin; r < end; ++r) {
       const int64_t rb = r + shift_r;
       const int32_t* a_here = sa.SampleRow(r);
@@ -123,10 +122,10 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
       }
     }
   };
-  HalfSums half[2];
-  RunBoth(options.parallel, [&] { rows(0, mid_a, &half[0]); },
-          [&] { rows(mid_a, sa.index.rows, &half[1]); });
-  FinishResult(half, sa, sb, omega, keep, &result);
+  std::vector<ChunkSums> parts(RowChunks(sa.index.rows));
+  ForEachChunk(ExecutionFor(options.threads), sa.index.rows, static_cast<int>(parts.size()),
+               [&](int c, int64_t begin, int64_t end) { rows(begin, end, &parts[c]); });
+  FinishResult(parts, sa, sb, omega, keep, &result);
   return true;
 }
 

@@ -13,7 +13,7 @@
 
 #include "measure/grid_cells.h"
 #include "measure/grid_pair.h"
-#include "measure/run_both.h"
+#include "measure/tasks.h"
 #include "measure/volume.h"
 
 namespace surfreg {
@@ -127,7 +127,7 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
   sa.cell_area = sb.cell_area = std::fabs(cross);
   GridPairResult& result = *out;
   result = GridPairResult();
-  if (!MarkBoth(&sa, &sb, sign, options.parallel, &result.domain_area_a, &result.domain_area_b)) return false;
+  if (!MarkBoth(&sa, &sb, sign, ExecutionFor(options.threads), &result.domain_area_a, &result.domain_area_b)) return false;
 
   const std::vector<Piece> pieces = PiecePattern(fx, fy);
   const double area_scale = std::fabs(cross);  // xy area of one index unit
@@ -155,7 +155,7 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
   // Nodes of `from` in rows [begin, end) inside `to`'s domain.
   const auto nodes = [&](const GridSide& from, const GridSide& to, int64_t dc, int64_t dr, int h,
                          const std::array<double, 3>& w, double sign_of_gap, std::vector<uint8_t>* omega,
-                         std::vector<double>* gaps, int64_t begin, int64_t end, HalfSums* sums) {
+                         std::vector<double>* gaps, int64_t begin, int64_t end, ChunkSums* sums) {
     for (int64_t r = begin; r < end; ++r) {
       const int32_t* here = from.SampleRow(r);
       const uint8_t* above = from.CompleteRow(r - 1);
@@ -209,23 +209,23 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
       }
     }
   };
-  const int64_t mid_a = sa.index.rows / 2, mid_b = sb.index.rows / 2;
-  HalfSums half[2], half_b[2];
-  const auto run = [&](int h) {
-    const int64_t a0 = h == 0 ? 0 : mid_a, a1 = h == 0 ? mid_a : sa.index.rows;
-    const int64_t b0 = h == 0 ? 0 : mid_b, b1 = h == 0 ? mid_b : sb.index.rows;
-    nodes(sa, sb, kx, ky, node_in_b, w_in_b, 1.0, &omega_a, keep ? &result.dz_a : nullptr, a0, a1, &half[h]);
+  // A's and B's nodes and A's cells by chunks of A's rows (B's rows cut
+  // into as many chunks).
+  const int chunks = RowChunks(sa.index.rows);
+  std::vector<ChunkSums> parts(chunks), parts_b(chunks);
+  ForEachChunk(ExecutionFor(options.threads), sa.index.rows, chunks, [&](int h, int64_t a0, int64_t a1) {
+    const int64_t b0 = ChunkBegin(sb.index.rows, chunks, h), b1 = ChunkBegin(sb.index.rows, chunks, h + 1);
+    nodes(sa, sb, kx, ky, node_in_b, w_in_b, 1.0, &omega_a, keep ? &result.dz_a : nullptr, a0, a1, &parts[h]);
     nodes(sb, sa, -kx - 1, -ky - 1, node_in_a, w_in_a, -1.0, nullptr, keep ? &result.dz_b : nullptr, b0, b1,
-          &half_b[h]);
-    cells(a0, a1, &half[h].volume);
-  };
-  RunBoth(options.parallel, [&] { run(0); }, [&] { run(1); });
-  for (int h = 0; h < 2; ++h) {  // B's nodes after A's, as the general path sums them
-    half[h].gap_sum += half_b[h].gap_sum;
-    half[h].node_weight += half_b[h].node_weight;
-    half[h].nodes += half_b[h].nodes;
+          &parts_b[h]);
+    cells(a0, a1, &parts[h].volume);
+  });
+  for (int h = 0; h < chunks; ++h) {  // B's nodes after A's, as the general path sums them
+    parts[h].gap_sum += parts_b[h].gap_sum;
+    parts[h].node_weight += parts_b[h].node_weight;
+    parts[h].nodes += parts_b[h].nodes;
   }
-  FinishResult(half, sa, sb, omega_a, keep, &result);
+  FinishResult(parts, sa, sb, omega_a, keep, &result);
   return true;
 }
 

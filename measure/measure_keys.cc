@@ -57,11 +57,10 @@ const std::vector<MeasureOptionEntry>& MeasureOptionKeys() {
           "an overlap smaller than this share of the smaller domain is refused as a sliver"},
          [](const Value& v, MeasureOptions* o) { o->min_overlap_fraction = Number(v, 0, 1); },
          [](const MeasureOptions& o) { return Text(o.min_overlap_fraction); }},
-        {{"threads", "an integer >= 1",
-          "threads for the measure (default: every core; its stages split in two, so 2 or more run "
-          "on 2); the results are the same bits for any number"},
-         [](const Value& v, MeasureOptions* o) { o->parallel = Integer(v, 1) > 1; },
-         [](const MeasureOptions& o) { return std::string(o.parallel ? "2" : "1"); }},
+        {{"threads", kThreadsType,
+          "threads for the measure (default: every core); the results are the same bits for any number"},
+         [](const Value& v, MeasureOptions* o) { o->threads = ThreadCount(v); },
+         [](const MeasureOptions& o) { return ThreadText(o.threads); }},
     };
     for (const DomainRuleEntry& entry : DomainRuleKeys()) {
       all.push_back({entry.key, [&entry](const Value& v, MeasureOptions* o) { entry.set(v, &o->domain); },

@@ -14,7 +14,7 @@
 #include "measure/input_error.h"
 #include "measure/locator.h"
 #include "measure/predicates.h"
-#include "measure/run_both.h"
+#include "measure/tasks.h"
 #include "measure/overlay.h"
 #include "measure/spanning_tree.h"
 #include "measure/spatial_sort.h"
@@ -188,7 +188,7 @@ void PreparePair(const Surface& a, const Surface& b, const MeasureOptions& optio
     pair->order_a = given->order;
     PrepareSide(b, shift, options.domain, progress, &summary->timings, &pair->b, &pair->order_b);
   } else {
-    RunBoth(options.parallel,
+    RunBoth(ExecutionFor(options.threads),
             [&] { PrepareSide(b, shift, options.domain, progress, &summary->timings, &pair->b, &pair->order_b); },
             [&] { PrepareSide(a, no_shift, options.domain, quiet, nullptr, &pair->a, &pair->order_a); });
   }
@@ -444,13 +444,13 @@ MeasureSummary MeasureWith(const Surface& a, const Surface& b, const MeasureOpti
   PreparePair(a, b, options, progress, given, &pair, &summary);
   const Prepared& pa = pair.a;
   const Prepared& pb = pair.b;
-  const bool parallel = options.parallel;
+  const Execution execution = ExecutionFor(options.threads);
 
   progress("locating each cloud in the other", 0.57);
   Clock::time_point stage = Clock::now();
   LocateAllStats stats_a, stats_b;
   std::vector<Location> a_in_b, b_in_a;
-  RunBoth(parallel, [&] { a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a); },
+  RunBoth(execution, [&] { a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a); },
           [&] { b_in_a = LocateAll(pa.xy, pa.mesh, pb.xy, pb.mesh, pb.tree, &stats_b); });
   summary.walk_steps = stats_a.steps + stats_b.steps;
   summary.timings.locate = Seconds(stage);
@@ -470,7 +470,7 @@ MeasureSummary MeasureWith(const Surface& a, const Surface& b, const MeasureOpti
   VolumeResult volume;
   const OmegaDomains omega{&pa.domain, &pb.domain, &omega_a, &omega_b};
   if (options.volume == VolumeMode::kOverlay) {
-    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu, parallel,
+    volume = OverlayVolume(pa.xy, pa.mesh, pa.z, a_in_b, pb.xy, pb.mesh, pb.z, b_in_a, mu, execution,
                            options.detect_change ? options.level_of_detection : -1.0, omega);
   } else {
     volume = UnionVolume(pa.xy, pa.mesh, a_in_b, gaps.a, pb.xy, pb.mesh, b_in_a, gaps.b, mu, omega);

@@ -73,11 +73,10 @@ struct MeasureOptions {
   // that do not overlap):
   // the measures of a sliver rest on a handful of nodes and mean little.
   double min_overlap_fraction = 1e-4;
-  // Use two threads: for the two surfaces' independent stages
-  // (triangulation, spanning tree, location: bit-identical results) and for
-  // the overlay, split into two halves of A's triangles (deterministic; the
-  // sums may differ from the serial ones in the last bits).
-  bool parallel = true;
+  // Threads for every stage (0: every core the process may use). The
+  // results are the same bits for any count: work is cut into chunks by the
+  // input's size alone and their sums added in order (measure/tasks.h).
+  int threads = 0;
   // Change detection (terrain): also compute fill and cut counting only
   // where |d| > level_of_detection (L >= 0; at L = 0 the areas of gain and
   // loss). Overlay mode only.

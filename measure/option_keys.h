@@ -195,6 +195,13 @@ inline std::string Text(const std::array<double, 3>& v, double scale = 1.0) {
 
 inline std::string Text(bool value) { return value ? "true" : "false"; }
 
+// A thread count: an integer >= 1, or "all" (0: every core, measure/tasks.h).
+constexpr const char* kThreadsType = "an integer >= 1, or all";
+inline int ThreadCount(const Value& v, int hi = std::numeric_limits<int>::max()) {
+  return v.kind == Value::kScalar && v.text == "all" ? 0 : Integer(v, 1, hi);
+}
+inline std::string ThreadText(int threads) { return threads == 0 ? "all" : std::to_string(threads); }
+
 // One key of a command's config: its documentation row, how a value sets
 // it, how it reads back as YAML text ("" for a file key naming no file).
 template <typename Config>

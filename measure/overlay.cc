@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <array>
-#include <thread>
+#include <memory>
+#include <mutex>
 #include <utility>
 
 #include "measure/overlay_clip.h"
 #include "measure/predicates.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 namespace {
@@ -96,16 +98,33 @@ class OverlayBuilder {
  public:
   OverlayBuilder(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                  const std::vector<Point2>& points_b, const Triangulation& mesh_b,
-                 std::vector<char>& done, int32_t begin, int32_t end)
+                 std::vector<char>& done)
       : pa_(points_a), ma_(mesh_a), pb_(points_b), mb_(mesh_b),
-        seed_(mesh_a.num_triangles(), -1), done_(done), begin_(begin), end_(end),
+        seed_(mesh_a.num_triangles(), -1), done_(done),
         b_stamp_(mesh_b.num_triangles(), -1), sides_(points_b.size()) {}
+
+  // A search over the A triangles in [begin, end), from fresh seeds.
+  void Begin(int32_t begin, int32_t end) {
+    begin_ = begin;
+    end_ = end;
+    stats_ = OverlayStats();
+  }
+
+  // Clears the seeds for the next range; returns the handoff.
+  std::vector<std::pair<int32_t, int32_t>> End() {
+    for (const int32_t ta : seeded_) seed_[ta] = -1;
+    seeded_.clear();
+    std::vector<std::pair<int32_t, int32_t>> handoff;
+    handoff.swap(handoff_);
+    return handoff;
+  }
 
   bool InRange(int32_t ta) const { return ta >= begin_ && ta < end_; }
 
   void Seed(int32_t ta, int32_t tb) {
     if (ta < 0 || tb < 0 || seed_[ta] >= 0) return;
     seed_[ta] = tb;
+    seeded_.push_back(ta);
     if (!InRange(ta)) {
       handoff_.push_back({ta, tb});  // another builder's; its `done` is not ours to read now
       return;
@@ -113,28 +132,6 @@ class OverlayBuilder {
     if (!done_[ta]) pending_.push_back(ta);
   }
 
-  // Seeds from the vertex locations, for the triangles in range; if no
-  // vertex of either mesh lies in the other, from crossing hull edges.
-  void SeedFromLocations(const std::vector<Location>& a_in_b, const std::vector<Location>& b_in_a) {
-    const auto found = [](const Location& l) { return l.found(); };
-    if (std::none_of(a_in_b.begin(), a_in_b.end(), found) &&
-        std::none_of(b_in_a.begin(), b_in_a.end(), found)) {
-      const auto [ta, tb] = HullCrossing(pa_, ma_, pb_, mb_);
-      Seed(ta, tb);  // another builder's triangle goes to the handoff
-      return;
-    }
-    for (std::size_t v = 0; v < a_in_b.size(); ++v) {
-      const int32_t ta = ma_.vertex_triangle[v];
-      if (a_in_b[v].found() && ta >= 0 && InRange(ta)) Seed(ta, a_in_b[v].triangle);
-    }
-    for (std::size_t u = 0; u < b_in_a.size(); ++u) {
-      if (b_in_a[u].found() && mb_.vertex_triangle[u] >= 0 && InRange(b_in_a[u].triangle)) {
-        Seed(b_in_a[u].triangle, mb_.vertex_triangle[u]);
-      }
-    }
-  }
-
-  const std::vector<std::pair<int32_t, int32_t>>& handoff() const { return handoff_; }
 
   OverlayStats Run(const std::function<void(const OverlayCell&)>& visit) {
     std::reverse(pending_.begin(), pending_.end());  // lowest triangles first
@@ -204,7 +201,8 @@ class OverlayBuilder {
   const Triangulation& mb_;
   std::vector<int32_t> seed_;   // per A triangle: a B triangle meeting it, or -1
   std::vector<char>& done_;     // per A triangle, shared
-  const int32_t begin_, end_;
+  int32_t begin_ = 0, end_ = 0;
+  std::vector<int32_t> seeded_;  // where seed_ was set
   std::vector<std::pair<int32_t, int32_t>> handoff_;
   std::vector<int32_t> b_stamp_;  // per B triangle: the last T_A whose search queued it
   std::vector<SideCache> sides_;  // per B vertex
@@ -272,51 +270,80 @@ OverlayStats ForEachOverlayCell(const std::vector<Point2>& points_a, const Trian
                                 const std::function<void(const OverlayCell&)>& visit) {
   // Seeds: a triangle of A at each of A's vertices located in B, and the
   // triangle of A holding each of B's vertices.
-  std::vector<char> done(mesh_a.num_triangles(), 0);
-  OverlayBuilder builder(points_a, mesh_a, points_b, mesh_b, done, 0, mesh_a.num_triangles());
-  builder.SeedFromLocations(a_in_b, b_in_a);
-  return builder.Run(visit);
+  return ForEachOverlayCellInChunks(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, 1,
+                                    [&](int, const OverlayCell& cell) { visit(cell); }, Execution{1});
 }
 
-OverlayStats ForEachOverlayCellInTwo(const std::vector<Point2>& points_a,
-                                     const Triangulation& mesh_a,
-                                     const std::vector<Location>& a_in_b,
-                                     const std::vector<Point2>& points_b,
-                                     const Triangulation& mesh_b,
-                                     const std::vector<Location>& b_in_a,
-                                     const std::function<void(const OverlayCell&)>& visit_first,
-                                     const std::function<void(const OverlayCell&)>& visit_second,
-                                     bool parallel) {
+int OverlayChunks(const Triangulation& mesh_a) { return ChunksFor(mesh_a.num_triangles(), 16384); }
+
+OverlayStats ForEachOverlayCellInChunks(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
+                                        const std::vector<Location>& a_in_b,
+                                        const std::vector<Point2>& points_b, const Triangulation& mesh_b,
+                                        const std::vector<Location>& b_in_a, int chunks,
+                                        const std::function<void(int, const OverlayCell&)>& visit,
+                                        const Execution& execution) {
   const int32_t n = mesh_a.num_triangles();
-  const int32_t middle = n / 2;
-  std::vector<char> done(n, 0);
-  OverlayBuilder first(points_a, mesh_a, points_b, mesh_b, done, 0, middle);
-  OverlayBuilder second(points_a, mesh_a, points_b, mesh_b, done, middle, n);
-  OverlayStats second_stats;
-  const auto run_second = [&] {
-    second.SeedFromLocations(a_in_b, b_in_a);
-    second_stats = second.Run(visit_second);
+  chunks = std::max(1, chunks);
+  const auto chunk_of = [&](int32_t ta) {
+    // The chunk whose [ChunkBegin(c), ChunkBegin(c + 1)) holds ta.
+    int c = static_cast<int>(static_cast<int64_t>(ta) * chunks / std::max(n, 1));
+    while (c + 1 < chunks && ChunkBegin(n, chunks, c + 1) <= ta) ++c;
+    while (c > 0 && ChunkBegin(n, chunks, c) > ta) --c;
+    return c;
   };
-  OverlayStats stats;
-  if (parallel) {
-    std::thread worker(run_second);
-    first.SeedFromLocations(a_in_b, b_in_a);
-    stats = first.Run(visit_first);
-    worker.join();
+  // Each chunk's seeds, in the order one search over all would take them.
+  std::vector<std::vector<std::pair<int32_t, int32_t>>> seeds(chunks);
+  const auto found = [](const Location& l) { return l.found(); };
+  if (std::none_of(a_in_b.begin(), a_in_b.end(), found) && std::none_of(b_in_a.begin(), b_in_a.end(), found)) {
+    const auto [ta, tb] = HullCrossing(points_a, mesh_a, points_b, mesh_b);
+    if (ta >= 0 && tb >= 0) seeds[chunk_of(ta)].push_back({ta, tb});
   } else {
-    first.SeedFromLocations(a_in_b, b_in_a);
-    stats = first.Run(visit_first);
-    run_second();
+    for (std::size_t v = 0; v < a_in_b.size(); ++v) {
+      const int32_t ta = mesh_a.vertex_triangle[v];
+      if (a_in_b[v].found() && ta >= 0) seeds[chunk_of(ta)].push_back({ta, a_in_b[v].triangle});
+    }
+    for (std::size_t u = 0; u < b_in_a.size(); ++u) {
+      if (b_in_a[u].found() && mesh_b.vertex_triangle[u] >= 0) {
+        seeds[chunk_of(b_in_a[u].triangle)].push_back({b_in_a[u].triangle, mesh_b.vertex_triangle[u]});
+      }
+    }
   }
-  // Triangles reached only across the boundary between the halves.
-  OverlayBuilder rest(points_a, mesh_a, points_b, mesh_b, done, 0, n);
-  for (const auto* handoff : {&first.handoff(), &second.handoff()}) {
-    for (const auto& [ta, tb] : *handoff) rest.Seed(ta, tb);
+  // Builders' arrays are as large as the meshes: one per running thread,
+  // reused by the chunks it takes (their caches are stamped by T_A, and
+  // each T_A is searched once, so a reused cache never answers wrongly).
+  std::vector<char> done(n, 0);
+  std::mutex pool_mutex;
+  std::vector<std::unique_ptr<OverlayBuilder>> pool;
+  const auto take = [&] {
+    std::lock_guard<std::mutex> lock(pool_mutex);
+    if (pool.empty()) return std::make_unique<OverlayBuilder>(points_a, mesh_a, points_b, mesh_b, done);
+    std::unique_ptr<OverlayBuilder> b = std::move(pool.back());
+    pool.pop_back();
+    return b;
+  };
+  std::vector<std::vector<std::pair<int32_t, int32_t>>> handoffs(chunks);
+  std::vector<OverlayStats> stats(chunks);
+  ForEachChunk(execution, n, chunks, [&](int c, int64_t lo, int64_t hi) {
+    std::unique_ptr<OverlayBuilder> builder = take();
+    builder->Begin(static_cast<int32_t>(lo), static_cast<int32_t>(hi));
+    for (const auto& [ta, tb] : seeds[c]) builder->Seed(ta, tb);
+    stats[c] = builder->Run([&](const OverlayCell& cell) { visit(c, cell); });
+    handoffs[c] = builder->End();
+    std::lock_guard<std::mutex> lock(pool_mutex);
+    pool.push_back(std::move(builder));
+  });
+  // Triangles reached only across the boundaries between the chunks.
+  std::unique_ptr<OverlayBuilder> rest = take();
+  rest->Begin(0, n);
+  for (const auto& handoff : handoffs) {
+    for (const auto& [ta, tb] : handoff) rest->Seed(ta, tb);
   }
-  const OverlayStats rest_stats = rest.Run(visit_first);
-  stats.cells += second_stats.cells + rest_stats.cells;
-  stats.pairs_tested += second_stats.pairs_tested + rest_stats.pairs_tested;
-  return stats;
+  OverlayStats total = rest->Run([&](const OverlayCell& cell) { visit(0, cell); });
+  for (const OverlayStats& s : stats) {
+    total.cells += s.cells;
+    total.pairs_tested += s.pairs_tested;
+  }
+  return total;
 }
 
 }  // namespace surfreg

@@ -19,6 +19,7 @@
 #include "measure/delaunay.h"
 #include "measure/locator.h"
 #include "measure/surface.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 
@@ -43,24 +44,22 @@ OverlayStats ForEachOverlayCell(const std::vector<Point2>& points_a, const Trian
                                 const std::vector<Location>& b_in_a,
                                 const std::function<void(const OverlayCell&)>& visit);
 
-// The same cells, in two halves of A's triangles (by index: spatially
-// coherent halves), then the few triangles reached only across the boundary.
-// With `parallel` the second half runs on another thread; without, after the
-// first. Either way `visit_second` sees the second half's cells and
-// `visit_first` the others, each in the same order: which cells each sees and
-// in which order depends only on the input, never on timing or the thread
-// count, so sums made per visitor and added first + second are the same bits
-// on one thread as on two. `visit_first` is called from the calling thread
-// only and `visit_second` from one thread only, so each may accumulate
-// without locks.
-OverlayStats ForEachOverlayCellInTwo(const std::vector<Point2>& points_a,
-                                     const Triangulation& mesh_a,
-                                     const std::vector<Location>& a_in_b,
-                                     const std::vector<Point2>& points_b,
-                                     const Triangulation& mesh_b,
-                                     const std::vector<Location>& b_in_a,
-                                     const std::function<void(const OverlayCell&)>& visit_first,
-                                     const std::function<void(const OverlayCell&)>& visit_second,
-                                     bool parallel = true);
+// The same cells, from `chunks` fixed ranges of A's triangles (by index:
+// spatially coherent ranges) searched side by side, then the few triangles
+// reached only across the ranges' boundaries. visit(c, cell) sees chunk c's
+// cells, the last ones as chunk 0's: which cells each chunk sees and in which
+// order depends only on the input and `chunks`, never on timing or the
+// thread count, so sums made per chunk and added in chunk order are the same
+// bits on any number of threads. Calls for one chunk come from one thread
+// at a time, so a visitor per chunk may accumulate without locks.
+OverlayStats ForEachOverlayCellInChunks(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
+                                        const std::vector<Location>& a_in_b,
+                                        const std::vector<Point2>& points_b, const Triangulation& mesh_b,
+                                        const std::vector<Location>& b_in_a, int chunks,
+                                        const std::function<void(int chunk, const OverlayCell&)>& visit,
+                                        const Execution& execution);
+
+// The chunk count for A's mesh: a function of its size only.
+int OverlayChunks(const Triangulation& mesh_a);
 
 }  // namespace surfreg

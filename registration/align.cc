@@ -70,7 +70,7 @@ MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
   m.mask = options.mask;
   m.mask_mode = options.mask_mode;
   m.domain = options.domain;
-  m.parallel = options.num_threads > 1;
+  m.threads = options.num_threads;
   return m;
 }
 

@@ -249,9 +249,9 @@ const std::vector<AlignOptionEntry>& AlignOptionKeys() {
       {{"covariance", "true or false", "compute the parameters' standard deviations"},
        [](const Value& v, AlignOptions* o) { o->compute_covariance = Boolean(v); },
        [](const AlignOptions& o) { return Text(o.compute_covariance); }},
-      {{"threads", "an integer >= 1", "threads for the solver and the measures"},
-       [](const Value& v, AlignOptions* o) { o->num_threads = Integer(v, 1); },
-       [](const AlignOptions& o) { return std::to_string(o.num_threads); }},
+      {{"threads", kThreadsType, "threads for the solver and the measures (all: every core)"},
+       [](const Value& v, AlignOptions* o) { o->num_threads = ThreadCount(v); },
+       [](const AlignOptions& o) { return ThreadText(o.num_threads); }},
       {{"cell_kernel", "one of best, scalar, avx2, avx512",
         "volume cost: the kernel of the cell integrals (best: the widest this CPU runs; the others for "
         "comparison, the same cost to rounding)"},

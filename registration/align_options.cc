@@ -104,7 +104,7 @@ bool AlignOptions::IsValid(std::string* error) const {
   if ((cost == CostKind::kVolume || cost == CostKind::kAuto) && trim_fraction > 0) {
     return fail("trim_fraction applies to cost axial or axial_sparser only");
   }
-  if (num_threads < 1) return fail("threads must be >= 1");
+  if (num_threads < 0) return fail("threads must be >= 1 (0: every core)");
   if (!(slope_weight >= 0 && slope_weight <= 8)) return fail("slope_weight must be in [0, 8]");
   if (!(gap_weight >= 0 && gap_weight <= 100)) return fail("gap_weight must be in [0, 100]");
   if (!(density_correction == 0 || (density_correction >= 1 && density_correction <= 1e6)))

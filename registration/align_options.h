@@ -194,7 +194,7 @@ struct AlignOptions {
   enum class StddevMethod { kSandwich, kInformation };
   StddevMethod stddev_method = StddevMethod::kSandwich;
   bool compute_covariance = true;
-  int num_threads = 2;
+  int num_threads = 0;  // 0: every core (measure/tasks.h, ExecutionFor)
   // Called after every solver iteration (progress, logs).
   struct Iteration {
     int level = 0;      // 0 = coarsest

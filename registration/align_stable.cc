@@ -44,7 +44,7 @@ GapField GapsAt(const Surface& reference, const Surface& moving, const Eigen::Ma
   MeasureOptions m;
   m.domain = options.domain;
   m.keep_node_gaps = true;
-  m.parallel = options.num_threads > 1;
+  m.threads = options.num_threads;
   Surface plain = reference;
   plain.weight.clear();
   const Surface moved = TransformSurface(moving, matrix);

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "measure/input_error.h"
-#include "measure/run_both.h"
+#include "measure/tasks.h"
 #include "measure/weights.h"
 #include "registration/gap_weight.h"
 #include "registration/wide_search.h"
@@ -82,7 +82,7 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
     const double keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1 - l));
     auto level = std::make_unique<Level>();
     Level* out = level.get();
-    RunBoth(options.num_threads > 1, [&] {
+    RunBoth(ExecutionFor(options.num_threads), [&] {
       // The measures' preparation of A is the finest level's, by the same
       // domain rule: made once (at 1e5 points 0.08 s).
       std::optional<ReferenceSide> shared;
@@ -191,7 +191,7 @@ Prealignment PrealignSides(const Surface& reference, const Surface& moving,
   if (solve_cost != CostKind::kVolume || !options.prealign || std::min(keep_a, keep_b) >= 1) return out;
   const double level_keep = options.subsample * std::pow(options.level_factor, -(options.levels - 1));
   Level& sides = out.sides.emplace();
-  RunBoth(options.num_threads > 1, [&] {
+  RunBoth(ExecutionFor(options.num_threads), [&] {
     sides.reference = PrepareReference(reference, level_keep * keep_a, options.domain);
     if (options.weight != WeightMode::kPerPoint) sides.reference.weight.clear();
   }, [&] { sides.moving = PrepareMoving(moving, shift, level_keep * keep_b, options.domain); });
@@ -224,7 +224,7 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const Prea
     const bool keep = volume && l + 1 == levels.size();
     auto state_ptr = std::make_shared<PairState>(levels[l]->reference, levels[l]->moving, options.max_fold_fraction);
     PairState& state = *state_ptr;
-    state.set_parallel(options.num_threads > 1);
+    state.set_execution(ExecutionFor(options.num_threads));
     std::shared_ptr<VolumeCostCache> cache;
     if (keep) cache = std::make_shared<VolumeCostCache>(kSolveDirtyFraction, options.cell_kernel);
     context.level = static_cast<int>(l);
@@ -234,7 +234,7 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const Prea
       std::optional<PairState> subsampled;  // each start from the sides' own meshes
       if (prealign.sides) {
         subsampled.emplace(prealign.sides->reference, prealign.sides->moving, options.max_fold_fraction);
-        subsampled->set_parallel(options.num_threads > 1);
+        subsampled->set_execution(ExecutionFor(options.num_threads));
       }
       context.prealignment = true;
       const SolveResult rough = SolveAxial(subsampled ? *subsampled : state, context, theta);
@@ -243,7 +243,7 @@ bool SolveOneStart(const std::vector<std::unique_ptr<Level>>& levels, const Prea
       if (rough.usable) theta = rough.theta;
       if (prealign.refine) {
         PairState refine(prealign.refine->reference, prealign.refine->moving, options.max_fold_fraction);
-        refine.set_parallel(options.num_threads > 1);
+        refine.set_execution(ExecutionFor(options.num_threads));
         context.cost = "volume_prealign";
         VolumeWhitening at_solution;
         at_solution.want_final = true;

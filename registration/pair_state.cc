@@ -9,7 +9,7 @@
 #include "measure/grid_mesh.h"
 #include "measure/input_error.h"
 #include "measure/predicates.h"
-#include "measure/run_both.h"
+#include "measure/tasks.h"
 #include "measure/spatial_sort.h"
 #include "registration/kept_remesh.h"
 
@@ -350,8 +350,8 @@ template <typename AInB, typename BInA>
 void PairState::BothWays(AInB&& a_in_b, BInA&& b_in_a) const {
   // A thread costs tens of microseconds: worth it on large clouds only.
   constexpr std::size_t kParallelPoints = 20000;
-  RunBoth(parallel_ && reference_.xy.size() + moved_xy_.size() >= kParallelPoints, std::forward<AInB>(a_in_b),
-          std::forward<BInA>(b_in_a));
+    const bool large = reference_.xy.size() + moved_xy_.size() >= kParallelPoints;
+  RunBoth(large ? execution_ : Execution{1}, std::forward<AInB>(a_in_b), std::forward<BInA>(b_in_a));
 }
 
 bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {

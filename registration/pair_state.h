@@ -42,6 +42,7 @@
 #include "measure/locator.h"
 #include "measure/spanning_tree.h"
 #include "measure/surface.h"
+#include "measure/tasks.h"
 #include "registration/rigid_motion.h"
 
 namespace surfreg {
@@ -124,8 +125,8 @@ class PairState {
   // at most once (around the fixed surface), instead of a free re-mesh
   // first and the fixed surface's after it.
   void MoveTo(const std::array<double, 6>& theta);
-  // Locate A in B and B in A on two threads (large clouds only).
-  void set_parallel(bool parallel) { parallel_ = parallel; }
+  // Threads for locating A in B and B in A side by side (large clouds only).
+  void set_execution(const Execution& execution) { execution_ = execution; }
 
   const ReferenceSide& reference() const { return reference_; }
   const MovingSide& moving() const { return moving_; }
@@ -213,7 +214,7 @@ class PairState {
   std::vector<Location> a_in_b_, b_in_a_;
   bool located_ = false;
   bool fixed_ = false;
-  bool parallel_ = false;
+  Execution execution_;
   int32_t folded_ = 0;
   std::vector<uint8_t> active_;           // per triangle of mesh_
   std::vector<uint8_t> active_vertex_;    // per B node: a corner of an active triangle

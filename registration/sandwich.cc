@@ -88,18 +88,21 @@ struct TileBinner {
 
 // Per fine tile, the parts of ∫μ|d|, ∫μ and their gradients from the cells
 // whose centroid lies in it (the integrals of EvaluateVolumeCost, split),
-// on two threads when `parallel`.
+// in chunks (at most 8: each holds all the tiles) on the threads allowed.
 std::vector<TileSums> FineTileSums(const PairState& state, const MaskRegion* mask,
-                                   bool parallel) {
+                                   const Execution& execution) {
   const FineGrid grid = FineGridOf(state.reference().xy);
-  TileBinner first(state, mask, grid), second(state, mask, grid);
-  volume_internal::ForEachCellOfState(state, parallel, first, second);
-  for (std::size_t t = 0; t < first.tiles.size(); ++t) {
-    const TileSums& o = second.tiles[t];
-    if (!o.used) continue;
-    TileSums& m = first.tiles[t];
-    m.abs += o.abs, m.area += o.area, m.d_abs += o.d_abs, m.d_area += o.d_area;
-    m.used = true;
+  std::vector<TileBinner> parts(std::min(volume_internal::StateChunks(state), 8), TileBinner(state, mask, grid));
+  volume_internal::ForEachCellOfState(state, execution, parts);
+  TileBinner& first = parts[0];
+  for (std::size_t c = 1; c < parts.size(); ++c) {
+    for (std::size_t t = 0; t < first.tiles.size(); ++t) {
+      const TileSums& o = parts[c].tiles[t];
+      if (!o.used) continue;
+      TileSums& m = first.tiles[t];
+      m.abs += o.abs, m.area += o.area, m.d_abs += o.d_abs, m.d_area += o.d_area;
+      m.used = true;
+    }
   }
   return std::move(first.tiles);
 }
@@ -202,7 +205,7 @@ SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& 
   // The meat: the spread of the tiles' shares of ∇f. Unmasked, from the
   // evaluation at θ that starts the bread's cache (each moved B triangle's
   // share, by its centroid); masked, from a pass over the cells.
-  const bool parallel = options.num_threads > 1;
+  const Execution execution = ExecutionFor(options.num_threads);
   std::optional<VolumeCostCache> own_cache;
   if (given_cache == nullptr) own_cache.emplace(0.25, options.cell_kernel);
   VolumeCostCache& cache = given_cache != nullptr ? *given_cache : *own_cache;
@@ -210,14 +213,14 @@ SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& 
   double abs = 0, area = 0;
   if (mask == nullptr) {
     GradientBins bins = BinsOver(state.reference().xy);
-    const VolumeCostValue value = cache.Evaluate(state, true, parallel, nullptr, &bins);
+    const VolumeCostValue value = cache.Evaluate(state, true, execution, nullptr, &bins);
     abs = value.abs, area = value.area;
     fine.resize(bins.used.size());
     for (std::size_t b = 0; b < fine.size(); ++b) {
       fine[b].d_abs = bins.d_abs[b], fine[b].d_area = bins.d_area[b], fine[b].used = bins.used[b] != 0;
     }
   } else {
-    fine = FineTileSums(state, mask, parallel);
+    fine = FineTileSums(state, mask, execution);
     for (const TileSums& t : fine) abs += t.abs, area += t.area;
   }
   const std::vector<TileSums> tiles = MergedTiles(fine, TileTarget(state));
@@ -232,7 +235,7 @@ SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& 
   // The bread: the cost's curvature from its zero set and B's kinks
   // (registration/volume_cost/volume_hessian.h), one pass over the cells at θ.
   const Matrix6 hessian =
-      (mask == nullptr ? cache.InteriorHessian(state, parallel) : InteriorVolumeHessian(state, parallel, mask)) /
+      (mask == nullptr ? cache.InteriorHessian(state, execution) : InteriorVolumeHessian(state, execution, mask)) /
       area;
   out.ok = Sandwich(hessian, meat, free, context.rotation_scale, &out.covariance);
   return out;

@@ -274,7 +274,7 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
     solver.function_tolerance = std::max(solver.function_tolerance, kPrealignTolerance);
     solver.parameter_tolerance = kPrealignTolerance;
   }
-  solver.num_threads = std::max(1, options.num_threads);
+  solver.num_threads = ExecutionFor(options.num_threads).threads;
   LogCallback log(context);
   solver.callbacks.push_back(&log);
   // B's surface is fixed as in SolveVolume: a trust region compares the
@@ -319,9 +319,9 @@ namespace {
 
 class VolumeFunction : public ceres::FirstOrderFunction {
  public:
-  VolumeFunction(PairState& state, const ParameterMap& map, bool parallel, const MaskRegion* mask,
+  VolumeFunction(PairState& state, const ParameterMap& map, const Execution& execution, const MaskRegion* mask,
                  VolumeCostCache& cache)
-      : state_(state), map_(map), parallel_(parallel), mask_(mask), cache_(cache) {}
+      : state_(state), map_(map), execution_(execution), mask_(mask), cache_(cache) {}
   bool Evaluate(const double* x, double* cost, double* gradient) const override {
     UpdateStats stats;
     if (!state_.Update(map_.Full(x), &stats)) {
@@ -329,7 +329,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
       return false;
     }
     // Incremental: the overlay's combinatorics are kept between evaluations.
-    const VolumeCostValue value = cache_.Evaluate(state_, gradient != nullptr, parallel_, mask_);
+    const VolumeCostValue value = cache_.Evaluate(state_, gradient != nullptr, execution_, mask_);
     if (!(value.area > 0)) return false;
     *cost = value.PerArea();
     if (gradient != nullptr) {
@@ -347,7 +347,7 @@ class VolumeFunction : public ceres::FirstOrderFunction {
  private:
   PairState& state_;
   const ParameterMap& map_;
-  bool parallel_;
+  Execution execution_;
   const MaskRegion* mask_;
   VolumeCostCache& cache_;  // bound to state_ (one state per solve)
   mutable int refused_folds_ = 0;
@@ -390,10 +390,10 @@ Eigen::MatrixXd AxialCurvature(const PairState& state, const SolveContext& conte
 // The volume cost's own curvature at the state's θ (per unit area, all six
 // parameters; registration/volume_cost/volume_hessian.h), from the overlay `cache`
 // builds there; zero without an overlap.
-Eigen::Matrix<double, 6, 6> FullVolumeCurvature(const PairState& state, bool parallel, VolumeCostCache& cache) {
-  const double area = cache.Evaluate(state, false, parallel).area;
+Eigen::Matrix<double, 6, 6> FullVolumeCurvature(const PairState& state, const Execution& execution, VolumeCostCache& cache) {
+  const double area = cache.Evaluate(state, false, execution).area;
   if (!(area > 0)) return Eigen::Matrix<double, 6, 6>::Zero();
-  return cache.InteriorHessian(state, parallel) / area;
+  return cache.InteriorHessian(state, execution) / area;
 }
 
 // A curvature of all six parameters restricted to the free ones, with
@@ -449,12 +449,12 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
       // solve's first evaluation then only re-integrates.
       double scale = 1;
       if (whitening.given != nullptr && whitening.given_cost > 0) {
-        const VolumeCostValue start = cache.Evaluate(state, false, options.num_threads > 1, nullptr);
+        const VolumeCostValue start = cache.Evaluate(state, false, ExecutionFor(options.num_threads), nullptr);
         if (start.PerArea() > 0) scale = std::clamp(whitening.given_cost / start.PerArea(), 0.01, 100.0);
       }
       whitened = whitening.given != nullptr && map.Whiten(FreeCurvature(scale * *whitening.given, map));
       if (!whitened) {
-        whitened = map.Whiten(FreeCurvature(FullVolumeCurvature(state, options.num_threads > 1, cache), map));
+        whitened = map.Whiten(FreeCurvature(FullVolumeCurvature(state, ExecutionFor(options.num_threads), cache), map));
       }
     }
     if (!whitened) map.Whiten(AxialCurvature(state, context, map));
@@ -472,7 +472,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
   bool moved = false;  // some round accepted a step
   for (int round = 0; round < kMaxRounds; ++round) {
     ++rounds;
-    auto* function = new VolumeFunction(state, map, options.num_threads > 1, context.axial.mask.get(), cache);
+    auto* function = new VolumeFunction(state, map, ExecutionFor(options.num_threads), context.axial.mask.get(), cache);
     ceres::GradientProblem problem(function);  // owns `function`
     log.set_iteration_offset(iterations, round > 0);
     ceres::Solve(solver, problem, x.data(), &summary);
@@ -496,7 +496,7 @@ SolveResult SolveVolume(PairState& state, const SolveContext& context,
                       (summary.termination_type != ceres::FAILURE || moved);
   SolveResult result;
   if (whitening.want_final && usable && context.axial.mask == nullptr && state.Update(map.Full(x.data()))) {
-    result.curvature = FullVolumeCurvature(state, options.num_threads > 1, cache);
+    result.curvature = FullVolumeCurvature(state, ExecutionFor(options.num_threads), cache);
   }
   if (keep == nullptr) state.ReleaseSurface();
   FillResult(map, x, initial_cost, summary.final_cost, iterations, summary.termination_type, usable,

@@ -12,7 +12,7 @@
 #include <optional>
 
 #include "measure/input_error.h"
-#include "measure/run_both.h"
+#include "measure/tasks.h"
 #include "terrain/tiled_measure.h"
 #include "measure/weights.h"
 #include "io/atomic_file.h"
@@ -231,7 +231,7 @@ void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const
 
 TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* given_reference,
                                 const Surface* given_moving, bool tiled_origin,
-                                std::optional<bool> parallel) {
+                                std::optional<int> threads) {
   std::optional<std::array<double, 3>> origin;
   std::optional<std::array<double, 3>>* shared_origin = tiled_origin ? &origin : nullptr;
   // Side by side: the reference, and the moving surface. Two rasters share
@@ -250,8 +250,8 @@ TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* giv
   std::future<std::optional<std::array<double, 3>>> origin_of_reference = origin_kept.get_future();
   OneInput reference, moving;
   Raster moving_grid;
-  RunBoth(
-      parallel.value_or(config.options.num_threads > 1),
+  RunOnTwoThreads(
+      ExecutionFor(threads.value_or(config.options.num_threads)).parallel(),
       [&] {
         if (!both_rasters) {
           reference = ReadOne(config, "reference", given_reference, shared_origin);
@@ -334,7 +334,7 @@ TerrainReport AnalyseTerrain(const TerrainRequest& config, const TerrainInputs& 
   MeasureOptions options;
   options.detect_change = true;
   options.keep_node_gaps = true;
-  options.parallel = config.options.num_threads > 1;
+  options.threads = config.options.num_threads;
   options.domain = config.options.domain;  // everything over Ω: dz, the DoD, cut/fill
   TerrainReport report;
   report.lod = config.terrain.lod;

@@ -65,11 +65,11 @@ std::string LengthUnit(const TerrainInputs& inputs);
 // reference's extent (RasterOrigin), as a tiled measure gives them, so that
 // the untiled measure computes with the very same doubles (its DoD is then
 // the tiled one to the bit). The two files are read side by side on two
-// threads when `parallel` (default: config's threads > 1); the result is the
+// threads unless `threads` (default: the config's) is 1; the result is the
 // same, and of two bad inputs the reference's error is the one reported.
 TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* reference = nullptr,
                                 const Surface* moving = nullptr, bool tiled_origin = false,
-                                std::optional<bool> parallel = std::nullopt);
+                                std::optional<int> threads = std::nullopt);
 
 // Mask rings given in the mask file's CRS (`mask_crs_wkt`; "" = the
 // reference's) into the frame `in` works in: reprojected into the

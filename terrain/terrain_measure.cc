@@ -15,7 +15,7 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
                               const Surface* a, const Surface* b) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
-  TerrainInputs inputs = ReadTerrainInputs(request, a, b, /*tiled_origin=*/true, options.parallel);
+  TerrainInputs inputs = ReadTerrainInputs(request, a, b, /*tiled_origin=*/true, options.threads);
   TerrainMeasure m;
   m.frame = inputs.frame;
   m.crs_a = inputs.reference_crs;

@@ -355,7 +355,7 @@ TEST(AlignConfigErrors, WrongTypeNamesKeyLineTypeAndValue) {
   EXPECT_EQ(FromYaml("density_correction: 0").options.density_correction, 0.0);
   EXPECT_TRUE(Contains(YamlError("level_factor: 1"), "expects a number in [1.5, 64], got '1'"));
   EXPECT_TRUE(Contains(YamlError("covariance: maybe"), "expects true or false, got 'maybe'"));
-  EXPECT_TRUE(Contains(YamlError("threads: [1, 2]"), "expects an integer >= 1, got '[1, 2]'"));
+  EXPECT_TRUE(Contains(YamlError("threads: [1, 2]"), "expects an integer >= 1, or all, got '[1, 2]'"));
   EXPECT_TRUE(Contains(YamlError("levels:\n  a: 1\n"), "got a mapping"));
   EXPECT_TRUE(Contains(YamlError("levels:"), "expects an integer in [1, 8], got nothing"));
   EXPECT_TRUE(Contains(YamlError("reference:"), "key 'reference' expects a surface file"));

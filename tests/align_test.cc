@@ -526,8 +526,8 @@ TEST(AlignTest, MaskedVolumeGradientMatchesDifferences) {
     PairState state(ref, mov);
     const std::array<double, 6> theta = {0.01, -0.02, 0.05, 1.5, -2.0, 0.3};
     ASSERT_TRUE(state.Update(theta));
-    const VolumeCostValue value = EvaluateVolumeCost(state, true, false, mask);
-    const VolumeCostValue whole = EvaluateVolumeCost(state, false, false);
+    const VolumeCostValue value = EvaluateVolumeCost(state, true, Execution{1}, mask);
+    const VolumeCostValue whole = EvaluateVolumeCost(state, false, Execution{1});
     EXPECT_LT(value.area, (mask == &polygon ? 0.9 : 0.99) * whole.area);
     const Eigen::Matrix<double, 6, 1> g = value.PerAreaGradient();
     for (int k = 0; k < 6; ++k) {
@@ -536,9 +536,9 @@ TEST(AlignTest, MaskedVolumeGradientMatchesDifferences) {
       plus[k] += h;
       minus[k] -= h;
       ASSERT_TRUE(state.Update(plus));
-      const double fp = EvaluateVolumeCost(state, false, false, mask).PerArea();
+      const double fp = EvaluateVolumeCost(state, false, Execution{1}, mask).PerArea();
       ASSERT_TRUE(state.Update(minus));
-      const double fm = EvaluateVolumeCost(state, false, false, mask).PerArea();
+      const double fm = EvaluateVolumeCost(state, false, Execution{1}, mask).PerArea();
       const double scale = k < 3 ? 50.0 : 1.0;  // compare rotations as lengths
       EXPECT_NEAR(g[k] / scale, (fp - fm) / (2 * h) / scale, 1e-5 * g.norm()) << "parameter " << k;
     }

@@ -124,7 +124,7 @@ TEST(ChangeBudgetTest, NodeAreasOfARasterAreItsCells) {
   });
   MeasureOptions options;
   options.keep_node_gaps = true;
-  options.parallel = false;
+  options.threads = 1;
   const MeasureSummary s = Measure(a, b, options);
   ASSERT_EQ(s.node_area_a.size(), a.size());
   double sum = 0;

@@ -121,7 +121,7 @@ TEST(ChangeDetection, SingleThreadAgrees) {
   options.detect_change = true;
   options.level_of_detection = 0.7;
   const MeasureSummary two = Measure(a, b, options);
-  options.parallel = false;
+  options.threads = 1;
   const MeasureSummary one = Measure(a, b, options);
   ExpectRelative(one.fill_detected, two.fill_detected, 1e-12);
   ExpectRelative(one.cut_detected, two.cut_detected, 1e-12);

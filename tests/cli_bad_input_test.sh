@@ -107,7 +107,7 @@ expect_error "sliver.xyz and good.xyz overlap only in a sliver" measure sliver.x
 expect_error "missing.xyz: cannot open" measure missing.xyz good.xyz
 # measure's keys are the library's table (measure/measure_keys.h): its messages.
 expect_error "flag '--volume' expects one of overlay, union, got 'uni'" measure good.xyz good.xyz --volume=uni
-expect_error "flag '--threads' expects an integer >= 1, got '0'" measure good.xyz good.xyz --threads=0
+expect_error "flag '--threads' expects an integer >= 1, or all, got '0'" measure good.xyz good.xyz --threads=0
 expect_error "flag '--min_overlap_fraction' expects a number in [0, 1], got '2'" \
   measure good.xyz good.xyz --min_overlap_fraction=2
 

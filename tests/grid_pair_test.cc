@@ -296,10 +296,10 @@ TEST(GridPairTest, OneAndTwoThreadsGiveTheSameBits) {
   const Lattice g;
   const Surface a = Window(g, 0, 0, 40, 31, Rough, HoleA);
   MeasureOptions serial;
-  serial.parallel = false;
+  serial.threads = 1;
   serial.keep_node_gaps = true;
   MeasureOptions parallel = serial;
-  parallel.parallel = true;
+  parallel.threads = 2;
   // One grid, and a grid offset by a fraction of a cell.
   for (const Surface& b : {Window(g, 3, -2, 45, 28, Changed, HoleB),
                            Window(OffsetBy(g, 0.37, -0.61), 3, -2, 45, 28, Changed, HoleB)}) {

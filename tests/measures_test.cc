@@ -185,7 +185,7 @@ TEST(MeasureTest, ParallelAndSerialAgree) {
   const Height fb = [](double x, double y) { return 0.2 + 0.1 * x - 0.03 * y * y; };
   const Surface a = Sample(SquareCloud(20000, 10, 42), fa), b = Sample(SquareCloud(15000, 10, 43), fb);
   MeasureOptions serial;
-  serial.parallel = false;
+  serial.threads = 1;
   const MeasureSummary p = Measure(a, b), s = Measure(a, b, serial);
   EXPECT_LT(Rel(p.rho_d, s.rho_d), 1e-12);
   EXPECT_LT(Rel(p.overlap_area, s.overlap_area), 1e-12);

@@ -100,19 +100,39 @@ void ExpectCellsMatchBruteForce(const Pair& s) {
   EXPECT_NEAR(sum, total, 1e-9 * total);
 }
 
-// The two-thread overlay visits exactly the serial overlay's cells.
+// The overlay in chunks visits exactly the serial overlay's cells, each
+// once, and each chunk the same cells in the same order on 1, 2 and 8
+// threads.
 void ExpectSameCellsInTwo(const Pair& s) {
-  std::map<std::pair<int32_t, int32_t>, double> serial, first, second;
+  std::map<std::pair<int32_t, int32_t>, double> serial;
   ForEachOverlayCell(s.a, s.ma, s.a_in_b, s.b, s.mb, s.b_in_a,
                      [&](const OverlayCell& c) { serial[{c.triangle_a, c.triangle_b}] = c.area; });
-  const OverlayStats stats = ForEachOverlayCellInTwo(
-      s.a, s.ma, s.a_in_b, s.b, s.mb, s.b_in_a,
-      [&](const OverlayCell& c) { first[{c.triangle_a, c.triangle_b}] = c.area; },
-      [&](const OverlayCell& c) { second[{c.triangle_a, c.triangle_b}] = c.area; });
-  std::map<std::pair<int32_t, int32_t>, double> both = first;
-  for (const auto& kv : second) EXPECT_TRUE(both.insert(kv).second) << "cell visited by both threads";
-  EXPECT_EQ(both, serial);
-  EXPECT_EQ(stats.cells, static_cast<int64_t>(serial.size()));
+  for (const int chunks : {2, 7}) {
+    std::vector<std::vector<std::pair<int32_t, int32_t>>> order_one;
+    for (const int threads : {1, 2, 8}) {
+      SCOPED_TRACE(::testing::Message() << chunks << " chunks, " << threads << " threads");
+      std::vector<std::vector<std::pair<int32_t, int32_t>>> order(chunks);
+      std::vector<std::map<std::pair<int32_t, int32_t>, double>> parts(chunks);
+      const OverlayStats stats = ForEachOverlayCellInChunks(
+          s.a, s.ma, s.a_in_b, s.b, s.mb, s.b_in_a, chunks,
+          [&](int c, const OverlayCell& cell) {
+            parts[c][{cell.triangle_a, cell.triangle_b}] = cell.area;
+            order[c].push_back({cell.triangle_a, cell.triangle_b});
+          },
+          Execution{threads});
+      std::map<std::pair<int32_t, int32_t>, double> all;
+      for (const auto& part : parts) {
+        for (const auto& kv : part) EXPECT_TRUE(all.insert(kv).second) << "cell visited by two chunks";
+      }
+      EXPECT_EQ(all, serial);
+      EXPECT_EQ(stats.cells, static_cast<int64_t>(serial.size()));
+      if (order_one.empty()) {
+        order_one = order;
+      } else {
+        EXPECT_EQ(order, order_one);
+      }
+    }
+  }
 }
 
 TEST(OverlayTest, TwoThreadsVisitTheSerialCells) {
@@ -156,7 +176,7 @@ TEST(OverlayTest, HexagramWithNoVertexInsideTheOther) {
   const Surface b = MakeSurface({{0, 4, 1}, {6, 4, 1}, {3, -2, 1}});
   for (const bool parallel : {false, true}) {
     MeasureOptions options;
-    options.parallel = parallel;
+    options.threads = parallel ? 2 : 1;
     for (const bool swap : {false, true}) {
       const MeasureSummary s = swap ? Measure(b, a, options) : Measure(a, b, options);
       EXPECT_NEAR(s.overlap_area, 12.0, 1e-12) << parallel << swap;

@@ -84,7 +84,7 @@ TEST(OverlayTopologyTest, HexagramCornersAreTheEdgeCrossings) {
     const std::vector<Point2> pb = {{0 + dx, 4 + dy}, {3 + dx, -2 + dy}, {6 + dx, 4 + dy}};
     const Triangulation mb = Triangulate(pb);
     OverlayTopology topology;
-    topology.Build(pa, ma, LocateBrute(pb, mb, pa), pb, mb, LocateBrute(pa, ma, pb), false);
+    topology.Build(pa, ma, LocateBrute(pb, mb, pa), pb, mb, LocateBrute(pa, ma, pb), Execution{1});
     ASSERT_EQ(topology.num_cells(), 1);
     ASSERT_EQ(topology.count_of(0), 1);
     const TopologyCell& cell = topology.cells_of(0)[0];
@@ -112,7 +112,7 @@ void CheckAgainstFullOverlay(const std::vector<Point2>& pa, const std::vector<Po
   const Triangulation ma = Triangulate(pa), mb = Triangulate(pb);
   const auto a_in_b = LocateBrute(pb, mb, pa), b_in_a = LocateBrute(pa, ma, pb);
   OverlayTopology topology;
-  topology.Build(pa, ma, a_in_b, pb, mb, b_in_a, parallel);
+  topology.Build(pa, ma, a_in_b, pb, mb, b_in_a, Execution{parallel ? 2 : 1});
   int64_t full = 0;
   ForEachOverlayCell(pa, ma, a_in_b, pb, mb, b_in_a, [&](const OverlayCell& cell) {
     ++full;
@@ -193,8 +193,8 @@ VolumeCostCacheStats Walk(const Sides& sides, bool parallel,
       if (!state.Update(next)) continue;
       theta = next;
       for (bool gradient : {true, false}) {
-        const VolumeCostValue want = EvaluateVolumeCost(state, gradient, parallel, mask);
-        const VolumeCostValue got = cache.Evaluate(state, gradient, parallel, mask);
+        const VolumeCostValue want = EvaluateVolumeCost(state, gradient, Execution{parallel ? 2 : 1}, mask);
+        const VolumeCostValue got = cache.Evaluate(state, gradient, Execution{parallel ? 2 : 1}, mask);
         EXPECT_GT(want.area, 0);
         ExpectSame(got, want, 1e-11, label, &compared);
       }
@@ -269,8 +269,8 @@ TEST(VolumeCostCacheTest, AreaIsTheDataDomainsIntersection) {
   EXPECT_GT(hull - domain, 0.95 * M_PI * 225);
   EXPECT_LT(hull - domain, 1.4 * M_PI * 225);
   VolumeCostCache cache(0.25, KernelUnderTest());
-  EXPECT_NEAR(cache.Evaluate(state, true, false).area, domain, 1e-9 * domain);
-  EXPECT_NEAR(EvaluateVolumeCost(state, false, true).area, domain, 1e-9 * domain);
+  EXPECT_NEAR(cache.Evaluate(state, true, Execution{1}).area, domain, 1e-9 * domain);
+  EXPECT_NEAR(EvaluateVolumeCost(state, false, Execution{2}).area, domain, 1e-9 * domain);
 }
 
 // A step too large to repair takes the plain full path and keeps the
@@ -291,7 +291,7 @@ TEST(VolumeCostCacheTest, FallsBackToTheFullPathForLargeSteps) {
   for (const Theta& theta : {near, far, near, far, farther}) {
     ASSERT_TRUE(state.Update(theta));
     for (bool gradient : {true, false}) {  // the same pose twice: one decision
-      ExpectSame(cache.Evaluate(state, gradient, false), EvaluateVolumeCost(state, gradient, false),
+      ExpectSame(cache.Evaluate(state, gradient, Execution{1}), EvaluateVolumeCost(state, gradient, Execution{1}),
                  1e-11, "fallback", &compared);
     }
     EXPECT_EQ(cache.stats().full_builds, want_builds[k]) << k;
@@ -316,8 +316,8 @@ TEST(VolumeCostCacheTest, CellsWithZeroGapStillMoveTheBoundary) {
   PairState state(sides->reference, sides->moving);
   ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
   VolumeCostCache cache(0.25, KernelUnderTest());
-  const VolumeCostValue want = EvaluateVolumeCost(state, true, false);
-  const VolumeCostValue got = cache.Evaluate(state, true, false);
+  const VolumeCostValue want = EvaluateVolumeCost(state, true, Execution{1});
+  const VolumeCostValue got = cache.Evaluate(state, true, Execution{1});
   ASSERT_GT(want.abs, 0);
   ASSERT_GT(want.d_area.norm(), 0);
   EXPECT_LE((got.d_area - want.d_area).norm(), 1e-12 * want.d_area.norm());
@@ -338,7 +338,7 @@ TEST(VolumeCostCacheTest, RebuildsAfterARemesh) {
                           {5.001 * M_PI / 180, 2e-4, 1e-4, 0.55, -0.45, 0.01}};
   for (const Theta& theta : thetas) {
     ASSERT_TRUE(state.Update(theta));
-    ExpectSame(cache.Evaluate(state, true, true), EvaluateVolumeCost(state, true, true), 1e-11,
+    ExpectSame(cache.Evaluate(state, true, Execution{2}), EvaluateVolumeCost(state, true, Execution{2}), 1e-11,
                "remesh", &compared);
   }
   EXPECT_EQ(state.remeshes(), 1);
@@ -346,11 +346,11 @@ TEST(VolumeCostCacheTest, RebuildsAfterARemesh) {
   // Another state (new locations, B's own mesh again): rebuilt, still equal.
   PairState other(sides->reference, sides->moving);
   ASSERT_TRUE(other.Update(thetas[1]));
-  ExpectSame(cache.Evaluate(other, true, false), EvaluateVolumeCost(other, true, false), 1e-11,
+  ExpectSame(cache.Evaluate(other, true, Execution{1}), EvaluateVolumeCost(other, true, Execution{1}), 1e-11,
              "new state", &compared);
   EXPECT_EQ(cache.stats().full_builds, 3);
   cache.Reset();
-  ExpectSame(cache.Evaluate(other, false, false), EvaluateVolumeCost(other, false, false), 1e-11,
+  ExpectSame(cache.Evaluate(other, false, Execution{1}), EvaluateVolumeCost(other, false, Execution{1}), 1e-11,
              "after Reset", &compared);
   EXPECT_EQ(cache.stats().full_builds, 4);
 }
@@ -382,7 +382,7 @@ TEST(VolumeCostCacheTest, GradientBinsAreEachBTrianglesShare) {
     }
     bins.side = (hi - std::min(bins.x0, bins.y0)) / 8, bins.n = 8;
     VolumeCostCache cache(0.25, KernelUnderTest());
-    const VolumeCostValue value = cache.Evaluate(state, true, parallel, nullptr, &bins);
+    const VolumeCostValue value = cache.Evaluate(state, true, Execution{parallel ? 2 : 1}, nullptr, &bins);
     ASSERT_EQ(bins.used.size(), 64u);
 
     std::vector<Vector6> want_abs(64, Vector6::Zero()), want_area(64, Vector6::Zero());

@@ -327,7 +327,7 @@ TEST(PairStateTest, FixedBeforeTheFirstUpdateRemeshesOnce) {
 TEST(PairStateTest, TwoThreadLocationsEqualOneThreads) {
   const auto sides = TerrainSides(15000, 12000, 0, 100);
   PairState one(sides->reference, sides->moving), two(sides->reference, sides->moving);
-  two.set_parallel(true);
+  two.set_execution(Execution{2});
   for (const Theta& theta : {Theta{0.002, -0.001, 0.01, 1.0, 0.5, 0.1}, Theta{0.0021, -0.001, 0.0102, 1.01, 0.49, 0.1}}) {
     UpdateStats stats_one, stats_two;
     ASSERT_TRUE(one.Update(theta, &stats_one));
@@ -354,7 +354,7 @@ TEST(PairStateTest, FixedSurfaceCostsDoNotDependOnThePath) {
   state.FixSurface(80.0);
   AxialResiduals before, after;
   ComputeAxialResiduals(state, AxialSettings(), false, &before);
-  const double volume_before = EvaluateVolumeCost(state, false, false).PerArea();
+  const double volume_before = EvaluateVolumeCost(state, false, Execution{1}).PerArea();
   const int remeshes = state.remeshes();
   ASSERT_TRUE(state.Update({5 * M_PI / 180, 0, 0, 0.5, -0.5, 0}));
   ASSERT_TRUE(state.Update({6 * M_PI / 180, 0.01, 0, 0.6, -0.4, 0}));
@@ -365,7 +365,7 @@ TEST(PairStateTest, FixedSurfaceCostsDoNotDependOnThePath) {
   double worst = 0;
   for (std::size_t k = 0; k < before.r.size(); ++k) worst = std::max(worst, std::fabs(before.r[k] - after.r[k]));
   EXPECT_LT(worst, 1e-12);
-  EXPECT_NEAR(EvaluateVolumeCost(state, false, false).PerArea(), volume_before, 1e-12 * volume_before);
+  EXPECT_NEAR(EvaluateVolumeCost(state, false, Execution{1}).PerArea(), volume_before, 1e-12 * volume_before);
 }
 
 // With every triangle part of the surface (hull domain) and the surface

@@ -350,7 +350,7 @@ Fd CentralDifferences(PairState& state, const Theta& theta) {
       UpdateStats stats;
       EXPECT_TRUE(state.Update(t, &stats));
       EXPECT_FALSE(stats.remeshed);
-      v[s] = EvaluateVolumeCost(state, false, false);
+      v[s] = EvaluateVolumeCost(state, false, Execution{1});
     }
     fd.abs[k] = (v[0].abs - v[1].abs) / (2 * h);
     fd.area[k] = (v[0].area - v[1].area) / (2 * h);
@@ -373,8 +373,8 @@ double RelativeError(const Vector6& got, const Vector6& expected, double radius)
 void CheckVolumeGradient(const Sides& sides, const Theta& theta, bool b_inside_a) {
   PairState state(sides.reference, sides.moving);
   ASSERT_TRUE(state.Update(theta));
-  const VolumeCostValue v = EvaluateVolumeCost(state, true, false);
-  const VolumeCostValue vp = EvaluateVolumeCost(state, true, true);
+  const VolumeCostValue v = EvaluateVolumeCost(state, true, Execution{1});
+  const VolumeCostValue vp = EvaluateVolumeCost(state, true, Execution{2});
   const Fd fd = CentralDifferences(state, theta);
   const double r = sides.radius;
   const double e_abs = RelativeError(v.d_abs, fd.abs, r);
@@ -449,7 +449,7 @@ void CheckVolumeValue(const WeightFunction& weight, double tolerance) {
   for (const Theta& theta : thetas) {
     PairState state(sides->reference, sides->moving);
     ASSERT_TRUE(state.Update(theta));
-    const VolumeCostValue v = EvaluateVolumeCost(state, false, false);
+    const VolumeCostValue v = EvaluateVolumeCost(state, false, Execution{1});
     RigidMotion motion = MotionOf(sides->moving, theta);
     for (int k = 0; k < 3; ++k) motion.centre[k] += sides->a.origin[k];  // local → input frame
     const MeasureSummary m =

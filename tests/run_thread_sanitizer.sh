@@ -16,7 +16,7 @@ cd "$(dirname "$0")/.."
 build_dir="${SURFREG_TSAN_BUILD_DIR:-build-tsan}"
 jobs="$(nproc 2>/dev/null || echo 2)"
 targets=(thread_determinism_test overlay_test overlay_topology_test volume_hessian_test pair_state_test
-         measures_test grid_pair_test)
+         measures_test grid_pair_test tasks_test)
 sanitize="-fsanitize=thread -fno-omit-frame-pointer"
 echo "== configuring the ThreadSanitizer build (GCC, -O1 -g1) in $build_dir"
 cmake -S . -B "$build_dir" \
@@ -25,7 +25,7 @@ cmake -S . -B "$build_dir" \
   -DCMAKE_CXX_FLAGS_TSAN="-O1 -g1 $sanitize" \
   -DCMAKE_EXE_LINKER_FLAGS_TSAN="$sanitize" \
   -DCMAKE_SHARED_LINKER_FLAGS_TSAN="$sanitize" \
-  -DCMAKE_GTEST_DISCOVER_TESTS_DISCOVERY_MODE=PRE_TEST \
+  -DCMAKE_GTEST_DISCOVER_TESTS_DISCOVERY_MODE=PRE_TEST -DSURFREG_TASKS_STD_THREADS=ON \
   -DSURFREG_BUILD_BENCHMARKS=OFF -DSURFREG_FUZZ=OFF -DSURFREG_PYTHON=OFF >/dev/null
 echo "== building ${targets[*]}"
 cmake --build "$build_dir" -j "$jobs" --target "${targets[@]}"

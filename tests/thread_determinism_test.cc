@@ -32,23 +32,26 @@ Pair TerrainPair() {
   return {MakeSurface(dense, {}, "a"), MakeSurface(testing::MoveByInverse(sparse, truth), {}, "b")};
 }
 
-TEST(MeasureThreads, IsTheSameSerialAndParallel) {
+TEST(MeasureThreads, IsTheSameOnOneTwoThreeAndEightThreads) {
   const Pair pair = TerrainPair();
   MeasureOptions serial;
-  serial.parallel = false;
-  MeasureOptions parallel;
-  parallel.parallel = true;
+  serial.threads = 1;
   const MeasureSummary s = Measure(pair.a, pair.b, serial);
-  const MeasureSummary p = Measure(pair.a, pair.b, parallel);
   EXPECT_GT(s.rho_d, 0);
-  EXPECT_TRUE(SameBits(s.rho_d, p.rho_d)) << s.rho_d << " " << p.rho_d;
-  EXPECT_TRUE(SameBits(s.rho_d_axial, p.rho_d_axial));
-  EXPECT_TRUE(SameBits(s.overlap_area, p.overlap_area));
-  EXPECT_TRUE(SameBits(s.signed_volume, p.signed_volume));
-  EXPECT_TRUE(SameBits(s.volume_above, p.volume_above));
-  EXPECT_TRUE(SameBits(s.volume_below, p.volume_below));
-  EXPECT_EQ(s.n_cells, p.n_cells);
-  EXPECT_EQ(s.n_overlap_nodes, p.n_overlap_nodes);
+  for (const int threads : {2, 3, 8}) {
+    SCOPED_TRACE(threads);
+    MeasureOptions parallel;
+    parallel.threads = threads;
+    const MeasureSummary p = Measure(pair.a, pair.b, parallel);
+    EXPECT_TRUE(SameBits(s.rho_d, p.rho_d)) << s.rho_d << " " << p.rho_d;
+    EXPECT_TRUE(SameBits(s.rho_d_axial, p.rho_d_axial));
+    EXPECT_TRUE(SameBits(s.overlap_area, p.overlap_area));
+    EXPECT_TRUE(SameBits(s.signed_volume, p.signed_volume));
+    EXPECT_TRUE(SameBits(s.volume_above, p.volume_above));
+    EXPECT_TRUE(SameBits(s.volume_below, p.volume_below));
+    EXPECT_EQ(s.n_cells, p.n_cells);
+    EXPECT_EQ(s.n_overlap_nodes, p.n_overlap_nodes);
+  }
 }
 
 class AlignThreads : public ::testing::TestWithParam<CostKind> {};

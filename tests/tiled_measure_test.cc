@@ -257,7 +257,7 @@ TEST(TiledMeasureTest, TinyTilesEqualUntiled) {
   const Grid b = MakeGrid(50, 40, {kX0 + 0.29, 1.013, 0.0, kY0 - 0.41, 0.0, -0.987},
                           {kX0 + 24, kY0 - 18, 0}, true, {{40, 10, 4}}, 8u, "b.tif");
   MeasureOptions options = Options();
-  options.parallel = false;  // thousands of tiny Measures: no threads each
+  options.threads = 1;  // thousands of tiny Measures: no threads each
   const MeasureSummary untiled = Untiled(a, b, options);
   for (int32_t tile : {1, 2, 5}) {
     Dod dod;
@@ -274,7 +274,7 @@ TEST(TiledMeasureTest, MovingNodesOnTileBordersCountOnce) {
   const Grid b = MakeGrid(60, 40, {kX0 + 0.5, 1.0, 0.0, kY0, 0.0, -1.0}, origin, true, {}, 10u,
                           "b.tif");
   MeasureOptions options = Options();
-  options.parallel = false;
+  options.threads = 1;
   const MeasureSummary untiled = Untiled(a, b, options);
   for (int32_t tile : {3, 8}) {
     TiledMeasureStats stats;
@@ -361,7 +361,7 @@ TEST(TiledPartialTest, ShardsMergeToTheUnshardedRun) {
   const Grid b = MakeGrid(126, 100, {kX0 + 0.5, 1.0, 0.0, kY0 - 0.31, 0.0, -1.0},
                           {kX0 + 61, kY0 - 50, 0}, true, {{90, 70, 6}}, 14u, "b.tif");
   MeasureOptions options = Options();
-  options.parallel = false;
+  options.threads = 1;
   const MeasureSummary untiled = Untiled(a, b, options);
   for (int32_t tile : {9, 16, 40}) {
     Dod unsharded;
@@ -378,7 +378,7 @@ TEST(TiledPartialTest, MaskedShardsMergeToTheUnshardedRun) {
   const Grid b = MakeGrid(82, 72, {kX0 - 0.61, 0.995, 0.0, kY0 + 0.4, 0.0, -1.005},
                           {kX0 + 40, kY0 - 35, 0}, true, {}, 16u, "b.tif");
   MeasureOptions options = Options();
-  options.parallel = false;
+  options.threads = 1;
   options.weight = WeightMode::kMask;
   options.mask_mode = MaskMode::kExclude;
   options.mask = {{{kX0 + 10.2, kY0 - 5.7}, {kX0 + 70.3, kY0 - 20.1}, {kX0 + 20.5, kY0 - 60.0}}};
@@ -397,7 +397,7 @@ TEST(TiledPartialTest, ResumedPartEqualsUninterruptedBitForBit) {
                           {kX0 + 52, kY0 - 44, 0}, true, {}, 18u, "b.tif");
   TiledMeasureOptions options;
   options.measure = Options();
-  options.measure.parallel = false;
+  options.measure.threads = 1;
   options.tile = 11;
   for (int32_t shard : {1, 2}) {
     Dod whole;

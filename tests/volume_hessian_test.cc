@@ -30,8 +30,8 @@ std::vector<std::array<double, 3>> Grid(double x0, double x1, double y0, double 
 // The cache's version, after the Evaluate it needs.
 Matrix6 FromCache(const PairState& state, bool parallel) {
   VolumeCostCache cache;
-  cache.Evaluate(state, true, parallel);
-  return cache.InteriorHessian(state, parallel);
+  cache.Evaluate(state, true, Execution{parallel ? 2 : 1});
+  return cache.InteriorHessian(state, Execution{parallel ? 2 : 1});
 }
 
 // A: the plane z = c over [−10, 10] × [0, 10]; B: z = |x| over a larger
@@ -48,7 +48,7 @@ TEST(VolumeHessianTest, VShapeUnderAPlaneHasTheClosedForm) {
   ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
   const double length = 10;
   for (bool parallel : {false, true}) {
-    for (const Matrix6& h : {InteriorVolumeHessian(state, parallel), FromCache(state, parallel)}) {
+    for (const Matrix6& h : {InteriorVolumeHessian(state, Execution{parallel ? 2 : 1}), FromCache(state, parallel)}) {
       EXPECT_NEAR(h(5, 5), 4 * length, 1e-9);
       EXPECT_NEAR(h(3, 3), 2 * length, 1e-9);
       EXPECT_NEAR(h(3, 5), 0, 1e-9);
@@ -65,7 +65,7 @@ TEST(VolumeHessianTest, ZeroLineAlongEdgesCountsOnce) {
                                Grid(-15, 15, -5, 15, [](double x, double) { return std::fabs(x); }));
   PairState state(sides->reference, sides->moving);
   ASSERT_TRUE(state.Update({0, 0, 0, 0, 0, 0}));
-  for (const Matrix6& h : {InteriorVolumeHessian(state, false), FromCache(state, false)}) {
+  for (const Matrix6& h : {InteriorVolumeHessian(state, Execution{1}), FromCache(state, false)}) {
     EXPECT_NEAR(h(5, 5), 40, 1e-9);
     EXPECT_NEAR(h(3, 3), 20, 1e-9);
   }
@@ -88,16 +88,16 @@ TEST(VolumeHessianTest, MatchesCentralDifferencesOfTheGradient) {
     PairState state(sides->reference, sides->moving);
     const Theta theta = {0.001, -0.002, 0.0015, 0.05, -0.03, 0.01};
     ASSERT_TRUE(state.Update(theta));
-    const Matrix6 h = InteriorVolumeHessian(state, false);
+    const Matrix6 h = InteriorVolumeHessian(state, Execution{1});
     Matrix6 fd = Matrix6::Zero();
     for (int k = 0; k < 6; ++k) {
       const double step = k < 3 ? 2e-5 : 2e-3;
       Theta plus = theta, minus = theta;
       plus[k] += step, minus[k] -= step;
       ASSERT_TRUE(state.Update(plus));
-      const Vector6 gp = EvaluateVolumeCost(state, true, false).d_abs;
+      const Vector6 gp = EvaluateVolumeCost(state, true, Execution{1}).d_abs;
       ASSERT_TRUE(state.Update(minus));
-      const Vector6 gm = EvaluateVolumeCost(state, true, false).d_abs;
+      const Vector6 gm = EvaluateVolumeCost(state, true, Execution{1}).d_abs;
       fd.col(k) = (gp - gm) / (2 * step);
     }
     ASSERT_TRUE(state.Update(theta));

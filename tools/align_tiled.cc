@@ -327,7 +327,7 @@ TiledAlignRun AlignRasterTiles(
   measure.domain = config.options.domain;
   measure.detect_change = true;
   measure.level_of_detection = config.terrain.lod;
-  measure.parallel = config.options.num_threads > 1;
+  measure.threads = config.options.num_threads;
   // The map's overview: blocks of f × f cells, at most 1024 on a side.
   const double threshold = change_budget.active ? change_budget.threshold : config.terrain.lod;
   if (!config.terrain.dod_png.empty()) {

@@ -25,7 +25,7 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 # (tools/python), python3-pytest tests it.
 packages=(cmake make g++ pkg-config libceres-dev libeigen3-dev libgoogle-glog-dev libgflags-dev
           libgeographiclib-dev libyaml-cpp-dev libgdal-dev libcairo2-dev libgtest-dev libbenchmark-dev
-          pybind11-dev python3-dev python3-numpy)
+          pybind11-dev python3-dev python3-numpy libtbb-dev)
 if [ "$mode" = test ]; then packages+=(libcgal-dev python3 parallel clang libclang-rt-14-dev python3-pytest); fi
 
 missing=()

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <limits>
-#include <thread>
 
 #include "measure/overlay.h"
 #include "measure/predicates.h"
@@ -134,19 +133,17 @@ void OverlayTopology::SizeSearchers(const Triangulation& mesh_a, const Triangula
 TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                                      const std::vector<Location>& a_in_b,
                                      const std::vector<Point2>& points_b, const Triangulation& mesh_b,
-                                     const std::vector<Location>& b_in_a, bool parallel,
+                                     const std::vector<Location>& b_in_a, const Execution& execution,
                                      const uint8_t* keep_a, const uint8_t* keep_b) {
   SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
   const int32_t na = mesh_a.num_triangles();
   // The pairs that make cells, from the full overlay, by T_A.
-  std::vector<std::pair<int32_t, int32_t>> pairs[2];
-  auto keep = [](std::vector<std::pair<int32_t, int32_t>>* list) {
-    return [list](const OverlayCell& cell) { list->push_back({cell.triangle_a, cell.triangle_b}); };
-  };
-  // The same two lists on one thread or two (overlay.h): the cells' order,
+  // The same lists on any number of threads (overlay.h): the cells' order,
   // and so every sum over them, does not depend on the thread count.
-  const OverlayStats overlay = ForEachOverlayCellInTwo(points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a,
-                                                       keep(&pairs[0]), keep(&pairs[1]), parallel);
+  std::vector<std::vector<std::pair<int32_t, int32_t>>> pairs(OverlayChunks(mesh_a));
+  const OverlayStats overlay = ForEachOverlayCellInChunks(
+      points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, static_cast<int>(pairs.size()),
+      [&](int c, const OverlayCell& cell) { pairs[c].push_back({cell.triangle_a, cell.triangle_b}); }, execution);
   begin_.assign(na + 1, 0);
   count_.assign(na, 0);
   for (const auto& list : pairs) {
@@ -187,11 +184,9 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
       count_[ta] = kept;
     }
   };
-  const int32_t middle = parallel ? na / 2 : na;
-  std::thread worker;
-  if (parallel) worker = std::thread([&] { label(*searcher_[1], middle, na); });
-  label(*searcher_[0], 0, middle);
-  if (parallel) worker.join();
+  ForEachChunk(execution, na, 2, [&](int c, int64_t lo, int64_t hi) {
+    label(*searcher_[c], static_cast<int32_t>(lo), static_cast<int32_t>(hi));
+  });
   live_ = 0;
   for (int32_t t = 0; t < na; ++t) live_ += count_[t];
   TopologyStats stats;
@@ -207,11 +202,10 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
                                       const std::vector<Point2>& points_b,
                                       const Triangulation& mesh_b, const std::vector<int32_t>& dirty,
                                       const std::vector<std::pair<int32_t, int32_t>>& seeds,
-                                      bool parallel, const uint8_t* keep_a,
+                                      const Execution& execution, const uint8_t* keep_a,
                                       const uint8_t* keep_b) {
   SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
   const int32_t na = mesh_a.num_triangles();
-  const int32_t middle = parallel ? na / 2 : na;
   // Reads only the old topology; writes only its own searcher.
   auto repair = [&](Searcher& s, int32_t lo, int32_t hi) {
     s.pb = &points_b;
@@ -250,10 +244,11 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
       s.fresh_runs.push_back({ta, first, static_cast<int64_t>(s.fresh.size()) - first});
     }
   };
-  std::thread worker;
-  if (parallel) worker = std::thread([&] { repair(*searcher_[1], middle, na); });
-  repair(*searcher_[0], 0, middle);
-  if (parallel) worker.join();
+  // Two halves, on one thread or two: the fresh cells come in T_A order
+  // either way.
+  ForEachChunk(execution, na, 2, [&](int c, int64_t lo, int64_t hi) {
+    repair(*searcher_[c], static_cast<int32_t>(lo), static_cast<int32_t>(hi));
+  });
   TopologyStats stats;
   for (auto& s : searcher_) {
     const int64_t base = static_cast<int64_t>(cells_.size());

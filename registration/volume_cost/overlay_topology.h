@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "measure/delaunay.h"
+#include "measure/tasks.h"
 #include "measure/locator.h"
 #include "measure/overlay_clip.h"
 #include "measure/surface.h"
@@ -85,7 +86,7 @@ struct TopologyStats {
 
 class OverlayTopology {
  public:
-  // The whole overlay (two threads with `parallel`). Keeps no reference to
+  // The whole overlay (on the threads `execution` allows). Keeps no reference to
   // its arguments: each call passes the current meshes and points. Cells of
   // A triangles with keep_a[t] == 0 or B triangles with keep_b[t] == 0 (the
   // surfaces' junk, measure/domain.h) are not kept; the search still walks
@@ -93,7 +94,7 @@ class OverlayTopology {
   TopologyStats Build(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                       const std::vector<Location>& a_in_b, const std::vector<Point2>& points_b,
                       const Triangulation& mesh_b, const std::vector<Location>& b_in_a,
-                      bool parallel, const uint8_t* keep_a = nullptr,
+                      const Execution& execution, const uint8_t* keep_a = nullptr,
                       const uint8_t* keep_b = nullptr);
 
   // Searches again the A triangles in `dirty` (ascending, unique). Each
@@ -104,7 +105,7 @@ class OverlayTopology {
   TopologyStats Repair(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                        const std::vector<Location>& a_in_b, const std::vector<Point2>& points_b,
                        const Triangulation& mesh_b, const std::vector<int32_t>& dirty,
-                       const std::vector<std::pair<int32_t, int32_t>>& seeds, bool parallel,
+                       const std::vector<std::pair<int32_t, int32_t>>& seeds, const Execution& execution,
                        const uint8_t* keep_a = nullptr, const uint8_t* keep_b = nullptr);
 
   int32_t num_triangles_a() const { return static_cast<int32_t>(begin_.size()); }

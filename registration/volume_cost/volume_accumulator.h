@@ -123,10 +123,10 @@ inline int SignPieces(double d0, double d1, double s0, double s1, double cuts[3]
 // (relative to c + t) above any xy.
 struct MovedTriangle {
   Point2 p0;
-  double inv[4];  // inverse of [p1 − p0, p2 − p0]
-  Eigen::Vector3d q0, dq1, dq2;
+  double inv[4] = {0, 0, 0, 0};  // inverse of [p1 − p0, p2 − p0]
+  Eigen::Vector3d q0 = Eigen::Vector3d::Zero(), dq1 = Eigen::Vector3d::Zero(), dq2 = Eigen::Vector3d::Zero();
   Plane height;
-  Eigen::Vector3d normal;  // (−∇F, 1)
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // (−∇F, 1)
 
   Eigen::Vector3d QAt(const Point2& x) const { return q0 + QStep(x.x - p0.x, x.y - p0.y); }
   // The change of q over an xy step (dx, dy): q is affine in xy.
@@ -379,16 +379,19 @@ class VolumeAccumulator {
   bool has_hull_edge_ = false;
 };
 
-// Every cell of the overlay of A and the state's moved B: those of the
-// second half of A's triangles to `second` (on another thread with
-// `parallel`), the others to `first`; the same split on one thread, so the
-// sums do not depend on the thread count (ForEachOverlayCellInTwo).
+// Every cell of the overlay of A and the state's moved B, chunk c's to
+// parts[c] (ForEachOverlayCellInChunks): sums made per part and added in
+// part order do not depend on the thread count.
 template <class Visitor>
-void ForEachCellOfState(const PairState& state, bool parallel, Visitor& first, Visitor& second) {
+void ForEachCellOfState(const PairState& state, const Execution& execution, std::vector<Visitor>& parts) {
   const ReferenceSide& a = state.reference();
-  ForEachOverlayCellInTwo(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
-                          std::ref(first), std::ref(second), parallel);
+  ForEachOverlayCellInChunks(a.xy, a.mesh, state.a_in_b(), state.moved_xy(), state.moving_mesh(), state.b_in_a(),
+                             static_cast<int>(parts.size()),
+                             [&](int c, const OverlayCell& cell) { parts[c](cell); }, execution);
 }
+
+// The number of parts for ForEachCellOfState: a function of A's size only.
+inline int StateChunks(const PairState& state) { return OverlayChunks(state.reference().mesh); }
 
 }  // namespace volume_internal
 }  // namespace surfreg

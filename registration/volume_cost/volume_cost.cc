@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -15,16 +14,19 @@
 
 namespace surfreg {
 
-VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
+VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, const Execution& execution,
                                    const MaskRegion* mask) {
-  VolumeAccumulator first(state, gradient, mask), second(state, gradient, mask);
-  ForEachCellOfState(state, parallel, first, second);
-  VolumeCostValue total = first.value;
-  total.abs += second.value.abs;
-  total.area += second.value.area;
-  total.d_abs += second.value.d_abs;
-  total.d_area += second.value.d_area;
-  total.cells += second.value.cells;
+  std::vector<VolumeAccumulator> parts(StateChunks(state), VolumeAccumulator(state, gradient, mask));
+  ForEachCellOfState(state, execution, parts);
+  VolumeCostValue total = parts[0].value;
+  for (std::size_t c = 1; c < parts.size(); ++c) {
+    const VolumeCostValue& v = parts[c].value;
+    total.abs += v.abs;
+    total.area += v.area;
+    total.d_abs += v.d_abs;
+    total.d_area += v.d_area;
+    total.cells += v.cells;
+  }
   return total;
 }
 
@@ -152,19 +154,15 @@ const VolumeCostCacheStats& VolumeCostCache::stats() const { return impl_->stats
 
 namespace {
 
-// Runs f(lo, hi, part) over the two halves of [0, n), on two threads or one
+// Runs f(lo, hi, part) over the two halves of [0, n), side by side or one
 // after the other: the same split either way, so sums made per part and
-// added in order do not depend on the thread count.
+// added in order do not depend on the thread count. Two parts, not more:
+// each keeps a moment per B triangle (moments[part]).
 template <class F>
-void Split(int32_t n, bool parallel, F&& f) {
-  if (!parallel) {
-    f(0, n / 2, 0);
-    f(n / 2, n, 1);
-    return;
-  }
-  std::thread worker([&] { f(n / 2, n, 1); });
-  f(0, n / 2, 0);
-  worker.join();
+void Split(int32_t n, const Execution& execution, F&& f) {
+  ForEachChunk(execution, n, 2, [&](int part, int64_t lo, int64_t hi) {
+    f(static_cast<int32_t>(lo), static_cast<int32_t>(hi), part);
+  });
 }
 
 void AddInto(const VolumeCostValue& v, VolumeCostValue* total) {
@@ -186,7 +184,7 @@ int GradientBins::Index(double x, double y) const {
 // Brings the overlay's topology to the state's pose: built whole (first
 // call, a remesh, far from the last pose twice), repaired around what moved;
 // false: far from the topology's pose, which is kept for the plain full path.
-bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, bool parallel) {
+bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, const Execution& execution) {
   const Triangulation& mesh_a = reference->mesh;
   const Triangulation& mesh_b = s.moving_mesh();
   bool build = !built || remeshes != s.surface_version();
@@ -206,14 +204,14 @@ bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, bool parallel) {
   }
   fell_back = false;
   if (build) {
-    topology.Build(reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), parallel,
+    topology.Build(reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, s.b_in_a(), execution,
                    reference->domain.data(), s.active_b().data());
     built = true;
     remeshes = s.surface_version();
     ++stats.full_builds;
   } else if (!dirty.empty()) {
     const TopologyStats t = topology.Repair(reference->xy, mesh_a, s.a_in_b(), s.moved_xy(), mesh_b, dirty,
-                                            seeds, parallel, reference->domain.data(), s.active_b().data());
+                                            seeds, execution, reference->domain.data(), s.active_b().data());
     stats.triangles_searched += t.triangles_searched;
   }
   last_a.resize(s.a_in_b().size());
@@ -224,7 +222,7 @@ bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, bool parallel) {
 }
 
 // ∇F̂_B' and the hull bit on each moved B triangle (and its bin).
-void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, bool parallel, const GradientBins* bins) {
+void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execution& execution, const GradientBins* bins) {
   const Triangulation& mesh_b = s.moving_mesh();
   const int32_t nb = mesh_b.num_triangles();
   record_b.resize(nb);
@@ -235,7 +233,7 @@ void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, bool parall
   }
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
-  Split(nb, parallel, [&](int32_t lo, int32_t hi, int) {
+  Split(nb, execution, [&](int32_t lo, int32_t hi, int) {
     for (int32_t t = lo; t < hi; ++t) {
       const int32_t* v = &mesh_b.triangles[3 * t];
       const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
@@ -254,14 +252,14 @@ void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, bool parall
 // The interior gradient from each B triangle's moments (zeroed for the next
 // call): with q affine on T_B, Σ s|P| q(c) = W q0 + Q C; rows as
 // VolumeAccumulator::AddPart. Each triangle's share also to its bin.
-void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, bool parallel, GradientBins* bins,
+void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, const Execution& execution, GradientBins* bins,
                                                 VolumeCostValue* total) {
   const Triangulation& mesh_b = s.moving_mesh();
   const auto& xy = s.moved_xy();
   const auto& q = s.moved_q();
   const Eigen::Matrix3d mt = s.derivative().m.transpose();
   Eigen::Vector3d rotation[2], translation[2];
-  Split(mesh_b.num_triangles(), parallel, [&](int32_t lo, int32_t hi, int part) {
+  Split(mesh_b.num_triangles(), execution, [&](int32_t lo, int32_t hi, int part) {
     Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
     for (int32_t t = lo; t < hi; ++t) {
       Moment& m0 = moments[0][t];
@@ -303,7 +301,7 @@ void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, bool paralle
   total->d_abs.tail<3>() += translation[0] + translation[1];
 }
 
-VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, bool parallel,
+VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, const Execution& execution,
                                           const MaskRegion* mask, GradientBins* bins) {
   Impl& m = *impl_;
   m.binning = bins != nullptr && gradient && mask == nullptr && bins->n > 0;
@@ -317,15 +315,15 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   const int32_t na = m.reference->mesh.num_triangles();
   ++m.stats.evaluations;
   m.stats.triangles += na;
-  if (!m.UpdateTopology(s, parallel)) {
-    const VolumeCostValue plain = EvaluateVolumeCost(s, gradient, parallel, mask);
+  if (!m.UpdateTopology(s, execution)) {
+    const VolumeCostValue plain = EvaluateVolumeCost(s, gradient, execution, mask);
     ++m.stats.fallbacks;
     m.stats.cells += plain.cells;
     return plain;
   }
   VolumeCostValue parts[2];
   if (mask != nullptr) {
-    Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
+    Split(na, execution, [&](int32_t lo, int32_t hi, int part) {
       m.Generic(s, gradient, mask, lo, hi, &parts[part]);
     });
     AddInto(parts[1], &parts[0]);
@@ -336,11 +334,11 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   const CellKernel kernel = m.cell_kernel;  // a vector kernel where the CPU has one (weighted or not)
   // Weights added or dropped since Bind: their planes again.
   if (m.weight_a.size() != (weighted ? static_cast<std::size_t>(na) : 0u)) m.BindWeights();
-  m.RecordMovedTriangles(s, parallel, bins);
+  m.RecordMovedTriangles(s, execution, bins);
   if (gradient) {
     for (auto& moment : m.moments) moment.resize(s.moving_mesh().num_triangles(), Moment{0.0, 0.0, 0.0});
   }
-  Split(na, parallel, [&](int32_t lo, int32_t hi, int part) {
+  Split(na, execution, [&](int32_t lo, int32_t hi, int part) {
     if (kernel != CellKernel::kScalar) {
       m.IntegrateSimd(kernel, s, gradient, lo, hi, part, &parts[part]);
     } else if (weighted) {
@@ -352,7 +350,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, boo
   AddInto(parts[1], &parts[0]);
   VolumeCostValue total = parts[0];
   m.stats.cells += total.cells;
-  if (gradient) m.AddInteriorGradient(s, parallel, bins, &total);
+  if (gradient) m.AddInteriorGradient(s, execution, bins, &total);
   return total;
 }
 

@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 
 #include "measure/mask_region.h"
+#include "measure/tasks.h"
 #include "registration/volume_cost/cell_kernel.h"
 #include "registration/pair_state.h"
 
@@ -53,7 +54,7 @@ struct VolumeCostValue {
 // integrals and the area are taken over Ω ∩ mask, whose boundary moves only
 // where it is B's (the mask is fixed to the reference). If the reference
 // side has weights, μ is them (times the mask, if both are given).
-VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, bool parallel,
+VolumeCostValue EvaluateVolumeCost(const PairState& state, bool gradient, const Execution& execution,
                                    const MaskRegion* mask = nullptr);
 
 // The gradient's shares over an n × n grid of square bins (the sandwich's
@@ -109,12 +110,12 @@ class VolumeCostCache {
   // As EvaluateVolumeCost (state.Update must have succeeded). With `bins`
   // (and `gradient`, no mask; else they are left empty), the gradient's
   // shares too, at no extra pass over the cells.
-  VolumeCostValue Evaluate(const PairState& state, bool gradient, bool parallel,
+  VolumeCostValue Evaluate(const PairState& state, bool gradient, const Execution& execution,
                            const MaskRegion* mask = nullptr, GradientBins* bins = nullptr);
   // InteriorVolumeHessian (registration/volume_cost/volume_hessian.h) without a mask,
   // from the overlay the last Evaluate kept: call it right after an
   // unmasked Evaluate of `state` at its current θ.
-  Eigen::Matrix<double, 6, 6> InteriorHessian(const PairState& state, bool parallel) const;
+  Eigen::Matrix<double, 6, 6> InteriorHessian(const PairState& state, const Execution& execution) const;
   void Reset();  // the next Evaluate builds the whole overlay
   const VolumeCostCacheStats& stats() const;
 

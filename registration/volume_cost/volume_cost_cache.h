@@ -169,9 +169,9 @@ struct VolumeCostCache::Impl {
   void Bind(const PairState& s);
   void BindWeights();
   void MarkDirty(const PairState& s);
-  bool UpdateTopology(const PairState& s, bool parallel);
-  void RecordMovedTriangles(const PairState& s, bool parallel, const GradientBins* bins);
-  void AddInteriorGradient(const PairState& s, bool parallel, GradientBins* bins, VolumeCostValue* total);
+  bool UpdateTopology(const PairState& s, const Execution& execution);
+  void RecordMovedTriangles(const PairState& s, const Execution& execution, const GradientBins* bins);
+  void AddInteriorGradient(const PairState& s, const Execution& execution, GradientBins* bins, VolumeCostValue* total);
   // Calls visit(const PosedCell&) for every cell of A's triangles [lo, hi).
   template <bool kWeighted, class Visit>
   void ForEachPosedCell(const PairState& s, int32_t lo, int32_t hi, Visit&& visit) const;
@@ -248,6 +248,7 @@ using volume_internal::SumFan;
 using volume_internal::VolumeAccumulator;
 using volume_internal::CellKernel;
 using volume_internal::ForEachCellOfState;
+using volume_internal::StateChunks;
 using volume_internal::Gradient2;
 using volume_internal::Moment;
 using volume_internal::TriangleExtra;

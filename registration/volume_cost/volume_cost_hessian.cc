@@ -2,7 +2,6 @@
 // registration/volume_cost/volume_hessian.h over the overlay the cache keeps, cell by
 // cell as the scalar kernel walks them (volume_cost_integrate.cc).
 #include <cmath>
-#include <thread>
 
 #include <Eigen/Geometry>
 
@@ -190,11 +189,11 @@ void VolumeCostCache::Impl::Curvature(const PairState& s, int32_t lo, int32_t hi
   *out = t * h.Full() * t.transpose();
 }
 
-Matrix6 VolumeCostCache::InteriorHessian(const PairState& s, bool parallel) const {
+Matrix6 VolumeCostCache::InteriorHessian(const PairState& s, const Execution& execution) const {
   const Impl& m = *impl_;
   if (!m.built || m.fell_back || m.state != &s || m.reference != &s.reference() ||
       m.remeshes != s.surface_version()) {
-    return InteriorVolumeHessian(s, parallel);  // no overlay kept for this state here
+    return InteriorVolumeHessian(s, execution);  // no overlay kept for this state here
   }
   const int32_t na = m.reference->mesh.num_triangles();
   const bool weighted = !m.weight_a.empty();
@@ -207,14 +206,9 @@ Matrix6 VolumeCostCache::InteriorHessian(const PairState& s, bool parallel) cons
     }
   };
   // The same halves on one thread: the sum does not depend on the thread count.
-  if (parallel) {
-    std::thread worker([&] { run(na / 2, na, 1); });
-    run(0, na / 2, 0);
-    worker.join();
-  } else {
-    run(0, na / 2, 0);
-    run(na / 2, na, 1);
-  }
+  ForEachChunk(execution, na, 2, [&](int part, int64_t lo, int64_t hi) {
+    run(static_cast<int32_t>(lo), static_cast<int32_t>(hi), part);
+  });
   return parts[0] + parts[1];
 }
 

@@ -175,10 +175,12 @@ class ZeroLineSum {
 
 }  // namespace
 
-Matrix6 InteriorVolumeHessian(const PairState& state, bool parallel, const MaskRegion* mask) {
-  ZeroLineSum first(state, mask), second(state, mask);
-  volume_internal::ForEachCellOfState(state, parallel, first, second);
-  return first.hessian + second.hessian;
+Matrix6 InteriorVolumeHessian(const PairState& state, const Execution& execution, const MaskRegion* mask) {
+  std::vector<ZeroLineSum> parts(volume_internal::StateChunks(state), ZeroLineSum(state, mask));
+  volume_internal::ForEachCellOfState(state, execution, parts);
+  Matrix6 hessian = parts[0].hessian;
+  for (std::size_t c = 1; c < parts.size(); ++c) hessian += parts[c].hessian;
+  return hessian;
 }
 
 }  // namespace surfreg

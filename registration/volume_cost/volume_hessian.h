@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "measure/mask_region.h"
+#include "measure/tasks.h"
 #include "registration/pair_state.h"
 
 namespace surfreg {
@@ -26,7 +27,7 @@ namespace surfreg {
 // its minimum where ∇f = 0 and Ω's area is stationary). Zero without a zero set
 // or kinks; cells where d ≡ 0 add no zero line. With `parallel`, on two
 // threads (deterministic).
-Eigen::Matrix<double, 6, 6> InteriorVolumeHessian(const PairState& state, bool parallel,
+Eigen::Matrix<double, 6, 6> InteriorVolumeHessian(const PairState& state, const Execution& execution,
                                             const MaskRegion* mask = nullptr);
 
 }  // namespace surfreg

@@ -241,11 +241,11 @@ double DoWork(Work work, const PairState& s, AxialResiduals* residuals, VolumeCo
     case Work::kAxial:
       ComputeAxialResiduals(s, AxialSettings(), /*jacobians=*/true, residuals);
       return residuals->r.empty() ? 0.0 : residuals->r[0];
-    case Work::kVolume1: return EvaluateVolumeCost(s, true, /*parallel=*/false).abs;
-    case Work::kVolume2: return EvaluateVolumeCost(s, true, /*parallel=*/true).abs;
-    case Work::kIncremental1: return cache->Evaluate(s, true, /*parallel=*/false).abs;
-    case Work::kIncremental2: return cache->Evaluate(s, true, /*parallel=*/true).abs;
-    case Work::kValue1: return cache->Evaluate(s, false, /*parallel=*/false).abs;
+    case Work::kVolume1: return EvaluateVolumeCost(s, true, Execution{1}).abs;
+    case Work::kVolume2: return EvaluateVolumeCost(s, true, Execution{2}).abs;
+    case Work::kIncremental1: return cache->Evaluate(s, true, Execution{1}).abs;
+    case Work::kIncremental2: return cache->Evaluate(s, true, Execution{2}).abs;
+    case Work::kValue1: return cache->Evaluate(s, false, Execution{1}).abs;
   }
   return 0.0;
 }
@@ -361,7 +361,7 @@ void BM_ScratchOwnMesh(benchmark::State& state, int64_t n, int step, Work work) 
 void CrossCheck(const Pair& p, const MeasureSummary& m) {
   PairState s(p.ref, p.mov);
   if (!s.Update(p.theta_step[kMeasureStep])) return;  // reported by the other rows
-  const VolumeCostValue v = EvaluateVolumeCost(s, false, false);
+  const VolumeCostValue v = EvaluateVolumeCost(s, false, Execution{1});
   AxialResiduals r;
   ComputeAxialResiduals(s, AxialSettings(), false, &r);
   double sum = 0;
@@ -385,7 +385,7 @@ void BM_Measure(benchmark::State& state, int64_t n, bool parallel) {
   Pair* p = Setup(state, n);
   if (!p) return;
   MeasureOptions options;
-  options.parallel = parallel;
+  options.threads = parallel ? 2 : 1;
   MeasureSummary m;
   try {
     for (auto _ : state) {

@@ -40,7 +40,7 @@ void BM_MeasureMask(benchmark::State& state) {
   MeasureOptions options;
   options.weight = WeightMode::kMask;
   options.mask = {Ring(vertices)};
-  options.parallel = false;
+  options.threads = 1;
   for (auto _ : state) {
     MeasureSummary s = Measure(a, b, options);
     benchmark::DoNotOptimize(s);

@@ -414,7 +414,7 @@ void BM_Overlay(benchmark::State& state, Distribution d, int64_t n) {
   VolumeResult volume;
   for (auto _ : state) {
     volume = OverlayVolume(pa.xy, pa.mesh, pa.z, input->a_in_b, pb.xy, pb.mesh, pb.z,
-                           input->b_in_a, input->mu, false, -1.0, Omega(*input));
+                           input->b_in_a, input->mu, Execution{1}, -1.0, Omega(*input));
     Keep(volume.gap.abs);
     benchmark::ClobberMemory();
   }
@@ -471,7 +471,7 @@ void MeasureSurfreg(benchmark::State& state, Distribution d, int64_t n, bool par
   if (!input) return;
   MeasureSummary summary;
   MeasureOptions options;
-  options.parallel = parallel;
+  options.threads = parallel ? 2 : 1;
   try {
     for (auto _ : state) {
       summary = Measure(input->a, input->b, options);

@@ -358,7 +358,7 @@ void FuzzMeasure(std::string_view data) {
   const double z_range = (z_max - z_min) + 1e-12 * std::max(std::abs(z_min), std::abs(z_max));
   MeasureOptions options;
   options.volume = (flags & 1) ? VolumeMode::kUnion : VolumeMode::kOverlay;
-  options.parallel = (flags & 2) != 0;
+  options.threads = (flags & 2) != 0 ? 2 : 1;
   // Over the data domain (the default) and over the convex hulls, the same
   // invariants. The data domain's symmetry was off once: a union triangle's
   // centroid, rounded in A's frame or in B's, fell on either side of a mesh

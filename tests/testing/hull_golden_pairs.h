@@ -57,9 +57,9 @@ inline std::vector<GoldenCase> GoldenCases() {
   o.detect_change = true;
   o.level_of_detection = 0.2;
   o.keep_node_gaps = true;
-  o.parallel = false;
+  o.threads = 1;
   cases.push_back({a, b, o});
-  o.parallel = true;
+  o.threads = 2;
   cases.push_back({a, b, o});
   MeasureOptions u;
   u.volume = VolumeMode::kUnion;
@@ -68,18 +68,18 @@ inline std::vector<GoldenCase> GoldenCases() {
   MeasureOptions w;
   w.weight = WeightMode::kPerPoint;
   w.detect_change = true;
-  w.parallel = false;
+  w.threads = 1;
   cases.push_back({aw, b, w});
   MeasureOptions m;
   m.weight = WeightMode::kMask;
   m.mask = {{{2, 2}, {8, 1.5}, {9, 7}, {5, 4}, {3, 9}}};
-  m.parallel = false;
+  m.threads = 1;
   cases.push_back({a, b, m});
   MeasureOptions g;
   g.detect_change = true;
   g.level_of_detection = 0.05;
   g.keep_node_gaps = true;
-  g.parallel = false;
+  g.threads = 1;
   cases.push_back({GoldenGrid(30, 20, 0.0, 0), GoldenGrid(30, 20, 0.37, 1), g});
   return cases;
 }

@@ -1,0 +1,59 @@
+#pragma once
+// How the library runs work on several threads: an execution context (how
+// many threads a computation may use) passed down through every stage, and
+// two primitives over oneTBB. Results never depend on the thread count:
+// work is cut into chunks whose bounds depend only on the input's size, each
+// chunk accumulates on its own, and callers add the chunks' sums in chunk
+// order (docs/speed.md, Threads).
+#include <cstdint>
+#include <functional>
+
+namespace surfreg {
+
+struct Execution {
+  int threads = 1;  // >= 1
+  bool parallel() const { return threads > 1; }
+};
+
+// `requested` threads, 0 meaning every core the process may use.
+Execution ExecutionFor(int requested);
+
+// The number of chunks for n items of which each chunk should hold at least
+// `min_items` (1 to kMaxChunks): a function of n only.
+constexpr int kMaxChunks = 64;
+int ChunksFor(int64_t n, int64_t min_items);
+
+// Chunk c's half-open range of [0, n) cut into `chunks` near-equal parts.
+inline int64_t ChunkBegin(int64_t n, int chunks, int c) { return n * c / chunks; }
+
+// body(c, begin, end) for every chunk c of [0, n) cut into `chunks` parts,
+// on up to `execution.threads` threads (in order on the calling thread with
+// one). An exception from a body is rethrown here once all have stopped.
+void ForEachChunk(const Execution& execution, int64_t n, int chunks,
+                  const std::function<void(int chunk, int64_t begin, int64_t end)>& body);
+
+// first() and second(), side by side when parallel. They must not wait on
+// each other: a task library may run both on one thread, one after the other.
+void RunBoth(const Execution& execution, const std::function<void()>& first,
+             const std::function<void()>& second);
+
+// first() here and second() on a thread of its own when `concurrent` (else
+// in order): for two tasks of which one may wait for the other (a promise),
+// which RunBoth does not allow.
+void RunOnTwoThreads(bool concurrent, const std::function<void()>& first,
+                     const std::function<void()>& second);
+
+// Time spent inside ForEachChunk and RunBoth regions, for the serial-fraction
+// measurement (docs/speed.md): enabled by SetRegionTiming(true), read and
+// reset by TakeRegionTiming. Only outermost regions count.
+struct RegionTiming {
+  double parallel_seconds = 0.0;  // wall time inside outermost regions
+  // Their wall time divided by min(P, the region's chunk count) summed, for
+  // P = 8, 16 and 64: what the regions would take on P cores, balance ideal.
+  double projected_seconds[3] = {0.0, 0.0, 0.0};
+  int64_t regions = 0;
+};
+void SetRegionTiming(bool enabled);
+RegionTiming TakeRegionTiming();
+
+}  // namespace surfreg

@@ -1,0 +1,119 @@
+// The task primitives (measure/tasks.h): fixed chunks whatever the thread
+// count, every item once, exceptions carried back, and the two-thread runner
+// for tasks that wait on each other.
+#include "measure/tasks.h"
+
+#include <atomic>
+#include <future>
+#include <numeric>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace surfreg {
+namespace {
+
+TEST(Tasks, ChunkCountDependsOnSizeOnly) {
+  EXPECT_EQ(ChunksFor(0, 100), 1);
+  EXPECT_EQ(ChunksFor(-5, 100), 1);
+  EXPECT_EQ(ChunksFor(99, 100), 1);
+  EXPECT_EQ(ChunksFor(250, 100), 2);
+  EXPECT_EQ(ChunksFor(int64_t{1} << 40, 100), kMaxChunks);
+  EXPECT_EQ(ChunksFor(1000, 0), 1);
+}
+
+TEST(Tasks, ChunksCoverTheRangeInOrder) {
+  for (const int64_t n : {0, 1, 7, 64, 1000003}) {
+    for (const int chunks : {1, 3, 64}) {
+      EXPECT_EQ(ChunkBegin(n, chunks, 0), 0);
+      EXPECT_EQ(ChunkBegin(n, chunks, chunks), n);
+      for (int c = 0; c < chunks; ++c) EXPECT_LE(ChunkBegin(n, chunks, c), ChunkBegin(n, chunks, c + 1));
+    }
+  }
+}
+
+TEST(Tasks, EveryItemOnceWithTheSameBoundsOnAnyThreadCount) {
+  const int64_t n = 100000;
+  const int chunks = 37;
+  std::vector<std::pair<int64_t, int64_t>> bounds_one(chunks);
+  ForEachChunk(Execution{1}, n, chunks, [&](int c, int64_t b, int64_t e) { bounds_one[c] = {b, e}; });
+  for (const int threads : {1, 2, 8}) {
+    std::vector<std::atomic<int>> seen(n);
+    std::vector<std::pair<int64_t, int64_t>> bounds(chunks);
+    ForEachChunk(Execution{threads}, n, chunks, [&](int c, int64_t b, int64_t e) {
+      bounds[c] = {b, e};
+      for (int64_t i = b; i < e; ++i) ++seen[i];
+    });
+    for (int64_t i = 0; i < n; ++i) ASSERT_EQ(seen[i].load(), 1) << i << " on " << threads;
+    EXPECT_EQ(bounds, bounds_one) << threads;
+  }
+}
+
+TEST(Tasks, ExceptionComesBackAfterTheOthersStop) {
+  for (const int threads : {1, 4}) {
+    std::atomic<int> ran{0};
+    EXPECT_THROW(ForEachChunk(Execution{threads}, 64, 16,
+                              [&](int c, int64_t, int64_t) {
+                                ++ran;
+                                if (c == 5) throw std::runtime_error("chunk 5");
+                              }),
+                 std::runtime_error);
+    EXPECT_GE(ran.load(), 1);
+    EXPECT_THROW(RunBoth(Execution{threads}, [] {}, [] { throw std::invalid_argument("second"); }),
+                 std::invalid_argument);
+    EXPECT_THROW(RunBoth(Execution{threads}, [] { throw std::invalid_argument("first"); }, [] {}),
+                 std::invalid_argument);
+  }
+}
+
+TEST(Tasks, TwoThreadsLetOneTaskWaitForTheOther) {
+  // The second waits for a value the first gives: needs two threads (or
+  // the order first, second).
+  for (const bool concurrent : {false, true}) {
+    std::promise<int> given;
+    std::future<int> value = given.get_future();
+    int got = 0;
+    RunOnTwoThreads(concurrent, [&] { given.set_value(42); }, [&] { got = value.get(); });
+    EXPECT_EQ(got, 42);
+  }
+}
+
+TEST(Tasks, NestedRegionsRun) {
+  std::atomic<int64_t> sum{0};
+  ForEachChunk(Execution{2}, 8, 8, [&](int, int64_t b, int64_t) {
+    RunBoth(Execution{2}, [&] { sum += b; }, [&] {
+      ForEachChunk(Execution{2}, 10, 5, [&](int, int64_t lo, int64_t hi) { sum += hi - lo; });
+    });
+  });
+  EXPECT_EQ(sum.load(), 28 + 8 * 10);
+}
+
+TEST(Tasks, ExecutionForResolvesEveryCore) {
+  EXPECT_EQ(ExecutionFor(3).threads, 3);
+  EXPECT_GE(ExecutionFor(0).threads, 1);
+  EXPECT_FALSE(Execution{1}.parallel());
+  EXPECT_TRUE(Execution{2}.parallel());
+}
+
+TEST(Tasks, RegionTimingCountsOutermostRegionsOnly) {
+  TakeRegionTiming();
+  SetRegionTiming(true);
+  ForEachChunk(Execution{1}, 4, 4, [&](int, int64_t, int64_t) {
+    RunBoth(Execution{1}, [] { std::this_thread::sleep_for(std::chrono::milliseconds(2)); }, [] {});
+  });
+  RunBoth(Execution{1}, [] { std::this_thread::sleep_for(std::chrono::milliseconds(4)); }, [] {});
+  SetRegionTiming(false);
+  const RegionTiming t = TakeRegionTiming();
+  EXPECT_EQ(t.regions, 2);
+  EXPECT_GE(t.parallel_seconds, 0.012);
+  // 4 chunks: a quarter of the first region's time on 8+ cores; half of the
+  // two-task region's.
+  EXPECT_LT(t.projected_seconds[0], t.parallel_seconds * 0.6);
+  EXPECT_DOUBLE_EQ(t.projected_seconds[0], t.projected_seconds[2]);
+  EXPECT_EQ(TakeRegionTiming().regions, 0);
+}
+
+}  // namespace
+}  // namespace surfreg
