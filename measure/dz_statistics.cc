@@ -24,7 +24,8 @@ double Quantile(std::vector<double>& values, double q) {
 
 }  // namespace
 
-DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vector<bool>& keep) {
+DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vector<bool>& keep,
+                                 const Execution& execution) {
   std::vector<double> values;
   values.reserve(dz.size());
   for (std::size_t i = 0; i < dz.size(); ++i) {
@@ -52,14 +53,18 @@ DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vecto
   const auto [lowest, highest] = std::minmax_element(values.begin(), values.end());
   s.min = *lowest;
   s.max = *highest;
-  s.median = Quantile(values, 0.5);
-  for (double& v : values) v = std::fabs(v - s.median);  // deviations
-  s.nmad = 1.4826 * Quantile(values, 0.5);
-  values.clear();  // now |dz|, in the buffer of the deviations
-  for (std::size_t i = 0; i < dz.size(); ++i) {
-    if ((keep.empty() || keep[i]) && std::isfinite(dz[i])) values.push_back(std::fabs(dz[i]));
-  }
-  s.le90 = Quantile(values, 0.9);
+  // |dz| in a buffer of its own, so that its selection may run beside the
+  // median's and then the deviations'.
+  std::vector<double> magnitudes(values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) magnitudes[k] = std::fabs(values[k]);
+  RunBoth(
+      execution,
+      [&] {
+        s.median = Quantile(values, 0.5);
+        for (double& v : values) v = std::fabs(v - s.median);  // deviations
+        s.nmad = 1.4826 * Quantile(values, 0.5);
+      },
+      [&] { s.le90 = Quantile(magnitudes, 0.9); });
   return s;
 }
 

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "measure/tasks.h"
+
 namespace surfreg {
 
 struct DzStatistics {
@@ -23,7 +25,10 @@ struct DzStatistics {
 // Statistics of the finite values of dz for which `keep` is true (`keep`
 // empty: all). NaN and infinite values are skipped (e.g. outside the
 // overlap). With no value, count = 0 and every statistic is NaN.
-DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vector<bool>& keep = {});
+// The LE90's selection runs beside the median's and the NMAD's when
+// `execution` allows two threads (the same numbers either way).
+DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vector<bool>& keep = {},
+                                 const Execution& execution = Execution{1});
 
 // One line: "n 1234, mean 0.01, median 0.00, NMAD 0.05, std 0.06, RMSE ..."
 std::string DzStatisticsLine(const DzStatistics& s, const std::string& units);

@@ -108,7 +108,8 @@ int RowChunks(int64_t rows);
 
 // A third of each of A's domain triangles whose corners are all in Ω
 // (`omega`, per sample of a), per sample: MeasureSummary::node_area_a.
-std::vector<double> NodeAreas(const GridSide& side_a, const Surface& a, const std::vector<uint8_t>& omega);
+std::vector<double> NodeAreas(const GridSide& side_a, const Surface& a, const std::vector<uint8_t>& omega,
+                              const Execution& execution);
 
 // One triangle (counter-clockwise corners p, gaps d) with μ = 1: the overlay
 // cell integrator's results (IntegrateConvex, uniform) in closed form.
@@ -130,7 +131,8 @@ bool IndexSides(const Surface& a, const Surface& b, GridSide* side_a, GridSide* 
 // The chunks' sums in order (the volume, ρ'd and Ω's nodes), both hulls'
 // areas and, with `keep`, A's node areas (NodeAreas) into `result`.
 void FinishResult(const std::vector<ChunkSums>& parts, const GridSide& side_a, const GridSide& side_b,
-                  const std::vector<uint8_t>& omega_a, bool keep, GridPairResult* result);
+                  const std::vector<uint8_t>& omega_a, bool keep, const Execution& execution,
+                  GridPairResult* result);
 
 }  // namespace grid_cells
 }  // namespace surfreg

@@ -125,7 +125,7 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
   std::vector<ChunkSums> parts(RowChunks(sa.index.rows));
   ForEachChunk(ExecutionFor(options.threads), sa.index.rows, static_cast<int>(parts.size()),
                [&](int c, int64_t begin, int64_t end) { rows(begin, end, &parts[c]); });
-  FinishResult(parts, sa, sb, omega, keep, &result);
+  FinishResult(parts, sa, sb, omega, keep, ExecutionFor(options.threads), &result);
   return true;
 }
 

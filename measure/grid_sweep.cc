@@ -225,7 +225,7 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
     parts[h].node_weight += parts_b[h].node_weight;
     parts[h].nodes += parts_b[h].nodes;
   }
-  FinishResult(parts, sa, sb, omega_a, keep, &result);
+  FinishResult(parts, sa, sb, omega_a, keep, ExecutionFor(options.threads), &result);
   return true;
 }
 

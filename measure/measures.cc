@@ -138,7 +138,7 @@ const char* WeightModeName(WeightMode mode) {
 // and spanning tree. `progress` and `timings` (may be null) follow its stages.
 template <typename Progress>
 void PrepareSide(const Surface& s, const double shift[3], DomainRule rule, const Progress& progress,
-                 MeasureTimings* timings, Prepared* p, std::vector<int32_t>* order) {
+                 const Execution& execution, MeasureTimings* timings, Prepared* p, std::vector<int32_t>* order) {
   *p = Prepared{s.xy, s.z, s.weight, {}, {}, {}, 0.0, {}};
   if (shift[0] != 0.0 || shift[1] != 0.0 || shift[2] != 0.0) {
     for (Point2& q : p->xy) q = {q.x + shift[0], q.y + shift[1]};
@@ -151,15 +151,21 @@ void PrepareSide(const Surface& s, const double shift[3], DomainRule rule, const
   MergeDuplicateHeights(*p);
   p->hull_area = MeshArea(p->xy, p->mesh);
   if (timings != nullptr) timings->triangulate = Seconds(stage);
-  progress("data domains", 0.27);
-  stage = Clock::now();
+  // The domain and the spanning tree both read only the mesh: side by side.
+  progress("data domains and spanning trees", 0.27);
   rule.grid = s.raster_grid();
-  p->domain = MakeMeshDomain(p->xy, p->mesh, rule, &p->in_grid);
-  if (timings != nullptr) timings->domain = Seconds(stage);
-  progress("spanning trees", 0.45);
-  stage = Clock::now();
-  p->tree = EuclideanMst(p->xy, p->mesh);
-  if (timings != nullptr) timings->spanning_tree = Seconds(stage);
+  RunBoth(
+      execution,
+      [&] {
+        const Clock::time_point start = Clock::now();
+        p->domain = MakeMeshDomain(p->xy, p->mesh, rule, &p->in_grid);
+        if (timings != nullptr) timings->domain = Seconds(start);
+      },
+      [&] {
+        const Clock::time_point start = Clock::now();
+        p->tree = EuclideanMst(p->xy, p->mesh);
+        if (timings != nullptr) timings->spanning_tree = Seconds(start);
+      });
 }
 
 struct MeasureReference::Impl {
@@ -183,14 +189,18 @@ void PreparePair(const Surface& a, const Surface& b, const MeasureOptions& optio
   const double no_shift[3] = {0.0, 0.0, 0.0};
   const double shift[3] = {b.origin[0] - a.origin[0], b.origin[1] - a.origin[1], b.origin[2] - a.origin[2]};
   const auto quiet = [](const char*, double) {};
+  const Execution execution = ExecutionFor(options.threads);
   if (given != nullptr) {
     pair->a = given->prepared;
     pair->order_a = given->order;
-    PrepareSide(b, shift, options.domain, progress, &summary->timings, &pair->b, &pair->order_b);
+    PrepareSide(b, shift, options.domain, progress, execution, &summary->timings, &pair->b, &pair->order_b);
   } else {
-    RunBoth(ExecutionFor(options.threads),
-            [&] { PrepareSide(b, shift, options.domain, progress, &summary->timings, &pair->b, &pair->order_b); },
-            [&] { PrepareSide(a, no_shift, options.domain, quiet, nullptr, &pair->a, &pair->order_a); });
+    RunBoth(execution,
+            [&] {
+              PrepareSide(b, shift, options.domain, progress, execution, &summary->timings, &pair->b,
+                          &pair->order_b);
+            },
+            [&] { PrepareSide(a, no_shift, options.domain, quiet, execution, nullptr, &pair->a, &pair->order_a); });
   }
   summary->n_duplicates_a = pair->a.mesh.num_duplicates;
   summary->n_duplicates_b = pair->b.mesh.num_duplicates;
@@ -349,7 +359,8 @@ MeasureReference::MeasureReference(const Surface& a, const MeasureOptions& optio
   impl_->surface = &a;
   impl_->rule = options.domain;
   const double no_shift[3] = {0.0, 0.0, 0.0};
-  PrepareSide(a, no_shift, options.domain, [](const char*, double) {}, nullptr, &impl_->prepared, &impl_->order);
+  PrepareSide(a, no_shift, options.domain, [](const char*, double) {}, ExecutionFor(options.threads), nullptr,
+              &impl_->prepared, &impl_->order);
   DomainRule rule = options.domain;
   rule.grid = a.raster_grid();
   if (!options.allow_empty_overlap) CheckDomain(a, impl_->prepared.domain.area, rule, "surface A");

@@ -50,7 +50,7 @@ enum class WeightMode {
 
 // Where a Measure is (MeasureOptions::on_progress).
 struct MeasureProgress {
-  const char* stage = "";  // "triangulating", "data domains", "spanning trees", ...
+  const char* stage = "";  // "triangulating", "data domains and spanning trees", ...
   double done = 0;         // share of a typical run's time spent before this stage, 0-1
   double seconds = 0;      // since the start of Measure
   int64_t points = 0;      // samples of both surfaces: how long the run will be

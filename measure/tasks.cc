@@ -28,29 +28,46 @@ std::atomic<bool> timing_enabled{false};
 std::mutex timing_mutex;
 RegionTiming timing_sums;
 thread_local int region_depth = 0;
-constexpr int kProjectedCores[3] = {8, 16, 64};
+
+using Clock = std::chrono::steady_clock;
+double SecondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 class RegionTimer {
  public:
   explicit RegionTimer(int width) : width_(width), outer_(region_depth++ == 0 && timing_enabled) {
-    if (outer_) start_ = std::chrono::steady_clock::now();
+    if (outer_) start_ = Clock::now();
   }
   ~RegionTimer() {
     --region_depth;
     if (!outer_) return;
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double s = SecondsSince(start_);
     std::lock_guard<std::mutex> lock(timing_mutex);
     timing_sums.parallel_seconds += s;
-    for (int k = 0; k < 3; ++k) timing_sums.projected_seconds[k] += s / std::min(kProjectedCores[k], width_);
+    for (int k = 0; k < 4; ++k) {
+      timing_sums.projected_seconds[k] += std::max(s / std::min(kProjectedCores[k], width_), longest_);
+    }
     ++timing_sums.regions;
   }
   RegionTimer(const RegionTimer&) = delete;
   RegionTimer& operator=(const RegionTimer&) = delete;
 
+  // Runs one chunk or task, timing it when this region is timed.
+  template <typename F>
+  void Task(F&& f) {
+    if (!outer_) {
+      f();
+      return;
+    }
+    const Clock::time_point t = Clock::now();
+    f();
+    longest_ = std::max(longest_, SecondsSince(t));
+  }
+
  private:
   int width_;
   bool outer_;
-  std::chrono::steady_clock::time_point start_;
+  double longest_ = 0.0;
+  Clock::time_point start_;
 };
 
 #ifndef SURFREG_TASKS_STD_THREADS
@@ -89,7 +106,9 @@ void ForEachChunk(const Execution& execution, int64_t n, int chunks,
   chunks = std::max(1, chunks);
   RegionTimer timer(chunks);
   if (!execution.parallel() || chunks == 1) {
-    for (int c = 0; c < chunks; ++c) body(c, ChunkBegin(n, chunks, c), ChunkBegin(n, chunks, c + 1));
+    for (int c = 0; c < chunks; ++c) {
+      timer.Task([&] { body(c, ChunkBegin(n, chunks, c), ChunkBegin(n, chunks, c + 1)); });
+    }
     return;
   }
 #ifndef SURFREG_TASKS_STD_THREADS
@@ -126,8 +145,8 @@ void RunOnTwoThreads(bool concurrent, const std::function<void()>& first,
                      const std::function<void()>& second) {
   RegionTimer timer(2);
   if (!concurrent) {
-    first();
-    second();
+    timer.Task(first);
+    timer.Task(second);
     return;
   }
   std::exception_ptr error;

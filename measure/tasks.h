@@ -43,14 +43,17 @@ void RunBoth(const Execution& execution, const std::function<void()>& first,
 void RunOnTwoThreads(bool concurrent, const std::function<void()>& first,
                      const std::function<void()>& second);
 
-// Time spent inside ForEachChunk and RunBoth regions, for the serial-fraction
-// measurement (docs/speed.md): enabled by SetRegionTiming(true), read and
-// reset by TakeRegionTiming. Only outermost regions count.
+// Time spent inside ForEachChunk, RunBoth and RunOnTwoThreads regions, for
+// the serial-fraction measurement (docs/speed.md, Threads): enabled by
+// SetRegionTiming(true), read and reset by TakeRegionTiming. Only outermost
+// regions count; meant for one-thread runs, where each chunk is timed too.
+constexpr int kProjectedCores[4] = {2, 8, 16, 64};
 struct RegionTiming {
   double parallel_seconds = 0.0;  // wall time inside outermost regions
-  // Their wall time divided by min(P, the region's chunk count) summed, for
-  // P = 8, 16 and 64: what the regions would take on P cores, balance ideal.
-  double projected_seconds[3] = {0.0, 0.0, 0.0};
+  // What the regions would take on P = kProjectedCores[k] cores, summed:
+  // each region's time over min(P, its chunks), but never less than its
+  // longest chunk (a lower bound, as a perfect scheduler would reach).
+  double projected_seconds[4] = {0.0, 0.0, 0.0, 0.0};
   int64_t regions = 0;
 };
 void SetRegionTiming(bool enabled);

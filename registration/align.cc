@@ -12,6 +12,7 @@
 #include <Eigen/Cholesky>
 
 #include "measure/input_error.h"
+#include "measure/tasks.h"
 #include "measure/weights.h"
 #include "registration/align_stable.h"
 #include "registration/align_steps.h"
@@ -197,7 +198,10 @@ bool Judge(const Starts& starts, CostKind cost, bool failed, AlignResult* result
 std::future<MeasureSummary> MeasureLater(std::unique_ptr<MeasureReference>& reference, const Surface& a,
                                          const Surface& moving, const MeasureOptions& options,
                                          const std::array<double, 6>& theta, const Eigen::Vector3d& centre) {
-  return std::async(std::launch::async, [&reference, &a, &moving, &options, theta, centre] {
+  // On a thread of its own only when more than one is allowed: --threads=1
+  // means one (the measure then runs when its result is asked for).
+  const std::launch policy = ExecutionFor(options.threads).parallel() ? std::launch::async : std::launch::deferred;
+  return std::async(policy, [&reference, &a, &moving, &options, theta, centre] {
     if (!reference) reference = std::make_unique<MeasureReference>(a, options);
     return Measure(*reference, TransformSurface(moving, RigidOfTheta(theta, centre, a.origin).ToMatrix()),
                    options);

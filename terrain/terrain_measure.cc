@@ -6,6 +6,7 @@
 #include "io/interrupt.h"
 #include "io/raster_io.h"
 #include "measure/input_error.h"
+#include "measure/tasks.h"
 #include "terrain/terrain.h"
 
 namespace surfreg {
@@ -31,18 +32,22 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
   ThrowIfInterrupted();           // between the stages: reading done, measuring next
   m.read_s = std::chrono::duration<double>(Clock::now() - start).count();
   m.summary = Measure(inputs.reference, inputs.moving, options);
-  m.dz = ComputeDzStatistics(m.summary.dz_a);
-  if (!request.terrain.dod.empty()) {
-    if (!inputs.reference_is_raster) {
-      throw InputError(request.Where("dod") + ": the DoD is written on A's grid, but A is no raster");
-    }
-    Raster dod = inputs.reference_grid;  // B − A at A's cells, nodata outside Ω
-    dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));
-    for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
-      dod.values[inputs.reference_cells[i]] = m.summary.dz_a[i];
-    }
-    WriteGeoTiff(request.terrain.dod, dod, request.Where("dod"));
+  if (!request.terrain.dod.empty() && !inputs.reference_is_raster) {
+    throw InputError(request.Where("dod") + ": the DoD is written on A's grid, but A is no raster");
   }
+  // The DoD is written (GDAL compresses it) beside the dz statistics.
+  const Execution execution = ExecutionFor(options.threads);
+  RunBoth(
+      execution, [&] { m.dz = ComputeDzStatistics(m.summary.dz_a, {}, execution); },
+      [&] {
+        if (request.terrain.dod.empty()) return;
+        Raster dod = inputs.reference_grid;  // B − A at A's cells, nodata outside Ω
+        dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));
+        for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
+          dod.values[inputs.reference_cells[i]] = m.summary.dz_a[i];
+        }
+        WriteGeoTiff(request.terrain.dod, dod, request.Where("dod"));
+      });
   m.uncertainty = AnalyseChangeUncertainty(request, inputs.reference, inputs.moving, inputs.sigma_reference,
                                            inputs.sigma_moving, m.summary, options);
   return m;

@@ -78,7 +78,7 @@ TEST(MeasureTest, ProgressNamesEveryStageInOrder) {
   options.on_progress = [&seen](const MeasureProgress& p) { seen.push_back(p); };
   const MeasureSummary with = Measure(sa, sb, options);
   const MeasureSummary without = Measure(sa, sb);
-  const std::vector<std::string> stages = {"triangulating", "data domains", "spanning trees",
+  const std::vector<std::string> stages = {"triangulating", "data domains and spanning trees",
                                            "locating each cloud in the other", "volume"};
   ASSERT_EQ(seen.size(), stages.size());
   for (std::size_t i = 0; i < seen.size(); ++i) {

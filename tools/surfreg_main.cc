@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -24,6 +26,7 @@
 #include "tools/jaw_config.h"
 #include "tools/key_flags.h"
 #include "tools/log_prefix.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 namespace {
@@ -289,6 +292,21 @@ int Dispatch(int argc, char** argv) {
 }
 
 }  // namespace
+
+// Total wall time T, time inside parallel regions P, serial share
+// s = (T − P) / T, and T_N = (T − P) + Σ region / min(N, its chunks).
+void PrintRegionTiming(std::chrono::steady_clock::time_point start) {
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const RegionTiming t = TakeRegionTiming();
+  const double serial = std::max(0.0, total - t.parallel_seconds);
+  std::fprintf(stderr,
+               "surfreg: region timing: total %.3f s, in %lld parallel regions %.3f s, serial %.3f s (%.1f%%); "
+               "projected speed-up on 2, 8, 16, 64 cores: %.2f, %.2f, %.2f, %.2f\n",
+               total, static_cast<long long>(t.regions), t.parallel_seconds, serial, 100.0 * serial / total,
+               total / (serial + t.projected_seconds[0]), total / (serial + t.projected_seconds[1]),
+               total / (serial + t.projected_seconds[2]), total / (serial + t.projected_seconds[3]));
+}
+
 }  // namespace surfreg
 
 int main(int argc, char** argv) {
@@ -304,9 +322,17 @@ int main(int argc, char** argv) {
   google::InitGoogleLogging(argv[0], &surfreg::LogPrefix);  // surfreg: warning: ...
   surfreg::RegisterKeyFlags();  // before anything reads or parses a flag
   surfreg::InstallInterruptHandlers();
+  // SURFREG_REGION_TIMING=1: one stderr line at the end with the time spent
+  // inside the parallel regions and the Amdahl projection (docs/speed.md,
+  // Threads); meant for one-thread runs (--threads=1).
+  const char* region_timing = std::getenv("SURFREG_REGION_TIMING");
+  const bool timing = region_timing != nullptr && std::strcmp(region_timing, "1") == 0;
+  const auto start = std::chrono::steady_clock::now();
+  if (timing) surfreg::SetRegionTiming(true);
   try {
     const int code = surfreg::Dispatch(argc, argv);
-    surfreg::ThrowIfInterrupted();  // a signal during a stage that does not check
+    surfreg::ThrowIfInterrupted();
+    if (timing) surfreg::PrintRegionTiming(start);  // a signal during a stage that does not check
     // Results printed to a full disk, a file past `ulimit -f` or a closed
     // pipe must not end as a success: the last buffered bytes are written
     // here, and any failed write of stdout is sticky in ferror.
