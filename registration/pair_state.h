@@ -191,7 +191,7 @@ class PairState {
   // Folds of mesh_ at the moved points (folded_, stats, how many of them
   // active); false beyond max_fold_fraction.
   bool CountFolds(UpdateStats* stats, int32_t* active_folded);
-  // Runs both location passes, on two threads if parallel_ and large.
+  // Runs both location passes, side by side if execution_ allows and large.
   template <typename AInB, typename BInA>
   void BothWays(AInB&& a_in_b, BInA&& b_in_a) const;
   void SetActiveFlags();  // active_ for mesh_ from the kept triangles

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # The tests of the parallel stages under ThreadSanitizer (GCC), in their own
-# build directory (part of .ci/run): the overlay in two halves, the volume
-# cost's cache and Hessian split in two, the location of both clouds side by
-# side, the sandwich's tile sums, and the thread-count determinism tests,
-# each of which runs its stages on two threads. Only these test programs are
-# built, so the step stays short.
+# build directory (part of .ci/run): the overlay in chunks, the volume
+# cost's cache and Hessian, the location of both clouds side by side, the
+# sandwich's tile sums, the grid paths' row chunks, the task primitives and
+# the thread-count determinism tests (1 to 8 threads). The chunks run on
+# plain std::threads here (SURFREG_TASKS_STD_THREADS): ThreadSanitizer cannot
+# see the synchronization inside the uninstrumented libtbb, and would report
+# its hand-overs as races. Only these test programs are built, so the step
+# stays short.
 #
 #   bash tests/run_thread_sanitizer.sh          configure, build, run them
 #   SURFREG_TSAN_BUILD_DIR=dir ...              build somewhere else (default build-tsan)

@@ -47,9 +47,9 @@ struct VolumeCostValue {
   }
 };
 
-// At the state's current θ (state.Update must have succeeded). With
-// `parallel`, on two threads (deterministic: fixed split, fixed summation
-// order). With `mask` (a region in A's frame, measure/mask_region.h), μ = 1
+// At the state's current θ (state.Update must have succeeded). On the
+// threads `execution` allows, in chunks of A's triangles (the same bits on
+// any number: measure/tasks.h). With `mask` (a region in A's frame, measure/mask_region.h), μ = 1
 // on it and 0 elsewhere: both
 // integrals and the area are taken over Ω ∩ mask, whose boundary moves only
 // where it is B's (the mask is fixed to the reference). If the reference
@@ -90,8 +90,8 @@ struct VolumeCostCacheStats {
 // EvaluateVolumeCost's (never slower than it) and the overlay is kept for
 // the pose it was made at (a solver often returns near it); when the next
 // call is at another pose and again too far, it is built whole. Same value
-// and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); with
-// two threads, deterministic (fixed split and summation order). Unmasked
+// and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); in
+// two fixed halves on one thread or more, so the same bits on any number. Unmasked
 // cells are integrated by a vector kernel on CPUs with AVX-512 or AVX2 +
 // FMA (run-time check), or the one `kernel` names, for comparison and tests
 // (one the CPU cannot run: a warning and the best it can).

@@ -25,8 +25,8 @@ namespace surfreg {
 // The two line terms over Ω (∩ mask) at the state's θ (state.Update must
 // have succeeded), of ∫μ|d| (divide by ∫_Ω μ for the per-area cost's, at
 // its minimum where ∇f = 0 and Ω's area is stationary). Zero without a zero set
-// or kinks; cells where d ≡ 0 add no zero line. With `parallel`, on two
-// threads (deterministic).
+// or kinks; cells where d ≡ 0 add no zero line. In chunks on the threads
+// `execution` allows (the same bits on any number).
 Eigen::Matrix<double, 6, 6> InteriorVolumeHessian(const PairState& state, const Execution& execution,
                                             const MaskRegion* mask = nullptr);
 
