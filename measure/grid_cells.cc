@@ -46,20 +46,41 @@ bool Near(const Point2& p, const Point2& q, double tolerance) {
   return std::fabs(p.x - q.x) <= tolerance && std::fabs(p.y - q.y) <= tolerance;
 }
 
-bool FitAffine(const Surface& s, double magnitude, GridAffine* fit, double* tolerance) {
+namespace {
+
+// The first i of [1, n) with the largest |key(i)| (0 and 0 if none is
+// above 0), by chunks: each chunk's first largest, then the first chunk's
+// of the largest, as one pass in order would find it.
+template <typename Key>
+std::pair<std::size_t, int64_t> FirstLargest(const Execution& execution, std::size_t n, const Key& key) {
+  const int chunks = ChunksFor(static_cast<int64_t>(n), 1 << 16);
+  std::vector<std::pair<std::size_t, int64_t>> best(chunks, {0, 0});
+  ForEachChunk(execution, static_cast<int64_t>(n), chunks, [&](int c, int64_t begin, int64_t end) {
+    for (int64_t i = std::max<int64_t>(begin, 1); i < end; ++i) {
+      const int64_t k = key(static_cast<std::size_t>(i));
+      if (std::llabs(k) > std::llabs(best[c].second)) best[c] = {static_cast<std::size_t>(i), k};
+    }
+  });
+  std::pair<std::size_t, int64_t> first = {0, 0};
+  for (const auto& b : best) {
+    if (std::llabs(b.second) > std::llabs(first.second)) first = b;
+  }
+  return first;
+}
+
+}  // namespace
+
+bool FitAffine(const Surface& s, double magnitude, GridAffine* fit, double* tolerance,
+               const Execution& execution) {
   const std::vector<RasterCell>& cells = s.raster_cell;
   const int64_t c0 = cells[0].column, r0 = cells[0].row;
-  std::size_t i1 = 0, i2 = 0;
-  int64_t far = 0, det = 0;
-  for (std::size_t i = 1; i < cells.size(); ++i) {
-    const int64_t d = std::llabs(cells[i].column - c0) + std::llabs(cells[i].row - r0);
-    if (d > far) far = d, i1 = i;
-  }
+  const std::size_t i1 = FirstLargest(execution, cells.size(), [&](std::size_t i) {
+    return std::llabs(cells[i].column - c0) + std::llabs(cells[i].row - r0);
+  }).first;
   const int64_t dc1 = cells[i1].column - c0, dr1 = cells[i1].row - r0;
-  for (std::size_t i = 1; i < cells.size(); ++i) {
-    const int64_t d = dc1 * (cells[i].row - r0) - dr1 * (cells[i].column - c0);
-    if (std::llabs(d) > std::llabs(det)) det = d, i2 = i;
-  }
+  const auto [i2, det] = FirstLargest(execution, cells.size(), [&](std::size_t i) {
+    return dc1 * (cells[i].row - r0) - dr1 * (cells[i].column - c0);
+  });
   if (det == 0) return false;  // all samples on one line of cells
   const int64_t dc2 = cells[i2].column - c0, dr2 = cells[i2].row - r0;
   const Point2 p0 = s.xy[0], p1 = s.xy[i1], p2 = s.xy[i2];
@@ -72,16 +93,23 @@ bool FitAffine(const Surface& s, double magnitude, GridAffine* fit, double* tole
   const double cross = fit->u.x * fit->v.y - fit->u.y * fit->v.x;
   if (!(std::fabs(cross) > 1e-6 * lu * lv)) return false;
   *tolerance = 64.0 * std::numeric_limits<double>::epsilon() * magnitude + 1e-9 * std::min(lu, lv);
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    if (!Near(fit->At(cells[i].column, cells[i].row), s.xy[i], *tolerance)) return false;
-  }
-  return true;
+  const int chunks = ChunksFor(static_cast<int64_t>(cells.size()), 1 << 16);
+  std::vector<uint8_t> near(chunks, 1);
+  ForEachChunk(execution, static_cast<int64_t>(cells.size()), chunks, [&](int c, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end && near[c]; ++i) {
+      near[c] = Near(fit->At(cells[i].column, cells[i].row), s.xy[i], *tolerance);
+    }
+  });
+  return std::all_of(near.begin(), near.end(), [](uint8_t v) { return v != 0; });
 }
 
-double Magnitude(const Surface& s) {
-  double m = 0.0;
-  for (const Point2& p : s.xy) m = std::max({m, std::fabs(p.x), std::fabs(p.y)});
-  return m + std::max(std::fabs(s.origin[0]), std::fabs(s.origin[1]));
+double Magnitude(const Surface& s, const Execution& execution) {
+  const int chunks = ChunksFor(static_cast<int64_t>(s.xy.size()), 1 << 16);
+  std::vector<double> most(chunks, 0.0);
+  ForEachChunk(execution, static_cast<int64_t>(s.xy.size()), chunks, [&](int c, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) most[c] = std::max({most[c], std::fabs(s.xy[i].x), std::fabs(s.xy[i].y)});
+  });
+  return *std::max_element(most.begin(), most.end()) + std::max(std::fabs(s.origin[0]), std::fabs(s.origin[1]));
 }
 
 // The area of the convex hull of a grid's samples: each row's samples are

@@ -45,10 +45,11 @@ bool Near(const Point2& p, const Point2& q, double tolerance);
 // The affine function through three samples far apart, if every sample is
 // on it to `*tolerance` (set here: rounding of the input coordinates, of
 // magnitude `magnitude`, plus 1e-9 of a cell).
-bool FitAffine(const Surface& s, double magnitude, GridAffine* fit, double* tolerance);
+bool FitAffine(const Surface& s, double magnitude, GridAffine* fit, double* tolerance,
+               const Execution& execution = Execution{1});
 
 // The largest input coordinate of a surface's samples (origin included).
-double Magnitude(const Surface& s);
+double Magnitude(const Surface& s, const Execution& execution = Execution{1});
 
 // The area of the convex hull of a grid's samples, on a lattice of cells of
 // area `cell_area`.

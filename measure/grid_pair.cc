@@ -21,7 +21,10 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
   if (!IndexSides(a, b, &sa, &sb)) return false;
   GridAffine grid;
   double tolerance = 0.0;
-  if (!FitAffine(a, std::max(Magnitude(a), Magnitude(b)), &grid, &tolerance)) return false;
+  const Execution execution = ExecutionFor(options.threads);
+  if (!FitAffine(a, std::max(Magnitude(a, execution), Magnitude(b, execution)), &grid, &tolerance, execution)) {
+    return false;
+  }
 
   // B's cell (c, r) is A's (c + dc, r + dr): from B's first sample, then
   // every sample of B checked on A's lattice, and equal to A's where both are.

@@ -94,10 +94,13 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
   }
   GridSide sa, sb;
   if (!IndexSides(a, b, &sa, &sb)) return false;
-  const double magnitude = std::max(Magnitude(a), Magnitude(b));
+  const Execution execution = ExecutionFor(options.threads);
+  const double magnitude = std::max(Magnitude(a, execution), Magnitude(b, execution));
   GridAffine ga, gb;
   double tolerance_a = 0, tolerance_b = 0;
-  if (!FitAffine(a, magnitude, &ga, &tolerance_a) || !FitAffine(b, magnitude, &gb, &tolerance_b)) return false;
+  if (!FitAffine(a, magnitude, &ga, &tolerance_a, execution) || !FitAffine(b, magnitude, &gb, &tolerance_b, execution)) {
+    return false;
+  }
   // The same cell vectors: every sample of B on A's vectors from B's origin
   // (so a turn between the grids, however small, that moves a sample by
   // more than the tolerance over B's extent is the general path's).

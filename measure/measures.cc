@@ -430,8 +430,8 @@ MeasureSummary MeasureWith(const Surface& a, const Surface& b, const MeasureOpti
   const Clock::time_point start = Clock::now();
   std::string error;
   if (!options.IsValid(&error)) throw InputError("measure options: " + error);
-  if (given == nullptr) ValidateSurface(a);
-  ValidateSurface(b);
+  if (given == nullptr) ValidateSurface(a, ExecutionFor(options.threads));
+  ValidateSurface(b, ExecutionFor(options.threads));
   if (options.weight == WeightMode::kPerPoint && a.weight.empty() && b.weight.empty()) {
     throw InputError("per-point weights requested, but neither surface has weights");
   }

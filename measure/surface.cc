@@ -7,6 +7,7 @@
 
 #include "measure/input_error.h"
 #include "measure/predicates.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 namespace {
@@ -56,7 +57,7 @@ Surface MakeSurface(const std::vector<std::array<double, 3>>& points, std::vecto
   return surface;
 }
 
-void ValidateSurface(const Surface& surface) {
+void ValidateSurface(const Surface& surface, const Execution& execution) {
   const std::string where = Where(surface);
   const std::size_t n = surface.xy.size();
   if (surface.z.size() != n) throw InputError(where + ": x/y and z counts differ");
@@ -70,19 +71,38 @@ void ValidateSurface(const Surface& surface) {
     throw InputError(where + ": " + std::to_string(n) +
                      " points; a surface needs at least 3 not on one line");
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!std::isfinite(surface.xy[i].x) || !std::isfinite(surface.xy[i].y) ||
-        !std::isfinite(surface.z[i])) {
-      throw InputError(where + ": point " + std::to_string(i + 1) + " is not finite");
+  // What is wrong with point i: 0 nothing, 1 not finite, 2 beyond
+  // kMaxCoordinate, 3 its weight. The first bad point of each chunk is
+  // found; the first of all is reported.
+  const auto fault = [&surface](std::size_t i) {
+    if (!std::isfinite(surface.xy[i].x) || !std::isfinite(surface.xy[i].y) || !std::isfinite(surface.z[i])) {
+      return 1;
     }
     const double x = surface.xy[i].x + surface.origin[0], y = surface.xy[i].y + surface.origin[1];
     if (std::max({std::abs(x), std::abs(y), std::abs(surface.z[i] + surface.origin[2])}) > kMaxCoordinate) {
-      throw InputError(where + ": point " + std::to_string(i + 1) +
-                       " has a coordinate beyond 1e60 in magnitude (the geometry would overflow)");
+      return 2;
     }
-    if (!surface.weight.empty() && !(surface.weight[i] >= 0.0 && std::isfinite(surface.weight[i]))) {
-      throw InputError(where + ": weight of point " + std::to_string(i + 1) +
-                       " is negative or not finite");
+    return !surface.weight.empty() && !(surface.weight[i] >= 0.0 && std::isfinite(surface.weight[i])) ? 3 : 0;
+  };
+  const int chunks = ChunksFor(static_cast<int64_t>(n), 1 << 16);
+  std::vector<std::size_t> first_bad(chunks, n);
+  ForEachChunk(execution, static_cast<int64_t>(n), chunks, [&](int c, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      if (fault(static_cast<std::size_t>(i)) != 0) {
+        first_bad[c] = static_cast<std::size_t>(i);
+        return;
+      }
+    }
+  });
+  const std::size_t i = *std::min_element(first_bad.begin(), first_bad.end());
+  if (i < n) {
+    const std::string point = std::to_string(i + 1);
+    switch (fault(i)) {
+      case 1: throw InputError(where + ": point " + point + " is not finite");
+      case 2:
+        throw InputError(where + ": point " + point +
+                         " has a coordinate beyond 1e60 in magnitude (the geometry would overflow)");
+      default: throw InputError(where + ": weight of point " + point + " is negative or not finite");
     }
   }
   // All collinear? Find a point distinct from the first, then one off their line.

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "measure/tasks.h"
+
 namespace surfreg {
 
 struct Point2 {
@@ -66,6 +68,6 @@ inline constexpr double kMinBandWidthRatio = 1e-9;
 // Beyond this, products in the exact predicates (up to the fourth power of
 // a coordinate difference) and in the volumes would overflow.
 inline constexpr double kMaxCoordinate = 1e60;
-void ValidateSurface(const Surface& surface);
+void ValidateSurface(const Surface& surface, const Execution& execution = Execution{1});
 
 }  // namespace surfreg

@@ -166,6 +166,26 @@ TEST(ValidateSurfaceTest, RejectsCoordinatesBeyondTheGeometrysRange) {
                  "coordinates of 1e59-2e59");
 }
 
+// Checked in chunks on several threads, the first bad point of all is the
+// one named, whichever chunk finishes first.
+TEST(ValidateSurfaceTest, NamesTheFirstBadPointOnAnyThreadCount) {
+  Points3 points;
+  for (int i = 0; i < 300000; ++i) points.push_back({static_cast<double>(i % 1000), static_cast<double>(i / 1000), 0.0});
+  points[250000][2] = kNaN;        // a late chunk
+  points[140001][0] = -2e60;       // an earlier one, another fault
+  points[200000][2] = kInf;
+  const Surface s = MakeSurface(points, {}, "big.xyz");
+  for (const int threads : {1, 2, 8}) {
+    try {
+      ValidateSurface(s, Execution{threads});
+      ADD_FAILURE() << "accepted on " << threads << " threads";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("point 140002 has a coordinate beyond 1e60"), std::string::npos)
+          << threads << ": " << e.what();
+    }
+  }
+}
+
 TEST(ValidateSurfaceTest, RejectsBadWeights) {
   const Points3 points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   for (double bad : {-1.0, -1e-300, kNaN, kInf, -kInf}) {
