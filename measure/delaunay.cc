@@ -34,9 +34,11 @@ struct CavityEdge {
 class Builder {
  public:
   explicit Builder(std::vector<Point2> points) : p_(std::move(points)) {
+    // With the infinite vertex, k vertices make 2k - 2 triangles at any
+    // time: the arrays never grow (no reallocation, no resize per triangle).
     const std::size_t capacity = 3 * (2 * p_.size() + 2);
-    vertex_.reserve(capacity);
-    twin_.reserve(capacity);
+    vertex_.resize(capacity);
+    twin_.resize(capacity);
     duplicate_of_.assign(p_.size(), -1);
   }
 
@@ -74,6 +76,7 @@ class Builder {
     return true;
   }
 
+  int32_t num_slots() const { return num_slots_; }
   const std::vector<int32_t>& vertex() const { return vertex_; }
   const std::vector<int32_t>& twin() const { return twin_; }
   const std::vector<int32_t>& duplicate_of() const { return duplicate_of_; }
@@ -84,9 +87,7 @@ class Builder {
 
  private:
   int32_t AddTriangle(int32_t a, int32_t b, int32_t c) {
-    const auto t = static_cast<int32_t>(vertex_.size() / 3);
-    vertex_.resize(vertex_.size() + 3);
-    twin_.resize(twin_.size() + 3);
+    const int32_t t = num_slots_++;
     SetTriangle(t, a, b, c);
     return t;
   }
@@ -199,6 +200,7 @@ class Builder {
   std::vector<int32_t> twin_;
   std::vector<int32_t> duplicate_of_;
   int32_t last_finite_ = 0;
+  int32_t num_slots_ = 0;  // triangles in use, ghosts and reused slots included
   // Scratch reused by every insertion (no per-point allocation).
   std::vector<int32_t> dead_, stack_, fan_;
   std::vector<CavityEdge> boundary_;
@@ -271,7 +273,7 @@ Triangulation Triangulate(const std::vector<Point2>& points, const DelaunayOptio
   // gives a mesh whose triangles and vertices are near each other in memory.
   const std::vector<int32_t>& vertex = builder.vertex();
   const std::vector<int32_t>& twin = builder.twin();
-  const auto num_slots = static_cast<int32_t>(vertex.size() / 3);
+  const int32_t num_slots = builder.num_slots();
   std::vector<int32_t> new_index(num_slots, -1);
   int32_t num_finite = 0;
   {

@@ -152,9 +152,11 @@ inline double InCircle(const Point2& a, const Point2& b, const Point2& c, const 
                            (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
                            (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
   const double bound = predicates_internal::kInCircleBound * permanent;
-  const double largest = std::fmax(std::fmax(std::fmax(std::fabs(adx), std::fabs(ady)),
-                                             std::fmax(std::fabs(bdx), std::fabs(bdy))),
-                                   std::fmax(std::fabs(cdx), std::fabs(cdy)));
+  // maxsd, not std::fmax (a library call): a NaN difference already makes det
+  // NaN, which fails the first test.
+  const auto larger = [](double p, double q) { return p > q ? p : q; };
+  const double largest = larger(larger(larger(std::fabs(adx), std::fabs(ady)), larger(std::fabs(bdx), std::fabs(bdy))),
+                                larger(std::fabs(cdx), std::fabs(cdy)));
   if (std::fabs(det) > bound && permanent >= predicates_internal::kInCircleMinScale &&
       largest <= predicates_internal::kMaxDifference) {
     return det;

@@ -31,21 +31,65 @@ void RadixSortByUpperHalf(std::vector<uint64_t>& items) {
 
 }  // namespace
 
-uint32_t HilbertIndex(uint32_t x, uint32_t y, int order) {
-  uint32_t index = 0;
-  for (uint32_t s = 1u << (order - 1); s > 0; s >>= 1) {
-    const uint32_t rx = (x & s) ? 1 : 0;
-    const uint32_t ry = (y & s) ? 1 : 0;
-    index += s * s * ((3 * rx) ^ ry);
-    if (ry == 0) {  // rotate the quadrant so the curve stays continuous
-      if (rx == 1) {
-        x = s - 1 - (x & (s - 1));
-        y = s - 1 - (y & (s - 1));
+namespace {
+
+// The curve as a machine over levels, highest first: the state is the
+// transformation (swap of x and y, complement of both) the levels above
+// applied to the rest; a level's two bits, transformed, give its digit
+// (3 rx) ^ ry and the next state. The table takes four levels in one step:
+// entry (state, 4 bits of x, 4 bits of y) holds the 8 digit bits and the
+// state after them.
+constexpr int kSwap = 1, kComplement = 2;
+constexpr int kTableLevels = 4;
+
+struct HilbertTable {
+  uint16_t entry[4 << (2 * kTableLevels)] = {};
+};
+
+constexpr HilbertTable MakeHilbertTable() {
+  HilbertTable table;
+  for (int start = 0; start < 4; ++start) {
+    for (int xs = 0; xs < (1 << kTableLevels); ++xs) {
+      for (int ys = 0; ys < (1 << kTableLevels); ++ys) {
+        int state = start;
+        int digits = 0;
+        for (int level = kTableLevels - 1; level >= 0; --level) {
+          int rx = (xs >> level) & 1, ry = (ys >> level) & 1;
+          if (state & kComplement) rx ^= 1, ry ^= 1;
+          if (state & kSwap) {
+            const int t = rx;
+            rx = ry;
+            ry = t;
+          }
+          digits = (digits << 2) | ((3 * rx) ^ ry);
+          if (ry == 0) state ^= kSwap | (rx == 1 ? kComplement : 0);
+        }
+        table.entry[(start << (2 * kTableLevels)) | (xs << kTableLevels) | ys] =
+            static_cast<uint16_t>(digits | state << (2 * kTableLevels));
       }
-      std::swap(x, y);
     }
   }
-  return index;
+  return table;
+}
+
+constexpr HilbertTable kHilbertTable = MakeHilbertTable();
+
+}  // namespace
+
+uint32_t HilbertIndex(uint32_t x, uint32_t y, int order) {
+  // Padded to 16 levels: the levels below `order` only append digits.
+  const int pad = 16 - order;
+  x <<= pad;
+  y <<= pad;
+  uint32_t index = 0;
+  uint32_t state = 0;
+  for (int shift = 16 - kTableLevels; shift >= 0; shift -= kTableLevels) {
+    const uint32_t xs = (x >> shift) & 0xF, ys = (y >> shift) & 0xF;
+    const uint32_t e = kHilbertTable.entry[(state << (2 * kTableLevels)) | (xs << kTableLevels) | ys];
+    index = (index << (2 * kTableLevels)) | (e & 0xFF);
+    state = e >> (2 * kTableLevels);
+  }
+  return index >> (2 * pad);
 }
 
 std::vector<int32_t> SpatialOrder(const std::vector<Point2>& points, bool brio, uint64_t seed) {

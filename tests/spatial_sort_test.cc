@@ -119,6 +119,43 @@ TEST(HilbertIndexTest, SuccessorIsANeighbourOnLargeGrids) {
   }
 }
 
+// The curve level by level, highest first, as its recursive definition
+// reads: a quadrant's digit, then the rest turned into that quadrant's frame
+// (HilbertIndex takes four levels a step from a table).
+uint32_t HilbertIndexByLevels(uint32_t x, uint32_t y, int order) {
+  uint32_t index = 0;
+  for (uint32_t s = 1u << (order - 1); s > 0; s >>= 1) {
+    const uint32_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
+    index += s * s * ((3 * rx) ^ ry);
+    if (ry == 0) {
+      if (rx == 1) {
+        x = s - 1 - (x & (s - 1));
+        y = s - 1 - (y & (s - 1));
+      }
+      std::swap(x, y);
+    }
+  }
+  return index;
+}
+
+TEST(HilbertIndexTest, EqualsTheLevelByLevelDefinitionOnEveryOrder) {
+  for (int order = 1; order <= 5; ++order) {
+    for (uint32_t x = 0; x < (1u << order); ++x) {
+      for (uint32_t y = 0; y < (1u << order); ++y) {
+        ASSERT_EQ(HilbertIndex(x, y, order), HilbertIndexByLevels(x, y, order)) << order << " " << x << " " << y;
+      }
+    }
+  }
+  std::mt19937_64 rng(11);
+  for (int order = 6; order <= 16; ++order) {
+    std::uniform_int_distribution<uint32_t> c(0, (1u << order) - 1);
+    for (int n = 0; n < 20000; ++n) {
+      const uint32_t x = c(rng), y = c(rng);
+      ASSERT_EQ(HilbertIndex(x, y, order), HilbertIndexByLevels(x, y, order)) << order << " " << x << " " << y;
+    }
+  }
+}
+
 bool IsPermutation(const std::vector<int32_t>& order, std::size_t n) {
   if (order.size() != n) return false;
   std::vector<char> seen(n, 0);
