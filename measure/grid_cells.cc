@@ -119,8 +119,7 @@ double Magnitude(const Surface& s, const Execution& execution) {
 __extension__ typedef __int128 Wide;  // products of two index differences, exactly
 
 double HullArea(const GridIndex& index, double cell_area) {
-  using Corner = std::array<int64_t, 2>;
-  std::vector<Corner> ends;
+  std::vector<std::array<int64_t, 2>> ends;
   for (int64_t r = 0; r < index.rows; ++r) {
     const int32_t* row = &index.sample[static_cast<std::size_t>(r * index.columns)];
     int64_t first = 0, last = index.columns - 1;
@@ -130,6 +129,11 @@ double HullArea(const GridIndex& index, double cell_area) {
     ends.push_back({first, r});
     if (last != first) ends.push_back({last, r});
   }
+  return HullAreaOfRowEnds(std::move(ends), cell_area);
+}
+
+double HullAreaOfRowEnds(std::vector<std::array<int64_t, 2>> ends, double cell_area) {
+  using Corner = std::array<int64_t, 2>;
   std::sort(ends.begin(), ends.end());
   const auto turn = [](const Corner& o, const Corner& p, const Corner& q) {
     return static_cast<Wide>(p[0] - o[0]) * (q[1] - o[1]) - static_cast<Wide>(p[1] - o[1]) * (q[0] - o[0]);
@@ -247,30 +251,58 @@ std::vector<double> NodeAreas(const GridSide& side_a, const Surface& a, const st
   const int64_t rows = side_a.index.rows, columns = side_a.index.columns;
   // Gathered per node from the (up to) four cells around it, in the order
   // a sweep of the cells row by row would add their triangles' thirds: the
-  // same sums, with each node written by one chunk of rows only.
+  // same sums, with each node written by one chunk of rows only. Each
+  // triangle's third is computed once, into a rolling pair of cell rows
+  // (0 for a triangle outside the domain or with a corner outside Ω).
   static constexpr int kTriangles[2][3] = {{0, 1, 2}, {0, 2, 3}};
-  // The cells (dr, dc) relative to the node, row-major, and the node's
-  // corner in each (GridSide::Corners).
-  static constexpr int kAround[4][3] = {{-1, -1, 2}, {-1, 0, 3}, {0, -1, 1}, {0, 0, 0}};
+  // The cells (dr, dc) relative to the node, row-major, and which of the
+  // cell's two triangles have the node's corner (GridSide::Corners).
+  struct Around {
+    int dr, dc;
+    bool first, second;
+  };
+  static constexpr Around kAround[4] = {
+      {-1, -1, true, true}, {-1, 0, false, true}, {0, -1, true, false}, {0, 0, true, true}};
+  const auto thirds_of_row = [&](int64_t cr, double* out) {
+    // Cells of row cr (two thirds each); zeros outside the index.
+    std::fill(out, out + 2 * columns, 0.0);
+    if (cr < 0 || cr + 1 >= rows) return;
+    const uint8_t* complete = side_a.CompleteRow(cr);
+    const int32_t* here = side_a.SampleRow(cr);
+    const int32_t* below = side_a.SampleRow(cr + 1);
+    for (int64_t cc = 0; cc + 1 < columns; ++cc) {
+      if (!complete[cc]) continue;
+      int32_t k[4];
+      GridSide::Corners(here, below, cc, k);
+      for (int j = 0; j < 2; ++j) {
+        const int* t = kTriangles[j];
+        if (!omega[k[t[0]]] || !omega[k[t[1]]] || !omega[k[t[2]]]) continue;
+        out[2 * cc + j] = std::fabs(Orient2D(a.xy[k[t[0]]], a.xy[k[t[1]]], a.xy[k[t[2]]])) / 6.0;
+      }
+    }
+  };
   ForEachChunk(execution, rows, RowChunks(rows), [&](int, int64_t begin, int64_t end) {
+    // One allocation per chunk, not per node: the cell rows above and at r.
+    std::vector<double> above(2 * columns), here(2 * columns);
+    thirds_of_row(begin - 1, above.data());
     for (int64_t r = begin; r < end; ++r) {
+      thirds_of_row(r, here.data());
       const int32_t* row = side_a.SampleRow(r);
       for (int64_t c = 0; c < columns; ++c) {
         if (row[c] < 0) continue;
         double sum = 0.0;
-        for (const auto& [dr, dc, corner] : kAround) {
-          const int64_t cr = r + dr, cc = c + dc;
-          if (cr < 0 || cc < 0 || cr + 1 >= rows || cc + 1 >= columns || !side_a.CompleteRow(cr)[cc]) continue;
-          int32_t k[4];
-          GridSide::Corners(side_a.SampleRow(cr), side_a.SampleRow(cr + 1), cc, k);
-          for (const auto& t : kTriangles) {
-            if (t[0] != corner && t[1] != corner && t[2] != corner) continue;
-            if (!omega[k[t[0]]] || !omega[k[t[1]]] || !omega[k[t[2]]]) continue;
-            sum += std::fabs(Orient2D(a.xy[k[t[0]]], a.xy[k[t[1]]], a.xy[k[t[2]]])) / 6.0;
-          }
+        for (const Around& cell : kAround) {
+          const int64_t cc = c + cell.dc;
+          if (cc < 0 || cc + 1 >= columns) continue;
+          const double* thirds = (cell.dr < 0 ? above.data() : here.data()) + 2 * cc;
+          // A triangle outside adds +0.0, which leaves every sum's bits as
+          // they were without it.
+          if (cell.first) sum += thirds[0];
+          if (cell.second) sum += thirds[1];
         }
         node_area[row[c]] = sum;
       }
+      above.swap(here);
     }
   });
   return node_area;

@@ -2,6 +2,7 @@
 // The cells of rasters measured on their grids (measure/grid_pair.h):
 // dense indices of the samples by cell, the lattice as an affine function,
 // completeness of cells and their integrals in closed form. Internal.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -54,6 +55,9 @@ double Magnitude(const Surface& s, const Execution& execution = Execution{1});
 // The area of the convex hull of a grid's samples, on a lattice of cells of
 // area `cell_area`.
 double HullArea(const GridIndex& index, double cell_area);
+// The same from each row's two ends (column, row) of valid cells, in any
+// integer cell coordinates (a row with one sample: one end).
+double HullAreaOfRowEnds(std::vector<std::array<int64_t, 2>> ends, double cell_area);
 
 // One surface on the grid: its index, positions in A's frame and heights.
 struct GridSide {
