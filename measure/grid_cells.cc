@@ -315,21 +315,27 @@ bool IndexSides(const Surface& a, const Surface& b, GridSide* side_a, GridSide* 
   return BuildIndex(a.raster_cell, &side_a->index) && BuildIndex(b.raster_cell, &side_b->index);
 }
 
+ChunkSums SumChunks(const std::vector<ChunkSums>& parts) {
+  ChunkSums total;
+  for (const ChunkSums& part : parts) {
+    total.volume.gap += part.volume.gap;
+    total.volume.change += part.volume.change;
+    total.volume.area += part.volume.area;
+    total.volume.cells += part.volume.cells;
+    total.gap_sum += part.gap_sum;
+    total.node_weight += part.node_weight;
+    total.nodes += part.nodes;
+  }
+  return total;
+}
+
 void FinishResult(const std::vector<ChunkSums>& parts, const GridSide& side_a, const GridSide& side_b,
                   const std::vector<uint8_t>& omega_a, bool keep, const Execution& execution,
                   GridPairResult* result) {
-  VolumeResult& volume = result->volume;
-  double gap_sum = 0.0, node_weight = 0.0;
-  int64_t nodes = 0;
-  for (const ChunkSums& part : parts) {
-    volume.gap += part.volume.gap;
-    volume.change += part.volume.change;
-    volume.area += part.volume.area;
-    volume.cells += part.volume.cells;
-    gap_sum += part.gap_sum;
-    node_weight += part.node_weight;
-    nodes += part.nodes;
-  }
+  const ChunkSums total = SumChunks(parts);
+  result->volume = total.volume;
+  const double gap_sum = total.gap_sum, node_weight = total.node_weight;
+  const int64_t nodes = total.nodes;
   result->rho_d_axial = node_weight > 0.0 ? gap_sum / node_weight : 0.0;
   result->n_overlap_nodes = nodes;
   result->hull_area_a = HullArea(side_a.index, side_a.cell_area);

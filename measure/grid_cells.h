@@ -129,6 +129,9 @@ struct ChunkSums {
   int64_t nodes = 0;
 };
 
+// The chunks' sums added in chunk order.
+ChunkSums SumChunks(const std::vector<ChunkSums>& parts);
+
 // Both sides of a pair (B's positions and heights shifted into A's frame),
 // indexed; false as BuildIndex.
 bool IndexSides(const Surface& a, const Surface& b, GridSide* side_a, GridSide* side_b);

@@ -13,6 +13,7 @@
 // general overlay's own cell integrator (gap_volume.h, IntegrateConvex).
 // The result is the general path's to rounding (the same cells, summed in
 // another order).
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -51,5 +52,10 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
 // node located in the other's cells with exact orientation tests.
 bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptions& options,
                           GridPairResult* out);
+
+// The summary's volume fields from an overlay's sums and the four areas
+// (hulls of A and B, data domains of A and B), as Measure sets them.
+void SetVolumeFields(const VolumeResult& volume, const std::array<double, 4>& areas,
+                     const MeasureOptions& options, MeasureSummary* out);
 
 }  // namespace surfreg

@@ -20,9 +20,14 @@
 #include "io/surface_reader.h"
 #include "io/surface_reader_internal.h"
 #include "io/plot.h"
+#include "terrain/terrain_internal.h"
 
 namespace surfreg {
 namespace {
+
+using terrain_internal::CellSize;
+using terrain_internal::CentroidInput;
+using terrain_internal::ReadInputRaster;
 
 constexpr double kDegrees = 180.0 / 3.14159265358979323846;
 
@@ -39,18 +44,6 @@ struct OneInput {
 struct Named : InputError {
   using InputError::InputError;
 };
-
-// The raster of input `key` (its band and window); errors without the key.
-Raster ReadInputRaster(const TerrainRequest& config, const std::string& key) {
-  const std::string& path = InputPath(config, key);
-  // A raster has no classes or columns to pick.
-  io_internal::CheckOptionsFit(InputReadOptions(config, key), io_internal::OptionFit::kOther, "raster", path);
-  RasterReadOptions options;
-  options.band = config.terrain.band;
-  const auto& w = config.terrain.window;
-  options.window = {w[0], w[1], w[2], w[3]};
-  return ReadRaster(path, options);
-}
 
 // `origin` (may be null): a raster's samples are made relative to it, the
 // reference's first setting it (RasterOrigin), as a tiled measure does.
@@ -105,28 +98,6 @@ OneInput ReadOne(const TerrainRequest& config, const std::string& key, const Sur
   const std::string& crs_text = key == "reference" ? config.terrain.reference_crs : config.terrain.moving_crs;
   in.crs = ResolveCrs(file_crs, crs_text, config.Where(crs_key), path);
   return in;
-}
-
-std::array<double, 3> CentroidInput(const Surface& s) {
-  std::array<double, 3> sum = {0, 0, 0};
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    sum[0] += s.xy[i].x, sum[1] += s.xy[i].y, sum[2] += s.z[i];
-  }
-  const double n = static_cast<double>(s.size());
-  return {s.origin[0] + sum[0] / n, s.origin[1] + sum[1] / n, s.origin[2] + sum[2] / n};
-}
-
-// Cell size in metres (geographic grids: degrees at the grid's latitude).
-double CellSize(const Raster& grid, const Crs& crs) {
-  double dx = std::fabs(grid.geotransform[1]), dy = std::fabs(grid.geotransform[5]);
-  if (crs.kind == CrsKind::kGeographic) {
-    const double latitude = grid.geotransform[3] + 0.5 * grid.rows * grid.geotransform[5];
-    dx *= 111320.0 * std::cos(latitude / kDegrees);
-    dy *= 110574.0;
-  } else {
-    dx *= crs.metres_per_unit, dy *= crs.metres_per_unit;
-  }
-  return std::sqrt(dx * dy);
 }
 
 Eigen::Vector3d Centroid(const Surface& s) {
@@ -231,7 +202,16 @@ void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const
 
 TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* given_reference,
                                 const Surface* given_moving, bool tiled_origin,
-                                std::optional<int> threads) {
+                                std::optional<int> threads, bool compact) {
+  const Execution execution = ExecutionFor(threads.value_or(config.options.num_threads));
+  // Two raster files read first, side by side: kept whole when the pair
+  // allows (compact), else the surfaces below are made from them.
+  std::optional<Raster> read_reference, read_moving;
+  if (compact && tiled_origin && given_reference == nullptr && given_moving == nullptr &&
+      IsRasterPath(InputPath(config, "reference")) && IsRasterPath(InputPath(config, "moving"))) {
+    TerrainInputs in;
+    if (terrain_internal::ReadCompactRasters(config, execution, &in, &read_reference, &read_moving)) return in;
+  }
   std::optional<std::array<double, 3>> origin;
   std::optional<std::array<double, 3>>* shared_origin = tiled_origin ? &origin : nullptr;
   // Side by side: the reference, and the moving surface. Two rasters share
@@ -239,7 +219,9 @@ TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* giv
   // it (a promise kept, or broken by the reference's error).
   const bool moving_raster = given_moving == nullptr && IsRasterPath(InputPath(config, "moving"));
   const bool both_rasters = moving_raster && given_reference == nullptr && IsRasterPath(InputPath(config, "reference"));
-  const auto read_named = [&config](const std::string& key) {
+  const auto read_named = [&](const std::string& key) {
+    std::optional<Raster>& read = key == "reference" ? read_reference : read_moving;
+    if (read.has_value()) return std::move(*read);
     try {
       return ReadInputRaster(config, key);
     } catch (const InputError& e) {
@@ -251,7 +233,7 @@ TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* giv
   OneInput reference, moving;
   Raster moving_grid;
   RunOnTwoThreads(
-      ExecutionFor(threads.value_or(config.options.num_threads)).parallel(),
+      execution.parallel(),
       [&] {
         if (!both_rasters) {
           reference = ReadOne(config, "reference", given_reference, shared_origin);

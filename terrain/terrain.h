@@ -38,6 +38,14 @@ struct TerrainInputs {
   // The moving input's CRS when it was not the reference's and the moving
   // samples were reprojected into the reference's CRS; "" otherwise.
   std::string moving_reprojected_from;
+  // Compact rasters (ReadTerrainInputs' `compact`): both inputs rasters
+  // kept whole, heights and all (reference_grid, moving_grid), for
+  // MeasureRasterPair about `raster_origin`; `reference`, `moving`,
+  // `reference_cells` and `moving_centroid_input` are then not made
+  // (ExpandCompactRasters makes them).
+  bool compact = false;
+  Raster moving_grid;
+  std::array<double, 3> raster_origin = {0, 0, 0};
 };
 
 // A file's CRS and the one a key gives (`key_text`, "" = none given): the
@@ -67,9 +75,17 @@ std::string LengthUnit(const TerrainInputs& inputs);
 // the tiled one to the bit). The two files are read side by side on two
 // threads unless `threads` (default: the config's) is 1; the result is the
 // same, and of two bad inputs the reference's error is the one reported.
+// `compact` (with `tiled_origin`, two raster files): when the pair needs
+// nothing but their heights on their grids (one CRS or none, so no
+// reprojection or change of frame; no σ and no mask raster), the rasters
+// are kept whole instead of made into surfaces (TerrainInputs::compact).
 TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* reference = nullptr,
                                 const Surface* moving = nullptr, bool tiled_origin = false,
-                                std::optional<int> threads = std::nullopt);
+                                std::optional<int> threads = std::nullopt, bool compact = false);
+
+// Makes the surfaces of compact inputs, as ReadTerrainInputs makes them
+// for two rasters (the same samples, origin and errors); a no-op otherwise.
+void ExpandCompactRasters(const TerrainRequest& config, TerrainInputs* inputs);
 
 // Mask rings given in the mask file's CRS (`mask_crs_wkt`; "" = the
 // reference's) into the frame `in` works in: reprojected into the

@@ -6,6 +6,7 @@
 #include "io/interrupt.h"
 #include "io/raster_io.h"
 #include "measure/input_error.h"
+#include "measure/raster_pair.h"
 #include "measure/tasks.h"
 #include "terrain/terrain.h"
 
@@ -16,7 +17,10 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
                               const Surface* a, const Surface* b) {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
-  TerrainInputs inputs = ReadTerrainInputs(request, a, b, /*tiled_origin=*/true, options.threads);
+  // Two rasters on one grid need only their heights (measure/raster_pair.h).
+  const bool compact = options.weight == WeightMode::kUniform && options.volume == VolumeMode::kOverlay &&
+                       options.domain.kind == DomainKind::kData && options.grid_shortcut;
+  TerrainInputs inputs = ReadTerrainInputs(request, a, b, /*tiled_origin=*/true, options.threads, compact);
   TerrainMeasure m;
   m.frame = inputs.frame;
   m.crs_a = inputs.reference_crs;
@@ -31,7 +35,24 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
   options.keep_node_gaps = true;  // dz at A's nodes: statistics, DoD, budget
   ThrowIfInterrupted();           // between the stages: reading done, measuring next
   m.read_s = std::chrono::duration<double>(Clock::now() - start).count();
-  m.summary = Measure(inputs.reference, inputs.moving, options);
+  if (inputs.compact) {
+    const auto heights = [](const Raster& r) {
+      RasterHeights h;
+      h.z = r.values.data();
+      h.columns = r.columns, h.rows = r.rows;
+      h.geotransform = r.geotransform;
+      h.source = r.source;
+      return h;
+    };
+    if (MeasureRasterPair(heights(inputs.reference_grid), heights(inputs.moving_grid), inputs.raster_origin,
+                          options, &m.summary, /*node_areas=*/false)) {
+      m.from_heights = true;
+      inputs.moving_grid.values = {};  // the DoD reuses the reference's heights' memory
+    } else {
+      ExpandCompactRasters(request, &inputs);  // Measure has the answer, or the error
+    }
+  }
+  if (!inputs.compact) m.summary = Measure(inputs.reference, inputs.moving, options);
   if (!request.terrain.dod.empty() && !inputs.reference_is_raster) {
     throw InputError(request.Where("dod") + ": the DoD is written on A's grid, but A is no raster");
   }
@@ -41,15 +62,27 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
       execution, [&] { m.dz = ComputeDzStatistics(m.summary.dz_a, {}, execution); },
       [&] {
         if (request.terrain.dod.empty()) return;
-        Raster dod = inputs.reference_grid;  // B − A at A's cells, nodata outside Ω
-        dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));
-        for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
-          dod.values[inputs.reference_cells[i]] = m.summary.dz_a[i];
+        // B − A at A's cells, nodata outside Ω; compact: A's samples are its
+        // valid cells in row-major order, written over its heights.
+        Raster dod;
+        if (inputs.compact) {
+          dod = std::move(inputs.reference_grid);
+          std::size_t k = 0;
+          for (double& value : dod.values) value = std::isfinite(value) ? m.summary.dz_a[k++] : std::nan("");
+        } else {
+          dod = inputs.reference_grid;
+          dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));
+          for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
+            dod.values[inputs.reference_cells[i]] = m.summary.dz_a[i];
+          }
         }
         WriteGeoTiff(request.terrain.dod, dod, request.Where("dod"));
       });
   m.uncertainty = AnalyseChangeUncertainty(request, inputs.reference, inputs.moving, inputs.sigma_reference,
                                            inputs.sigma_moving, m.summary, options);
+  // Kept for the budget only (terrain_measure.h).
+  m.summary.dz_b = {};
+  if (!m.uncertainty.active) m.summary.node_area_a = {};
   return m;
 }
 

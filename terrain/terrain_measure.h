@@ -16,7 +16,9 @@
 namespace surfreg {
 
 struct TerrainMeasure {
-  MeasureSummary summary;        // B against A (request.moving against request.reference)
+  // B against A (request.moving against request.reference), with dz_a;
+  // dz_b empty, and node_area_a empty unless a σ was given (the budget's).
+  MeasureSummary summary;
   DzStatistics dz;               // dz = B − A at A's nodes inside the overlap
   ChangeUncertainty uncertainty;  // with terrain.sigma_reference / sigma_moving
   GeoFrame frame;                // the frame both were measured in
@@ -24,6 +26,7 @@ struct TerrainMeasure {
   std::string b_reprojected_from;  // B's CRS when B was reprojected into A's, else ""
   bool metric = false;  // lengths in metres: a geographic pair's frame, or a projected CRS in m
   double read_s = 0.0;  // reading and the change of frame, seconds
+  bool from_heights = false;  // measured from the two rasters' heights alone (measure/raster_pair.h)
 };
 
 // Reads request.reference (A) and request.moving (B) as ReadTerrainInputs
@@ -31,7 +34,10 @@ struct TerrainMeasure {
 // the same doubles), brings a mask of `options` (kMask; its rings in the
 // CRS `mask_crs_wkt`, "" = A's; `mask_where` starts its errors) into that
 // frame, and measures B against A with `options`; with change detection at
-// request.terrain.lod, and dz kept at A's nodes. Writes the DoD GeoTIFF when
+// request.terrain.lod, and dz kept at A's nodes. Two rasters on one grid
+// (one CRS or none, uniform weights, no σ) are measured from their heights
+// alone (measure/raster_pair.h): the same numbers, without per-sample
+// structures. Writes the DoD GeoTIFF when
 // request.terrain.dod names one (A must then be a raster). Non-null `a` or
 // `b`: those samples instead of reading the file. Errors are InputError
 // naming the key or file.
