@@ -110,16 +110,32 @@ double DomainArea(const Execution& execution, const Side& side, int64_t* complet
   const int chunks = RowChunks(rows);
   std::vector<double> area(chunks, 0.0);
   std::vector<int64_t> cells(chunks, 0);
+  // North-up (no rotation terms): x depends on the column only and y on
+  // the row only, so both triangles' TwiceArea is exactly dx · dy (the
+  // other product is a zero); the same doubles without the positions.
+  const auto& g = side.raster->geotransform;
+  const bool north_up = g[2] == 0.0 && g[4] == 0.0;
+  std::vector<double> dx;
+  if (north_up) {
+    dx.resize(static_cast<std::size_t>(side.raster->columns), 0.0);
+    for (int64_t c = side.c_lo; c < side.c_hi; ++c) dx[c] = side.Xy(c + 1, 0).x - side.Xy(c, 0).x;
+  }
   ForEachChunk(execution, rows, chunks, [&](int chunk, int64_t begin, int64_t end) {
     double twice = 0.0;
     std::vector<uint8_t> complete(static_cast<std::size_t>(side.raster->columns));
     for (int64_t r = side.r_lo + begin; r < side.r_lo + end && r < side.r_hi; ++r) {
       side.CompleteRow(r, complete.data());
+      const double dy = side.Xy(0, r + 1).y - side.Xy(0, r).y;
       for (int64_t c = side.c_lo; c < side.c_hi; ++c) {
         if (!complete[c]) continue;
+        ++cells[chunk];
+        if (north_up) {
+          const double t = std::fabs(dx[c] * dy);
+          twice += t + t;
+          continue;
+        }
         const Point2 p[4] = {side.Xy(c, r), side.Xy(c + 1, r), side.Xy(c + 1, r + 1), side.Xy(c, r + 1)};
         twice += std::fabs(TwiceArea(p[0], p[1], p[2])) + std::fabs(TwiceArea(p[0], p[2], p[3]));
-        ++cells[chunk];
       }
     }
     area[chunk] = 0.5 * twice;
