@@ -343,5 +343,49 @@ void FinishResult(const std::vector<ChunkSums>& parts, const GridSide& side_a, c
   if (keep) result->node_area_a = NodeAreas(side_a, *side_a.surface, omega_a, execution);
 }
 
+std::array<double, 3> RuleWeights(int h, double x, double y) {
+  if (h == 0) return {1.0 - x, x - y, y};  // (0,0) (1,0) (1,1)
+  return {1.0 - y, x, y - x};              // (0,0) (1,1) (0,1)
+}
+
+std::vector<Piece> PiecePattern(double fx, double fy) {
+  std::vector<Piece> pieces;
+  for (int a = 0; a < 2; ++a) {
+    const Point2 ta[3] = {{kCorner[kRule[a][0]][0], kCorner[kRule[a][0]][1]},
+                          {kCorner[kRule[a][1]][0], kCorner[kRule[a][1]][1]},
+                          {kCorner[kRule[a][2]][0], kCorner[kRule[a][2]][1]}};
+    for (int dr = 0; dr < 2; ++dr) {
+      for (int dc = 0; dc < 2; ++dc) {
+        for (int b = 0; b < 2; ++b) {
+          std::array<Point2, 3> tb;
+          for (int k = 0; k < 3; ++k) {
+            tb[k] = {dc - fx + kCorner[kRule[b][k]][0], dr - fy + kCorner[kRule[b][k]][1]};
+          }
+          Point2 out[9];
+          const int m = ClipByTriangle(ta, 3, tb, out);
+          if (m < 3) continue;
+          Piece piece;
+          piece.a = a, piece.b = b, piece.dc = dc, piece.dr = dr, piece.corners = m;
+          double total = 0.0;
+          for (int k = 1; k + 1 < m; ++k) {
+            piece.fan[k - 1] = 0.5 * TwiceArea(out[0], out[k], out[k + 1]);
+            total += piece.fan[k - 1];
+          }
+          if (!(total > 1e-12)) continue;  // B's triangle only touches A's
+          for (int k = 0; k < m; ++k) {
+            const std::array<double, 3> wa = RuleWeights(a, out[k].x, out[k].y);
+            const std::array<double, 3> wb = RuleWeights(b, out[k].x - dc + fx, out[k].y - dr + fy);
+            for (int i = 0; i < 4; ++i) piece.wa[k][i] = piece.wb[k][i] = 0.0;
+            for (int i = 0; i < 3; ++i) piece.wa[k][kRule[a][i]] = wa[i], piece.wb[k][kRule[b][i]] = wb[i];
+          }
+          pieces.push_back(piece);
+        }
+      }
+    }
+  }
+  return pieces;
+}
+
+
 }  // namespace grid_cells
 }  // namespace surfreg

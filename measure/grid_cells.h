@@ -3,6 +3,7 @@
 // dense indices of the samples by cell, the lattice as an affine function,
 // completeness of cells and their integrals in closed form. Internal.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -141,6 +142,30 @@ bool IndexSides(const Surface& a, const Surface& b, GridSide* side_a, GridSide* 
 void FinishResult(const std::vector<ChunkSums>& parts, const GridSide& side_a, const GridSide& side_b,
                   const std::vector<uint8_t>& omega_a, bool keep, const Execution& execution,
                   GridPairResult* result);
+
+// The rule's two triangles in a cell's corners (0,0) (1,0) (1,1) (0,1), as
+// indices into those four, counter-clockwise in index space.
+inline constexpr int kRule[2][3] = {{0, 1, 2}, {0, 2, 3}};
+inline constexpr double kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+
+// Barycentric weights of (x, y) in rule triangle h of the unit cell.
+std::array<double, 3> RuleWeights(int h, double x, double y);
+
+// One piece of an A cell: A's triangle `a`, the B cell (dc, dr) from the
+// cell's base B cell and its triangle `b`; corners by their weights in both
+// triangles, and the fan's areas (index units).
+struct Piece {
+  int a = 0, b = 0, dc = 0, dr = 0, corners = 0;
+  double wa[9][4], wb[9][4];  // per corner of the piece, weights of the cells' four corners
+  double fan[7];
+};
+
+// The pieces of the unit A cell when B's cell (0, 0) starts at (-fx, -fy)
+// (0 < fx, fy < 1): B cells (0..1, 0..1) cover it (the offset sweep's
+// pattern: grid_sweep.cc, raster_sweep.cc).
+std::vector<Piece> PiecePattern(double fx, double fy);
+
+inline double Fraction(double x) { return x - std::floor(x); }
 
 }  // namespace grid_cells
 }  // namespace surfreg

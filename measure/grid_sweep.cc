@@ -20,72 +20,6 @@ namespace surfreg {
 
 using namespace grid_cells;
 
-namespace {
-
-// The rule's two triangles in a cell's corners (0,0) (1,0) (1,1) (0,1), as
-// indices into those four, counter-clockwise in index space.
-constexpr int kRule[2][3] = {{0, 1, 2}, {0, 2, 3}};
-constexpr double kCorner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-
-// Barycentric weights of (x, y) in rule triangle h of the unit cell.
-std::array<double, 3> Weights(int h, double x, double y) {
-  if (h == 0) return {1.0 - x, x - y, y};  // (0,0) (1,0) (1,1)
-  return {1.0 - y, x, y - x};              // (0,0) (1,1) (0,1)
-}
-
-// One piece of an A cell: A's triangle `a`, the B cell (dc, dr) from the
-// cell's base B cell and its triangle `b`; corners by their weights in both
-// triangles, and the fan's areas (index units).
-struct Piece {
-  int a = 0, b = 0, dc = 0, dr = 0, corners = 0;
-  double wa[9][4], wb[9][4];  // per corner of the piece, weights of the cells' four corners
-  double fan[7];
-};
-
-// The pieces of the unit A cell when B's cell (0, 0) starts at (-fx, -fy)
-// (0 < fx, fy < 1): B cells (0..1, 0..1) cover it.
-std::vector<Piece> PiecePattern(double fx, double fy) {
-  std::vector<Piece> pieces;
-  for (int a = 0; a < 2; ++a) {
-    const Point2 ta[3] = {{kCorner[kRule[a][0]][0], kCorner[kRule[a][0]][1]},
-                          {kCorner[kRule[a][1]][0], kCorner[kRule[a][1]][1]},
-                          {kCorner[kRule[a][2]][0], kCorner[kRule[a][2]][1]}};
-    for (int dr = 0; dr < 2; ++dr) {
-      for (int dc = 0; dc < 2; ++dc) {
-        for (int b = 0; b < 2; ++b) {
-          std::array<Point2, 3> tb;
-          for (int k = 0; k < 3; ++k) {
-            tb[k] = {dc - fx + kCorner[kRule[b][k]][0], dr - fy + kCorner[kRule[b][k]][1]};
-          }
-          Point2 out[9];
-          const int m = ClipByTriangle(ta, 3, tb, out);
-          if (m < 3) continue;
-          Piece piece;
-          piece.a = a, piece.b = b, piece.dc = dc, piece.dr = dr, piece.corners = m;
-          double total = 0.0;
-          for (int k = 1; k + 1 < m; ++k) {
-            piece.fan[k - 1] = 0.5 * TwiceArea(out[0], out[k], out[k + 1]);
-            total += piece.fan[k - 1];
-          }
-          if (!(total > 1e-12)) continue;  // B's triangle only touches A's
-          for (int k = 0; k < m; ++k) {
-            const std::array<double, 3> wa = Weights(a, out[k].x, out[k].y);
-            const std::array<double, 3> wb = Weights(b, out[k].x - dc + fx, out[k].y - dr + fy);
-            for (int i = 0; i < 4; ++i) piece.wa[k][i] = piece.wb[k][i] = 0.0;
-            for (int i = 0; i < 3; ++i) piece.wa[k][kRule[a][i]] = wa[i], piece.wb[k][kRule[b][i]] = wb[i];
-          }
-          pieces.push_back(piece);
-        }
-      }
-    }
-  }
-  return pieces;
-}
-
-double Fraction(double x) { return x - std::floor(x); }
-
-}  // namespace
-
 bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptions& options,
                           GridPairResult* out) {
   if (!options.grid_shortcut || !a.raster_grid() || !b.raster_grid() || options.volume != VolumeMode::kOverlay ||
@@ -142,7 +76,7 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
   // r + ky) at (fx, fy); B's node in A's cell (c - kx - 1, r - ky - 1) at
   // (1 - fx, 1 - fy).
   const int node_in_b = fx > fy ? 0 : 1, node_in_a = fy > fx ? 0 : 1;
-  const std::array<double, 3> w_in_b = Weights(node_in_b, fx, fy), w_in_a = Weights(node_in_a, 1 - fx, 1 - fy);
+  const std::array<double, 3> w_in_b = RuleWeights(node_in_b, fx, fy), w_in_a = RuleWeights(node_in_a, 1 - fx, 1 - fy);
 
   // The four corners' samples of complete cell (c, r) of a side, or false.
   const auto corners = [](const GridSide& side, int64_t c, int64_t r, int32_t k[4]) {

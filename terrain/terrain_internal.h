@@ -28,8 +28,9 @@ double CellSize(const Raster& grid, const Crs& crs);
 // none, no σ, no mask raster), fills *inputs as compact and returns true;
 // otherwise leaves the rasters read in *reference and *moving for the
 // general path and returns false.
-bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution, TerrainInputs* inputs,
-                        std::optional<Raster>* reference, std::optional<Raster>* moving);
+bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution,
+                        TerrainInputs* inputs, std::optional<Raster>* reference,
+                        std::optional<Raster>* moving);
 
 }  // namespace terrain_internal
 }  // namespace surfreg

@@ -22,7 +22,8 @@ constexpr double kDegrees = 180.0 / 3.14159265358979323846;
 Raster ReadInputRaster(const TerrainRequest& config, const std::string& key) {
   const std::string& path = InputPath(config, key);
   // A raster has no classes or columns to pick.
-  io_internal::CheckOptionsFit(InputReadOptions(config, key), io_internal::OptionFit::kOther, "raster", path);
+  io_internal::CheckOptionsFit(InputReadOptions(config, key), io_internal::OptionFit::kOther,
+                               "raster", path);
   RasterReadOptions options;
   options.band = config.terrain.band;
   const auto& w = config.terrain.window;
@@ -51,8 +52,9 @@ double CellSize(const Raster& grid, const Crs& crs) {
   return std::sqrt(dx * dy);
 }
 
-bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution, TerrainInputs* inputs,
-                        std::optional<Raster>* reference, std::optional<Raster>* moving) {
+bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution,
+                        TerrainInputs* inputs, std::optional<Raster>* reference,
+                        std::optional<Raster>* moving) {
   Raster grids[2];
   std::exception_ptr errors[2];
   const char* const keys[2] = {"reference", "moving"};
@@ -65,7 +67,8 @@ bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution
       errors[k] = std::current_exception();
     }
   };
-  RunBoth(execution, [&] { read(0); }, [&] { read(1); });
+  RunBoth(
+      execution, [&] { read(0); }, [&] { read(1); });
   for (const std::exception_ptr& error : errors) {
     if (error) std::rethrow_exception(error);
   }
@@ -89,8 +92,8 @@ bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution
                         (crs[0].kind == CrsKind::kProjected && crs[1].kind == CrsKind::kProjected &&
                          SameCrs(crs[0], crs[1]));
   const TerrainSettings& t = config.terrain;
-  if (!as_given || !t.sigma_reference.empty() || !t.sigma_moving.empty() || !t.mask_raster.empty() ||
-      !t.dod_sigma.empty() || !t.dod_thresholded.empty()) {
+  if (!as_given || !t.sigma_reference.empty() || !t.sigma_moving.empty() ||
+      !t.mask_raster.empty() || !t.dod_sigma.empty() || !t.dod_thresholded.empty()) {
     *reference = std::move(grids[0]);
     *moving = std::move(grids[1]);
     return false;

@@ -3,9 +3,12 @@
 // samples, bit for bit against its one-grid path (the same doubles in the
 // same chunks) and to rounding against the general path (triangulation,
 // walks, overlay); on windows with holes in both directions, mirrored,
-// south-up and turned lattices, with a level of detection; a closed form
+// south-up and turned lattices, on lattices offset by a fraction of a
+// cell, with a level of detection; a closed form
 // for a constant change; every case it must leave to Measure; the same
 // bits on 1, 2 and 8 threads.
+#include "measure/raster_pair.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -14,10 +17,10 @@
 #include <cstring>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "measure/measures.h"
-#include "measure/raster_pair.h"
 #include "terrain/tiled_measure.h"
 
 namespace surfreg {
@@ -55,11 +58,12 @@ TestRaster Window(const Lattice& g, int c0, int r0, int columns, int rows,
                   const std::function<bool(int, int)>& hole = nullptr) {
   TestRaster t;
   t.columns = columns, t.rows = rows;
-  t.gt = {g.base[0] + c0 * g.u[0] + r0 * g.v[0], g.u[0], g.v[0], g.base[1] + c0 * g.u[1] + r0 * g.v[1], g.u[1],
-          g.v[1]};
+  t.gt = {g.base[0] + c0 * g.u[0] + r0 * g.v[0], g.u[0], g.v[0],
+          g.base[1] + c0 * g.u[1] + r0 * g.v[1], g.u[1], g.v[1]};
   t.name = "window " + std::to_string(c0) + "," + std::to_string(r0);
   for (int r = r0; r < r0 + rows; ++r) {
-    for (int c = c0; c < c0 + columns; ++c) t.z.push_back(hole && hole(c, r) ? std::nan("") : height(c, r));
+    for (int c = c0; c < c0 + columns; ++c)
+      t.z.push_back(hole && hole(c, r) ? std::nan("") : height(c, r));
   }
   return t;
 }
@@ -70,11 +74,19 @@ double Rough(int c, int r) {  // deterministic bumpy heights
   x = (x ^ (x >> 31)) * 0x94d049bb133111ebULL;
   return 100.0 + 0.05 * c - 0.03 * r + static_cast<double>((x ^ (x >> 29)) % 1000) / 250.0;
 }
-double Changed(int c, int r) { return Rough(c, r) + 0.7 * std::sin(0.3 * c) * std::cos(0.2 * r) - 0.1; }
-bool HoleA(int c, int r) { return (c - 12) * (c - 12) + (r - 9) * (r - 9) < 10 || (c == 30 && r == 4); }
-bool HoleB(int c, int r) { return (c - 25) * (c - 25) + (r - 20) * (r - 20) < 6 || (c == 5 && r == 5); }
+double Changed(int c, int r) {
+  return Rough(c, r) + 0.7 * std::sin(0.3 * c) * std::cos(0.2 * r) - 0.1;
+}
+bool HoleA(int c, int r) {
+  return (c - 12) * (c - 12) + (r - 9) * (r - 9) < 10 || (c == 30 && r == 4);
+}
+bool HoleB(int c, int r) {
+  return (c - 25) * (c - 25) + (r - 20) * (r - 20) < 6 || (c == 5 && r == 5);
+}
 
-std::array<double, 3> OriginOf(const TestRaster& a) { return RasterOrigin(a.gt, a.columns, a.rows); }
+std::array<double, 3> OriginOf(const TestRaster& a) {
+  return RasterOrigin(a.gt, a.columns, a.rows);
+}
 
 void ExpectNear(double general, double compact, const char* what) {
   EXPECT_NEAR(compact, general, 1e-12 * std::max(1.0, std::fabs(general))) << what;
@@ -82,17 +94,19 @@ void ExpectNear(double general, double compact, const char* what) {
 
 // The compact measure against Measure's one-grid path (bits) and its
 // general path (rounding).
-void ExpectSameAsMeasure(const TestRaster& a, const TestRaster& b, MeasureOptions options) {
+void ExpectSameAsMeasure(const TestRaster& a, const TestRaster& b, MeasureOptions options,
+                         bool offset = false) {
   const std::array<double, 3> origin = OriginOf(a);
   MeasureSummary compact;
-  ASSERT_TRUE(MeasureRasterPair(a.Heights(), b.Heights(), origin, options, &compact)) << "not taken";
+  ASSERT_TRUE(MeasureRasterPair(a.Heights(), b.Heights(), origin, options, &compact))
+      << "not taken";
   const Surface sa = a.Samples(origin), sb = b.Samples(origin);
   const MeasureSummary grid = Measure(sa, sb, options);
   MeasureOptions general_options = options;
   general_options.grid_shortcut = false;
   const MeasureSummary general = Measure(sa, sb, general_options);
   for (const MeasureSummary* other : {&grid, &general}) {
-    const bool bits = other == &grid;
+    const bool bits = other == &grid && !offset;  // offset: the lattice fitted there, given here
     const auto same = [&](double expected, double actual, const char* what) {
       if (bits) {
         EXPECT_EQ(actual, expected) << what << " (one-grid path)";
@@ -140,7 +154,17 @@ void ExpectSameAsMeasure(const TestRaster& a, const TestRaster& b, MeasureOption
         ASSERT_NEAR(compact.node_area_a[i], other->node_area_a[i], 1e-9) << i;
       }
     }
-    EXPECT_TRUE(compact.dz_b.empty());  // every node of B in Ω is one of A's
+    if (!offset) {
+      EXPECT_TRUE(compact.dz_b.empty());  // every node of B in Ω is one of A's
+      continue;
+    }
+    ASSERT_EQ(compact.dz_b.size(), other->dz_b.size());
+    for (std::size_t j = 0; j < compact.dz_b.size(); ++j) {
+      ASSERT_EQ(std::isnan(compact.dz_b[j]), std::isnan(other->dz_b[j])) << j;
+      if (!std::isnan(compact.dz_b[j])) {
+        ASSERT_NEAR(compact.dz_b[j], other->dz_b[j], 1e-12) << j;
+      }
+    }
   }
   EXPECT_GT(compact.rho_d, 0.0);
 }
@@ -174,7 +198,35 @@ TEST(RasterPairTest, MirroredSouthUpAndTurnedLatticesEqualMeasure) {
   Lattice turned;  // cell vectors (8, 6) and (-6, 8): exact in doubles
   turned.u = {8.0, 6.0}, turned.v = {-6.0, 8.0};
   for (const Lattice& g : {south_up, mirrored, turned}) {
-    ExpectSameAsMeasure(Window(g, 0, 0, 30, 25, Rough, HoleA), Window(g, -4, 5, 33, 26, Changed, HoleB), options);
+    ExpectSameAsMeasure(Window(g, 0, 0, 30, 25, Rough, HoleA),
+                        Window(g, -4, 5, 33, 26, Changed, HoleB), options);
+  }
+}
+
+Lattice OffsetBy(Lattice g, double columns,
+                 double rows) {  // the lattice moved by a fraction of a cell
+  g.base = {g.base[0] + columns * g.u[0] + rows * g.v[0],
+            g.base[1] + columns * g.u[1] + rows * g.v[1]};
+  return g;
+}
+
+TEST(RasterPairTest, OffsetLatticesWithHolesEqualMeasureInBothDirections) {
+  MeasureOptions options;
+  options.keep_node_gaps = true;
+  Lattice turned;
+  turned.u = {8.0, 6.0}, turned.v = {-6.0, 8.0};
+  for (const Lattice& g : {Lattice(), turned}) {
+    const TestRaster a = Window(g, 0, 0, 40, 30, Rough, HoleA);
+    for (const auto& [fc, fr] :
+         {std::pair<double, double>{0.37, -0.61}, {-0.25, 0.5}, {0.8, 0.1}}) {
+      const TestRaster b = Window(OffsetBy(g, fc, fr), 3, -2, 45, 28, Changed, HoleB);
+      options.detect_change = false;
+      ExpectSameAsMeasure(a, b, options, /*offset=*/true);
+      ExpectSameAsMeasure(b, a, options, /*offset=*/true);
+      options.detect_change = true;
+      options.level_of_detection = 0.3;
+      ExpectSameAsMeasure(a, b, options, /*offset=*/true);
+    }
   }
 }
 
@@ -198,7 +250,7 @@ TEST(RasterPairTest, ConstantChangeIsItsHeightTimesTheCommonCells) {
   EXPECT_NEAR(s.domain_area_b, area, 1e-9);
   double node_area = 0.0;
   for (const double x : s.node_area_a) node_area += x;
-  EXPECT_NEAR(node_area, area, 1e-9);  // every triangle's corners are all in Ω
+  EXPECT_NEAR(node_area, area, 1e-9);                    // every triangle's corners are all in Ω
   EXPECT_NEAR(s.node_area_a[5 * 20 + 7], 100.0, 1e-12);  // an inner node: one cell's area
   for (const double dz : s.dz_a) EXPECT_NEAR(dz, 0.25, 1e-12);
   // Without node areas: dz only.
@@ -213,7 +265,8 @@ TEST(RasterPairTest, OtherPairsAreLeftToMeasureWithTheSummaryUntouched) {
   const Lattice g;
   const TestRaster a = Window(g, 0, 0, 20, 15, Rough, HoleA);
   const TestRaster b = Window(g, 2, 1, 20, 15, Changed);
-  const auto refused = [&](const TestRaster& x, const TestRaster& y, const MeasureOptions& options) {
+  const auto refused = [&](const TestRaster& x, const TestRaster& y,
+                           const MeasureOptions& options) {
     MeasureSummary s;
     s.rho_d = -7.0;  // a sentinel: a refusal leaves it
     const bool taken = MeasureRasterPair(x.Heights(), y.Heights(), OriginOf(x), options, &s);
@@ -227,6 +280,11 @@ TEST(RasterPairTest, OtherPairsAreLeftToMeasureWithTheSummaryUntouched) {
   TestRaster half = b;
   half.gt[0] += 5.0;  // half a cell
   EXPECT_TRUE(refused(a, half, options));
+  // Offsets that put nodes on the other's lattice lines: half a cell along
+  // one axis only, and along the cells' diagonal.
+  EXPECT_TRUE(refused(a, Window(OffsetBy(g, 0.0, 0.5), 2, 1, 20, 15, Changed), options));
+  EXPECT_TRUE(refused(a, Window(OffsetBy(g, 0.3, 0.3), 2, 1, 20, 15, Changed), options));
+  ASSERT_FALSE(refused(a, Window(OffsetBy(g, 0.3, 0.4), 2, 1, 20, 15, Changed), options));
   TestRaster hair = b;
   hair.gt[0] += 1e-7;  // on the lattice to 1e-6 of a cell, but no position equal
   EXPECT_TRUE(refused(a, hair, options));
@@ -245,7 +303,8 @@ TEST(RasterPairTest, OtherPairsAreLeftToMeasureWithTheSummaryUntouched) {
   EXPECT_TRUE(refused(a, b, other));
   // No complete cell (a checkerboard), no valid cell, no overlap, a height
   // beyond kMaxCoordinate: Measure's errors.
-  EXPECT_TRUE(refused(a, Window(g, 0, 0, 10, 10, Changed, [](int c, int r) { return (c + r) % 2 == 0; }), options));
+  EXPECT_TRUE(refused(
+      a, Window(g, 0, 0, 10, 10, Changed, [](int c, int r) { return (c + r) % 2 == 0; }), options));
   EXPECT_TRUE(refused(a, Window(g, 0, 0, 10, 10, Changed, [](int, int) { return true; }), options));
   EXPECT_TRUE(refused(a, Window(g, 40, 0, 10, 10, Changed), options));
   TestRaster huge = b;
@@ -255,7 +314,8 @@ TEST(RasterPairTest, OtherPairsAreLeftToMeasureWithTheSummaryUntouched) {
   other = options;
   other.allow_empty_overlap = true;
   MeasureSummary tile;
-  ASSERT_TRUE(MeasureRasterPair(a.Heights(), Window(g, 40, 0, 10, 10, Changed).Heights(), OriginOf(a), other, &tile));
+  ASSERT_TRUE(MeasureRasterPair(a.Heights(), Window(g, 40, 0, 10, 10, Changed).Heights(),
+                                OriginOf(a), other, &tile));
   EXPECT_EQ(tile.rho_d, 0.0);
   EXPECT_EQ(tile.n_cells, 0);
 }
@@ -265,24 +325,30 @@ TEST(RasterPairTest, OneTwoAndEightThreadsGiveTheSameBits) {
   // Enough rows for several chunks.
   const TestRaster a = Window(g, 0, 0, 60, 300, Rough, HoleA);
   const TestRaster b = Window(g, 3, -2, 65, 290, Changed, HoleB);
+  const TestRaster offset = Window(OffsetBy(g, 0.37, -0.61), 3, -2, 65, 290, Changed, HoleB);
   MeasureOptions options;
   options.keep_node_gaps = true;
   options.detect_change = true;
   options.level_of_detection = 0.1;
-  std::vector<MeasureSummary> runs;
-  for (const int threads : {1, 2, 8}) {
-    options.threads = threads;
-    runs.emplace_back();
-    ASSERT_TRUE(MeasureRasterPair(a.Heights(), b.Heights(), OriginOf(a), options, &runs.back()));
-  }
-  for (const MeasureSummary& s : runs) {
-    EXPECT_EQ(s.rho_d, runs[0].rho_d);
-    EXPECT_EQ(s.rho_d_axial, runs[0].rho_d_axial);
-    EXPECT_EQ(s.fill_detected, runs[0].fill_detected);
-    EXPECT_EQ(s.domain_area_b, runs[0].domain_area_b);
-    ASSERT_EQ(s.dz_a.size(), runs[0].dz_a.size());
-    EXPECT_EQ(0, std::memcmp(s.dz_a.data(), runs[0].dz_a.data(), s.dz_a.size() * sizeof(double)));
-    EXPECT_EQ(s.node_area_a, runs[0].node_area_a);
+  for (const TestRaster* other : {&b, &offset}) {
+    std::vector<MeasureSummary> runs;
+    for (const int threads : {1, 2, 8}) {
+      options.threads = threads;
+      runs.emplace_back();
+      ASSERT_TRUE(
+          MeasureRasterPair(a.Heights(), other->Heights(), OriginOf(a), options, &runs.back()));
+    }
+    for (const MeasureSummary& s : runs) {
+      EXPECT_EQ(s.dz_b.size(), runs[0].dz_b.size());
+      EXPECT_EQ(0, std::memcmp(s.dz_b.data(), runs[0].dz_b.data(), s.dz_b.size() * sizeof(double)));
+      EXPECT_EQ(s.rho_d, runs[0].rho_d);
+      EXPECT_EQ(s.rho_d_axial, runs[0].rho_d_axial);
+      EXPECT_EQ(s.fill_detected, runs[0].fill_detected);
+      EXPECT_EQ(s.domain_area_b, runs[0].domain_area_b);
+      ASSERT_EQ(s.dz_a.size(), runs[0].dz_a.size());
+      EXPECT_EQ(0, std::memcmp(s.dz_a.data(), runs[0].dz_a.data(), s.dz_a.size() * sizeof(double)));
+      EXPECT_EQ(s.node_area_a, runs[0].node_area_a);
+    }
   }
 }
 
