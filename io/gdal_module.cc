@@ -225,14 +225,16 @@ class ScopedConfigOption {
 };
 
 // Creates and fills the GeoTIFF at `temporary` (closed on return).
-void WriteGeoTiffFile(const std::string& temporary, const Raster& raster,
-                      const std::string& where) {
+void WriteGeoTiffFile(const std::string& temporary, const Raster& raster, const std::string& where,
+                      int threads) {
   QuietGdal quiet;
   GDALDriverH driver = GDALGetDriverByName("GTiff");
   if (driver == nullptr) Fail(where, "GDAL has no GTiff driver");
   const bool tiled = raster.columns > 512 || raster.rows > 512;
-  const char* options[] = {"COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", tiled ? "TILED=YES" : nullptr,
-                           "BLOCKXSIZE=256",   "BLOCKYSIZE=256",   nullptr};
+  // GDAL's worker threads compress the blocks (the same bytes as one thread).
+  const std::string num_threads = "NUM_THREADS=" + std::to_string(std::max(threads, 1));
+  const char* options[] = {"COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", num_threads.c_str(),
+                           tiled ? "TILED=YES" : nullptr, "BLOCKXSIZE=256", "BLOCKYSIZE=256", nullptr};
   Dataset dataset(GDALCreate(driver, temporary.c_str(), raster.columns, raster.rows, 1, GDT_Float32,
                              const_cast<char**>(options)));
   if (!dataset) Fail(where, "cannot create" + quiet.Detail());
@@ -490,13 +492,13 @@ bool ReadRasterEntry(const std::string& path, const RasterReadOptions& options, 
   return Guarded(error, path, [&] { *raster = ReadRasterOrThrow(path, options); });
 }
 
-bool WriteGeoTiffEntry(const std::string& file, const Raster& raster, const std::string& where,
+bool WriteGeoTiffEntry(const std::string& file, const Raster& raster, const std::string& where, int threads,
                        std::string* error) {
   return Guarded(error, where, [&] {
     RegisterGdalOnce();
     // No .aux.xml side file: what GeoTIFF tags cannot hold is not kept.
     const ScopedConfigOption no_side_file("GDAL_PAM_ENABLED", "NO");
-    WriteGeoTiffFile(file, raster, where);
+    WriteGeoTiffFile(file, raster, where, threads);
   });
 }
 

@@ -49,9 +49,10 @@ struct GdalModule {
   // starts with the path.
   bool (*read_raster)(const std::string& path, const RasterReadOptions& options, Raster* raster,
                       std::string* error);
-  // Creates and fills the GeoTIFF `file` (no side file); `where` starts the
-  // error. The caller chose `file` (a temporary name) and renames it.
-  bool (*write_geotiff)(const std::string& file, const Raster& raster, const std::string& where,
+  // Creates and fills the GeoTIFF `file` (no side file), compressing on
+  // `threads` threads; `where` starts the error. The caller chose `file` (a
+  // temporary name) and renames it.
+  bool (*write_geotiff)(const std::string& file, const Raster& raster, const std::string& where, int threads,
                         std::string* error);
   // A CRS from user text (EPSG:n, WKT, PROJ string, "lonlat"); the error
   // follows "<label>: " and names the problem (unreadable, geocentric,
@@ -94,7 +95,7 @@ struct GdalModule {
   bool (*close_geotiff)(void* writer, std::string* error);
 };
 
-constexpr int kGdalModuleVersion = 4;
+constexpr int kGdalModuleVersion = 5;
 
 // The loaded module. The first call looks for libsurfreg_gdal.so in: the
 // file named by the environment variable SURFREG_GDAL_MODULE; next to the

@@ -83,7 +83,7 @@ std::string TemporaryName(const std::string& path) {
 
 }  // namespace
 
-void WriteGeoTiff(const std::string& path, const Raster& raster, const std::string& label) {
+void WriteGeoTiff(const std::string& path, const Raster& raster, const std::string& label, int threads) {
   const std::string where = label + ": '" + path + "'";
   const std::size_t cells =
       static_cast<std::size_t>(std::max(raster.columns, 0)) * std::max(raster.rows, 0);
@@ -98,7 +98,7 @@ void WriteGeoTiff(const std::string& path, const Raster& raster, const std::stri
   const int slot = RegisterTemporary(temporary);  // an interrupted run removes it
   try {
     std::string error;
-    if (!gdal.write_geotiff(temporary, raster, where, &error)) throw InputError(error);
+    if (!gdal.write_geotiff(temporary, raster, where, threads, &error)) throw InputError(error);
     if (std::rename(temporary.c_str(), path.c_str()) != 0) {
       Fail(where, std::string("cannot rename the temporary file: ") + std::strerror(errno));
     }

@@ -85,7 +85,8 @@ Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_samp
 // existing `path` is unchanged. Errors are InputErrors starting with
 // `label` (e.g. "flag --output"): missing directory, a finite value outside
 // the Float32 range, a size mismatch, an unreadable crs_wkt, GDAL failures.
-void WriteGeoTiff(const std::string& path, const Raster& raster, const std::string& label);
+// `threads` (>= 1) compress the blocks: the file's bytes do not depend on it.
+void WriteGeoTiff(const std::string& path, const Raster& raster, const std::string& label, int threads = 1);
 
 // A one-band Float32 GeoTIFF written window by window, never held whole
 // (tiled 256 x 256, DEFLATE, nodata -9999; NaN is written as nodata): into a

@@ -30,57 +30,68 @@ int LongestEdge(const std::vector<Point2>& xy, const int32_t* v, double* length)
 // Each vertex's local sample spacing: the median length of its Delaunay edges
 // (every interior edge is seen from both triangles, hull edges once), then
 // the lower quartile of that over its neighbours (the vertex following it in
-// each of its triangles). Flat arrays, one segment per vertex: order
-// statistics of the same values as per-vertex lists, without an allocation
-// per vertex (this runs in every Measure).
-std::vector<double> LocalSpacing(const std::vector<Point2>& xy, const Triangulation& mesh) {
+// each of its triangles). A vertex's triangles are listed once (flat
+// arrays); then each vertex's order statistics are its own, in chunks of
+// vertices, with one buffer per chunk: no allocation per vertex (this runs
+// in every Measure), and the same values on any number of threads (a k-th
+// smallest does not depend on the order its values come in).
+std::vector<double> LocalSpacing(const std::vector<Point2>& xy, const Triangulation& mesh,
+                                 const Execution& execution) {
   const std::size_t n = xy.size();
   const int32_t num_triangles = mesh.num_triangles();
-  std::vector<int32_t> first(n + 1, 0);  // a vertex's triangles: first[v] .. first[v + 1]
+  std::vector<int32_t> first(n + 1, 0);  // a vertex's triangles: around[first[v] .. first[v + 1])
   for (int32_t t = 0; t < num_triangles; ++t) {
     for (int i = 0; i < 3; ++i) ++first[mesh.triangles[3 * t + i] + 1];
   }
   for (std::size_t v = 0; v < n; ++v) first[v + 1] += first[v];
-  std::vector<int32_t> next(first.begin(), first.end() - 1);
-  std::vector<float> lengths(2 * static_cast<std::size_t>(first[n]));  // two edges per triangle
-  for (int32_t t = 0; t < num_triangles; ++t) {
-    const int32_t* v = &mesh.triangles[3 * t];
-    for (int i = 0; i < 3; ++i) {  // edge v[i] v[i + 1], to both ends
-      const int32_t a = v[i], b = v[(i + 1) % 3];
-      const float l = static_cast<float>(Length(xy[a], xy[b]));
-      lengths[2 * static_cast<std::size_t>(first[a]) + (next[a]++ - first[a])] = l;
-      lengths[2 * static_cast<std::size_t>(first[b]) + (next[b]++ - first[b])] = l;
+  // Each entry: 3 t + the vertex's corner in triangle t.
+  std::vector<int32_t> around(static_cast<std::size_t>(first[n]));
+  {
+    std::vector<int32_t> next(first.begin(), first.end() - 1);
+    for (int32_t t = 0; t < num_triangles; ++t) {
+      for (int i = 0; i < 3; ++i) around[next[mesh.triangles[3 * t + i]]++] = 3 * t + i;
     }
   }
+  const int64_t vertices = static_cast<int64_t>(n);
+  const int chunks = ChunksFor(vertices, 4096);
   std::vector<double> spacing(n, 0.0);
-  for (std::size_t v = 0; v < n; ++v) {
-    const std::size_t size = 2 * static_cast<std::size_t>(first[v + 1] - first[v]);
-    if (size == 0) continue;
-    float* l = &lengths[2 * static_cast<std::size_t>(first[v])];
-    std::nth_element(l, l + size / 2, l + size);
-    spacing[v] = l[size / 2];
-  }
-  std::vector<float> ring(first[n]);
-  std::copy(first.begin(), first.end() - 1, next.begin());
-  for (int32_t t = 0; t < num_triangles; ++t) {
-    const int32_t* v = &mesh.triangles[3 * t];
-    for (int i = 0; i < 3; ++i) ring[next[v[i]]++] = static_cast<float>(spacing[v[(i + 1) % 3]]);
-  }
+  ForEachChunk(execution, vertices, chunks, [&](int, int64_t begin, int64_t end) {
+    std::vector<float> lengths;
+    for (int64_t v = begin; v < end; ++v) {
+      lengths.clear();
+      for (int32_t k = first[v]; k < first[v + 1]; ++k) {  // the two edges at v in each triangle
+        const int32_t t = around[k] / 3, i = around[k] % 3;
+        const Point2& p = xy[v];
+        lengths.push_back(static_cast<float>(Length(p, xy[mesh.triangles[3 * t + (i + 1) % 3]])));
+        lengths.push_back(static_cast<float>(Length(p, xy[mesh.triangles[3 * t + (i + 2) % 3]])));
+      }
+      if (lengths.empty()) continue;
+      std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+      spacing[v] = lengths[lengths.size() / 2];
+    }
+  });
   std::vector<double> local(n, 0.0);
-  for (std::size_t v = 0; v < n; ++v) {
-    const std::size_t size = first[v + 1] - first[v];
-    if (size == 0) continue;
-    float* r = &ring[first[v]];
-    std::nth_element(r, r + size / 4, r + size);
-    local[v] = r[size / 4];
-  }
+  ForEachChunk(execution, vertices, chunks, [&](int, int64_t begin, int64_t end) {
+    std::vector<float> ring;
+    for (int64_t v = begin; v < end; ++v) {
+      ring.clear();
+      for (int32_t k = first[v]; k < first[v + 1]; ++k) {
+        const int32_t t = around[k] / 3, i = around[k] % 3;
+        ring.push_back(static_cast<float>(spacing[mesh.triangles[3 * t + (i + 1) % 3]]));
+      }
+      if (ring.empty()) continue;
+      std::nth_element(ring.begin(), ring.begin() + ring.size() / 4, ring.end());
+      local[v] = ring[ring.size() / 4];
+    }
+  });
   return local;
 }
 
 }  // namespace
 
 std::vector<uint8_t> DataDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
-                                const DomainRule& rule, const std::vector<uint8_t>* grid) {
+                                const DomainRule& rule, const std::vector<uint8_t>* grid,
+                                const Execution& execution) {
   const int32_t n = mesh.num_triangles();
   if (rule.kind == DomainKind::kHull) return std::vector<uint8_t>(n, 1);
   if (rule.grid) {
@@ -90,18 +101,18 @@ std::vector<uint8_t> DataDomain(const std::vector<Point2>& xy, const Triangulati
     return *grid;
   }
   std::vector<uint8_t> in(n, 1);
-  const std::vector<double> spacing = LocalSpacing(xy, mesh);
+  const std::vector<double> spacing = LocalSpacing(xy, mesh, execution);
   std::vector<double> thinness(n);
-  for (int32_t t = 0; t < n; ++t) {
-    const int32_t* v = &mesh.triangles[3 * t];
-    double longest = 0;
-    LongestEdge(xy, v, &longest);
-    const double local = std::max({spacing[v[0]], spacing[v[1]], spacing[v[2]]});
-    if (longest > rule.max_edge_spacings * local) in[t] = 0;
-    thinness[t] = longest > 0 ? std::fabs(TwiceArea(xy[v[0]], xy[v[1]], xy[v[2]])) /
-                                    (longest * longest)
-                              : 0.0;
-  }
+  ForEachChunk(execution, n, ChunksFor(n, 8192), [&](int, int64_t begin, int64_t end) {
+    for (int64_t t = begin; t < end; ++t) {
+      const int32_t* v = &mesh.triangles[3 * t];
+      double longest = 0;
+      LongestEdge(xy, v, &longest);
+      const double local = std::max({spacing[v[0]], spacing[v[1]], spacing[v[2]]});
+      if (longest > rule.max_edge_spacings * local) in[t] = 0;
+      thinness[t] = longest > 0 ? std::fabs(TwiceArea(xy[v[0]], xy[v[1]], xy[v[2]])) / (longest * longest) : 0.0;
+    }
+  });
   // Peel boundary slivers from the outside in: a triangle is on the boundary
   // when a neighbour is missing or out of the domain.
   auto on_boundary = [&](int32_t t) {
@@ -188,9 +199,9 @@ bool MeshDomain::Contains(const Triangulation& mesh, const Location& location) c
 }
 
 MeshDomain MakeMeshDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
-                          const DomainRule& rule, const std::vector<uint8_t>* grid) {
+                          const DomainRule& rule, const std::vector<uint8_t>* grid, const Execution& execution) {
   MeshDomain domain;
-  domain.triangles = DataDomain(xy, mesh, rule, grid);
+  domain.triangles = DataDomain(xy, mesh, rule, grid, execution);
   domain.vertices = DomainVertices(mesh, xy.size(), domain.triangles);
   domain.area = DomainArea(xy, mesh, domain.triangles);
   domain.whole = std::all_of(domain.triangles.begin(), domain.triangles.end(),

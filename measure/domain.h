@@ -31,6 +31,7 @@
 
 #include "measure/delaunay.h"
 #include "measure/surface.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 
@@ -52,9 +53,12 @@ struct DomainRule {
 // data domain, 0 if not. kHull: all 1. With rule.grid (and kData) the domain
 // is `grid`, the grid triangles EnforceGrid reported for this mesh; then
 // `grid` is required (std::invalid_argument if null or of the wrong size).
+// The per-vertex and per-triangle work runs in chunks on `execution`'s
+// threads: the same domain on any number.
 std::vector<uint8_t> DataDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
                                 const DomainRule& rule = DomainRule(),
-                                const std::vector<uint8_t>* grid = nullptr);
+                                const std::vector<uint8_t>* grid = nullptr,
+                                const Execution& execution = Execution{1});
 
 // The xy area of the triangles with in_domain[t] != 0.
 double DomainArea(const std::vector<Point2>& xy, const Triangulation& mesh,
@@ -87,6 +91,7 @@ struct MeshDomain {
 };
 
 MeshDomain MakeMeshDomain(const std::vector<Point2>& xy, const Triangulation& mesh,
-                          const DomainRule& rule, const std::vector<uint8_t>* grid = nullptr);
+                          const DomainRule& rule, const std::vector<uint8_t>* grid = nullptr,
+                          const Execution& execution = Execution{1});
 
 }  // namespace surfreg

@@ -158,7 +158,7 @@ void PrepareSide(const Surface& s, const double shift[3], DomainRule rule, const
       execution,
       [&] {
         const Clock::time_point start = Clock::now();
-        p->domain = MakeMeshDomain(p->xy, p->mesh, rule, &p->in_grid);
+        p->domain = MakeMeshDomain(p->xy, p->mesh, rule, &p->in_grid, execution);
         if (timings != nullptr) timings->domain = Seconds(start);
       },
       [&] {

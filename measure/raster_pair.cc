@@ -141,11 +141,9 @@ bool MeasureRasterPair(const RasterHeights& ra, const RasterHeights& rb,
   a.raster = &ra, b.raster = &rb;
   a.origin = b.origin = {origin[0], origin[1]};
   a.z_origin = b.z_origin = origin[2];
-  bool scanned_a = false, scanned_b = false;
-  RunBoth(
-      execution, [&] { scanned_a = Scan(execution, &a); },
-      [&] { scanned_b = Scan(execution, &b); });
-  if (!scanned_a || !scanned_b) return false;
+  // One raster after the other, each in row chunks (on every core, where
+  // side by side would be two).
+  if (!Scan(execution, &a) || !Scan(execution, &b)) return false;
   // Positions within kMaxCoordinate (ValidateSurface): the boxes' corners.
   for (const Side* s : {&a, &b}) {
     for (const int64_t c : {s->c_lo, s->c_hi}) {
@@ -161,14 +159,8 @@ bool MeasureRasterPair(const RasterHeights& ra, const RasterHeights& rb,
   GridPairResult result;
   int64_t complete_a = 0, complete_b = 0;
   std::vector<uint8_t> flags_a, flags_b;  // every cell's completeness, for the offset sweep
-  RunBoth(
-      execution,
-      [&] {
-        result.domain_area_a = DomainArea(execution, a, &complete_a, one_grid ? nullptr : &flags_a);
-      },
-      [&] {
-        result.domain_area_b = DomainArea(execution, b, &complete_b, one_grid ? nullptr : &flags_b);
-      });
+  result.domain_area_a = DomainArea(execution, a, &complete_a, one_grid ? nullptr : &flags_a);
+  result.domain_area_b = DomainArea(execution, b, &complete_b, one_grid ? nullptr : &flags_b);
   if (complete_a == 0 || complete_b == 0) return false;  // Measure names the surface with no data
 
   const double lod = options.detect_change ? options.level_of_detection : -1.0;

@@ -376,7 +376,7 @@ bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
     mesh_ = Triangulate(moved_xy_);
     std::vector<uint8_t> in_grid;  // a raster: its cells at this pose (folds left out)
     if (moving_.rule.grid) in_grid = EnforceGrid(moved_xy_, moving_.grid, &mesh_);
-    active_ = DataDomain(moved_xy_, mesh_, moving_.rule, &in_grid);
+    active_ = DataDomain(moved_xy_, mesh_, moving_.rule, &in_grid, execution_);
     active_vertex_ = DomainVertices(mesh_, moved_xy_.size(), active_);
     interior_vertex_ = InteriorVertices(mesh_, moved_xy_.size(), active_);
     kept_triangles_.clear();

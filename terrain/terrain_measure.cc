@@ -76,7 +76,7 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
             dod.values[inputs.reference_cells[i]] = m.summary.dz_a[i];
           }
         }
-        WriteGeoTiff(request.terrain.dod, dod, request.Where("dod"));
+        WriteGeoTiff(request.terrain.dod, dod, request.Where("dod"), execution.threads);
       });
   m.uncertainty = AnalyseChangeUncertainty(request, inputs.reference, inputs.moving, inputs.sigma_reference,
                                            inputs.sigma_moving, m.summary, options);

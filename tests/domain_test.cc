@@ -166,6 +166,24 @@ double DistanceToTriangle(const Point2& p, const Point2 t[3]) {
   return sign == 3 || sign == 0 ? 0.0 : best;
 }
 
+// In chunks of vertices and triangles (several at 40000 points): the same
+// domain on any number of threads, with a void and outline slivers to cut.
+TEST(DataDomainTest, SameDomainOnOneTwoAndEightThreads) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 200.0);
+  std::vector<Point2> xy;
+  while (xy.size() < 40000) {
+    const Point2 p{u(rng), u(rng)};
+    if (std::hypot(p.x - 80, p.y - 120) > 30) xy.push_back(p);
+  }
+  const Triangulation mesh = Triangulate(xy);
+  const std::vector<uint8_t> one = DataDomain(xy, mesh, DomainRule(), nullptr, Execution{1});
+  EXPECT_LT(std::count(one.begin(), one.end(), 1), mesh.num_triangles());  // the void is cut out
+  for (const int threads : {2, 8}) {
+    EXPECT_EQ(DataDomain(xy, mesh, DomainRule(), nullptr, Execution{threads}), one) << threads << " threads";
+  }
+}
+
 TEST(DataDomainTest, ScatteredCloudWithACircularVoid) {
   for (uint64_t seed : {1u, 2u, 3u}) {
     const double side = 100, cx = 45, cy = 55, radius = 15;

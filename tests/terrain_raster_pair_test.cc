@@ -108,6 +108,28 @@ TEST_P(TerrainRasterPairOffsetTest, CompactMeasureEqualsTheGeneralPathAndItsDod)
 
 INSTANTIATE_TEST_SUITE_P(OneGridAndOffset, TerrainRasterPairOffsetTest, ::testing::Values(0.0, 0.37));
 
+// The DoD's blocks are compressed on the measure's threads: the file's
+// bytes do not depend on how many.
+TEST_F(TerrainRasterPairTest, DodFileIsTheSameBytesOnOneAndThreeThreads) {
+  TerrainRequest request;
+  request.reference = Write("a.tif", 0, 0.0, kUtm33);
+  request.moving = Write("b.tif", 3, 2.5, kUtm33);
+  std::string bytes[2];
+  for (int k = 0; k < 2; ++k) {
+    MeasureOptions options;
+    options.threads = k == 0 ? 1 : 3;
+    request.terrain.dod = Path("dod" + std::to_string(k) + ".tif");
+    MeasureTerrain(request, options);
+    std::FILE* f = std::fopen(request.terrain.dod.c_str(), "rb");
+    ASSERT_NE(f, nullptr);
+    char buffer[4096];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) bytes[k].append(buffer, n);
+    std::fclose(f);
+  }
+  EXPECT_GT(bytes[0].size(), 1000u);
+  EXPECT_EQ(bytes[0], bytes[1]);
+}
+
 TEST_F(TerrainRasterPairTest, PairsLeftToSurfacesStillMeasure) {
   TerrainRequest request;
   request.reference = Write("a.tif", 0, 0.0, kUtm33);
