@@ -155,7 +155,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   // built beside the first fit.
   std::future<SampleAdjacency> adjacency_later =
       std::async(options.num_threads > 1 ? std::launch::async : std::launch::deferred,
-                 [&reference] { return MakeSampleAdjacency(reference); });
+                 [&reference, &options] { return MakeSampleAdjacency(reference, ExecutionFor(options.num_threads)); });
   AlignResult result = Align(reference, moving, first);
   if (result.verdict == Verdict::kFailed) return result;  // nothing to classify on
 

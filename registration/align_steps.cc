@@ -95,7 +95,7 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
       if (options.weight != WeightMode::kPerPoint) out->reference.weight.clear();
       if (options.cost == CostKind::kVolume || options.cost == CostKind::kAuto) {
         ApplySlopeWeight(options.slope_weight, &out->reference);
-        ApplyGapWeight(options.gap_weight, &out->reference);
+        ApplyGapWeight(options.gap_weight, &out->reference, ExecutionFor(options.num_threads));
       }
     }, [&] { out->moving = PrepareMoving(moving, shift, keep, options.domain); });
     // After the weights: they are the surface's curvature, which this keeps.
@@ -201,7 +201,7 @@ Prealignment PrealignSides(const Surface& reference, const Surface& moving,
       kRefineRatio * static_cast<double>(sides.moving.points.size()) <= n_b) {
     Level& refine = out.refine.emplace(sides);
     ApplySlopeWeight(options.slope_weight, &refine.reference);
-    ApplyGapWeight(options.gap_weight, &refine.reference);
+    ApplyGapWeight(options.gap_weight, &refine.reference, ExecutionFor(options.num_threads));
   }
   return out;
 }

@@ -31,20 +31,29 @@ std::vector<double> PlaneGaps(const std::vector<Eigen::Vector3d>& points, const 
   return gap;
 }
 
-std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh) {
+std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh,
+                                  const Execution& execution) {
   std::vector<double> gap(points.size(), -1.0);  // first |λ₁| + |λ₂| of H
-  std::vector<double> spacing2;                   // the rings' ℓ²
-  RingQuadratic fit;
-  for (std::size_t v = 0; v < points.size(); ++v) {
-    if (!FitRingQuadratic(points, mesh, v, 0.0, &fit)) continue;
-    // |λ₁| + |λ₂| of [[H_xx, H_xy], [H_xy, H_yy]] in closed form.
-    const Eigen::Vector3d& h = fit.hessian;
-    const double mean = 0.5 * (h[0] + h[2]), radius = std::hypot(0.5 * (h[0] - h[2]), h[1]);
-    const double curvature = std::fabs(mean + radius) + std::fabs(mean - radius);
-    if (!std::isfinite(curvature)) continue;
-    gap[v] = curvature;
-    spacing2.push_back(fit.spacing2);
-  }
+  // Each vertex's fit is its own: in chunks, the rings' ℓ² gathered per
+  // chunk (their median does not depend on the order).
+  const int64_t n = static_cast<int64_t>(points.size());
+  const int chunks = ChunksFor(n, 4096);
+  std::vector<std::vector<double>> spacing2_of(chunks);
+  ForEachChunk(execution, n, chunks, [&](int chunk, int64_t begin, int64_t end) {
+    RingQuadratic fit;
+    for (int64_t v = begin; v < end; ++v) {
+      if (!FitRingQuadratic(points, mesh, static_cast<std::size_t>(v), 0.0, &fit)) continue;
+      // |λ₁| + |λ₂| of [[H_xx, H_xy], [H_xy, H_yy]] in closed form.
+      const Eigen::Vector3d& h = fit.hessian;
+      const double mean = 0.5 * (h[0] + h[2]), radius = std::hypot(0.5 * (h[0] - h[2]), h[1]);
+      const double curvature = std::fabs(mean + radius) + std::fabs(mean - radius);
+      if (!std::isfinite(curvature)) continue;
+      gap[v] = curvature;
+      spacing2_of[chunk].push_back(fit.spacing2);
+    }
+  });
+  std::vector<double> spacing2;  // the rings' ℓ²
+  for (const std::vector<double>& part : spacing2_of) spacing2.insert(spacing2.end(), part.begin(), part.end());
   if (spacing2.empty()) return gap;
   std::nth_element(spacing2.begin(), spacing2.begin() + spacing2.size() / 2, spacing2.end());
   const double l2 = spacing2[spacing2.size() / 2];
@@ -53,12 +62,12 @@ std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, co
   return gap;
 }
 
-void ApplyGapWeight(double floor_fraction, ReferenceSide* reference) {
+void ApplyGapWeight(double floor_fraction, ReferenceSide* reference, const Execution& execution) {
   if (floor_fraction == 0) return;
   ReferenceSide& a = *reference;
   std::vector<Eigen::Vector3d> points(a.xy.size());
   for (std::size_t v = 0; v < a.xy.size(); ++v) points[v] = {a.xy[v].x, a.xy[v].y, a.z[v]};
-  const std::vector<double> own = CurvatureGaps(points, a.mesh);
+  const std::vector<double> own = CurvatureGaps(points, a.mesh, execution);
   // The node's local gap: the mean, over the triangles around it, of their
   // corners' own gaps. An average, not the largest: on a noisy surface the
   // largest of a ring picks the noise's extremes, and weights correlated

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "measure/delaunay.h"
+#include "measure/tasks.h"
 #include "registration/pair_state.h"
 
 namespace surfreg {
@@ -27,7 +28,8 @@ std::vector<double> PlaneGaps(const std::vector<Eigen::Vector3d>& points, const 
 // line heading against a valley's) nor where this sampling is sparse, which
 // are what this sampling's own interpolation error follows. −1 for a vertex
 // without a closed ring of at least 5 neighbours that determine a quadratic.
-std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh);
+std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, const Triangulation& mesh,
+                                  const Execution& execution = Execution{1});
 
 // Multiplies the reference's μ (1 where it has none) at every node by
 // f / (f + g): g the mean, over the triangles around the node, of their
@@ -45,6 +47,6 @@ std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, co
 // docs/registration.md). f bounds the weight of flat places at 1 (g = 0)
 // against f / (f + g); f is at least 1e-9 of the data's extent, so
 // rounding-level gaps (a plane) weigh 1. 0 = off.
-void ApplyGapWeight(double floor_fraction, ReferenceSide* reference);
+void ApplyGapWeight(double floor_fraction, ReferenceSide* reference, const Execution& execution = Execution{1});
 
 }  // namespace surfreg

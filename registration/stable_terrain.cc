@@ -12,47 +12,66 @@ const char* StableModeName(StableOptions::Mode mode) {
   return mode == StableOptions::Mode::kAuto ? "auto" : "all";
 }
 
-SampleAdjacency MakeSampleAdjacency(const Surface& reference) {
+SampleAdjacency MakeSampleAdjacency(const Surface& reference, const Execution& execution) {
   const Triangulation mesh = Triangulate(reference.xy);
   const int32_t n = static_cast<int32_t>(reference.size());
-  std::vector<std::pair<int32_t, int32_t>> edges;
-  edges.reserve(mesh.triangles.size() * 2 + static_cast<std::size_t>(mesh.num_duplicates) * 2);
-  for (std::size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
-    for (int k = 0; k < 3; ++k) {
-      const int32_t a = mesh.triangles[t + k], b = mesh.triangles[t + (k + 1) % 3];
-      edges.emplace_back(a, b);
-      edges.emplace_back(b, a);
-    }
-  }
-  // A merged duplicate is its vertex's neighbour, so it shares its class.
-  for (int32_t i = 0; i < n; ++i) {
-    const int32_t v = mesh.vertex_of_input[i];
-    if (v != i) {
-      edges.emplace_back(i, v);
-      edges.emplace_back(v, i);
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  // Each sample's neighbours, sorted and without repeats: its Delaunay
+  // edges (from both triangles of an edge) and, for a merged duplicate, its
+  // vertex (so it shares its class). Counted, scattered, then each list
+  // sorted on its own (in chunks of samples): what sorting all the directed
+  // edges would give, without that sort.
   SampleAdjacency adjacency;
-  adjacency.offset.assign(static_cast<std::size_t>(n) + 1, 0);
-  adjacency.neighbour.reserve(edges.size());
-  for (const auto& [a, b] : edges) {
-    ++adjacency.offset[a + 1];
-    adjacency.neighbour.push_back(b);
+  std::vector<int32_t> start(static_cast<std::size_t>(n) + 1, 0);
+  const auto each_edge = [&](const auto& add) {
+    for (std::size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
+      for (int k = 0; k < 3; ++k) {
+        const int32_t a = mesh.triangles[t + k], b = mesh.triangles[t + (k + 1) % 3];
+        add(a, b), add(b, a);
+      }
+    }
+    for (int32_t i = 0; i < n; ++i) {
+      const int32_t v = mesh.vertex_of_input[i];
+      if (v != i) add(i, v), add(v, i);
+    }
+  };
+  each_edge([&](int32_t a, int32_t) { ++start[a + 1]; });
+  for (int32_t i = 0; i < n; ++i) start[i + 1] += start[i];
+  std::vector<int32_t> all(static_cast<std::size_t>(start[n]));
+  {
+    std::vector<int32_t> next(start.begin(), start.end() - 1);
+    each_edge([&](int32_t a, int32_t b) { all[next[a]++] = b; });
   }
-  for (int32_t i = 0; i < n; ++i) adjacency.offset[i + 1] += adjacency.offset[i];
+  std::vector<int32_t> kept(static_cast<std::size_t>(n), 0);  // each list's length without repeats
+  const int chunks = ChunksFor(n, 8192);
+  ForEachChunk(execution, n, chunks, [&](int, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      int32_t* first = all.data() + start[i];
+      int32_t* last = all.data() + start[i + 1];
+      std::sort(first, last);
+      kept[i] = static_cast<int32_t>(std::unique(first, last) - first);
+    }
+  });
+  adjacency.offset.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (int32_t i = 0; i < n; ++i) adjacency.offset[i + 1] = adjacency.offset[i] + kept[i];
+  adjacency.neighbour.resize(static_cast<std::size_t>(adjacency.offset[n]));
+  ForEachChunk(execution, n, chunks, [&](int, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      std::copy(all.data() + start[i], all.data() + start[i] + kept[i],
+                adjacency.neighbour.data() + adjacency.offset[i]);
+    }
+  });
 
   std::vector<Eigen::Vector3d> points(reference.size());
   for (std::size_t i = 0; i < reference.size(); ++i) {
     points[i] = Eigen::Vector3d(reference.xy[i].x, reference.xy[i].y, reference.z[i]);
   }
-  const std::vector<double> by_vertex = CurvatureGaps(points, mesh);
+  const std::vector<double> by_vertex = CurvatureGaps(points, mesh, execution);
   std::vector<double> defined;
   for (double g : by_vertex) {
     if (g >= 0) defined.push_back(g);
   }
-  std::sort(defined.begin(), defined.end());
+  // The middle value of the sorted list, by selection.
+  if (!defined.empty()) std::nth_element(defined.begin(), defined.begin() + defined.size() / 2, defined.end());
   const double median = defined.empty() ? 0.0 : defined[defined.size() / 2];
   adjacency.curvature_gap.resize(reference.size());
   for (int32_t i = 0; i < n; ++i) {
@@ -60,19 +79,21 @@ SampleAdjacency MakeSampleAdjacency(const Surface& reference) {
     adjacency.curvature_gap[i] = g >= 0 ? g : median;
   }
   adjacency.gradient.assign(reference.size(), {0.0, 0.0});
-  for (int32_t i = 0; i < n; ++i) {
-    double sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
-    for (int32_t k = adjacency.offset[i]; k < adjacency.offset[i + 1]; ++k) {
-      const int32_t j = adjacency.neighbour[k];
-      const double dx = reference.xy[j].x - reference.xy[i].x, dy = reference.xy[j].y - reference.xy[i].y;
-      const double dz = reference.z[j] - reference.z[i];
-      sxx += dx * dx, sxy += dx * dy, syy += dy * dy, sxz += dx * dz, syz += dy * dz;
+  ForEachChunk(execution, n, chunks, [&](int, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      double sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
+      for (int32_t k = adjacency.offset[i]; k < adjacency.offset[i + 1]; ++k) {
+        const int32_t j = adjacency.neighbour[k];
+        const double dx = reference.xy[j].x - reference.xy[i].x, dy = reference.xy[j].y - reference.xy[i].y;
+        const double dz = reference.z[j] - reference.z[i];
+        sxx += dx * dx, sxy += dx * dy, syy += dy * dy, sxz += dx * dz, syz += dy * dz;
+      }
+      const double det = sxx * syy - sxy * sxy;
+      if (det > 1e-12 * (sxx + syy) * (sxx + syy)) {
+        adjacency.gradient[i] = {(syy * sxz - sxy * syz) / det, (sxx * syz - sxy * sxz) / det};
+      }
     }
-    const double det = sxx * syy - sxy * sxy;
-    if (det > 1e-12 * (sxx + syy) * (sxx + syy)) {
-      adjacency.gradient[i] = {(syy * sxz - sxy * syz) / det, (sxx * syz - sxy * sxz) / det};
-    }
-  }
+  });
   return adjacency;
 }
 

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "measure/surface.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 
@@ -102,7 +103,8 @@ struct SampleAdjacency {
   // its neighbours (0 where they do not determine one).
   std::vector<std::array<double, 2>> gradient;
 };
-SampleAdjacency MakeSampleAdjacency(const Surface& reference);
+// Built in chunks of samples on `execution`'s threads: the same on any number.
+SampleAdjacency MakeSampleAdjacency(const Surface& reference, const Execution& execution = Execution{1});
 StableTerrain ClassifyStable(const SampleAdjacency& adjacency, const GapField& gaps,
                              const std::vector<uint8_t>& eligible, const std::vector<uint8_t>& stable,
                              const StableOptions& options);

@@ -3,11 +3,14 @@
 // known changed regions, and Align with stable auto against the truth.
 #include "registration/stable_terrain.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include <gtest/gtest.h>
 
+#include "measure/delaunay.h"
 #include "registration/align.h"
 #include "registration/rigid_consensus.h"
 #include "testing/surface_pairs.h"
@@ -38,6 +41,51 @@ double ShareFlagged(const Surface& surface, const StableTerrain& stable, uint8_t
     flagged += stable.flag[i] == flag;
   }
   return in > 0 ? static_cast<double>(flagged) / static_cast<double>(in) : 0.0;
+}
+
+// The neighbours by the definition (every directed Delaunay edge and each
+// merged duplicate's link, sorted, repeats dropped) and the curvature and
+// gradients: the same on 1, 2 and 8 threads (chunks of 8192 samples).
+TEST(SampleAdjacency, IsTheSortedEdgesOnAnyNumberOfThreads) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, kSide);
+  std::vector<std::array<double, 3>> points;
+  for (int i = 0; i < 30000; ++i) {
+    const double x = u(rng), y = u(rng);
+    points.push_back({x, y, std::sin(x / 9.0) * std::cos(y / 7.0)});
+  }
+  points.push_back(points[5]);  // a duplicate, merged into its vertex
+  const Surface reference = MakeSurface(points);
+  const SampleAdjacency one = MakeSampleAdjacency(reference, Execution{1});
+  const Triangulation mesh = Triangulate(reference.xy);
+  std::vector<std::pair<int32_t, int32_t>> edges;
+  for (std::size_t t = 0; t + 2 < mesh.triangles.size(); t += 3) {
+    for (int k = 0; k < 3; ++k) {
+      edges.emplace_back(mesh.triangles[t + k], mesh.triangles[t + (k + 1) % 3]);
+      edges.emplace_back(mesh.triangles[t + (k + 1) % 3], mesh.triangles[t + k]);
+    }
+  }
+  for (int32_t i = 0; i < static_cast<int32_t>(reference.size()); ++i) {
+    const int32_t v = mesh.vertex_of_input[i];
+    if (v == i) continue;
+    edges.emplace_back(i, v);
+    edges.emplace_back(v, i);
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  ASSERT_EQ(one.neighbour.size(), edges.size());
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    ASSERT_EQ(one.neighbour[k], edges[k].second) << k;
+    ASSERT_GE(k, static_cast<std::size_t>(one.offset[edges[k].first])) << k;
+    ASSERT_LT(k, static_cast<std::size_t>(one.offset[edges[k].first + 1])) << k;
+  }
+  for (const int threads : {2, 8}) {
+    const SampleAdjacency many = MakeSampleAdjacency(reference, Execution{threads});
+    EXPECT_EQ(many.offset, one.offset);
+    EXPECT_EQ(many.neighbour, one.neighbour);
+    EXPECT_EQ(many.curvature_gap, one.curvature_gap);
+    EXPECT_EQ(many.gradient, one.gradient);
+  }
 }
 
 TEST(ClassifyStable, MarksAKnownBlockAndNothingElse) {
