@@ -30,6 +30,9 @@ bool SweepSameGrid(const Execution& execution, const Side& a, const Side& b, int
   const int64_t box_rows = a.BoxRows();
   std::vector<ChunkSums>& parts = *out;
   parts.assign(RowChunks(box_rows), ChunkSums());
+  // No column of A with B's beside it: nothing in common (Measure's error,
+  // or zeros for a tile).
+  if (c_begin >= c_end) return true;
   std::vector<uint8_t> same_positions(parts.size(), 1);
   ForEachChunk(execution, box_rows, static_cast<int>(parts.size()),
                [&](int chunk, int64_t begin, int64_t end) {

@@ -339,8 +339,10 @@ TEST(RasterPairTest, OneTwoAndEightThreadsGiveTheSameBits) {
           MeasureRasterPair(a.Heights(), other->Heights(), OriginOf(a), options, &runs.back()));
     }
     for (const MeasureSummary& s : runs) {
-      EXPECT_EQ(s.dz_b.size(), runs[0].dz_b.size());
-      EXPECT_EQ(0, std::memcmp(s.dz_b.data(), runs[0].dz_b.data(), s.dz_b.size() * sizeof(double)));
+      ASSERT_EQ(s.dz_b.size(), runs[0].dz_b.size());
+      if (!s.dz_b.empty()) {  // on one grid it is empty (every node of B in Ω is A's)
+        EXPECT_EQ(0, std::memcmp(s.dz_b.data(), runs[0].dz_b.data(), s.dz_b.size() * sizeof(double)));
+      }
       EXPECT_EQ(s.rho_d, runs[0].rho_d);
       EXPECT_EQ(s.rho_d_axial, runs[0].rho_d_axial);
       EXPECT_EQ(s.fill_detected, runs[0].fill_detected);
