@@ -387,5 +387,25 @@ std::vector<Piece> PiecePattern(double fx, double fy) {
 }
 
 
+void IntegratePieces(const std::vector<Piece>& pieces, const double za[4], const double zb[2][2][4],
+                     const bool whole[2][2], double cell_area, double lod, VolumeResult* volume) {
+  for (const Piece& piece : pieces) {
+    if (!whole[piece.dr][piece.dc]) continue;
+    const double* z = zb[piece.dr][piece.dc];
+    double d[9];
+    for (int v = 0; v < piece.corners; ++v) {
+      const double* wa = piece.wa[v];
+      const double* wb = piece.wb[v];
+      d[v] = (wb[0] * z[0] + wb[1] * z[1] + wb[2] * z[2] + wb[3] * z[3]) -
+             (wa[0] * za[0] + wa[1] * za[1] + wa[2] * za[2] + wa[3] * za[3]);
+    }
+    for (int v = 1; v + 1 < piece.corners; ++v) {
+      const double gaps[3] = {d[0], d[v], d[v + 1]};
+      IntegrateTriangleOfArea(cell_area * piece.fan[v - 1], gaps, lod, volume);
+    }
+    ++volume->cells;
+  }
+}
+
 }  // namespace grid_cells
 }  // namespace surfreg

@@ -165,6 +165,13 @@ struct Piece {
 // pattern: grid_sweep.cc, raster_sweep.cc).
 std::vector<Piece> PiecePattern(double fx, double fy);
 
+// One A cell's pieces (PiecePattern) into `volume`: its corners' heights
+// `za`, the four B cells' (dr, dc) `zb` where `whole` (complete), each
+// piece's gap at its corners from their weights, its fan's triangles of
+// `cell_area` per index unit, and one overlay cell per piece.
+void IntegratePieces(const std::vector<Piece>& pieces, const double za[4], const double zb[2][2][4],
+                     const bool whole[2][2], double cell_area, double lod, VolumeResult* volume);
+
 inline double Fraction(double x) { return x - std::floor(x); }
 
 }  // namespace grid_cells
