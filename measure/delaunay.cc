@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "measure/delaunay_internal.h"
 #include "measure/input_error.h"
 #include "measure/predicates.h"
 #include "measure/spatial_sort.h"
@@ -225,7 +226,9 @@ void PutFirstTriangle(const std::vector<Point2>& points, std::vector<int32_t>& o
 
 }  // namespace
 
-Triangulation Triangulate(const std::vector<Point2>& points, const DelaunayOptions& options) {
+namespace delaunay_internal {
+
+Triangulation TriangulateOneThread(const std::vector<Point2>& points, const DelaunayOptions& options) {
   const std::size_t n = points.size();
   if (n < 3) throw InputError("fewer than 3 points to triangulate");
   if (n > static_cast<std::size_t>(std::numeric_limits<int32_t>::max() / 8)) {
@@ -303,6 +306,14 @@ Triangulation Triangulate(const std::vector<Point2>& points, const DelaunayOptio
     }
   }
   return result;
+}
+
+}  // namespace delaunay_internal
+
+Triangulation Triangulate(const std::vector<Point2>& points, const DelaunayOptions& options) {
+  Triangulation result;
+  if (delaunay_internal::TriangulateInSlabs(points, options, &result)) return result;
+  return delaunay_internal::TriangulateOneThread(points, options);
 }
 
 double MeshArea(const std::vector<Point2>& p, const Triangulation& mesh) {

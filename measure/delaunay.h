@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "measure/surface.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 
@@ -43,6 +44,11 @@ struct DelaunayOptions {
   // sorted along a Hilbert curve. Only speed depends on it, never the result.
   bool spatial_sort = true;
   uint64_t seed = 0x5eedULL;  // for the BRIO rounds; result does not depend on it
+  // Large inputs on several threads are built in vertical slabs side by
+  // side and stitched along the seams. The arrays are the same to the bit
+  // on any number of threads: the triangulation is unique and numbered
+  // canonically (by lowest vertex, then the next one counter-clockwise).
+  Execution execution;
 };
 
 // Triangulates `points` (relative coordinates, see Surface). Throws

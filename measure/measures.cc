@@ -44,8 +44,10 @@ struct Prepared {
 
 // Delaunay, and for a raster its cells forced in (measure/grid_mesh.h);
 // `order` is the spatial sort (sorted k holds input order[k]).
-void MeshOf(const Surface& s, const std::vector<int32_t>& order, Prepared& p) {
-  p.mesh = Triangulate(p.xy);
+void MeshOf(const Surface& s, const std::vector<int32_t>& order, const Execution& execution, Prepared& p) {
+  DelaunayOptions delaunay;
+  delaunay.execution = execution;
+  p.mesh = Triangulate(p.xy, delaunay);
   if (!s.raster_grid()) return;
   std::vector<int32_t> cells = GridCellTriangles(s.raster_cell, s.source);
   std::vector<int32_t> sorted_index(order.size());
@@ -147,7 +149,7 @@ void PrepareSide(const Surface& s, const double shift[3], DomainRule rule, const
   *order = SortSpatially(*p);
   progress("triangulating", 0.05);
   Clock::time_point stage = Clock::now();
-  MeshOf(s, *order, *p);
+  MeshOf(s, *order, execution, *p);
   MergeDuplicateHeights(*p);
   p->hull_area = MeshArea(p->xy, p->mesh);
   if (timings != nullptr) timings->triangulate = Seconds(stage);

@@ -91,13 +91,14 @@ std::vector<std::unique_ptr<Level>> PrepareLevels(const Surface& reference, cons
         shared = ReferenceSideOf((*measure_reference)->prepared());
       }
       out->reference = shared ? std::move(*shared)
-                              : PrepareReference(reference, keep, options.domain);  // weights kept per point
+                              : PrepareReference(reference, keep, options.domain,
+                                                 ExecutionFor(options.num_threads));  // weights kept per point
       if (options.weight != WeightMode::kPerPoint) out->reference.weight.clear();
       if (options.cost == CostKind::kVolume || options.cost == CostKind::kAuto) {
         ApplySlopeWeight(options.slope_weight, &out->reference);
         ApplyGapWeight(options.gap_weight, &out->reference, ExecutionFor(options.num_threads));
       }
-    }, [&] { out->moving = PrepareMoving(moving, shift, keep, options.domain); });
+    }, [&] { out->moving = PrepareMoving(moving, shift, keep, options.domain, ExecutionFor(options.num_threads)); });
     // After the weights: they are the surface's curvature, which this keeps.
     out->density = CorrectDensityBias(options.density_correction, &out->reference, &out->moving);
     levels.push_back(std::move(level));

@@ -35,7 +35,7 @@ struct Cloud {
 // with `grid` (a raster at full resolution: a subsampled lattice is not
 // one) on its own cells.
 Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
-                   double keep_fraction, bool grid, Triangulation* mesh) {
+                   double keep_fraction, bool grid, const Execution& execution, Triangulation* mesh) {
   Cloud all;
   const std::size_t n = surface.size();
   const bool weighted = !surface.weight.empty();
@@ -63,7 +63,9 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
     sorted.z.push_back(all.z[k]);
     if (weighted) sorted.weight.push_back(all.weight[k]);
   }
-  *mesh = Triangulate(sorted.xy);
+  DelaunayOptions delaunay;
+  delaunay.execution = execution;
+  *mesh = Triangulate(sorted.xy, delaunay);
   Cloud* result = &sorted;
   Cloud unique;
   if (mesh->num_duplicates > 0) {
@@ -86,7 +88,7 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
     }
     // A raster cell with a merged corner is degenerate: it goes.
     for (int32_t& k : index_of) k = k < 0 ? -1 : unique_of[k];
-    *mesh = Triangulate(unique.xy);
+    *mesh = Triangulate(unique.xy, delaunay);
     result = &unique;
   }
   if (grid) {
@@ -99,13 +101,14 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
 
 }  // namespace
 
-ReferenceSide PrepareReference(const Surface& surface, double keep_fraction, const DomainRule& rule) {
+ReferenceSide PrepareReference(const Surface& surface, double keep_fraction, const DomainRule& rule,
+                               const Execution& execution) {
   ValidateSurface(surface);
   ReferenceSide side;
   // A subsampled lattice is no longer a lattice (the coarse levels).
   DomainRule own = rule;
   own.grid = surface.raster_grid() && keep_fraction >= 1.0;
-  Cloud cloud = PrepareCloud(surface, {0, 0, 0}, keep_fraction, own.grid, &side.mesh);
+  Cloud cloud = PrepareCloud(surface, {0, 0, 0}, keep_fraction, own.grid, execution, &side.mesh);
   side.xy = std::move(cloud.xy);
   side.z = std::move(cloud.z);
   side.weight = std::move(cloud.weight);
@@ -158,12 +161,12 @@ double RmsRadius(const MovingSide& side) {
 }
 
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
-                         double keep_fraction, const DomainRule& rule) {
+                         double keep_fraction, const DomainRule& rule, const Execution& execution) {
   ValidateSurface(surface);
   MovingSide side;
   side.rule = rule;
   side.rule.grid = surface.raster_grid() && keep_fraction >= 1.0;
-  Cloud cloud = PrepareCloud(surface, shift, keep_fraction, side.rule.grid, &side.mesh);
+  Cloud cloud = PrepareCloud(surface, shift, keep_fraction, side.rule.grid, execution, &side.mesh);
   side.tree = EuclideanMst(cloud.xy, side.mesh);
   side.hull_area = MeshArea(cloud.xy, side.mesh);
   side.domain = DataDomain(cloud.xy, side.mesh, side.rule, &cloud.in_grid);
@@ -373,7 +376,9 @@ bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
     mesh_ = std::move(mesh);
     SetActiveFlags();
   } else {
-    mesh_ = Triangulate(moved_xy_);
+    DelaunayOptions delaunay;
+    delaunay.execution = execution_;
+    mesh_ = Triangulate(moved_xy_, delaunay);
     std::vector<uint8_t> in_grid;  // a raster: its cells at this pose (folds left out)
     if (moving_.rule.grid) in_grid = EnforceGrid(moved_xy_, moving_.grid, &mesh_);
     active_ = DataDomain(moved_xy_, mesh_, moving_.rule, &in_grid, execution_);

@@ -79,10 +79,13 @@ struct MovingSide {
 // `keep_fraction` of the points (1 = all; at least 3): the coarse levels.
 // The reference keeps the surface's weights (if any) of the points kept.
 // `rule` decides each side's data domain.
+// `execution`: the threads of the triangulation (results do not depend on it).
 ReferenceSide PrepareReference(const Surface& surface, double keep_fraction = 1.0,
-                               const DomainRule& rule = DomainRule());
+                               const DomainRule& rule = DomainRule(),
+                               const Execution& execution = Execution());
 MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& shift,
-                         double keep_fraction = 1.0, const DomainRule& rule = DomainRule());
+                         double keep_fraction = 1.0, const DomainRule& rule = DomainRule(),
+                         const Execution& execution = Execution());
 
 // The root-mean-square distance of the moving points from their centroid:
 // the lever that turns a rotation into a length (rotations × it weigh

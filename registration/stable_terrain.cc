@@ -13,7 +13,9 @@ const char* StableModeName(StableOptions::Mode mode) {
 }
 
 SampleAdjacency MakeSampleAdjacency(const Surface& reference, const Execution& execution) {
-  const Triangulation mesh = Triangulate(reference.xy);
+  DelaunayOptions delaunay;
+  delaunay.execution = execution;
+  const Triangulation mesh = Triangulate(reference.xy, delaunay);
   const int32_t n = static_cast<int32_t>(reference.size());
   // Each sample's neighbours, sorted and without repeats: its Delaunay
   // edges (from both triangles of an edge) and, for a merged duplicate, its

@@ -3,8 +3,9 @@
 // tests/testing/point_sets.h (so tests and benchmarks share inputs).
 //
 // Names pair up by implementation: BM_Triangulate/<impl>/<distribution>/<N>,
-// impl in {surfreg, cgal}. N is the nominal size; grids use round(sqrt(N))^2
-// points (counter "points" holds the exact count).
+// impl in {surfreg, cgal}, and surfreg-2threads at 1e6 (the slab build on
+// two threads). N is the nominal size; grids use round(sqrt(N))^2 points
+// (counter "points" holds the exact count).
 //
 // Before timing, each input is triangulated once by both and the results are
 // compared (triangle count always; the triangles themselves where Delaunay is
@@ -217,14 +218,16 @@ void SetCounters(benchmark::State& state, const Input& input, int64_t triangles)
   state.counters["triangles"] = static_cast<double>(triangles);
 }
 
-void BM_Surfreg(benchmark::State& state, Distribution d, int64_t n) {
+void BM_Surfreg(benchmark::State& state, Distribution d, int64_t n, int threads) {
   const Input& input = GetInput(d, n);
   if (!input.error.empty()) {
     state.SkipWithError(input.error.c_str());
     return;
   }
+  DelaunayOptions options;
+  options.execution = Execution{threads};
   for (auto _ : state) {
-    Triangulation t = Triangulate(input.points);
+    Triangulation t = Triangulate(input.points, options);
     benchmark::DoNotOptimize(t.triangles.data());
     benchmark::ClobberMemory();
   }
@@ -265,8 +268,15 @@ void RegisterAll() {
       const std::string suffix =
           std::string("/") + DistributionName(d) + "/" + std::to_string(n);
       Configure(benchmark::RegisterBenchmark(("BM_Triangulate/surfreg" + suffix).c_str(),
-                                             BM_Surfreg, d, n),
+                                             BM_Surfreg, d, n, 1),
                 n);
+      // The slab build on two threads (large inputs only; the arrays are
+      // the same as on one).
+      if (n >= 1000000) {
+        Configure(benchmark::RegisterBenchmark(("BM_Triangulate/surfreg-2threads" + suffix).c_str(),
+                                               BM_Surfreg, d, n, 2),
+                  n);
+      }
 #ifdef SURFREG_HAVE_CGAL
       Configure(benchmark::RegisterBenchmark(("BM_Triangulate/cgal" + suffix).c_str(),
                                              BM_Cgal, d, n),
