@@ -165,7 +165,7 @@ void PrepareSide(const Surface& s, const double shift[3], DomainRule rule, const
       },
       [&] {
         const Clock::time_point start = Clock::now();
-        p->tree = EuclideanMst(p->xy, p->mesh);
+        p->tree = EuclideanMst(p->xy, p->mesh, execution);
         if (timings != nullptr) timings->spanning_tree = Seconds(start);
       });
 }

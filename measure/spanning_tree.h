@@ -9,6 +9,7 @@
 
 #include "measure/delaunay.h"
 #include "measure/surface.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 
@@ -25,6 +26,9 @@ struct SpanningTree {
 
 // Kruskal's algorithm over the triangulation's edges (radix-sorted by exact
 // squared length, ties by edge position), so O(N) besides the sort's passes.
-SpanningTree EuclideanMst(const std::vector<Point2>& points, const Triangulation& mesh);
+// The edges' gathering and sort run in chunks on `execution`; the tree is
+// the same on any number of threads.
+SpanningTree EuclideanMst(const std::vector<Point2>& points, const Triangulation& mesh,
+                          const Execution& execution = Execution());
 
 }  // namespace surfreg

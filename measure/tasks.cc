@@ -23,7 +23,9 @@ namespace surfreg {
 namespace {
 
 // Region timing: a flag, and sums under a mutex (a region is far longer
-// than the lock). Depth per thread, so nested regions do not count twice.
+// than the lock). Regions nest (a triangulation's slabs inside one of two
+// sides): each task of a region gets its share of the projected machine's
+// cores, and a region nested in a task counts as that task's time on them.
 std::atomic<bool> timing_enabled{false};
 std::mutex timing_mutex;
 RegionTiming timing_sums;
@@ -32,41 +34,82 @@ thread_local int region_depth = 0;
 using Clock = std::chrono::steady_clock;
 double SecondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
+// What one task of a timed region has seen of the regions nested in it.
+struct TaskFrame {
+  double cores[4];  // its share of each projected machine
+  double nested_wall = 0.0;
+  double nested_projected[4] = {0.0, 0.0, 0.0, 0.0};
+};
+thread_local TaskFrame* current_task = nullptr;
+
 class RegionTimer {
  public:
-  explicit RegionTimer(int width) : width_(width), outer_(region_depth++ == 0 && timing_enabled) {
-    if (outer_) start_ = Clock::now();
+  explicit RegionTimer(int width) : width_(width) {
+    timed_ = timing_enabled && (region_depth == 0 || current_task != nullptr);
+    ++region_depth;
+    if (!timed_) return;
+    for (int k = 0; k < 4; ++k) cores_[k] = current_task ? current_task->cores[k] : kProjectedCores[k];
+    start_ = Clock::now();
   }
   ~RegionTimer() {
     --region_depth;
-    if (!outer_) return;
-    const double s = SecondsSince(start_);
-    std::lock_guard<std::mutex> lock(timing_mutex);
-    timing_sums.parallel_seconds += s;
+    if (!timed_) return;
+    const double wall = SecondsSince(start_);
+    double projected[4];
     for (int k = 0; k < 4; ++k) {
-      timing_sums.projected_seconds[k] += std::max(s / std::min(kProjectedCores[k], width_), longest_);
+      const double spread = std::min(cores_[k], static_cast<double>(width_));
+      // Tasks not timed one by one (run on several threads): the wall time.
+      projected[k] = tasks_ == 0 ? wall / spread : std::max(task_sum_[k] / spread, longest_[k]);
     }
+    if (current_task != nullptr) {
+      current_task->nested_wall += wall;
+      for (int k = 0; k < 4; ++k) current_task->nested_projected[k] += projected[k];
+      return;
+    }
+    std::lock_guard<std::mutex> lock(timing_mutex);
+    timing_sums.parallel_seconds += wall;
+    for (int k = 0; k < 4; ++k) timing_sums.projected_seconds[k] += projected[k];
     ++timing_sums.regions;
   }
   RegionTimer(const RegionTimer&) = delete;
   RegionTimer& operator=(const RegionTimer&) = delete;
 
-  // Runs one chunk or task, timing it when this region is timed.
+  // Runs one chunk or task, timing it when this region is timed: its own
+  // time plus its nested regions' projected time.
   template <typename F>
   void Task(F&& f) {
-    if (!outer_) {
+    if (!timed_) {
       f();
       return;
     }
+    TaskFrame frame;
+    for (int k = 0; k < 4; ++k) frame.cores[k] = std::max(1.0, cores_[k] / width_);
+    TaskFrame* const enclosing = current_task;
+    current_task = &frame;
     const Clock::time_point t = Clock::now();
-    f();
-    longest_ = std::max(longest_, SecondsSince(t));
+    try {
+      f();
+    } catch (...) {
+      current_task = enclosing;
+      throw;
+    }
+    current_task = enclosing;
+    const double wall = SecondsSince(t);
+    ++tasks_;
+    for (int k = 0; k < 4; ++k) {
+      const double p = std::max(0.0, wall - frame.nested_wall) + frame.nested_projected[k];
+      task_sum_[k] += p;
+      longest_[k] = std::max(longest_[k], p);
+    }
   }
 
  private:
   int width_;
-  bool outer_;
-  double longest_ = 0.0;
+  bool timed_ = false;
+  int tasks_ = 0;
+  double cores_[4] = {1.0, 1.0, 1.0, 1.0};
+  double task_sum_[4] = {0.0, 0.0, 0.0, 0.0};
+  double longest_[4] = {0.0, 0.0, 0.0, 0.0};
   Clock::time_point start_;
 };
 

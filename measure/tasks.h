@@ -45,14 +45,18 @@ void RunOnTwoThreads(bool concurrent, const std::function<void()>& first,
 
 // Time spent inside ForEachChunk, RunBoth and RunOnTwoThreads regions, for
 // the serial-fraction measurement (docs/speed.md, Threads): enabled by
-// SetRegionTiming(true), read and reset by TakeRegionTiming. Only outermost
-// regions count; meant for one-thread runs, where each chunk is timed too.
+// SetRegionTiming(true), read and reset by TakeRegionTiming. Meant for
+// one-thread runs, where each chunk is timed too. A region nested in a
+// chunk or task counts inside it: each of a region's W tasks has P / W of
+// the P projected cores (at least one) for the regions nested in it.
 constexpr int kProjectedCores[4] = {2, 8, 16, 64};
 struct RegionTiming {
   double parallel_seconds = 0.0;  // wall time inside outermost regions
   // What the regions would take on P = kProjectedCores[k] cores, summed:
-  // each region's time over min(P, its chunks), but never less than its
-  // longest chunk (a lower bound, as a perfect scheduler would reach).
+  // each region's tasks' projected times over min(P, its chunks), but never
+  // less than its longest (a lower bound, as a perfect scheduler would
+  // reach); a task's projected time is its own time outside nested regions
+  // plus theirs projected on its share of the cores.
   double projected_seconds[4] = {0.0, 0.0, 0.0, 0.0};
   int64_t regions = 0;
 };

@@ -112,7 +112,7 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction, con
   side.xy = std::move(cloud.xy);
   side.z = std::move(cloud.z);
   side.weight = std::move(cloud.weight);
-  side.tree = EuclideanMst(side.xy, side.mesh);
+  side.tree = EuclideanMst(side.xy, side.mesh, execution);
   side.hull_area = MeshArea(side.xy, side.mesh);
   side.domain = DataDomain(side.xy, side.mesh, own, &cloud.in_grid);
   side.domain_vertex = DomainVertices(side.mesh, side.xy.size(), side.domain);
@@ -167,7 +167,7 @@ MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& sh
   side.rule = rule;
   side.rule.grid = surface.raster_grid() && keep_fraction >= 1.0;
   Cloud cloud = PrepareCloud(surface, shift, keep_fraction, side.rule.grid, execution, &side.mesh);
-  side.tree = EuclideanMst(cloud.xy, side.mesh);
+  side.tree = EuclideanMst(cloud.xy, side.mesh, execution);
   side.hull_area = MeshArea(cloud.xy, side.mesh);
   side.domain = DataDomain(cloud.xy, side.mesh, side.rule, &cloud.in_grid);
   side.grid = std::move(cloud.grid);

@@ -63,6 +63,29 @@ TEST(SpanningTreeTest, RandomPointsMatchPrim) {
   for (uint64_t seed : {1, 2, 3}) ExpectValidTree(testing::UniformPoints(800, seed));
 }
 
+TEST(SpanningTreeTest, RadixSortedEdgesMatchPrim) {
+  // Over 4096 edges: the radix sort rather than the comparison sort.
+  ExpectValidTree(testing::UniformPoints(3000, 4));
+  ExpectValidTree(testing::GridPoints(60, 50));
+}
+
+TEST(SpanningTreeTest, SameTreeOnAnyNumberOfThreads) {
+  // Large enough for several chunks of triangles and of edges; the grid's
+  // equal lengths make the sort's stability matter.
+  for (const std::vector<Point2>& points :
+       {testing::UniformPoints(300000, 5), testing::GridPoints(600, 600)}) {
+    const Triangulation mesh = Triangulate(points);
+    const SpanningTree one = EuclideanMst(points, mesh);
+    ASSERT_EQ(one.order.size(), points.size());
+    for (int threads : {2, 8}) {
+      const SpanningTree many = EuclideanMst(points, mesh, Execution{threads});
+      EXPECT_EQ(many.order, one.order) << threads << " threads";
+      EXPECT_EQ(many.parent, one.parent) << threads << " threads";
+      EXPECT_EQ(many.total_length, one.total_length) << threads << " threads";
+    }
+  }
+}
+
 TEST(SpanningTreeTest, GridMatchesPrim) {
   // Every edge has one of two lengths: many equal-length ties.
   ExpectValidTree(testing::GridPoints(25, 20));

@@ -97,6 +97,25 @@ TEST(Tasks, ExecutionForResolvesEveryCore) {
   EXPECT_TRUE(Execution{2}.parallel());
 }
 
+TEST(Tasks, RegionTimingCountsNestedRegionsOnTheirTasksShare) {
+  TakeRegionTiming();
+  SetRegionTiming(true);
+  // Two sides, one with eight 2 ms chunks inside: on 16 cores each side has
+  // 8, so the chunks take 2 ms; on 2 cores each side has one, so 16 ms.
+  RunBoth(Execution{1}, [] {
+    ForEachChunk(Execution{1}, 8, 8, [](int, int64_t, int64_t) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    });
+  }, [] {});
+  SetRegionTiming(false);
+  const RegionTiming t = TakeRegionTiming();
+  EXPECT_EQ(t.regions, 1);
+  EXPECT_GE(t.parallel_seconds, 0.016);
+  EXPECT_GE(t.projected_seconds[0], 0.016);  // 2 cores
+  EXPECT_LT(t.projected_seconds[2], 0.5 * t.projected_seconds[0]);  // 16 cores (8 ideally)
+  EXPECT_GE(t.projected_seconds[2], 0.002);
+}
+
 TEST(Tasks, RegionTimingCountsOutermostRegionsOnly) {
   TakeRegionTiming();
   SetRegionTiming(true);
