@@ -351,23 +351,53 @@ Location LocateCentroid(const std::vector<Point2>& points, const Triangulation& 
 std::vector<Location> LocateAll(const std::vector<Point2>& points, const Triangulation& mesh,
                                 const std::vector<Point2>& queries,
                                 const Triangulation& query_mesh, const SpanningTree& query_tree,
-                                LocateAllStats* stats) {
+                                LocateAllStats* stats, const Execution& execution) {
   std::vector<Location> result(queries.size());
-  int32_t last = 0;
-  int64_t total_steps = 0;
-  for (const int32_t v : query_tree.order) {
-    const int32_t parent = query_tree.parent[v];
-    const int32_t start = parent >= 0 ? result[parent].triangle : last;
-    int steps = 0;
-    result[v] = LocatePoint(points, mesh, queries[v], start, &steps);
-    total_steps += steps;
-    last = result[v].triangle;
+  const std::vector<int32_t>& order = query_tree.order;
+  const int64_t n = static_cast<int64_t>(order.size());
+  // Chunks of the tree order (bounds from its size only). A chunk's first
+  // point is found by a walk from the previous chunk's first, in turn; then
+  // each chunk walks on its own, from the parent's triangle when the parent
+  // is in the chunk, else from the point before.
+  const int chunks = ChunksFor(n, 1 << 15);
+  std::vector<int32_t> position(chunks > 1 ? queries.size() : 0, -1);
+  std::vector<int32_t> first(chunks, 0);
+  std::vector<int64_t> steps(chunks, 0);
+  if (chunks > 1) {
+    ForEachChunk(execution, n, chunks, [&](int, int64_t begin, int64_t end) {
+      for (int64_t k = begin; k < end; ++k) position[order[k]] = static_cast<int32_t>(k);
+    });
+    int32_t last = 0;
+    for (int c = 0; c < chunks; ++c) {
+      int walked = 0;
+      last = LocatePoint(points, mesh, queries[order[ChunkBegin(n, chunks, c)]], last, &walked).triangle;
+      first[c] = last;
+      steps[c] += walked;
+    }
   }
+  ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
+    int32_t last = first[c];
+    int64_t walked_in_chunk = 0;
+    for (int64_t k = begin; k < end; ++k) {
+      const int32_t v = order[k];
+      const int32_t parent = query_tree.parent[v];
+      const bool parent_here = parent >= 0 && (chunks == 1 || position[parent] >= begin);
+      const int32_t start = parent_here ? result[parent].triangle : last;
+      int walked = 0;
+      result[v] = LocatePoint(points, mesh, queries[v], start, &walked);
+      walked_in_chunk += walked;
+      last = result[v].triangle;
+    }
+    steps[c] += walked_in_chunk;
+  });
   for (std::size_t i = 0; i < queries.size(); ++i) {
     const int32_t kept = query_mesh.vertex_of_input[i];
     if (kept != static_cast<int32_t>(i)) result[i] = result[kept];
   }
-  if (stats != nullptr) stats->steps = total_steps;
+  if (stats != nullptr) {
+    stats->steps = 0;
+    for (int64_t s : steps) stats->steps += s;
+  }
   return result;
 }
 

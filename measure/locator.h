@@ -12,6 +12,7 @@
 
 #include "measure/delaunay.h"
 #include "measure/spanning_tree.h"
+#include "measure/tasks.h"
 #include "measure/surface.h"
 
 namespace surfreg {
@@ -97,10 +98,15 @@ struct LocateAllStats {
 // in the order of `query_tree` (the queries' own EMST) so that each walk
 // starts from the triangle where its tree parent was found. Merged
 // duplicates among the queries (query_mesh.vertex_of_input) take their kept
-// point's location. Result indexed like `queries`.
+// point's location. Result indexed like `queries`. Large query sets walk in
+// chunks of the tree order on `execution`: a chunk's first walk starts
+// where the previous chunk's first point was found (found in turn before),
+// a point whose parent is in an earlier chunk from the point before it. The
+// result is the same on any number of threads.
 std::vector<Location> LocateAll(const std::vector<Point2>& points, const Triangulation& mesh,
                                 const std::vector<Point2>& queries,
                                 const Triangulation& query_mesh, const SpanningTree& query_tree,
-                                LocateAllStats* stats = nullptr);
+                                LocateAllStats* stats = nullptr,
+                                const Execution& execution = Execution());
 
 }  // namespace surfreg

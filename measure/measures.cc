@@ -463,8 +463,8 @@ MeasureSummary MeasureWith(const Surface& a, const Surface& b, const MeasureOpti
   Clock::time_point stage = Clock::now();
   LocateAllStats stats_a, stats_b;
   std::vector<Location> a_in_b, b_in_a;
-  RunBoth(execution, [&] { a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a); },
-          [&] { b_in_a = LocateAll(pa.xy, pa.mesh, pb.xy, pb.mesh, pb.tree, &stats_b); });
+  RunBoth(execution, [&] { a_in_b = LocateAll(pb.xy, pb.mesh, pa.xy, pa.mesh, pa.tree, &stats_a, execution); },
+          [&] { b_in_a = LocateAll(pa.xy, pa.mesh, pb.xy, pb.mesh, pb.tree, &stats_b, execution); });
   summary.walk_steps = stats_a.steps + stats_b.steps;
   summary.timings.locate = Seconds(stage);
 

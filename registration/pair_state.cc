@@ -525,8 +525,9 @@ bool PairState::OnReferenceSurface(const Location& l) const {
 
 void PairState::LocateEverything(UpdateStats* stats) {
   LocateAllStats all_a, all_b;
-  BothWays([&] { a_in_b_ = LocateAll(moved_xy_, mesh_, reference_.xy, reference_.mesh, reference_.tree, &all_a); },
-           [&] { b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_, moving_.tree, &all_b); });
+  BothWays([&] {
+    a_in_b_ = LocateAll(moved_xy_, mesh_, reference_.xy, reference_.mesh, reference_.tree, &all_a, execution_);
+  }, [&] { b_in_a_ = LocateAll(reference_.xy, reference_.mesh, moved_xy_, mesh_, moving_.tree, &all_b, execution_); });
   located_ = true;
   if (stats != nullptr) stats->walk_steps = all_a.steps + all_b.steps;
 }

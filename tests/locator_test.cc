@@ -179,6 +179,34 @@ TEST(LocatorTest, LocateAllInMstOrderMatchesBruteForce) {
   EXPECT_LT(static_cast<double>(stats.steps) / queries.size(), 12.0);
 }
 
+TEST(LocatorTest, LocateAllInChunksMatchesSingleWalksOnAnyThreads) {
+  // Over 65 536 queries: several chunks of the tree order.
+  const std::vector<Point2> target = testing::UniformPoints(20000, 13);
+  std::vector<Point2> queries = testing::UniformPoints(100000, 14);
+  for (Point2& q : queries) q = {q.x * 1.1 - 0.05, q.y * 1.1 - 0.05};  // some outside
+  const Triangulation mesh = Triangulate(target);
+  const Triangulation query_mesh = Triangulate(queries);
+  const SpanningTree tree = EuclideanMst(queries, query_mesh);
+  LocateAllStats stats;
+  const std::vector<Location> all = LocateAll(target, mesh, queries, query_mesh, tree, &stats);
+  for (std::size_t i = 0; i < queries.size(); i += 7) {
+    const Location truth = LocatePoint(target, mesh, queries[i], 0);
+    ASSERT_EQ(all[i].where, truth.where) << i;
+    ASSERT_EQ(Support(mesh, all[i]), Support(mesh, truth)) << i;
+  }
+  EXPECT_LT(static_cast<double>(stats.steps) / queries.size(), 12.0);
+  for (int threads : {2, 8}) {
+    LocateAllStats many_stats;
+    const std::vector<Location> many =
+        LocateAll(target, mesh, queries, query_mesh, tree, &many_stats, Execution{threads});
+    EXPECT_EQ(many_stats.steps, stats.steps);
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      ASSERT_EQ(many[i].triangle, all[i].triangle) << i;
+      ASSERT_EQ(many[i].barycentric, all[i].barycentric) << i;
+    }
+  }
+}
+
 // LocateCentroid against brute force on three times the coordinates, where
 // the centroid (c0 + c1 + c2) / 3 becomes c0 + c1 + c2, exactly: the points
 // are multiples of 2^-20 (lattice points, and random points rounded), so
