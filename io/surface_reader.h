@@ -65,6 +65,9 @@ struct ReadOptions {
   // other columns are ignored. Empty = 3 columns (x y z) or 4 (x y z weight).
   // Any other format with a non-empty list is an InputError.
   std::vector<std::string> columns;
+  // Text clouds are parsed in chunks of lines on this many threads (0 = every
+  // core); the points and any error are the same on any number.
+  int threads = 1;
 };
 
 // Peak memory of a whole run per input point, bytes, with margin: reading,

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <exception>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "io/surface_reader_internal.h"
+#include "measure/tasks.h"
 
 namespace surfreg::io_internal {
 namespace {
@@ -88,11 +91,31 @@ class XyzParser {
     picked_ = static_cast<int>(columns.size());
   }
 
-  PointList Run(std::string_view data) {
-    const char* p = data.data();
+  // A copy carries the state a chunk of later lines needs (the header's
+  // picks, the first data line's width); its token list is its own.
+  XyzParser(const XyzParser& other) : XyzParser(other.name_, other.columns_) {
+    std::copy(other.pick_, other.pick_ + 4, pick_);
+    picked_ = other.picked_;
+    by_name_ = other.by_name_;
+    header_fields_ = other.header_fields_;
+    header_line_ = other.header_line_;
+    width_ = other.width_;
+    width_line_ = other.width_line_;
+    header_allowed_ = other.header_allowed_;
+    numbers_ = other.numbers_;
+    numbers_line_ = other.numbers_line_;
+  }
+  XyzParser& operator=(const XyzParser&) = delete;
+
+  // Parses `data`, whose first line is line `first_line` of the file; with
+  // `stop_after_point`, only up to the end of the first line that held a
+  // point. Returns the number of bytes parsed.
+  std::size_t Run(std::string_view data, std::size_t first_line, bool stop_after_point) {
+    const char* const begin = data.data();
+    const char* p = begin;
     const char* const end = p + data.size();
-    if (data.size() >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0) p += 3;  // UTF-8 BOM
-    std::size_t line = 0;
+    if (first_line == 1 && data.size() >= 3 && std::memcmp(p, "\xEF\xBB\xBF", 3) == 0) p += 3;  // UTF-8 BOM
+    std::size_t line = first_line - 1;
     while (p < end) {
       ++line;
       const auto* eol =
@@ -109,9 +132,12 @@ class XyzParser {
       } else {
         AddPicked(line);
       }
+      if (stop_after_point) break;
     }
-    return std::move(list_);
+    return static_cast<std::size_t>(p - begin);
   }
+
+  PointList& list() { return list_; }
 
  private:
   // Only the first non-comment line may be a header: one whose first field
@@ -262,7 +288,54 @@ class XyzParser {
 }  // namespace
 
 Surface ParseXyz(std::string_view data, const std::string& name, const ReadOptions& options) {
-  return Finish(XyzParser(name, options.columns).Run(data), name, options);
+  // The lines up to the first point, then the rest in chunks of lines (from
+  // the size only), each parsed by a copy of the parser as it stood; the
+  // first error in file order is the one reported, as when parsed in one go.
+  XyzParser head(name, options.columns);
+  const std::size_t head_bytes = head.Run(data, 1, /*stop_after_point=*/true);
+  const std::string_view rest = data.substr(head_bytes);
+  const std::size_t head_lines =
+      static_cast<std::size_t>(std::count(data.begin(), data.begin() + head_bytes, '\n'));
+  const int64_t size = static_cast<int64_t>(rest.size());
+  const int chunks = ChunksFor(size, int64_t{4} << 20);
+  std::vector<std::size_t> start(chunks + 1, rest.size()), lines(chunks, 0);
+  start[0] = 0;
+  for (int c = 1; c < chunks; ++c) {
+    const std::size_t cut = rest.find('\n', static_cast<std::size_t>(ChunkBegin(size, chunks, c)));
+    start[c] = cut == std::string_view::npos ? rest.size() : std::max(start[c - 1], cut + 1);
+  }
+  std::vector<std::unique_ptr<XyzParser>> parser(chunks);
+  std::vector<std::exception_ptr> error(chunks);
+  const Execution execution = ExecutionFor(options.threads);
+  ForEachChunk(execution, chunks, chunks, [&](int c, int64_t, int64_t) {
+    lines[c] = static_cast<std::size_t>(std::count(rest.begin() + start[c], rest.begin() + start[c + 1], '\n'));
+  });
+  std::vector<std::size_t> first_line(chunks, head_lines + 1);
+  for (int c = 1; c < chunks; ++c) first_line[c] = first_line[c - 1] + lines[c - 1];
+  ForEachChunk(execution, chunks, chunks, [&](int c, int64_t, int64_t) {
+    try {
+      parser[c] = std::make_unique<XyzParser>(head);
+      parser[c]->Run(rest.substr(start[c], start[c + 1] - start[c]), first_line[c], false);
+    } catch (...) {
+      error[c] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& e : error) {
+    if (e) std::rethrow_exception(e);
+  }
+  PointList all = std::move(head.list());
+  std::size_t points = all.points.size(), weights = all.weight.size();
+  for (const auto& p : parser) {
+    points += p->list().points.size();
+    weights += p->list().weight.size();
+  }
+  all.points.reserve(points);
+  all.weight.reserve(weights);
+  for (const auto& p : parser) {
+    all.points.insert(all.points.end(), p->list().points.begin(), p->list().points.end());
+    all.weight.insert(all.weight.end(), p->list().weight.begin(), p->list().weight.end());
+  }
+  return Finish(std::move(all), name, options);
 }
 
 }  // namespace surfreg::io_internal

@@ -42,6 +42,7 @@ ReadOptions InputReadOptions(const TerrainRequest& config, const std::string& ke
   ReadOptions options;
   if (las(path) || !las(other)) options.classes = config.classes;
   if (text(path) || !text(other)) options.columns = config.columns;
+  options.threads = config.options.num_threads;
   return options;
 }
 

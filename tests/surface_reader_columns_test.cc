@@ -113,5 +113,58 @@ TEST(XyzColumns, Errors) {
             "data/a.xyz: columns: position '0' is not 1 to 100000 (1-based)");
 }
 
+// Files of more than 4 MB are parsed in chunks of lines: the same points on
+// any number of threads, and an error in a late chunk names its own line.
+std::string LargeText(int lines, const std::string& header, const std::string& columns_after) {
+  std::string text = header;
+  for (int i = 0; i < lines; ++i) {
+    text += std::to_string(i % 997) + "." + std::to_string(i % 7) + " " + std::to_string(i / 997) + " " +
+            std::to_string((i * 37LL) % 1000) + columns_after + "\n";
+  }
+  return text;
+}
+
+TEST(XyzChunks, SamePointsOnAnyNumberOfThreads) {
+  for (const std::string& header : {std::string(""), std::string("# comment\nx y z w\n")}) {
+    const std::string text = LargeText(1000000, header, header.empty() ? "" : " 2.5");
+    ASSERT_GT(text.size(), 12u << 20);  // three chunks
+    ReadOptions one;
+    const Surface a = Xyz(text, one);
+    ASSERT_EQ(a.size(), 1000000u);
+    ReadOptions many;
+    many.threads = 4;
+    const Surface b = Xyz(text, many);
+    ASSERT_EQ(b.size(), a.size());
+    for (std::size_t i = 0; i < a.size(); i += 1013) {
+      EXPECT_EQ(reader_test::InputPoint(a, i), reader_test::InputPoint(b, i)) << i;
+    }
+    EXPECT_EQ(a.weight, b.weight);
+    ExpectPoint(a, 999999, 999999 % 997 + (999999 % 7) / 10.0, 999999 / 997, (999999LL * 37) % 1000);
+  }
+}
+
+TEST(XyzChunks, ErrorsInLateChunksNameTheirLine) {
+  std::string text = LargeText(1000000, "", "");
+  // Line 800 001 (in the last chunk) gets a fourth number; line 900 001 a word.
+  auto line_start = [&](int line) {
+    std::size_t at = 0;
+    for (int k = 1; k < line; ++k) at = text.find('\n', at) + 1;
+    return at;
+  };
+  std::string four = text;
+  four.insert(four.find('\n', line_start(800001)), " 7");
+  ReadOptions many;
+  many.threads = 4;
+  EXPECT_EQ(XyzError(four, many), "data/a.xyz:800001: expected 3 numbers (x y z) like line 1, found 4");
+  EXPECT_EQ(XyzError(four, ReadOptions()), XyzError(four, many));
+  std::string word = four;
+  word.replace(line_start(900001), 1, "q");
+  EXPECT_EQ(XyzError(word, many), XyzError(four, many));  // the first one in the file
+  std::string only_word = text;
+  only_word.replace(line_start(900001), 1, "q");
+  EXPECT_TRUE(Contains(XyzError(only_word, many), "data/a.xyz:900001:"));
+  EXPECT_EQ(XyzError(only_word, ReadOptions()), XyzError(only_word, many));
+}
+
 }  // namespace
 }  // namespace surfreg
