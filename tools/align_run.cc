@@ -4,11 +4,14 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "measure/input_error.h"
+#include "measure/tasks.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "io/las_writer.h"
@@ -205,8 +208,20 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
       MaskToFrame(inputs, config.mask_crs_wkt, config.Where("mask"), &config.options.mask);
     }
   } else {
-    inputs.reference = reference ? std::move(*reference) : ReadInput(config, "reference");
-    inputs.moving = moving ? std::move(*moving) : ReadInput(config, "moving");
+    // Side by side; of two bad inputs the reference is named, as in order.
+    std::exception_ptr error[2];
+    const auto read = [&](int k, std::optional<Surface>* given, Surface* out) {
+      try {
+        *out = *given ? std::move(**given) : ReadInput(config, k == 0 ? "reference" : "moving");
+      } catch (...) {
+        error[k] = std::current_exception();
+      }
+    };
+    RunBoth(ExecutionFor(config.options.num_threads), [&] { read(0, &reference, &inputs.reference); },
+            [&] { read(1, &moving, &inputs.moving); });
+    for (const std::exception_ptr& e : error) {
+      if (e) std::rethrow_exception(e);
+    }
   }
   // An aligned GeoTIFF is on the reference raster's grid, in its CRS.
   // Checked before the long work.
