@@ -39,16 +39,22 @@ std::vector<double> UserWeights(const Surface& reference, const AlignOptions& op
 // The gaps with `moving` at `matrix`: at the reference's samples (NaN
 // outside the overlap), their areas, and the moving surface's own gaps
 // gathered onto the nearest reference sample.
-GapField GapsAt(const Surface& reference, const Surface& moving, const Eigen::Matrix4d& matrix,
-                const AlignOptions& options) {
+// The measure of the gaps: the reference without its weights, the node gaps kept.
+MeasureOptions GapMeasureOptions(const AlignOptions& options) {
   MeasureOptions m;
   m.domain = options.domain;
   m.keep_node_gaps = true;
   m.threads = options.num_threads;
-  Surface plain = reference;
-  plain.weight.clear();
+  return m;
+}
+
+// `prepared`: the reference without its weights, prepared once for every
+// round (MeasureReference: the same summary as measuring it afresh).
+GapField GapsAt(const MeasureReference& prepared, const Surface& moving, const Eigen::Matrix4d& matrix,
+                const AlignOptions& options) {
+  const Surface& reference = prepared.surface();
   const Surface moved = TransformSurface(moving, matrix);
-  MeasureSummary summary = Measure(plain, moved, m);
+  MeasureSummary summary = Measure(prepared, moved, GapMeasureOptions(options));
   GapField gaps;
   gaps.dz = std::move(summary.dz_a);
   gaps.area = std::move(summary.node_area_a);
@@ -171,7 +177,10 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   // what changed, which would blur the change in its gaps.
   const bool sparser = result.solve_cost != "volume" && options.cost == CostKind::kAuto;
   AlignResult last = result;
-  GapField gaps = GapsAt(reference, moving, result.matrix, options);
+  Surface plain = reference;
+  plain.weight.clear();
+  const MeasureReference prepared(plain, GapMeasureOptions(options));
+  GapField gaps = GapsAt(prepared, moving, result.matrix, options);
   const ConsensusFit consensus = RigidConsensus(reference, adjacency, gaps.dz, eligible);
   std::vector<double> correction(reference.size(), 0.0);
   for (std::size_t i = 0; i < correction.size(); ++i) {
@@ -197,7 +206,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
     AlignResult next = AlignMotionOnly(Weighted(reference, user, stable), moving, round);
     if (next.verdict == Verdict::kFailed) break;
     last = std::move(next);
-    gaps = GapsAt(reference, moving, last.matrix, options);
+    gaps = GapsAt(prepared, moving, last.matrix, options);
     StableTerrain again = ClassifyStable(adjacency, gaps, eligible, stable.flag, rule);
     again.rounds = stable.rounds + 1;
     const int64_t moved = Reclassified(stable, again);
