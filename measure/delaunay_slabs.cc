@@ -297,6 +297,9 @@ bool TriangulateInSlabs(const std::vector<Point2>& points, const DelaunayOptions
   result.neighbors.resize(3 * total);
   result.vertex_triangle.assign(n, -1);
   result.vertex_of_input.resize(n);
+  ForEachChunk(execution, n, ChunksFor(n, 1 << 16), [&](int, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) result.vertex_of_input[i] = static_cast<int32_t>(i);
+  });
   std::atomic<bool> consistent{true};
   ForEachChunk(execution, count, count, [&](int s, int64_t, int64_t) {
     const Slab& slab = slabs[s];
@@ -313,9 +316,10 @@ bool TriangulateInSlabs(const std::vector<Point2>& points, const DelaunayOptions
         result.neighbors[3 * f + i] = u >= 0 ? slab.final_id[u] : -1;  // frontier: below
       }
     }
+    for (std::size_t k = 0; k < slab.input.size(); ++k) result.vertex_triangle[slab.input[k]] = first_final[k];
+    if (mesh.num_duplicates == 0) return;  // each its own vertex: below
     for (std::size_t k = 0; k < slab.input.size(); ++k) {
       result.vertex_of_input[slab.input[k]] = slab.input[mesh.vertex_of_input[k]];
-      result.vertex_triangle[slab.input[k]] = first_final[k];
     }
   });
   for (const Frontier& f : frontier) {
