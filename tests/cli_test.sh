@@ -165,7 +165,7 @@ expect_suggestion() {
 expect_suggestion "unknown command 'aling' (did you mean 'align'?)" aling a.xyz b.xyz
 expect_suggestion "unknown flag '--max_iter=5' (did you mean '--max_iterations'?)" align a.xyz b.xyz --max_iter=5
 expect_suggestion "unknown flag '--wieghts=uniform' (did you mean '--weights'?)" measure a.xyz b.xyz --wieghts=uniform
-expect_suggestion "help: unknown command 'nothing' (commands: triangulate, measure, align, sweep" help nothing
+expect_suggestion "help: unknown command 'nothing' (commands: triangulate, measure, align, series, sweep" help nothing
 run triangulate --json=maybe configs/data/volcano.xyz
 if [[ $rc -ne 2 ]] || ! grep -q '^surfreg: error: bad value' "$tmp/err"; then
   fail "bad flag value: expected exit 2 and a clear message"
@@ -173,7 +173,7 @@ fi
 
 # A flag of another command is refused, not silently ignored.
 run measure configs/data/volcano.xyz configs/data/volcano.xyz --slope_weight=3
-if [[ $rc -ne 2 ]] || ! grep -q "^surfreg: error: flag '--slope_weight' is not used by 'measure' (it is a flag of: align)" "$tmp/err"; then
+if [[ $rc -ne 2 ]] || ! grep -q "^surfreg: error: flag '--slope_weight' is not used by 'measure' (it is a flag of: align, series)" "$tmp/err"; then
   fail "another command's flag: expected exit 2 and a clear message"
 fi
 run triangulate configs/data/volcano.xyz --volume=union

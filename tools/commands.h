@@ -44,6 +44,12 @@ int RunAlign(const std::vector<std::string>& args);
 // --output). tools/run_batch.cc.
 int RunAlignManifest(const std::vector<std::string>& args);
 
+// series --config FILE.yaml | E0 E1 ... [--key=value ...] [--json]: joint
+// alignment of a series of surveys (registration/series.h) with the settings
+// of tools/series_config.h; prints a summary or, with --json, the series
+// JSON. tools/run_series.cc.
+int RunSeries(const std::vector<std::string>& args);
+
 // sweep --config SWEEP.yaml [--output=RUNS.csv] [--jobs=N] [--shard=K/N]
 // [--resume]: runs a grid of surface pairs x solver settings x initial
 // perturbations in parallel (tools/sweep.h); writes the per-run CSV, a

@@ -26,6 +26,7 @@
 #include "tools/jaw_config.h"
 #include "tools/key_flags.h"
 #include "tools/log_prefix.h"
+#include "tools/series_config.h"
 #include "measure/tasks.h"
 
 namespace surfreg {
@@ -62,6 +63,13 @@ bool IsJawKey(const std::string& name) {
   return false;
 }
 
+bool IsSeriesKey(const std::string& name) {
+  for (const ConfigKey& key : SeriesConfigKeys()) {
+    if (name == key.name) return true;
+  }
+  return false;
+}
+
 const Command kCommands[] = {
     {"triangulate", RunTriangulate, "FILE [--domain=data|hull] [--json]",
      "read a surface, Delaunay-triangulate it, print counts, its data domain and timings",
@@ -81,6 +89,12 @@ const Command kCommands[] = {
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json] [--quiet]",
      "rigidly move MOVING onto REFERENCE; write the transform JSON, print a summary",
      "config json manifest shard quiet", IsAlignKey},
+    {"series", RunSeries,
+     "(--config FILE.yaml | E0 E1 ...) [--reference=K] [--pairs=0-1,...] [--min_overlap=F] [--output=S.json] "
+     "[--aligned_dir=DIR] [--KEY=VALUE for align's alignment keys] [--json] [--quiet]",
+     "align a series of surveys jointly: one motion per epoch into the reference epoch's frame, "
+     "over every pair that overlaps",
+     "config json quiet", IsSeriesKey},
     {"sweep", RunSweep, "--config SWEEP.yaml [--output=RUNS.csv] [--jobs=N] [--shard=K/N] [--resume] [--quiet]",
      "run a grid of pairs x solver settings x initial offsets; CSV, ranking, plots",
      "config output jobs shard resume quiet", nullptr},

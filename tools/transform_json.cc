@@ -16,6 +16,15 @@ std::string Numbers(const double* values, int n) {
   return JsonArray(out);
 }
 
+template <typename T, typename Write>
+JsonObject PerParameter(const std::array<T, 6>& values, Write write) {
+  JsonObject json;
+  for (int k = 0; k < 6; ++k) write(&json, kParameterNames[k], values[k]);
+  return json;
+}
+
+}  // namespace
+
 JsonObject MeasuresJson(const MeasureSummary& s, double overlap_fraction) {
   JsonObject json;
   json.Number("rho_d", s.rho_d)
@@ -27,11 +36,8 @@ JsonObject MeasuresJson(const MeasureSummary& s, double overlap_fraction) {
   return json;
 }
 
-template <typename T, typename Write>
-JsonObject PerParameter(const std::array<T, 6>& values, Write write) {
-  JsonObject json;
-  for (int k = 0; k < 6; ++k) write(&json, kParameterNames[k], values[k]);
-  return json;
+JsonObject StddevJson(const std::array<double, 6>& stddev) {
+  return PerParameter(stddev, [](JsonObject* j, const char* key, double v) { j->Number(key, v); });
 }
 
 // Rows rx, ry, rz, tx, ty, tz (radians, data units); null where undefined.
@@ -44,8 +50,6 @@ std::string CovarianceJson(const Eigen::Matrix<double, 6, 6>& c) {
   }
   return JsonArray(rows);
 }
-
-}  // namespace
 
 std::string TransformJson(const AlignConfig& config, const AlignResult& r,
                           const std::string& extra_members) {

@@ -1,0 +1,199 @@
+// Joint alignment of a series (registration/series.h): strips of one
+// analytic terrain, each moved by its own known motion, recovered jointly;
+// the overlap graph, its pieces, and the refusals.
+#include "registration/series.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "measure/input_error.h"
+#include "testing/surface_pairs.h"
+
+namespace surfreg {
+namespace {
+
+using testing::SmoothTerrain;
+
+constexpr double kStripWidth = 40, kStripStep = 12;
+
+// Strip k of the terrain (x in [12k, 12k + 40]) in its own frame: sampled
+// in the world, then moved by the inverse of world_from_epoch[k].
+struct Series {
+  std::vector<Surface> epochs;
+  std::vector<Eigen::Matrix4d> world_from_epoch;
+};
+
+Series MakeStrips(int n, double x_offset = 0, uint64_t seed = 1) {
+  Series series;
+  for (int k = 0; k < n; ++k) {
+    const double x0 = x_offset + kStripStep * k;
+    auto points = testing::SampleUniform(
+        [x_offset](double x, double y) { return SmoothTerrain(x - x_offset, y); }, 2500, x0,
+        x0 + kStripWidth, 0, 100, seed * 100 + k);
+    const Eigen::Matrix4d truth =
+        k == 0 ? Eigen::Matrix4d::Identity()
+               : testing::TrueMotion({1.0 + k, -1.0, 0.3 * k}, 0.4 + 0.2 * k,
+                                     {0.3 * k, -0.2, 0.1 * k}, testing::Centroid(points));
+    series.world_from_epoch.push_back(truth);
+    series.epochs.push_back(
+        MakeSurface(testing::MoveByInverse(points, truth), {}, "strip" + std::to_string(k)));
+  }
+  return series;
+}
+
+Eigen::Vector3d CentroidOf(const Surface& s) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < s.size(); ++k) sum += Eigen::Vector3d(s.xy[k].x, s.xy[k].y, s.z[k]);
+  return sum / static_cast<double>(s.size()) +
+         Eigen::Vector3d(s.origin[0], s.origin[1], s.origin[2]);
+}
+
+TEST(SeriesOverlapsTest, SharedShareOfTheSmallerFootprint) {
+  const Series series = MakeStrips(4);
+  const Eigen::MatrixXd overlap = SeriesOverlaps(series.epochs);
+  ASSERT_EQ(overlap.rows(), 4);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(overlap(k, k), 1);
+  // Strips 12 apart share 28 of 40 in x, 24 apart 16 of 40; the grid's cells
+  // along the seams blur that by a cell or two.
+  for (int k = 0; k + 1 < 4; ++k) EXPECT_NEAR(overlap(k, k + 1), 0.7, 0.08);
+  for (int k = 0; k + 2 < 4; ++k) EXPECT_NEAR(overlap(k, k + 2), 0.4, 0.08);
+  EXPECT_NEAR(overlap(0, 3), 0.1, 0.08);
+  EXPECT_EQ(overlap(1, 2), overlap(2, 1));
+}
+
+TEST(GraphPiecesTest, PiecesInOrderOfTheirFirstEpoch) {
+  EXPECT_EQ(GraphPieces(5, {{3, 1}, {0, 4}}), (std::vector<std::vector<int>>{{0, 4}, {1, 3}, {2}}));
+  EXPECT_EQ(GraphPieces(3, {{0, 1}, {1, 2}}), (std::vector<std::vector<int>>{{0, 1, 2}}));
+  EXPECT_EQ(GraphPieces(2, {}), (std::vector<std::vector<int>>{{0}, {1}}));
+}
+
+// Six strips, each with its own motion: every epoch's matrix is the truth
+// relative to the reference's, within a few σ and a small absolute margin;
+// the reference's is the identity.
+TEST(AlignSeriesTest, RecoversEachEpochsMotion) {
+  const Series series = MakeStrips(6);
+  SeriesOptions options;
+  options.reference = 2;
+  const SeriesResult result = AlignSeries(series.epochs, options);
+  ASSERT_EQ(result.epochs.size(), 6u);
+  // Neighbours and next-but-ones: 5 + 4 edges; 12·3 apart is 0.1, left out.
+  EXPECT_EQ(result.pairs.size(), 9u);
+  EXPECT_TRUE(result.epochs[2].matrix.isIdentity(0));
+  for (int k = 0; k < 6; ++k) {
+    const SeriesEpoch& epoch = result.epochs[k];
+    const Eigen::Matrix4d truth = series.world_from_epoch[2].inverse() * series.world_from_epoch[k];
+    const testing::MotionError error =
+        testing::CompareMotions(epoch.matrix, truth, CentroidOf(series.epochs[k]));
+    EXPECT_LT(error.rotation_deg, 0.01) << "epoch " << k;
+    EXPECT_LT(error.translation, 0.01) << "epoch " << k;
+    std::printf("epoch %d: error %.5f deg %.5f, sigma %.5f deg %.5f\n", k, error.rotation_deg,
+                error.translation, epoch.stddev[0] * 180 / M_PI, epoch.stddev[3]);
+    if (k == 2) continue;
+    EXPECT_EQ(epoch.verdict, Verdict::kConvergedImproved) << epoch.verdict_reason;
+    for (int p = 0; p < 6; ++p)
+      EXPECT_GT(epoch.stddev[p], 0) << "epoch " << k << " parameter " << p;
+    EXPECT_GE(epoch.pairs, 2);
+  }
+  for (const SeriesPair& pair : result.pairs) {
+    EXPECT_TRUE(pair.used) << pair.reason;
+    EXPECT_LT(pair.after.rho_d_axial, pair.before.rho_d_axial);
+    std::printf("pair %d-%d: misclosure %.5f deg %.5f chi2 %.3g\n", pair.reference, pair.moving,
+                pair.misclosure_deg, pair.misclosure_shift, pair.misclosure_chi2);
+    EXPECT_LT(pair.misclosure_deg, 0.05);
+  }
+}
+
+// An epoch that is another's very samples moved: the joint motion is that
+// motion, to the solver's precision.
+TEST(AlignSeriesTest, AnEpochEqualToAnotherMovedGetsThatMotion) {
+  const Series strips = MakeStrips(2);
+  const Eigen::Matrix4d motion =
+      testing::TrueMotion({0.2, 1, 0.1}, 1.5, {0.8, -0.4, 0.25}, CentroidOf(strips.epochs[1]));
+  std::vector<std::array<double, 3>> points;
+  const Surface& source = strips.epochs[1];
+  for (std::size_t k = 0; k < source.size(); ++k) {
+    points.push_back({source.xy[k].x + source.origin[0], source.xy[k].y + source.origin[1],
+                      source.z[k] + source.origin[2]});
+  }
+  std::vector<Surface> epochs = {strips.epochs[0], strips.epochs[1],
+                                 MakeSurface(testing::MoveByInverse(points, motion), {}, "moved")};
+  SeriesOptions options;
+  options.reference = 1;
+  const SeriesResult result = AlignSeries(epochs, options);
+  const testing::MotionError error =
+      testing::CompareMotions(result.epochs[2].matrix, motion, CentroidOf(epochs[2]));
+  EXPECT_LT(error.rotation_deg, 1e-5);
+  EXPECT_LT(error.translation, 1e-5);
+}
+
+// Only the pairs the user gives are aligned; a chain 0-1-2 then holds.
+TEST(AlignSeriesTest, UsesOnlyTheGivenPairs) {
+  const Series series = MakeStrips(3);
+  SeriesOptions options;
+  options.pairs = {{1, 0}, {1, 2}};
+  const SeriesResult result = AlignSeries(series.epochs, options);
+  ASSERT_EQ(result.pairs.size(), 2u);
+  EXPECT_EQ(result.pairs[0].reference, 1);
+  EXPECT_EQ(result.pairs[0].moving, 0);
+  // Two pairs, six free parameters each: the joint motion is the chain's.
+  for (const SeriesPair& pair : result.pairs) EXPECT_LT(pair.misclosure_chi2, 1e-12);
+}
+
+std::string MessageOf(const std::vector<Surface>& epochs, const SeriesOptions& options) {
+  try {
+    AlignSeries(epochs, options);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(AlignSeriesTest, RefusesSeriesThatFallApart) {
+  const Series near = MakeStrips(2), far = MakeStrips(2, 500);
+  const std::vector<Surface> epochs = {near.epochs[0], far.epochs[0], near.epochs[1],
+                                       far.epochs[1]};
+  EXPECT_EQ(MessageOf(epochs, SeriesOptions()),
+            "the series falls apart into {0, 2} and {1, 3}: no pair joins them (give `pairs`, or "
+            "lower min_overlap)");
+  SeriesOptions given;
+  given.pairs = {{0, 2}};
+  EXPECT_EQ(MessageOf(epochs, given).rfind("the series falls apart into {0, 2}, {1} and {3}", 0),
+            0u)
+      << MessageOf(epochs, given);
+}
+
+TEST(AlignSeriesTest, NamesAnEpochThatOverlapsNoOther) {
+  const Series near = MakeStrips(2), far = MakeStrips(1, 500);
+  const std::vector<Surface> epochs = {near.epochs[0], near.epochs[1], far.epochs[0]};
+  EXPECT_EQ(
+      MessageOf(epochs, SeriesOptions()),
+      "series: epoch 2 (strip0) overlaps no other by min_overlap 0.3 (at most 0, with epoch 0)");
+}
+
+TEST(AlignSeriesTest, RefusesBadArguments) {
+  const Series series = MakeStrips(2);
+  EXPECT_EQ(MessageOf({series.epochs[0]}, SeriesOptions()),
+            "series: at least two epochs are needed, got 1");
+  SeriesOptions options;
+  options.reference = 2;
+  EXPECT_EQ(MessageOf(series.epochs, options), "series: reference 2 is not an epoch (0 to 1)");
+  options = SeriesOptions();
+  options.pairs = {{0, 0}};
+  EXPECT_EQ(MessageOf(series.epochs, options),
+            "series: pair 0-0 does not name two different epochs (0 to 1)");
+  options = SeriesOptions();
+  options.min_overlap = 0;
+  EXPECT_EQ(MessageOf(series.epochs, options).rfind("series: min_overlap must be in (0, 1]", 0),
+            0u);
+  options = SeriesOptions();
+  options.align.initial_translation = {1, 0, 0};
+  EXPECT_EQ(MessageOf(series.epochs, options),
+            "series: an initial motion applies to one pair; the series starts from the inputs");
+}
+
+}  // namespace
+}  // namespace surfreg

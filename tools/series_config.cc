@@ -1,0 +1,262 @@
+#include "tools/series_config.h"
+
+#include <glog/logging.h>
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "io/atomic_file.h"
+#include "io/surface_writer.h"
+#include "measure/input_error.h"
+#include "registration/align_keys.h"
+#include "tools/align_config_values.h"
+#include "tools/config_table.h"
+
+namespace surfreg {
+namespace {
+
+using config_value::Value;
+namespace cv = config_value;
+using C = SeriesConfig;
+using Entry = cv::Entry<SeriesConfig>;
+
+// An alignment key (registration/align_keys.h) as a key of the series.
+Entry Option(const char* name) {
+  const AlignOptionEntry* entry = FindAlignOption(name);
+  CHECK(entry != nullptr) << "no option key " << name;
+  return {entry->key, [entry](const Value& v, C* c) { entry->set(v, &c->options.align); },
+          [entry](const C& c) { return entry->get(c.options.align); }};
+}
+
+std::string Join(const std::vector<std::string>& items) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + items[i];
+  return out + "]";
+}
+
+// "i-j" (two epoch indices).
+std::pair<int, int> PairOf(const Value& v, const std::string& item) {
+  const std::size_t dash = item.find('-');
+  const auto index = [&](const std::string& text) {
+    if (text.empty() || text.size() > 6 || !std::all_of(text.begin(), text.end(), [](char c) {
+          return std::isdigit(static_cast<unsigned char>(c));
+        })) {
+      throw InputError(v.where + ": expects pairs of epoch indices such as 0-1, got " +
+                       Quote(item));
+    }
+    return std::stoi(text);
+  };
+  if (dash == std::string::npos) index("");
+  return {index(item.substr(0, dash)), index(item.substr(dash + 1))};
+}
+
+const config_table::Table<SeriesConfig>& Table() {
+  static const config_table::Table<SeriesConfig> table(std::vector<Entry>{
+      {{"surfaces", "a list of surface files (.xyz .txt .csv .ply .off .obj .las, or GDAL rasters)",
+        "the epochs, in time order"},
+       [](const Value& v, C* c) {
+         c->surfaces = cv::Items(v);
+         if (std::any_of(c->surfaces.begin(), c->surfaces.end(),
+                         [](const std::string& s) { return s.empty(); })) {
+           cv::Reject(v);
+         }
+       },
+       [](const C& c) { return c.surfaces.empty() ? std::string() : Join(c.surfaces); }},
+      {{"reference", "an epoch index >= 0 or one of the surfaces",
+        "the epoch the others are brought into"},
+       [](const Value& v, C* c) { c->reference = cv::Path(v, true); },
+       [](const C& c) { return c.reference; }},
+      {{"pairs", "a list of epoch index pairs such as 0-1, or nothing",
+        "the pairs to align; nothing = every pair overlapping by min_overlap"},
+       [](const Value& v, C* c) {
+         c->pairs.clear();
+         for (const std::string& item : cv::Items(v)) c->pairs.push_back(PairOf(v, item));
+       },
+       [](const C& c) {
+         std::vector<std::string> items;
+         for (const auto& [a, b] : c.pairs)
+           items.push_back(std::to_string(a) + "-" + std::to_string(b));
+         return items.empty() ? std::string() : Join(items);
+       }},
+      {{"min_overlap", "a number in (0, 1]",
+        "the share of the smaller footprint two epochs must share to be a pair"},
+       [](const Value& v, C* c) { c->options.min_overlap = cv::Number(v, 0, 1, "(]"); },
+       [](const C& c) { return cv::Text(c.options.min_overlap); }},
+      {{"classes", "a list of LAS classifications (integers 0 to 255), or nothing",
+        "LAS inputs: keep only the points of these classes (e.g. [2] for ground); nothing = all"},
+       [](const Value& v, C* c) { c->classes = cv::Classes(v); },
+       [](const C& c) { return cv::ListText(c.classes); }},
+      {{"columns", "a list of 3 or 4 column names or 1-based positions, or nothing",
+        "text clouds: the columns of x, y, z and optionally the weight"},
+       [](const Value& v, C* c) { c->columns = cv::Columns(v); },
+       [](const C& c) { return cv::ListText(c.columns); }},
+      Option("cost"),
+      Option("prealign"),
+      Option("loss"),
+      Option("loss_scale"),
+      Option("trust_region"),
+      Option("line_search"),
+      Option("linear_solver"),
+      Option("max_iterations"),
+      Option("function_tolerance"),
+      Option("trim_fraction"),
+      Option("normal_distance"),
+      Option("slope_weight"),
+      Option("gap_weight"),
+      Option("density_correction"),
+      Option("free"),
+      Option("levels"),
+      Option("level_factor"),
+      Option("subsample"),
+      Option("multi_start"),
+      Option("multi_start_angle_deg"),
+      Option("multi_start_shift"),
+      Option("stddev"),
+      Option("stddev_subsamples"),
+      Option("wide_search"),
+      Option("stable"),
+      Option("stable_sigmas"),
+      Option("stable_grow_sigmas"),
+      Option("domain"),
+      Option("domain_max_edge_spacings"),
+      Option("domain_min_thinness"),
+      Option("max_fold_fraction"),
+      Option("covariance"),
+      Option("threads"),
+      Option("cell_kernel"),
+      {{"output", "a file name, or nothing", "the series JSON"},
+       [](const Value& v, C* c) { c->output = cv::Path(v, false); },
+       [](const C& c) { return c.output; }},
+      {{"aligned_dir", "a folder, or nothing",
+        "each epoch moved into the reference's frame, named as its file (.ply unless .xyz, .txt or "
+        ".ply)"},
+       [](const Value& v, C* c) { c->aligned_dir = cv::Path(v, false); },
+       [](const C& c) { return c.aligned_dir; }},
+      {{"progress", "true or false", "a line per stage on stderr"},
+       [](const Value& v, C* c) { c->progress = cv::Boolean(v); },
+       [](const C& c) { return cv::Text(c.progress); }},
+  });
+  return table;
+}
+
+bool SameFile(const std::string& a, const std::string& b) {
+  struct stat sa, sb;
+  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
+                    sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
+}
+
+int ResolveReference(const SeriesConfig& config) {
+  const std::string& text = config.reference;
+  const int count = static_cast<int>(config.surfaces.size());
+  const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c));
+  });
+  if (digits) {
+    const long index = text.size() > 9 ? count : std::stol(text);
+    if (index >= count) {
+      throw InputError(config.Where("reference") + ": epoch " + text + " is beyond the " +
+                       std::to_string(count) + " epochs (0-based)");
+    }
+    return static_cast<int>(index);
+  }
+  for (int k = 0; k < count; ++k) {
+    if (SameFile(text, config.surfaces[k])) return k;
+  }
+  throw InputError(config.Where("reference") + ": '" + text +
+                   "' is neither an epoch index nor one of the " + std::to_string(count) +
+                   " surfaces");
+}
+
+}  // namespace
+
+std::string SeriesConfig::Where(const std::string& key) const {
+  const auto found = origin.find(key);
+  if (found != origin.end()) return found->second;
+  return (config_file.empty() ? "" : config_file + ": ") + "key '" + key + "'";
+}
+
+const std::vector<ConfigKey>& SeriesConfigKeys() { return Table().keys(); }
+
+std::string SeriesConfigValue(const SeriesConfig& config, const std::string& key) {
+  return Table().Get(config, key);
+}
+
+void ApplySeriesYaml(const std::string& yaml_text, const std::string& file, SeriesConfig* config) {
+  Table().ApplyYaml(yaml_text, file, config);
+}
+
+void ApplySeriesConfigFile(const std::string& path, SeriesConfig* config) {
+  Table().ApplyFile(path, config);
+}
+
+void ApplySeriesSetting(const std::string& key, const std::string& value, const std::string& where,
+                        SeriesConfig* config) {
+  Table().Set(key, value, where, config);
+}
+
+void ApplySeriesArguments(const std::vector<std::string>& files, SeriesConfig* config) {
+  config->surfaces = files;
+  config->origin["surfaces"] = "arguments EPOCH";
+}
+
+std::string AlignedEpochPath(const SeriesConfig& config, int k) {
+  if (config.aligned_dir.empty()) return "";
+  namespace fs = std::filesystem;
+  fs::path name = fs::path(config.surfaces[k]).filename();
+  std::string ext = name.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".xyz" && ext != ".txt" && ext != ".ply") name.replace_extension(".ply");
+  return (fs::path(config.aligned_dir) / name).string();
+}
+
+void FinishSeriesConfig(SeriesConfig* config) {
+  const std::string where = config->Where("surfaces");
+  if (config->surfaces.size() < 2) {
+    throw InputError(where + ": a series needs at least 2 surfaces, got " +
+                     std::to_string(config->surfaces.size()));
+  }
+  std::error_code error;
+  for (const std::string& file : config->surfaces) {
+    if (!std::filesystem::is_regular_file(file, error))
+      throw InputError(where + ": no such file '" + file + "'");
+  }
+  config->options.reference = ResolveReference(*config);
+  const int count = static_cast<int>(config->surfaces.size());
+  for (const auto& [a, b] : config->pairs) {
+    if (a >= count || b >= count || a == b) {
+      throw InputError(config->Where("pairs") + ": " + std::to_string(a) + "-" + std::to_string(b) +
+                       " does not name two different epochs of the " + std::to_string(count));
+    }
+  }
+  config->options.pairs = config->pairs;
+  if (!config->output.empty()) {
+    CheckOutputPath(config->output, config->Where("output"));
+    for (const std::string& file : config->surfaces) {
+      if (SameFile(config->output, file)) {
+        throw InputError(config->Where("output") + ": '" + config->output +
+                         "' is one of the surfaces");
+      }
+    }
+  }
+  if (!config->aligned_dir.empty()) {
+    if (!std::filesystem::is_directory(config->aligned_dir, error)) {
+      throw InputError(config->Where("aligned_dir") + ": no such folder '" + config->aligned_dir +
+                       "'");
+    }
+    for (int k = 0; k < count; ++k) {
+      const std::string path = AlignedEpochPath(*config, k);
+      for (const std::string& file : config->surfaces) {
+        if (SameFile(path, file)) {
+          throw InputError(config->Where("aligned_dir") + ": epoch " + std::to_string(k) +
+                           " would be written over '" + file + "'");
+        }
+      }
+    }
+  }
+  std::string message;
+  if (!config->options.align.IsValid(&message)) throw InputError("series settings: " + message);
+}
+
+}  // namespace surfreg

@@ -1,0 +1,240 @@
+#include "tools/series_run.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "io/atomic_file.h"
+#include "io/surface_reader.h"
+#include "io/surface_writer.h"
+#include "measure/input_error.h"
+#include "registration/align.h"
+#include "terrain/geo_frame.h"
+#include "tools/json_writer.h"
+#include "tools/transform_file.h"
+#include "tools/transform_json.h"
+
+namespace surfreg {
+namespace {
+
+// Every epoch read as `align` reads a point file or raster; their CRSs must
+// be one projected CRS (or none): the series is solved in the files' own
+// coordinates.
+std::vector<Surface> ReadEpochs(const SeriesConfig& config, std::string* units) {
+  ReadOptions read;
+  read.classes = config.classes;
+  read.columns = config.columns;
+  read.threads = config.options.align.num_threads;
+  std::vector<Surface> epochs;
+  std::string first_crs_name;
+  int first_crs = -1;
+  for (std::size_t k = 0; k < config.surfaces.size(); ++k) {
+    const std::string& path = config.surfaces[k];
+    std::string crs_text;
+    epochs.push_back(ReadSurface(path, read, &crs_text));
+    const Crs crs = ParseCrs(crs_text, path);
+    if (crs.kind == CrsKind::kGeographic) {
+      throw InputError(path + ": coordinates in longitude and latitude (" + crs.name +
+                       "); series works in a projected CRS: reproject the epochs first (e.g. "
+                       "gdalwarp -t_srs to UTM)");
+    }
+    if (crs.kind == CrsKind::kNone) continue;
+    *units = crs.metres_per_unit == 1                         ? "m"
+             : std::fabs(crs.metres_per_unit - 0.3048) < 1e-6 ? "ft"
+                                                              : "units";
+    if (first_crs < 0) {
+      first_crs = static_cast<int>(k);
+      first_crs_name = crs.wkt;
+    } else if (crs.wkt != first_crs_name) {
+      throw InputError(path + ": its CRS (" + crs.name + ") is not that of " +
+                       config.surfaces[first_crs] + "; give every epoch in one CRS");
+    }
+  }
+  return epochs;
+}
+
+// Each epoch after the next in time, both moved into the reference's frame.
+std::vector<ConsecutiveChange> Consecutive(const std::vector<Surface>& epochs,
+                                           const SeriesResult& result,
+                                           const SeriesOptions& options) {
+  std::vector<ConsecutiveChange> changes;
+  MeasureOptions measure;
+  measure.domain = options.align.domain;
+  measure.threads = options.align.num_threads;
+  measure.allow_empty_overlap = true;
+  measure.keep_node_gaps = true;
+  for (std::size_t k = 0; k + 1 < epochs.size(); ++k) {
+    ConsecutiveChange change;
+    change.from = static_cast<int>(k);
+    change.to = static_cast<int>(k + 1);
+    const Surface from = TransformSurface(epochs[k], result.epochs[k].matrix);
+    const Surface to = TransformSurface(epochs[k + 1], result.epochs[k + 1].matrix);
+    change.measure = Measure(from, to, measure);
+    change.dz = ComputeDzStatistics(change.measure.dz_a);
+    change.measure.dz_a.clear();
+    change.measure.dz_b.clear();
+    change.measure.node_area_a.clear();
+    changes.push_back(std::move(change));
+  }
+  return changes;
+}
+
+std::string MatrixJson(const Eigen::Matrix4d& m) {
+  std::vector<std::string> rows;
+  for (int i = 0; i < 4; ++i) {
+    rows.push_back(JsonArray(
+        {JsonNumber(m(i, 0)), JsonNumber(m(i, 1)), JsonNumber(m(i, 2)), JsonNumber(m(i, 3))}));
+  }
+  return JsonArray(rows);
+}
+
+std::string Numbers3(const std::array<double, 3>& v) {
+  return JsonArray({JsonNumber(v[0]), JsonNumber(v[1]), JsonNumber(v[2])});
+}
+
+std::string SeriesJson(const SeriesRun& run) {
+  const SeriesResult& r = run.result;
+  std::vector<std::string> epochs, pairs, consecutive;
+  for (std::size_t k = 0; k < r.epochs.size(); ++k) {
+    const SeriesEpoch& e = r.epochs[k];
+    JsonObject o;
+    o.Int("index", static_cast<int64_t>(k))
+        .String("file", run.config.surfaces[k])
+        .Raw("matrix", MatrixJson(e.matrix))
+        .String("pdal_matrix", MatrixOneLine(e.matrix))
+        .Raw("euler_deg", Numbers3(e.euler_deg))
+        .Raw("translation", Numbers3(e.translation))
+        .Raw("centre", Numbers3(e.centre))
+        .Object("stddev", StddevJson(e.stddev))
+        .Raw("covariance", CovarianceJson(e.covariance))
+        .String("verdict", VerdictName(e.verdict))
+        .String("verdict_reason", e.verdict_reason)
+        .Int("pairs", e.pairs);
+    const std::string aligned = AlignedEpochPath(run.config, static_cast<int>(k));
+    if (!aligned.empty()) o.String("aligned", aligned);
+    epochs.push_back(o.str());
+  }
+  for (const SeriesPair& p : r.pairs) {
+    const double smaller_before = std::min(p.before.domain_area_a, p.before.domain_area_b);
+    const double smaller_after = std::min(p.after.domain_area_a, p.after.domain_area_b);
+    JsonObject pairwise;
+    pairwise.Raw("matrix", MatrixJson(p.pairwise.matrix))
+        .Object("stddev", StddevJson(p.pairwise.stddev))
+        .String("verdict", VerdictName(p.pairwise.verdict))
+        .String("verdict_reason", p.pairwise.verdict_reason)
+        .Fixed("seconds", p.pairwise.seconds, 6);
+    JsonObject o;
+    o.Int("reference", p.reference)
+        .Int("moving", p.moving)
+        .Number("overlap", p.overlap)
+        .Raw("used", p.used ? "true" : "false")
+        .String("reason", p.reason)
+        .Object(
+            "before",
+            MeasuresJson(p.before, smaller_before > 0 ? p.before.overlap_area / smaller_before : 0))
+        .Object("after",
+                MeasuresJson(p.after, smaller_after > 0 ? p.after.overlap_area / smaller_after : 0))
+        .Number("misclosure_deg", p.misclosure_deg)
+        .Number("misclosure_shift", p.misclosure_shift)
+        .Number("misclosure_chi2", p.misclosure_chi2)
+        .Object("pairwise", pairwise);
+    pairs.push_back(o.str());
+  }
+  for (const ConsecutiveChange& c : run.consecutive) {
+    JsonObject o;
+    o.Int("from", c.from)
+        .Int("to", c.to)
+        .Number("overlap_area", c.measure.overlap_area)
+        .Number("mean_abs_dz", c.measure.mean_abs_dz)
+        .Number("net_volume", c.measure.signed_volume)
+        .Number("fill_volume", c.measure.volume_above)
+        .Number("cut_volume", c.measure.volume_below)
+        .Object("dz", DzStatisticsJson(c.dz));
+    consecutive.push_back(o.str());
+  }
+  JsonObject json;
+  json.Int("reference", r.reference)
+      .Raw("epochs", JsonArray(epochs))
+      .Raw("pairs", JsonArray(pairs))
+      .Raw("consecutive", JsonArray(consecutive))
+      .Int("iterations", r.iterations)
+      .String("termination", r.termination)
+      .Fixed("pairwise_seconds", r.pairwise_seconds, 6)
+      .Fixed("seconds", r.seconds, 6);
+  return json.str() + "\n";
+}
+
+}  // namespace
+
+SeriesRun AlignSeriesFiles(SeriesConfig config, std::optional<std::vector<Surface>> epochs,
+                           const std::function<void(const std::string&)>& on_stage) {
+  SeriesRun run;
+  run.config = std::move(config);
+  if (on_stage) on_stage("reading " + std::to_string(run.config.surfaces.size()) + " epochs");
+  run.epochs = epochs ? std::move(*epochs) : ReadEpochs(run.config, &run.units);
+  SeriesOptions options = run.config.options;
+  options.on_stage = on_stage;
+  run.result = AlignSeries(run.epochs, options);
+  if (on_stage) on_stage("measuring consecutive epochs");
+  run.consecutive = Consecutive(run.epochs, run.result, options);
+  for (std::size_t k = 0; k < run.epochs.size(); ++k) {
+    const std::string path = AlignedEpochPath(run.config, static_cast<int>(k));
+    if (path.empty()) continue;
+    WriteSurface(path, TransformSurface(run.epochs[k], run.result.epochs[k].matrix),
+                 run.config.Where("aligned_dir"),
+                 {"surfreg series: " + run.config.surfaces[k] + " in the frame of " +
+                  run.config.surfaces[run.result.reference]});
+  }
+  run.json = SeriesJson(run);
+  if (!run.config.output.empty())
+    WriteFileAtomically(run.config.output, run.json, run.config.Where("output"));
+  return run;
+}
+
+std::string SeriesSummary(const SeriesRun& run) {
+  const SeriesResult& r = run.result;
+  std::string text;
+  char line[512];
+  std::snprintf(line, sizeof line, "reference:   epoch %d (%s)\n", r.reference,
+                run.config.surfaces[r.reference].c_str());
+  text += line;
+  for (std::size_t k = 0; k < r.epochs.size(); ++k) {
+    const SeriesEpoch& e = r.epochs[k];
+    const double angle = Eigen::AngleAxisd(e.matrix.topLeftCorner<3, 3>()).angle() * 180 / M_PI;
+    const double shift = std::hypot(e.translation[0], e.translation[1], e.translation[2]);
+    const double sigma_shift = std::sqrt(e.stddev[3] * e.stddev[3] + e.stddev[4] * e.stddev[4] +
+                                         e.stddev[5] * e.stddev[5]);
+    std::snprintf(line, sizeof line,
+                  "epoch %zu:     rotation %.4f deg, shift %.4g (sigma %.2g), %d pairs, %s  %s\n",
+                  k, angle, shift, sigma_shift, e.pairs, VerdictName(e.verdict),
+                  run.config.surfaces[k].c_str());
+    text += line;
+  }
+  for (const SeriesPair& p : r.pairs) {
+    if (!p.used) {
+      std::snprintf(line, sizeof line, "pair %d-%d:    overlap %.2f, not used: %s\n", p.reference,
+                    p.moving, p.overlap, p.reason.c_str());
+    } else {
+      std::snprintf(line, sizeof line,
+                    "pair %d-%d:    overlap %.2f, mean |dz| %.4g -> %.4g, misclosure %.4f deg %.3g "
+                    "(chi2 %.2f)\n",
+                    p.reference, p.moving, p.overlap, p.before.mean_abs_dz, p.after.mean_abs_dz,
+                    p.misclosure_deg, p.misclosure_shift, p.misclosure_chi2);
+    }
+    text += line;
+  }
+  for (const ConsecutiveChange& c : run.consecutive) {
+    std::snprintf(line, sizeof line, "change %d-%d:  %s, net volume %.4g\n", c.from, c.to,
+                  DzStatisticsLine(c.dz, run.units).c_str(), c.measure.signed_volume);
+    text += line;
+  }
+  std::snprintf(line, sizeof line, "time:        %.2f s (pairwise alignments %.2f s)\n", r.seconds,
+                r.pairwise_seconds);
+  text += line;
+  if (!run.config.output.empty()) text += "output:      " + run.config.output + "\n";
+  return text;
+}
+
+}  // namespace surfreg
