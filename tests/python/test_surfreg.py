@@ -1,5 +1,5 @@
 """The Python module surfreg (tools/python): its typed results (Surface,
-Measure, Alignment, TerrainChange) against known answers, against the CLI's
+Measure, Alignment, TerrainChange, Series) against known answers, against the CLI's
 --json output on the same inputs, bad input, and the GIL.
 
 Run by ctest (tests/CMakeLists.txt) with PYTHONPATH holding the built module
@@ -260,6 +260,43 @@ def test_align_equals_the_cli_json(tmp_path):
         assert got.verdict == expected["verdict"] and got.iterations == expected["iterations"]
         assert got.stddev == expected["stddev"]
         same_measure(got.after, expected["after"])
+
+
+def test_series_recovers_each_epochs_motion_and_equals_the_cli_json(tmp_path):
+    """Three epochs of one field, each moved by its own motion: the joint
+    matrices are the truth relative to the reference; the same numbers as
+    `surfreg series --json` on the same files."""
+    rng = np.random.default_rng(11)
+    world = [np.eye(4)]
+    epochs = []
+    for k in range(3):
+        points = sample(1500, 0.0 + 12 * k, 40.0 + 12 * k, 20 + k)
+        if k:
+            w = np.eye(4)
+            w[:3, :3] = rotation(rng.normal(size=3), 0.5 + 0.3 * k)
+            w[:3, 3] = rng.normal(0, 0.3, 3)
+            world.append(w)
+        epochs.append((points - world[k][:3, 3]) @ world[k][:3, :3])  # W^-1 p
+    files = [write_xyz(tmp_path / ("e%d.xyz" % k), e) for k, e in enumerate(epochs)]
+    got = surfreg.series(files, reference=1)
+    assert len(got.epochs) == 3 and got.reference == 1
+    np.testing.assert_array_equal(got.epochs[1].matrix, np.eye(4))
+    for k, epoch in enumerate(got.epochs):
+        truth = np.linalg.inv(world[1]) @ world[k]
+        delta = epoch.matrix[:3, :3] @ truth[:3, :3].T
+        assert np.degrees(np.arccos(min(1.0, (np.trace(delta) - 1) / 2))) < 0.02
+        centre = np.append(epoch.centre, 1.0)
+        assert np.linalg.norm((epoch.matrix @ centre - truth @ centre)[:3]) < 0.01
+    expected = cli_json("series", *files, "--reference=1")
+    for epoch, want in zip(got.epochs, expected["epochs"]):
+        np.testing.assert_array_equal(epoch.matrix, np.array(want["matrix"]))
+        assert epoch.stddev == want["stddev"] and epoch.verdict == want["verdict"]
+    assert [(p.reference, p.moving) for p in got.pairs] == [(p["reference"], p["moving"]) for p in expected["pairs"]]
+    # Arrays work as files do; a series that falls apart is refused in one line.
+    np.testing.assert_array_equal(surfreg.series(epochs, reference=1).epochs[2].matrix, got.epochs[2].matrix)
+    far = epochs[2] + np.array([1000.0, 0.0, 0.0])
+    with pytest.raises(surfreg.InputError, match="overlaps no other"):
+        surfreg.series([epochs[0], epochs[1], far])
 
 
 def test_terrain_change_equals_the_cli_measure_json(tmp_path):
