@@ -33,9 +33,7 @@ namespace py = pybind11;
 namespace surfreg::python {
 namespace {
 
-std::string Keyword(const py::handle& name) {
-  return "keyword '" + py::str(name).cast<std::string>() + "'";
-}
+std::string Keyword(const py::handle& name) { return "keyword '" + py::str(name).cast<std::string>() + "'"; }
 
 py::array_t<double> Array(const std::vector<double>& values) {
   return py::array_t<double>(static_cast<py::ssize_t>(values.size()), values.data());
@@ -53,8 +51,7 @@ py::array_t<double> Points(const Surface& s) {
   return out;
 }
 
-Surface ReadSurfacePy(const py::object& path, const py::object& classes,
-                      const py::object& columns) {
+Surface ReadSurfacePy(const py::object& path, const py::object& classes, const py::object& columns) {
   if (!IsPath(path)) throw InputError("argument path: expected a file path");
   ReadOptions options;
   if (!classes.is_none()) options.classes = classes.cast<std::vector<int>>();
@@ -69,16 +66,15 @@ Surface ReadSurfacePy(const py::object& path, const py::object& classes,
 MeasureSummary MeasurePy(const py::object& a, const py::object& b, const py::kwargs& kwargs) {
   MeasureOptions options;
   for (const auto& [name, value] : kwargs) {
-    SetOption(MeasureOptionKeys(), py::str(name).cast<std::string>(), ValueOf(value, Keyword(name)),
-              &options);
+    SetOption(MeasureOptionKeys(), py::str(name).cast<std::string>(), ValueOf(value, Keyword(name)), &options);
   }
   const Surface sa = SurfaceOf(a, "array A"), sb = SurfaceOf(b, "array B");
   py::gil_scoped_release release;  // the inputs are C++ copies by now
   return Measure(sa, sb, options);
 }
 
-AlignResult AlignPy(const py::object& reference, const py::object& moving,
-                    const py::object& initial_matrix, const py::kwargs& kwargs) {
+AlignResult AlignPy(const py::object& reference, const py::object& moving, const py::object& initial_matrix,
+                    const py::kwargs& kwargs) {
   AlignOptions options;
   for (const auto& [name, value] : kwargs) {
     SetAlignOption(py::str(name).cast<std::string>(), ValueOf(value, Keyword(name)), &options);
@@ -86,9 +82,7 @@ AlignResult AlignPy(const py::object& reference, const py::object& moving,
   if (!initial_matrix.is_none()) {
     const Eigen::Matrix4d m = initial_matrix.cast<Eigen::Matrix4d>();
     if (!IsRigid(m)) {
-      throw InputError(
-          "keyword 'initial_matrix': not a rigid motion (a rotation and a shift, last row 0 0 0 "
-          "1)");
+      throw InputError("keyword 'initial_matrix': not a rigid motion (a rotation and a shift, last row 0 0 0 1)");
     }
     options.initial_reference_from_moving = Rigid3d::FromMatrix(m);
   }
@@ -99,8 +93,7 @@ AlignResult AlignPy(const py::object& reference, const py::object& moving,
   return Align(r, m, options);
 }
 
-TerrainMeasure TerrainChangePy(const py::object& reference, const py::object& moving,
-                               const py::kwargs& kwargs) {
+TerrainMeasure TerrainChangePy(const py::object& reference, const py::object& moving, const py::kwargs& kwargs) {
   TerrainRequest request;
   MeasureOptions options;
   options.detect_change = true;
@@ -118,20 +111,13 @@ TerrainMeasure TerrainChangePy(const py::object& reference, const py::object& mo
       SetOption(MeasureOptionKeys(), key, std::move(v), &options);
     }
   }
-  for (const char* key : {"dod_png", "histogram_png", "change_csv", "known_matrix", "max_memory",
-                          "tile_stats", "patch_shifts", "mask_raster"}) {
-    if (request.Given(key))
-      throw InputError(request.Where(key) + ": terrain_change does not take it (align's key)");
+  for (const char* key : {"dod_png", "histogram_png", "change_csv", "known_matrix", "max_memory", "tile_stats",
+                          "patch_shifts", "mask_raster"}) {
+    if (request.Given(key)) throw InputError(request.Where(key) + ": terrain_change does not take it (align's key)");
   }
   std::optional<Surface> a, b;
-  if (IsPath(reference))
-    request.reference = PathText(reference);
-  else
-    a = SurfaceOf(reference, "array reference");
-  if (IsPath(moving))
-    request.moving = PathText(moving);
-  else
-    b = SurfaceOf(moving, "array moving");
+  if (IsPath(reference)) request.reference = PathText(reference); else a = SurfaceOf(reference, "array reference");
+  if (IsPath(moving)) request.moving = PathText(moving); else b = SurfaceOf(moving, "array moving");
   if (a) request.reference = a->source;
   if (b) request.moving = b->source;
   py::gil_scoped_release release;
@@ -163,12 +149,9 @@ py::dict Stddev(const std::array<double, 6>& values) {
 }
 
 void BindResults(py::module_& m) {
-  py::class_<MeasureSummary>(m, "Measure",
-                             "B measured against A (measure/measures.h); lengths in data units")
-      .def_readonly("rho_d", &MeasureSummary::rho_d,
-                    "the volume between the surfaces over the overlap")
-      .def_readonly("rho_d_axial", &MeasureSummary::rho_d_axial,
-                    "mean |dz| at the nodes in the overlap")
+  py::class_<MeasureSummary>(m, "Measure", "B measured against A (measure/measures.h); lengths in data units")
+      .def_readonly("rho_d", &MeasureSummary::rho_d, "the volume between the surfaces over the overlap")
+      .def_readonly("rho_d_axial", &MeasureSummary::rho_d_axial, "mean |dz| at the nodes in the overlap")
       .def_readonly("rho_s", &MeasureSummary::rho_s, "1 / rho_d (1 when rho_d = 0)")
       .def_readonly("overlap_area", &MeasureSummary::overlap_area)
       .def_readonly("weight_integral", &MeasureSummary::weight_integral)
@@ -187,12 +170,10 @@ void BindResults(py::module_& m) {
       .def_readonly("n_points_b", &MeasureSummary::n_points_b)
       .def_readonly("n_overlap_nodes", &MeasureSummary::n_overlap_nodes)
       .def_readonly("n_cells", &MeasureSummary::n_cells)
-      .def_property_readonly("volume_mode",
-                             [](const MeasureSummary& s) { return VolumeModeName(s.volume_mode); })
-      .def_property_readonly("domain",
-                             [](const MeasureSummary& s) {
-                               return s.domain_kind == DomainKind::kData ? "data" : "hull";
-                             })
+      .def_property_readonly("volume_mode", [](const MeasureSummary& s) { return VolumeModeName(s.volume_mode); })
+      .def_property_readonly("domain", [](const MeasureSummary& s) {
+        return s.domain_kind == DomainKind::kData ? "data" : "hull";
+      })
       .def("report", &MeasureSummary::BriefReport, py::arg("units") = "units",
            "the measures for people, lengths named `units`")
       .def("__repr__", [](const MeasureSummary& s) {
@@ -200,17 +181,14 @@ void BindResults(py::module_& m) {
                " rho_d_axial=" + py::repr(py::float_(s.rho_d_axial)).cast<std::string>() + ">";
       });
 
-  py::class_<AlignResult>(m, "Alignment",
-                          "moving aligned onto reference (registration/align_result.h)")
-      .def_readonly("matrix", &AlignResult::matrix,
-                    "4 x 4, moving input coordinates -> reference's")
+  py::class_<AlignResult>(m, "Alignment", "moving aligned onto reference (registration/align_result.h)")
+      .def_readonly("matrix", &AlignResult::matrix, "4 x 4, moving input coordinates -> reference's")
       .def_readonly("rotation_vector", &AlignResult::rotation_vector, "radians")
       .def_readonly("euler_deg", &AlignResult::euler_deg, "rx, ry, rz: R = Rz Ry Rx")
       .def_readonly("translation", &AlignResult::translation, "the shift of the moving centroid")
       .def_readonly("centre", &AlignResult::centre, "the moving centroid, input coordinates")
-      .def_property_readonly(
-          "stddev", [](const AlignResult& r) { return Stddev(r.stddev); },
-          "standard deviations: rx, ry, rz (radians), tx, ty, tz")
+      .def_property_readonly("stddev", [](const AlignResult& r) { return Stddev(r.stddev); },
+                             "standard deviations: rx, ry, rz (radians), tx, ty, tz")
       .def_readonly("covariance", &AlignResult::covariance, "6 x 6, rx ry rz tx ty tz")
       .def_readonly("condition_number", &AlignResult::condition_number)
       .def_readonly("before", &AlignResult::before, "Measure at the initial motion")
@@ -224,9 +202,7 @@ void BindResults(py::module_& m) {
       .def_readonly("wide_search_ran", &AlignResult::wide_search_ran)
       .def_readonly("stddev_source", &AlignResult::stddev_source)
       .def_readonly("seconds", &AlignResult::seconds)
-      .def(
-          "report", [](const AlignResult& r) { return r.FullReport(); },
-          "the summary `surfreg align` prints")
+      .def("report", [](const AlignResult& r) { return r.FullReport(); }, "the summary `surfreg align` prints")
       .def("__repr__", [](const AlignResult& r) {
         return std::string("<surfreg.Alignment ") + VerdictName(r.verdict) + ">";
       });
@@ -284,38 +260,27 @@ void BindResults(py::module_& m) {
       .def_readonly("min", &DzStatistics::min)
       .def_readonly("max", &DzStatistics::max);
 
-  py::class_<TerrainMeasure>(m, "TerrainChange",
-                             "two surveys differenced as they lie (terrain/terrain_measure.h)")
+  py::class_<TerrainMeasure>(m, "TerrainChange", "two surveys differenced as they lie (terrain/terrain_measure.h)")
       .def_readonly("measure", &TerrainMeasure::summary, "B against A in the common frame")
       .def_readonly("dz", &TerrainMeasure::dz)
-      .def_property_readonly(
-          "dz_a", [](const TerrainMeasure& t) { return Array(t.summary.dz_a); },
-          "dz at each sample of A, input order (NaN outside the overlap)")
-      .def_property_readonly("fill",
-                             [](const TerrainMeasure& t) { return t.summary.fill_detected; })
+      .def_property_readonly("dz_a", [](const TerrainMeasure& t) { return Array(t.summary.dz_a); },
+                             "dz at each sample of A, input order (NaN outside the overlap)")
+      .def_property_readonly("fill", [](const TerrainMeasure& t) { return t.summary.fill_detected; })
       .def_property_readonly("cut", [](const TerrainMeasure& t) { return t.summary.cut_detected; })
-      .def_property_readonly(
-          "net",
-          [](const TerrainMeasure& t) { return t.summary.fill_detected - t.summary.cut_detected; })
-      .def_property_readonly(
-          "net_sigma_independent",
-          [](const TerrainMeasure& t) {
-            return t.uncertainty.active ? t.uncertainty.budget.net_sigma_independent : std::nan("");
-          },
-          "the net change's sigma, cells independent (NaN without sigma_reference / sigma_moving)")
-      .def_property_readonly(
-          "net_sigma_correlated",
-          [](const TerrainMeasure& t) {
-            return t.uncertainty.active ? t.uncertainty.budget.net_sigma_correlated : std::nan("");
-          },
-          "the net change's sigma, errors fully correlated")
+      .def_property_readonly("net", [](const TerrainMeasure& t) {
+        return t.summary.fill_detected - t.summary.cut_detected;
+      })
+      .def_property_readonly("net_sigma_independent", [](const TerrainMeasure& t) {
+        return t.uncertainty.active ? t.uncertainty.budget.net_sigma_independent : std::nan("");
+      }, "the net change's sigma, cells independent (NaN without sigma_reference / sigma_moving)")
+      .def_property_readonly("net_sigma_correlated", [](const TerrainMeasure& t) {
+        return t.uncertainty.active ? t.uncertainty.budget.net_sigma_correlated : std::nan("");
+      }, "the net change's sigma, errors fully correlated")
       .def_property_readonly("frame", [](const TerrainMeasure& t) { return t.frame.Describe(); })
       .def_readonly("b_reprojected_from", &TerrainMeasure::b_reprojected_from)
       .def_readonly("metric", &TerrainMeasure::metric, "lengths in metres")
-      .def(
-          "report",
-          [](const TerrainMeasure& t) { return t.summary.BriefReport(t.metric ? "m" : "units"); },
-          "the measures for people, in metres in a metric frame");
+      .def("report", [](const TerrainMeasure& t) { return t.summary.BriefReport(t.metric ? "m" : "units"); },
+           "the measures for people, in metres in a metric frame");
 }
 
 }  // namespace
@@ -324,26 +289,20 @@ void BindResults(py::module_& m) {
 PYBIND11_MODULE(surfreg, m) {
   using namespace surfreg;
   using namespace surfreg::python;
-  m.doc() =
-      "surfreg: the volume between two height-field surfaces, their rigid alignment, and terrain "
-      "change";
+  m.doc() = "surfreg: the volume between two height-field surfaces, their rigid alignment, and terrain change";
   m.attr("__version__") = SURFREG_VERSION;
   // Bad input: a ValueError (this subclass) with the library's one-line message.
   py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
 
-  py::class_<Surface>(m, "Surface",
-                      "a height field z = f(x, y) sampled at points (measure/surface.h)")
-      .def(py::init([](const py::object& points, const std::string& name) {
-             return SurfaceFromArray(points, name);
-           }),
+  py::class_<Surface>(m, "Surface", "a height field z = f(x, y) sampled at points (measure/surface.h)")
+      .def(py::init([](const py::object& points, const std::string& name) { return SurfaceFromArray(points, name); }),
            py::arg("points"), py::arg("name") = "array",
            "from an (N, 3) or (N, 4) array of x, y, z[, weight]")
       .def_property_readonly("points", &Points, "(N, 3) x, y, z in input coordinates")
-      .def_property_readonly("weights",
-                             [](const Surface& s) -> py::object {
-                               if (s.weight.empty()) return py::none();
-                               return Array(s.weight);
-                             })
+      .def_property_readonly("weights", [](const Surface& s) -> py::object {
+        if (s.weight.empty()) return py::none();
+        return Array(s.weight);
+      })
       .def_readonly("name", &Surface::source)
       .def_property_readonly("is_raster", &Surface::raster_grid)
       .def("__len__", &Surface::size)
@@ -362,8 +321,7 @@ PYBIND11_MODULE(surfreg, m) {
         "B against A. A surface is a Surface, a file path or an (N, 3) / (N, 4) array.\n"
         "Options: volume, weights, lod, min_overlap_fraction, domain, domain_max_edge_spacings,\n"
         "domain_min_thinness (docs/measure.md).");
-  m.def("align", &AlignPy, py::arg("reference"), py::arg("moving"),
-        py::arg("initial_matrix") = py::none(),
+  m.def("align", &AlignPy, py::arg("reference"), py::arg("moving"), py::arg("initial_matrix") = py::none(),
         "align(reference, moving, initial_matrix=None, **options) -> Alignment\n\n"
         "The rigid motion of moving onto reference (matrix: moving -> reference, input\n"
         "coordinates), the measures before and after, sigma and the verdict. initial_matrix:\n"
