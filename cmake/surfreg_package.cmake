@@ -29,7 +29,7 @@ set(SURFREG_PUBLIC_MEASURE_HEADERS
   convex_hull.h delaunay.h domain.h dz_statistics.h grid_mesh.h
   input_error.h mask_region.h measure_keys.h measures.h mesh.h option_keys.h surface.h tasks.h volume.h)
 set(SURFREG_PUBLIC_REGISTRATION_HEADERS
-  align.h align_keys.h align_options.h align_result.h holdout.h rigid_motion.h stable_terrain.h)
+  align.h align_keys.h align_options.h align_result.h holdout.h rigid_motion.h series.h stable_terrain.h)
 set(SURFREG_PUBLIC_FACES_HEADERS face_frame.h jaw.h symmetry.h)
 set(SURFREG_PUBLIC_TERRAIN_HEADERS change_budget.h change_uncertainty.h geo_frame.h terrain.h
   terrain_keys.h terrain_measure.h terrain_request.h tiled_measure.h tiled_motion.h tiled_partial.h)

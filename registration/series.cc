@@ -18,11 +18,15 @@
 
 #include "measure/input_error.h"
 #include "measure/measures.h"
+#include "measure/tasks.h"
 #include "registration/align.h"
 #include "registration/rigid_motion.h"
+#include "registration/series_internal.h"
 
 namespace surfreg {
 namespace {
+
+using series_internal::Whitening;
 
 using Clock = std::chrono::steady_clock;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
@@ -85,9 +89,10 @@ void Validate(const std::vector<Surface>& epochs, const SeriesOptions& options) 
 
 // The edges: the user's, or every pair overlapping enough. An epoch with no
 // edge is named with its best overlap.
-std::vector<SeriesPair> Edges(const std::vector<Surface>& epochs, const SeriesOptions& options) {
+std::vector<SeriesPair> Edges(const std::vector<Surface>& epochs, const SeriesOptions& options,
+                              const series_internal::Footprints& footprints) {
   const int n = static_cast<int>(epochs.size());
-  const Eigen::MatrixXd overlap = SeriesOverlaps(epochs);
+  const Eigen::MatrixXd overlap = series_internal::Overlaps(footprints);
   std::vector<SeriesPair> pairs;
   if (!options.pairs.empty()) {
     for (const auto& [a, b] : options.pairs) {
@@ -131,73 +136,23 @@ std::vector<SeriesPair> Edges(const std::vector<Surface>& epochs, const SeriesOp
   return pairs;
 }
 
-// The information ½ δᵀ Σ⁻¹ δ as a whitening W (WᵀW = Σ⁺): directions of
-// zero variance (locked parameters) carry no information. False when Σ is
-// not finite on the free parameters.
-bool Whitening(const Matrix6d& covariance, const std::array<bool, 6>& free, Matrix6d* whitening) {
-  Matrix6d sigma = covariance;
-  for (int k = 0; k < 6; ++k) {
-    if (!free[k]) {
-      sigma.row(k).setZero();
-      sigma.col(k).setZero();
-    }
-  }
-  if (!sigma.allFinite()) return false;
-  // Jacobi scaling first: radians and data units differ by orders of magnitude.
-  Eigen::Matrix<double, 6, 1> scale;
-  for (int k = 0; k < 6; ++k) scale[k] = sigma(k, k) > 0 ? 1 / std::sqrt(sigma(k, k)) : 0;
-  const Matrix6d scaled = scale.asDiagonal() * sigma * scale.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(scaled);
-  const double largest = eigen.eigenvalues().maxCoeff();
-  if (!(largest > 0)) return false;
-  Eigen::Matrix<double, 6, 1> inverse_root;
-  for (int k = 0; k < 6; ++k) {
-    const double value = eigen.eigenvalues()[k];
-    inverse_root[k] = value > 1e-12 * largest ? 1 / std::sqrt(value) : 0;
-  }
-  *whitening = inverse_root.asDiagonal() * eigen.eigenvectors().transpose() * scale.asDiagonal();
-  return whitening->allFinite();
-}
-
-// One edge's residual W δ: δ the difference between the relative motion
-// the two epochs' motions imply (reference_from_moving = X_r⁻¹ X_m) and the
-// pair's own, as its rotation vector and the shift of the pair's centre.
-// Each epoch's motion: X(p) = R(ω)(p − g) + g + s, all about a common origin.
-struct PairResidual {
-  Eigen::Vector3d reference_centroid, moving_centroid, centre;
-  Eigen::Matrix3d pair_rotation;
-  Eigen::Vector3d pair_shift;
-  Matrix6d whitening;
-
-  template <typename T>
-  bool operator()(const T* reference_motion, const T* moving_motion, T* residual) const {
-    using Vector3 = Eigen::Matrix<T, 3, 1>;
-    using Matrix3 = Eigen::Matrix<T, 3, 3>;
-    Matrix3 r_ref, r_mov;
-    ceres::AngleAxisToRotationMatrix(reference_motion, ceres::ColumnMajorAdapter3x3(r_ref.data()));
-    ceres::AngleAxisToRotationMatrix(moving_motion, ceres::ColumnMajorAdapter3x3(r_mov.data()));
-    const Vector3 g_ref = reference_centroid.cast<T>(), g_mov = moving_centroid.cast<T>(),
-                  c = centre.cast<T>();
-    const Vector3 s_ref(reference_motion[3], reference_motion[4], reference_motion[5]);
-    const Vector3 s_mov(moving_motion[3], moving_motion[4], moving_motion[5]);
-    // Where the moving epoch's motion takes c, then back by the reference's.
-    const Vector3 in_common = r_mov * (c - g_mov) + g_mov + s_mov;
-    const Vector3 in_reference = r_ref.transpose() * (in_common - g_ref - s_ref) + g_ref;
-    const Matrix3 error = r_ref.transpose() * r_mov * pair_rotation.transpose().cast<T>();
-    Eigen::Matrix<T, 6, 1> delta;
-    ceres::RotationMatrixToAngleAxis(ceres::ColumnMajorAdapter3x3(error.data()), delta.data());
-    delta.template tail<3>() = in_reference - c - pair_shift.cast<T>();
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> out(residual);
-    out = whitening.cast<T>() * delta;
-    return true;
-  }
-};
-
 Eigen::Vector3d Centroid(const Surface& s) {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < s.size(); ++k) sum += Eigen::Vector3d(s.xy[k].x, s.xy[k].y, s.z[k]);
   return sum / static_cast<double>(s.size()) +
          Eigen::Vector3d(s.origin[0], s.origin[1], s.origin[2]);
+}
+
+// The RMS distance of the samples from their centroid: the lever that
+// weighs rotations with translations.
+double RmsRadius(const Surface& s) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < s.size(); ++k) mean += Eigen::Vector3d(s.xy[k].x, s.xy[k].y, s.z[k]);
+  mean /= static_cast<double>(s.size());
+  double sum = 0;
+  for (std::size_t k = 0; k < s.size(); ++k)
+    sum += (Eigen::Vector3d(s.xy[k].x, s.xy[k].y, s.z[k]) - mean).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(s.size()));
 }
 
 // The epochs' motions along a spanning tree of the used edges from the
@@ -233,86 +188,6 @@ std::vector<Rigid3d> ChainedStart(int n, int reference, const std::vector<Series
   return motion;
 }
 
-// The joint covariance: the inverse of the information Σ JᵀJ of the edges'
-// whitened residuals at the solution, over the free parameters of every
-// epoch but the reference; its 6 × 6 block per epoch (zeros for the
-// reference and locked parameters). An epoch that a null direction of the
-// information moves gets NaN.
-std::vector<Matrix6d> JointCovariance(ceres::Problem& problem, int n, const SeriesOptions& options,
-                                      std::vector<std::array<double, 6>>& theta) {
-  std::vector<int> column(6 * n, -1);
-  int size = 0;
-  for (int e = 0; e < n; ++e) {
-    for (int k = 0; k < 6; ++k) {
-      if (e != options.reference && options.align.free[k]) column[6 * e + k] = size++;
-    }
-  }
-  std::vector<Matrix6d> covariance(n, Matrix6d::Zero());
-  if (size == 0) return covariance;
-  const auto epoch_of = [&theta](const double* block) {
-    for (std::size_t e = 0; e < theta.size(); ++e) {
-      if (theta[e].data() == block) return static_cast<int>(e);
-    }
-    return -1;
-  };
-  Eigen::MatrixXd information = Eigen::MatrixXd::Zero(size, size);
-  std::vector<ceres::ResidualBlockId> blocks;
-  problem.GetResidualBlocks(&blocks);
-  for (ceres::ResidualBlockId id : blocks) {
-    std::vector<double*> parameters;
-    problem.GetParameterBlocksForResidualBlock(id, &parameters);
-    Eigen::Matrix<double, 6, 6, Eigen::RowMajor> jacobian[2];
-    double residual[6];
-    double* jacobians[2] = {jacobian[0].data(), jacobian[1].data()};
-    problem.GetCostFunctionForResidualBlock(id)->Evaluate(parameters.data(), residual, jacobians);
-    const int epochs[2] = {epoch_of(parameters[0]), epoch_of(parameters[1])};
-    for (int a = 0; a < 2; ++a) {
-      for (int b = 0; b < 2; ++b) {
-        const Matrix6d block = jacobian[a].transpose() * jacobian[b];
-        for (int i = 0; i < 6; ++i) {
-          for (int j = 0; j < 6; ++j) {
-            const int row = column[6 * epochs[a] + i], col = column[6 * epochs[b] + j];
-            if (row >= 0 && col >= 0) information(row, col) += block(i, j);
-          }
-        }
-      }
-    }
-  }
-  Eigen::VectorXd scale(size);
-  for (int k = 0; k < size; ++k)
-    scale[k] = information(k, k) > 0 ? 1 / std::sqrt(information(k, k)) : 0;
-  const Eigen::MatrixXd scaled = scale.asDiagonal() * information * scale.asDiagonal();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(scaled);
-  const double largest = eigen.eigenvalues().maxCoeff();
-  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(size);
-  std::vector<bool> undetermined(size, false);
-  for (int k = 0; k < size; ++k) {
-    if (eigen.eigenvalues()[k] > 1e-12 * largest) {
-      inverse[k] = 1 / eigen.eigenvalues()[k];
-      continue;
-    }
-    for (int i = 0; i < size; ++i)
-      undetermined[i] = undetermined[i] || std::fabs(eigen.eigenvectors()(i, k)) > 1e-6;
-  }
-  for (int k = 0; k < size; ++k) undetermined[k] = undetermined[k] || scale[k] == 0;
-  const Eigen::MatrixXd joint = scale.asDiagonal() * eigen.eigenvectors() * inverse.asDiagonal() *
-                                eigen.eigenvectors().transpose() * scale.asDiagonal();
-  for (int e = 0; e < n; ++e) {
-    bool unknown = false;
-    for (int i = 0; i < 6; ++i) {
-      const int row = column[6 * e + i];
-      if (row < 0) continue;
-      unknown = unknown || undetermined[row];
-      for (int j = 0; j < 6; ++j) {
-        const int col = column[6 * e + j];
-        if (col >= 0) covariance[e](i, j) = joint(row, col);
-      }
-    }
-    if (unknown) covariance[e].setConstant(std::numeric_limits<double>::quiet_NaN());
-  }
-  return covariance;
-}
-
 }  // namespace
 
 SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions& options) {
@@ -324,7 +199,8 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
   };
   SeriesResult result;
   result.reference = options.reference;
-  result.pairs = Edges(epochs, options);
+  const series_internal::Footprints footprints = series_internal::EpochFootprints(epochs);
+  result.pairs = Edges(epochs, options, footprints);
 
   // 2. Each pair on its own.
   const Clock::time_point pairwise_start = Clock::now();
@@ -365,47 +241,53 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
     const Eigen::Vector3d w = local.RotationVector(), s = local.ShiftOf(centroid[e]);
     theta[e] = {w[0], w[1], w[2], s[0], s[1], s[2]};
   }
-  ceres::Problem problem;
-  std::vector<int> locked;
-  for (int k = 0; k < 6; ++k) {
-    if (!options.align.free[k]) locked.push_back(k);
-  }
-  for (int e = 0; e < n; ++e) {
-    problem.AddParameterBlock(theta[e].data(), 6);
-    if (e == options.reference || locked.size() == 6) {
-      problem.SetParameterBlockConstant(theta[e].data());
-    } else if (!locked.empty()) {
-      problem.SetManifold(theta[e].data(), new ceres::SubsetManifold(6, locked));
-    }
-  }
+  std::vector<series_internal::Edge> edges;
   for (const SeriesPair& p : result.pairs) {
     if (!p.used) continue;
-    auto* residual = new PairResidual;
-    residual->reference_centroid = centroid[p.reference];
-    residual->moving_centroid = centroid[p.moving];
-    residual->centre =
+    series_internal::Edge& edge = edges.emplace_back();
+    edge.reference = p.reference;
+    edge.moving = p.moving;
+    edge.centre =
         Eigen::Vector3d(p.pairwise.centre[0], p.pairwise.centre[1], p.pairwise.centre[2]) - origin;
     const Rigid3d local = to_local * p.pairwise.reference_from_moving * from_local;
-    residual->pair_rotation = local.rotation;
-    residual->pair_shift = local.ShiftOf(residual->centre);
-    Whitening(p.pairwise.covariance, options.align.free, &residual->whitening);
-    auto* cost = new ceres::AutoDiffCostFunction<PairResidual, 6, 6, 6>(residual);
-    problem.AddResidualBlock(cost, nullptr, theta[p.reference].data(), theta[p.moving].data());
+    edge.rotation = local.rotation;
+    edge.shift = local.ShiftOf(edge.centre);
+    edge.covariance = p.pairwise.covariance;
+    for (int k = 0; k < 6; ++k) {
+      if (!options.align.free[k])
+        edge.covariance.row(k).setZero(), edge.covariance.col(k).setZero();
+    }
   }
-  ceres::Solver::Options solver;
-  solver.linear_solver_type = ceres::DENSE_QR;
-  if (n > 30) solver.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  solver.max_num_iterations = 200;
-  solver.function_tolerance = 1e-15;
-  solver.gradient_tolerance = 1e-15;
-  solver.parameter_tolerance = 1e-14;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver, &problem, &summary);
-  result.iterations = static_cast<int>(summary.iterations.size());
-  result.termination = summary.message;
-
-  const std::vector<Matrix6d> covariance = JointCovariance(problem, n, options, theta);
-  const bool converged = summary.termination_type == ceres::CONVERGENCE;
+  // The pairs' errors: a share `correlated` through their epochs
+  // (EdgeCovariance), the rest each pair's own; the share whose residuals
+  // fit it (δᵀ C⁻¹ δ closest to its degrees of freedom) is kept.
+  const Eigen::MatrixXd shared = series_internal::EdgeCovariance(
+      edges, centroid, footprints, RmsRadius(epochs[options.reference]));
+  Eigen::MatrixXd separate = Eigen::MatrixXd::Zero(shared.rows(), shared.cols());
+  for (std::size_t k = 0; k < edges.size(); ++k)
+    separate.block<6, 6>(6 * k, 6 * k) = edges[k].covariance;
+  series_internal::JointSolution solution;
+  double best = std::numeric_limits<double>::infinity();
+  for (const double correlated : {0.0, 0.5, 0.75, 0.88, 0.94}) {
+    series_internal::JointSolution candidate = series_internal::SolveJoint(
+        edges, correlated * shared + (1 - correlated) * separate, centroid, theta,
+        options.reference, options.align.free, ExecutionFor(options.align.num_threads).threads);
+    if (candidate.dof <= 0) {  // a tree: every share gives the same motions
+      solution = std::move(candidate);
+      break;
+    }
+    const double misfit = std::fabs(std::log(std::max(candidate.chi2, 1e-300) / candidate.dof));
+    if (misfit < best) {
+      best = misfit;
+      solution = std::move(candidate);
+      result.pair_correlation = correlated;
+    }
+  }
+  theta = solution.theta;
+  const std::vector<Matrix6d>& covariance = solution.covariance;
+  const bool converged = solution.converged;
+  result.iterations = solution.iterations;
+  result.termination = solution.message;
 
   // 4. Each epoch's motion and σ, each pair's measures and misclosure.
   std::vector<Rigid3d> motion(n);
@@ -454,7 +336,7 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
       epoch.verdict_reason = "the reference epoch";
     } else if (!converged) {
       epoch.verdict = Verdict::kFailed;
-      epoch.verdict_reason = "the joint solve did not converge: " + summary.message;
+      epoch.verdict_reason = "the joint solve did not converge: " + solution.message;
     } else if (!epoch.covariance.allFinite()) {
       epoch.verdict = Verdict::kIllConditioned;
       epoch.verdict_reason = "the pairs do not determine every parameter of its motion";

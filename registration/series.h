@@ -12,12 +12,14 @@
 // 3. One Ceres problem over 6·(N−1) parameters, each epoch's motion about
 //    its own centroid (the reference's fixed at the identity): the sum over
 //    the edges of each pair's cost, modelled to second order about the
-//    pair's own minimum, ½ δᵀ Σ⁻¹ δ, where δ is the difference between the
-//    relative motion the epochs' motions imply and the pair's, and Σ its
-//    covariance (the Laplace approximation of the volume cost there). Every
-//    overlap counts, weighted by how well it determines each direction, so
-//    epochs that do not overlap the reference are aligned through the
-//    others and no chain's drift builds up.
+//    pair's own minimum, where δ is the difference between the relative
+//    motion the epochs' motions imply and the pair's. The pairs' errors are
+//    weighted by their joint covariance: part of each is its epochs' own
+//    apparent motion, shared with their other pairs as much as the overlaps
+//    share area (series_internal.h EdgeCovariance), the rest the pair's own;
+//    the shared share is the one whose residuals fit it. Every overlap
+//    counts, so epochs that do not overlap the reference are aligned
+//    through the others.
 // 4. The joint covariance (the inverse of the summed information), its
 //    block per epoch; each pair's measures at the joint motion and its
 //    misclosure (the joint relative motion against the pair's own).
@@ -87,6 +89,10 @@ struct SeriesResult {
   std::vector<SeriesEpoch> epochs;
   std::vector<SeriesPair> pairs;
   int reference = 0;
+  // The share of each pair's error variance taken as its epochs' (shared
+  // with their other pairs): the one of 0, 0.5, 0.75, 0.88, 0.94 whose
+  // residuals fit it best (docs/series.md).
+  double pair_correlation = 0;
   int iterations = 0;                        // of the joint solve
   std::string termination;                   // its message
   double seconds = 0, pairwise_seconds = 0;  // all, and the pairwise alignments within it

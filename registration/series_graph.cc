@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "registration/series.h"
+#include "registration/series_internal.h"
 
 namespace surfreg {
 namespace {
@@ -38,8 +39,20 @@ constexpr double kCellSpacings = 3.0;
 
 }  // namespace
 
-Eigen::MatrixXd SeriesOverlaps(const std::vector<Surface>& epochs) {
-  const int n = static_cast<int>(epochs.size());
+namespace series_internal {
+
+double Footprints::Count(std::initializer_list<int> epochs) const {
+  double count = 0;
+  const std::size_t cells = covered.empty() ? 0 : covered[0].size();
+  for (std::size_t k = 0; k < cells; ++k) {
+    bool all = true;
+    for (int e : epochs) all = all && covered[e][k] != 0;
+    count += all;
+  }
+  return count;
+}
+
+Footprints EpochFootprints(const std::vector<Surface>& epochs) {
   Box all;
   double spacing = 0;
   for (const Surface& s : epochs) {
@@ -55,31 +68,39 @@ Eigen::MatrixXd SeriesOverlaps(const std::vector<Surface>& epochs) {
   if (!(cell > 0)) cell = 1;  // every sample at one point
   const int64_t columns = std::max<int64_t>(1, static_cast<int64_t>(width / cell) + 1);
   const int64_t rows = std::max<int64_t>(1, static_cast<int64_t>(height / cell) + 1);
-
-  std::vector<std::vector<uint8_t>> covered(n, std::vector<uint8_t>(columns * rows, 0));
-  std::vector<double> counts(n, 0);
-  for (int e = 0; e < n; ++e) {
+  Footprints footprints;
+  footprints.covered.assign(epochs.size(), std::vector<uint8_t>(columns * rows, 0));
+  for (std::size_t e = 0; e < epochs.size(); ++e) {
     const Surface& s = epochs[e];
     for (const Point2& p : s.xy) {
       const int64_t c =
           std::min<int64_t>(columns - 1, static_cast<int64_t>((p.x + s.origin[0] - all.x0) / cell));
       const int64_t r =
           std::min<int64_t>(rows - 1, static_cast<int64_t>((p.y + s.origin[1] - all.y0) / cell));
-      uint8_t& flag = covered[e][r * columns + c];
-      counts[e] += flag == 0;
-      flag = 1;
+      footprints.covered[e][r * columns + c] = 1;
     }
   }
+  return footprints;
+}
+
+Eigen::MatrixXd Overlaps(const Footprints& footprints) {
+  const int n = static_cast<int>(footprints.covered.size());
+  std::vector<double> counts(n);
+  for (int e = 0; e < n; ++e) counts[e] = footprints.Count({e});
   Eigen::MatrixXd overlap = Eigen::MatrixXd::Identity(n, n);
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
-      double both = 0;
-      for (std::size_t k = 0; k < covered[i].size(); ++k) both += covered[i][k] & covered[j][k];
       const double smaller = std::min(counts[i], counts[j]);
-      overlap(i, j) = overlap(j, i) = smaller > 0 ? both / smaller : 0;
+      overlap(i, j) = overlap(j, i) = smaller > 0 ? footprints.Count({i, j}) / smaller : 0;
     }
   }
   return overlap;
+}
+
+}  // namespace series_internal
+
+Eigen::MatrixXd SeriesOverlaps(const std::vector<Surface>& epochs) {
+  return series_internal::Overlaps(series_internal::EpochFootprints(epochs));
 }
 
 std::vector<std::vector<int>> GraphPieces(int n, const std::vector<std::pair<int, int>>& edges) {

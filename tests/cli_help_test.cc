@@ -8,6 +8,7 @@
 
 #include "tools/align_config.h"
 #include "tools/jaw_config.h"
+#include "tools/series_config.h"
 #include "tools/measure_run.h"
 
 namespace surfreg {
@@ -32,6 +33,11 @@ TEST(CliHelp, AlignListsEveryKeyWithValuesAndMeaning) {
 TEST(CliHelp, JawListsEveryKey) {
   const std::string help = CommandKeysHelp("jaw", "");
   for (const JawConfigKey& key : JawConfigKeys()) EXPECT_TRUE(Lists(help, key.name)) << key.name;
+}
+
+TEST(CliHelp, SeriesListsEveryKey) {
+  const std::string help = CommandKeysHelp("series", "");
+  for (const ConfigKey& key : SeriesConfigKeys()) EXPECT_TRUE(Lists(help, key.name)) << key.name;
 }
 
 TEST(CliHelp, MeasureListsItsAlignKeys) {

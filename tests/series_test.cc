@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "measure/input_error.h"
+#include "registration/series_internal.h"
 #include "testing/surface_pairs.h"
 
 namespace surfreg {
@@ -63,6 +64,41 @@ TEST(SeriesOverlapsTest, SharedShareOfTheSmallerFootprint) {
   for (int k = 0; k + 2 < 4; ++k) EXPECT_NEAR(overlap(k, k + 2), 0.4, 0.08);
   EXPECT_NEAR(overlap(0, 3), 0.1, 0.08);
   EXPECT_EQ(overlap(1, 2), overlap(2, 1));
+}
+
+// The pairs' errors: a pair alone has its own covariance; two pairs at an
+// epoch share its half as much as their overlaps share area, with the sign
+// of its roles (a chain's links cancel it).
+TEST(EdgeCovarianceTest, AnEpochsShareCorrelatesItsPairsByRoleAndSharedArea) {
+  using series_internal::Edge;
+  series_internal::Footprints footprints;
+  // Cells 0-3: epoch 0 on 0-3, epoch 1 on 0-3, epoch 2 on 0-1 and epoch 3 on 2-3.
+  footprints.covered = {{1, 1, 1, 1}, {1, 1, 1, 1}, {1, 1, 0, 0}, {0, 0, 1, 1}};
+  const std::vector<Eigen::Vector3d> centroids(4, Eigen::Vector3d::Zero());
+  Eigen::Matrix<double, 6, 6> sigma = Eigen::Matrix<double, 6, 6>::Identity();
+  sigma(0, 3) = sigma(3, 0) = 0.3;
+  const auto edge = [&](int reference, int moving) {
+    Edge e;
+    e.reference = reference, e.moving = moving, e.covariance = sigma;
+    return e;
+  };
+  const auto block = [](const Eigen::MatrixXd& c, int p, int q) {
+    return Eigen::MatrixXd(c.block(6 * p, 6 * q, 6, 6));
+  };
+  // 0-1 then 1-2: epoch 1 moving, then reference; 0-1 covers 4 cells, 1-2 two of them.
+  Eigen::MatrixXd c =
+      series_internal::EdgeCovariance({edge(0, 1), edge(1, 2)}, centroids, footprints, 1.0);
+  EXPECT_TRUE(block(c, 0, 0).isApprox(sigma, 1e-12));
+  EXPECT_TRUE(block(c, 1, 1).isApprox(sigma, 1e-12));
+  EXPECT_TRUE(block(c, 0, 1).isApprox(-0.5 * std::sqrt(2.0 / 4.0) * sigma, 1e-12))
+      << block(c, 0, 1);
+  // 0-2 and 0-3: epoch 0 the reference of both; their overlaps do not meet.
+  c = series_internal::EdgeCovariance({edge(0, 2), edge(0, 3)}, centroids, footprints, 1.0);
+  EXPECT_TRUE(block(c, 0, 1).isZero(1e-12));
+  // 0-1 and 0-2: the reference of both, shared on 2 of 4 and 2 cells.
+  c = series_internal::EdgeCovariance({edge(0, 1), edge(0, 2)}, centroids, footprints, 1.0);
+  EXPECT_TRUE(block(c, 0, 1).isApprox(0.5 * (2 / std::sqrt(4.0 * 2.0)) * sigma, 1e-12))
+      << block(c, 0, 1);
 }
 
 TEST(GraphPiecesTest, PiecesInOrderOfTheirFirstEpoch) {

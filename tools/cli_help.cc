@@ -9,6 +9,7 @@
 
 #include "tools/align_config.h"
 #include "tools/jaw_config.h"
+#include "tools/series_config.h"
 #include "measure/measure_keys.h"
 #include "tools/measure_run.h"
 
@@ -38,6 +39,7 @@ constexpr Override kOverrides[] = {
     {"sweep", "config", "the sweep's YAML file (keys above; configs/sweep_example.yaml)"},
     {"sweep", "output", "the per-run CSV instead of the config's 'output'; the summary and plots are named after it"},
     {"jaw", "config", "the jaw YAML file (keys above)"},
+    {"series", "config", "the series YAML file (keys above; configs/series_volcano.yaml)"},
     {"normalize", "output", "write the face's height field here (.xyz, .ply, .txt)"},
     {"asymmetry", "output", "write the asymmetry JSON here"},
     {"transform", "output", "the moved surface (.xyz, .txt, .ply, .las; or .tif, resampled onto a grid)"},
@@ -90,6 +92,11 @@ std::string CommandKeysHelp(const std::string& command, const std::string& flags
   std::vector<Entry> keys;
   if (command == "align") {
     for (const AlignConfigKey& key : AlignConfigKeys()) keys.push_back(AlignEntry(key));
+  } else if (command == "series") {
+    static const SeriesConfig defaults;
+    for (const ConfigKey& key : SeriesConfigKeys()) {
+      keys.push_back({key.name, key.type, SeriesConfigValue(defaults, key.name), key.help});
+    }
   } else if (command == "jaw") {
     static const JawConfig defaults;
     for (const JawConfigKey& key : JawConfigKeys()) {

@@ -156,6 +156,7 @@ std::string SeriesJson(const SeriesRun& run) {
   }
   JsonObject json;
   json.Int("reference", r.reference)
+      .Number("pair_correlation", r.pair_correlation)
       .Raw("epochs", JsonArray(epochs))
       .Raw("pairs", JsonArray(pairs))
       .Raw("consecutive", JsonArray(consecutive))

@@ -78,12 +78,16 @@ def one_series(surfreg, data, family, seed, work):
     files = [os.path.join(out, "e%d.xyz" % k) for k in range(epochs)]
     series_seconds = run([surfreg, "series", *files, "--quiet", "--output=" + os.path.join(out, "series.json")])
     series = json.load(open(os.path.join(out, "series.json")))
-    pairwise, pair_seconds = {}, 0.0
+    pairwise, pair_seconds, pair_z = {}, 0.0, []
     for p in series["pairs"]:
         i, j = p["reference"], p["moving"]
         path = os.path.join(out, "pair_%d_%d.json" % (i, j))
         pair_seconds += run([surfreg, "align", files[i], files[j], "--quiet", "--output=" + path])
-        pairwise[(i, j)] = np.array(json.load(open(path))["matrix"])
+        result = json.load(open(path))
+        pairwise[(i, j)] = np.array(result["matrix"])
+        truth = np.linalg.inv(world[i]) @ world[j]
+        sigma = np.array([result["stddev"][n] for n in ("rx", "ry", "rz", "tx", "ty", "tz")])
+        pair_z.extend(np.abs(errors(pairwise[(i, j)], truth, np.array(result["centre"]))[2]) / sigma)
     chained = [np.eye(4)]
     for k in range(1, epochs):
         chained.append(chained[-1] @ pairwise[(k - 1, k)] if (k - 1, k) in pairwise else None)
@@ -97,7 +101,7 @@ def one_series(surfreg, data, family, seed, work):
         chain = errors(chained[k], truth, centre) if chained[k] is not None else None
         direct = errors(pairwise[(0, k)], truth, centre) if (0, k) in pairwise else None
         rows.append({"epoch": k, "joint": joint, "sigma": sigma, "chain": chain, "direct": direct})
-    return rows, series_seconds, pair_seconds, spacing
+    return rows, series_seconds, pair_seconds, spacing, series.get("pair_correlation", 0.0), pair_z
 
 
 def main():
@@ -105,19 +109,25 @@ def main():
     families = sys.argv[4:] or list(FAMILIES)
     cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
     print("CPU: %s, %d cores; %d seeds per family\n" % (cpu, os.cpu_count(), seeds))
-    ratios, z_all, time_rows = [], [], []
+    ratios, z_all, time_rows, pair_z_all = [], [], [], []
     with tempfile.TemporaryDirectory() as work:
         for family in families:
             per_epoch = {}
             series_total = pair_total = 0.0
+            correlations, family_pair_z = [], []
             for seed in range(1, seeds + 1):
-                rows, s_sec, p_sec, spacing = one_series(surfreg, data, family, seed, work)
+                rows, s_sec, p_sec, spacing, correlation, z_pairs = one_series(surfreg, data, family, seed, work)
+                correlations.append(correlation)
+                pair_z_all.extend(z_pairs)
+                family_pair_z.extend(z_pairs)
                 series_total += s_sec
                 pair_total += p_sec
                 for r in rows:
                     per_epoch.setdefault(r["epoch"], []).append((r, spacing))
             time_rows.append((family, series_total, pair_total))
             print("### %s\n" % family)
+            print("pair_correlation chosen: %s\n" % ", ".join("%.2f" % c for c in correlations))
+            family_z = []
             print("| epoch | joint rotation (°) | chained | to reference | joint translation (spacings) | chained | "
                   "to reference | joint / chained |")
             print("|---:|---:|---:|---:|---:|---:|---:|---:|")
@@ -136,13 +146,21 @@ def main():
                 print("| %d | %.4f | %.4f | %s | %.4f | %.4f | %s | %.2f |" % (k, jr, cr, dr, jt, ct, dt, ratio))
                 for r, _ in items:
                     z_all.extend(np.abs(r["joint"][2]) / r["sigma"])
+                    family_z.extend(np.abs(r["joint"][2]) / r["sigma"])
             print()
+            print("joint |error| / sigma: median %.2f, beyond 3 sigma %.1f%%; the pairs' own: median %.2f, beyond 3 "
+                  "sigma %.1f%%\n" % (float(np.median(family_z)), 100.0 * float(np.mean(np.array(family_z) > 3)),
+                                     float(np.median(family_pair_z)),
+                                     100.0 * float(np.mean(np.array(family_pair_z) > 3))))
     z = np.array(z_all)
     print("### Summary\n")
     print("- geometric mean of joint / chained over every epoch: %.2f (%d epochs; joint <= chained on %d)" %
           (gmean([r[2] for r in ratios]), len(ratios), sum(r[3] for r in ratios)))
     print("- joint sigma: median |error| / sigma %.2f, beyond 3 sigma %.1f%% (%d parameters)" %
           (float(np.median(z)), 100.0 * float(np.mean(z > 3)), len(z)))
+    pz = np.array(pair_z_all)
+    print("- the pairwise alignments' own sigma: median |error| / sigma %.2f, beyond 3 sigma %.1f%% (%d parameters)" %
+          (float(np.median(pz)), 100.0 * float(np.mean(pz > 3)), len(pz)))
     for family, s, p in time_rows:
         print("- %s: series %.1f s, the pairwise alignments of its graph %.1f s: %.2f x" % (family, s, p, s / p))
 
