@@ -52,7 +52,7 @@ void RefuseIfApart(const std::vector<std::vector<int>>& pieces, const std::strin
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     text += (k == 0 ? "" : k + 1 == pieces.size() ? " and " : ", ") + PieceText(pieces[k]);
   }
-  throw InputError(text + ": no pair joins them (give `pairs`, or lower min_overlap)");
+  throw InputError(text + ": no pair joins them (give 'pairs', or lower min_overlap)");
 }
 
 void Validate(const std::vector<Surface>& epochs, const SeriesOptions& options) {

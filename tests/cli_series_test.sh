@@ -84,6 +84,25 @@ checks=$((checks + 1))
 python3 -c 'import json,sys; p=json.load(open(sys.argv[1]))["pairs"]; sys.exit(0 if [(q["reference"], q["moving"]) for q in p] == [(0, 1), (1, 2)] else 1)' \
   "$tmp/stdout" || fail "series --pairs: the pairs aligned"
 
+# --- dates: the change between consecutive epochs per year ---
+run series --config configs/series_volcano.yaml --dates=2020-05-01,2021-05-01,2023-05-01,2023-11-01 --json --quiet
+[[ $rc -eq 0 ]] || fail "series --dates: exit code"
+checks=$((checks + 1))
+python3 - "$tmp/stdout" <<'PY' || fail "series --dates: the consecutive changes' years and rates"
+import json, sys
+c = json.load(open(sys.argv[1]))["consecutive"]
+years = [e["years"] for e in c]
+ok = abs(years[0] - 365 / 365.25) < 1e-12 and abs(years[1] - 730 / 365.25) < 1e-12 and abs(years[2] - 184 / 365.25) < 1e-12
+ok = ok and all(abs(e["net_volume_per_year"] * e["years"] - e["net_volume"]) <= 1e-9 * abs(e["net_volume"]) for e in c)
+ok = ok and c[1]["from_date"] == "2021-05-01" and c[1]["to_date"] == "2023-05-01"
+sys.exit(0 if ok else 1)
+PY
+expect_refused "flag '--dates': expects dates as YYYY-MM-DD, got '2021-02-30'" \
+  series $data/e0.xyz $data/e1.xyz --dates=2020-05-01,2021-02-30
+expect_refused "flag '--dates': 2019-02-03 is not after 2020-05-01 (the surfaces in time order)" \
+  series $data/e0.xyz $data/e1.xyz --dates=2020-05-01,2019-02-03
+expect_refused "flag '--dates': 1 dates for 2 surfaces (one per surface)" series $data/e0.xyz $data/e1.xyz --dates=2020-05-01
+
 # --- bad input: one line, exit 2, nothing written ---
 printf '1 2 3\n4 5 x\n' >"$tmp/bad.xyz"
 expect_refused "$tmp/bad.xyz:2:" series $data/e0.xyz "$tmp/bad.xyz" --output="$tmp/bad.json"

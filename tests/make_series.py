@@ -17,6 +17,13 @@ Layouts:
           every side), with a change growing from epoch to epoch: a
           landslide (a Gaussian depression) of CHANGE metres per epoch on a
           fifth of the width: the stable terrain must be found.
+  chewing GRID is a face scan's points (configs/data/mannequin_face_dense.xyz,
+          model units), scaled to millimetres (x 6) and centred (max z = 0);
+          each frame a random subset of them (different samplings of one
+          scan), the part below the mouth line (y < -35 mm) opened as a jaw
+          by up to CHANGE degrees about a hinge behind the face (0, 10, -90)
+          mm over a chewing cycle of 8 frames: the skull is the stable part,
+          and the known motions are the head's.
 
 Writes DIR/e<k>.xyz and DIR/truth.json: {"world_from_epoch": [16 numbers
 row-major per epoch], "spacing": the grid's spacing}. The epochs' truth
@@ -62,6 +69,41 @@ def bilinear(grid, u, v):
                  for k in range(3))
 
 
+def read_face(path):
+    """A face scan's points in millimetres, centred on the mean xy, max z = 0;
+    and its mean sample spacing."""
+    points = []
+    with open(path) as f:
+        for line in f:
+            parts = line.split("#")[0].split()
+            if len(parts) >= 3:
+                points.append(tuple(6.0 * float(v) for v in parts[:3]))
+    mx = sum(p[0] for p in points) / len(points)
+    my = sum(p[1] for p in points) / len(points)
+    top = max(p[2] for p in points)
+    points = [(p[0] - mx, p[1] - my, p[2] - top) for p in points]
+    xs, ys = [p[0] for p in points], [p[1] for p in points]
+    spacing = math.sqrt((max(xs) - min(xs)) * (max(ys) - min(ys)) * math.pi / 4 / len(points))
+    return points, spacing
+
+
+def chewing_frame(face, k, count, opening_deg, noise, rng):
+    """Frame k: `count` of the scan's points, those below the mouth line
+    turned about the hinge by the chewing cycle's opening, then noise."""
+    alpha = math.radians(opening_deg * (1 - math.cos(2 * math.pi * k / 8)) / 2)
+    hinge = (0.0, 10.0, -90.0)
+    c, s = math.cos(alpha), math.sin(alpha)
+    out = []
+    for p in rng.sample(face, count):
+        x, y, z = p
+        if y < -35.0:
+            # About the x axis through the hinge: the chin goes down and back.
+            dy, dz = y - hinge[1], z - hinge[2]
+            y, z = hinge[1] + c * dy - s * dz, hinge[2] + s * dy + c * dz
+        out.append((x, y, z + rng.gauss(0, noise)))
+    return out
+
+
 def rotation(axis, angle):
     n = math.sqrt(sum(a * a for a in axis))
     x, y, z = (a / n for a in axis)
@@ -77,26 +119,31 @@ def main():
     points = int(sys.argv[6]) if len(sys.argv) > 6 else 20000
     noise = float(sys.argv[7]) if len(sys.argv) > 7 else 0.5
     change = float(sys.argv[8]) if len(sys.argv) > 8 else 5.0
-    grid = read_grid(grid_path)
-    rows, columns = len(grid), len(grid[0])
-    spacing = math.dist(grid[0][0][:2], grid[0][1][:2])
     rng = random.Random(seed)
+    if layout == "chewing":
+        face, spacing = read_face(grid_path)
+    else:
+        grid = read_grid(grid_path)
+        rows, columns = len(grid), len(grid[0])
+        spacing = math.dist(grid[0][0][:2], grid[0][1][:2])
     os.makedirs(out, exist_ok=True)
     # The landslide of the repeat layout, in grid indices: centre and radius.
-    slide = (0.6 * rows, 0.35 * columns, 0.1 * columns)
+    slide = (0.6 * rows, 0.35 * columns, 0.1 * columns) if layout != "chewing" else None
     truths = []
     for k in range(epochs):
         # The epoch's window in grid indices: rows [r0, r1], columns [c0, c1].
-        if layout == "strips":
+        samples = []
+        if layout == "chewing":
+            samples = chewing_frame(face, k, points, change, noise, rng)
+        elif layout == "strips":
             width = (columns - 1) / (1 + (epochs - 1) / 4)
             r0, r1, c0, c1 = 0, rows - 1, k * width / 4, k * width / 4 + width
         elif layout == "repeat":
             r0, r1 = rng.uniform(0, 0.1) * rows, (rows - 1) * (1 - rng.uniform(0, 0.1))
             c0, c1 = rng.uniform(0, 0.1) * columns, (columns - 1) * (1 - rng.uniform(0, 0.1))
         else:
-            sys.exit("layout must be strips or repeat")
-        samples = []
-        for _ in range(points):
+            sys.exit("layout must be strips, repeat or chewing")
+        for _ in range(points if layout != "chewing" else 0):
             u, v = rng.uniform(r0, r1), rng.uniform(c0, c1)
             x, y, z = bilinear(grid, u, v)
             if layout == "repeat":

@@ -193,7 +193,7 @@ TEST(AlignSeriesTest, RefusesSeriesThatFallApart) {
   const std::vector<Surface> epochs = {near.epochs[0], far.epochs[0], near.epochs[1],
                                        far.epochs[1]};
   EXPECT_EQ(MessageOf(epochs, SeriesOptions()),
-            "the series falls apart into {0, 2} and {1, 3}: no pair joins them (give `pairs`, or "
+            "the series falls apart into {0, 2} and {1, 3}: no pair joins them (give 'pairs', or "
             "lower min_overlap)");
   SeriesOptions given;
   given.pairs = {{0, 2}};

@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
 #include <filesystem>
 
 #include "io/atomic_file.h"
@@ -84,6 +87,10 @@ const config_table::Table<SeriesConfig>& Table() {
         "the share of the smaller footprint two epochs must share to be a pair"},
        [](const Value& v, C* c) { c->options.min_overlap = cv::Number(v, 0, 1, "(]"); },
        [](const C& c) { return cv::Text(c.options.min_overlap); }},
+      {{"dates", "a list of dates YYYY-MM-DD, one per surface, or nothing",
+        "when each epoch was surveyed: the change between consecutive epochs also per year"},
+       [](const Value& v, C* c) { c->dates = cv::Items(v); },
+       [](const C& c) { return c.dates.empty() ? std::string() : Join(c.dates); }},
       {{"classes", "a list of LAS classifications (integers 0 to 255), or nothing",
         "LAS inputs: keep only the points of these classes (e.g. [2] for ground); nothing = all"},
        [](const Value& v, C* c) { c->classes = cv::Classes(v); },
@@ -169,6 +176,44 @@ int ResolveReference(const SeriesConfig& config) {
                    " surfaces");
 }
 
+// "YYYY-MM-DD" as days since 1970-01-01 (timegm, UTC); false for anything
+// else or a day the month does not have (timegm would roll it over).
+bool ParseDate(const std::string& text, double* days) {
+  int y = 0, m = 0, d = 0;
+  char tail = 0;
+  if (text.size() != 10 || std::sscanf(text.c_str(), "%4d-%2d-%2d%c", &y, &m, &d, &tail) != 3) return false;
+  std::tm date{};
+  date.tm_year = y - 1900;
+  date.tm_mon = m - 1;
+  date.tm_mday = d;
+  date.tm_hour = 12;  // noon: no leap second or rounding near midnight
+  const std::time_t seconds = timegm(&date);
+  if (date.tm_year != y - 1900 || date.tm_mon != m - 1 || date.tm_mday != d) return false;
+  *days = std::floor(static_cast<double>(seconds) / 86400.0);
+  return true;
+}
+
+void ResolveDates(SeriesConfig* config) {
+  config->days.clear();
+  if (config->dates.empty()) return;
+  const std::string where = config->Where("dates");
+  if (config->dates.size() != config->surfaces.size()) {
+    throw InputError(where + ": " + std::to_string(config->dates.size()) + " dates for " +
+                     std::to_string(config->surfaces.size()) + " surfaces (one per surface)");
+  }
+  for (std::size_t k = 0; k < config->dates.size(); ++k) {
+    double days = 0;
+    if (!ParseDate(config->dates[k], &days)) {
+      throw InputError(where + ": expects dates as YYYY-MM-DD, got " + Quote(config->dates[k]));
+    }
+    if (k > 0 && days <= config->days.back()) {
+      throw InputError(where + ": " + config->dates[k] + " is not after " + config->dates[k - 1] +
+                       " (the surfaces in time order)");
+    }
+    config->days.push_back(days);
+  }
+}
+
 }  // namespace
 
 std::string SeriesConfig::Where(const std::string& key) const {
@@ -231,6 +276,7 @@ void FinishSeriesConfig(SeriesConfig* config) {
     }
   }
   config->options.pairs = config->pairs;
+  ResolveDates(config);
   if (!config->output.empty()) {
     CheckOutputPath(config->output, config->Where("output"));
     for (const std::string& file : config->surfaces) {

@@ -11,6 +11,8 @@
 //   pairs         the pairs to align, as "i-j" items ([0-1, 1-2]); nothing =
 //                 every pair overlapping by min_overlap      [nothing]
 //   min_overlap   the smaller footprint's share two epochs must share [0.3]
+//   dates         each surface's date, YYYY-MM-DD, in the order of surfaces:
+//                 the change between consecutive epochs also per year [none]
 //   classes, columns   how point files are read, as for align
 //   output        the series JSON                            [none]
 //   aligned_dir   a folder: each epoch moved into the reference's frame,
@@ -35,6 +37,8 @@ struct SeriesConfig {
   std::vector<std::string> surfaces;
   std::string reference = "0";  // index or file, as given
   std::vector<std::pair<int, int>> pairs;
+  std::vector<std::string> dates;  // YYYY-MM-DD per surface, or none
+  std::vector<double> days;        // FinishSeriesConfig: each date as days since 1970-01-01
   SeriesOptions options;  // options.reference set by FinishSeriesConfig
   std::vector<int> classes;
   std::vector<std::string> columns;
@@ -60,7 +64,8 @@ void ApplySeriesSetting(const std::string& key, const std::string& value, const 
 void ApplySeriesArguments(const std::vector<std::string>& files, SeriesConfig* config);
 
 // Once every setting is applied: at least two surfaces that exist, the
-// reference resolved, the pairs within range, the outputs writable (the
+// reference resolved, the pairs within range, one valid date per surface
+// (if any) in increasing order, the outputs writable (the
 // folder exists; no output names an input). Throws InputError naming the key.
 void FinishSeriesConfig(SeriesConfig* config);
 

@@ -152,6 +152,15 @@ std::string SeriesJson(const SeriesRun& run) {
         .Number("fill_volume", c.measure.volume_above)
         .Number("cut_volume", c.measure.volume_below)
         .Object("dz", DzStatisticsJson(c.dz));
+    if (!run.config.days.empty()) {
+      const double years = (run.config.days[c.to] - run.config.days[c.from]) / 365.25;
+      o.String("from_date", run.config.dates[c.from])
+          .String("to_date", run.config.dates[c.to])
+          .Number("years", years)
+          .Number("net_volume_per_year", c.measure.signed_volume / years)
+          .Number("mean_dz_per_year", c.dz.mean / years)
+          .Number("median_dz_per_year", c.dz.median / years);
+    }
     consecutive.push_back(o.str());
   }
   JsonObject json;
@@ -229,6 +238,11 @@ std::string SeriesSummary(const SeriesRun& run) {
   for (const ConsecutiveChange& c : run.consecutive) {
     std::snprintf(line, sizeof line, "change %d-%d:  %s, net volume %.4g\n", c.from, c.to,
                   DzStatisticsLine(c.dz, run.units).c_str(), c.measure.signed_volume);
+    text += line;
+    if (run.config.days.empty()) continue;
+    const double years = (run.config.days[c.to] - run.config.days[c.from]) / 365.25;
+    std::snprintf(line, sizeof line, "             over %.3f years: median dz %.4g %s/year, net volume %.4g/year\n",
+                  years, c.dz.median / years, run.units.c_str(), c.measure.signed_volume / years);
     text += line;
   }
   std::snprintf(line, sizeof line, "time:        %.2f s (pairwise alignments %.2f s)\n", r.seconds,
