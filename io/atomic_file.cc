@@ -48,6 +48,12 @@ bool WriteAll(int fd, std::string_view data) {
 
 }  // namespace
 
+bool SameFile(const std::string& a, const std::string& b) {
+  struct stat sa, sb;
+  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev &&
+                    sa.st_ino == sb.st_ino);
+}
+
 void CheckOutputPath(const std::string& path, const std::string& label) {
   if (path.empty()) Fail(label, "empty file name");
   if (path.back() == '/') Fail(label, "'" + path + "' names a directory, not a file");

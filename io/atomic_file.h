@@ -15,6 +15,10 @@ namespace surfreg {
 // the message. Lets a command fail before long work rather than after it.
 void CheckOutputPath(const std::string& path, const std::string& label);
 
+// Whether two paths name one file: the same text, or (both existing) the
+// same device and inode. So that an output never overwrites an input.
+bool SameFile(const std::string& a, const std::string& b);
+
 // Writes `data` to `path` atomically (see above); the file gets mode 0666
 // less the umask, like any new file. On any failure (missing directory, full
 // disk, rename refused) the temporary file is removed, an existing file at

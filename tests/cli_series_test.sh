@@ -107,6 +107,12 @@ expect_refused "flag '--dates': 1 dates for 2 surfaces (one per surface)" series
 printf '1 2 3\n4 5 x\n' >"$tmp/bad.xyz"
 expect_refused "$tmp/bad.xyz:2:" series $data/e0.xyz "$tmp/bad.xyz" --output="$tmp/bad.json"
 [[ ! -e $tmp/bad.json ]] || fail "series bad input: output written"
+: >"$tmp/empty.xyz"
+expect_refused "$tmp/empty.xyz: no points" series $data/e0.xyz "$tmp/empty.xyz"
+printf '1 2 nan\n3 4 5\n' >"$tmp/nan.xyz"
+expect_refused "$tmp/nan.xyz:1: z is NaN" series $data/e0.xyz "$tmp/nan.xyz"
+printf 'reference: 0\n' >"$tmp/nokey.yaml"
+expect_refused "nokey.yaml: key 'surfaces': a series needs at least 2 surfaces, got 0" series --config "$tmp/nokey.yaml"
 expect_refused "flag '--reference' expects an epoch index >= 0 or one of the surfaces, got ''" series $data/e0.xyz $data/e1.xyz --reference=
 expect_refused "flag '--reference': epoch 5 is beyond the 2 epochs" series $data/e0.xyz $data/e1.xyz --reference=5
 expect_refused "flag '--pairs': expects pairs of epoch indices such as 0-1, got '0:1'" series $data/e0.xyz $data/e1.xyz --pairs=0:1

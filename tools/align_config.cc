@@ -1,6 +1,5 @@
 #include "tools/align_config.h"
 
-#include <sys/stat.h>
 #include <glog/logging.h>
 #include <yaml-cpp/yaml.h>
 
@@ -174,13 +173,6 @@ std::string FirstKeyIn(const std::string& message) {
   return found;
 }
 
-
-// Same file: the same name, or (both existing) the same inode.
-bool SameFile(const std::string& a, const std::string& b) {
-  struct stat sa, sb;
-  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
-                    sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
-}
 
 // A surface format, or a GeoTIFF on a raster reference's grid.
 void CheckAlignedPath(const std::string& path, const std::string& reference,

@@ -1,6 +1,5 @@
 #include "tools/jaw_config.h"
 
-#include <sys/stat.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -120,12 +119,6 @@ bool IsSurfaceFile(const std::filesystem::path& path) {
     if (ext == known) return true;
   }
   return false;
-}
-
-bool SameFile(const std::string& a, const std::string& b) {
-  struct stat sa, sb;
-  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
-                    sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
 }
 
 void ListFrames(JawConfig* config) {

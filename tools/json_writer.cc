@@ -55,6 +55,14 @@ JsonObject& JsonObject::Raw(const std::string& key, const std::string& json) {
   return *this;
 }
 
+std::string JsonMatrix4(const Eigen::Matrix4d& m) {
+  std::vector<std::string> rows;
+  for (int i = 0; i < 4; ++i) {
+    rows.push_back(JsonArray({JsonNumber(m(i, 0)), JsonNumber(m(i, 1)), JsonNumber(m(i, 2)), JsonNumber(m(i, 3))}));
+  }
+  return JsonArray(rows);
+}
+
 JsonObject DzStatisticsJson(const DzStatistics& s) {
   JsonObject json;
   json.Int("count", s.count)

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "measure/dz_statistics.h"
 
 DECLARE_bool(json);  // every subcommand: print one JSON object instead of text
@@ -51,6 +53,9 @@ class JsonObject {
  private:
   std::string body_;
 };
+
+// A 4 × 4 matrix as 4 rows of 4 numbers (row-major), full precision.
+std::string JsonMatrix4(const Eigen::Matrix4d& m);
 
 // count, mean, median, nmad, stddev, rmse, le90 of dz statistics.
 JsonObject DzStatisticsJson(const DzStatistics& s);

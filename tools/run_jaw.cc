@@ -94,14 +94,6 @@ Surface LoadFrame(const std::string& path, const Normalization& n) {
   return MakeSurface(points, {}, path);
 }
 
-std::string MatrixJson(const Eigen::Matrix4d& m) {
-  std::vector<std::string> rows;
-  for (int i = 0; i < 4; ++i) {
-    rows.push_back(JsonArray({JsonNumber(m(i, 0)), JsonNumber(m(i, 1)), JsonNumber(m(i, 2)), JsonNumber(m(i, 3))}));
-  }
-  return JsonArray(rows);
-}
-
 JsonObject PartJson(const JawPartResult& p, bool reference) {
   JsonObject o;
   o.Int("points", p.points);
@@ -110,7 +102,7 @@ JsonObject PartJson(const JawPartResult& p, bool reference) {
   o.Int("iterations", p.iterations);
   o.Number("rho_d_axial_before", p.rho_d_axial_before).Number("rho_d_axial_after", p.rho_d_axial_after);
   o.Number("mean_abs_dz_after", p.mean_abs_dz_after).Number("overlap_area_after", p.overlap_area_after);
-  o.Raw("reference_from_frame", MatrixJson(p.reference_from_frame));
+  o.Raw("reference_from_frame", JsonMatrix4(p.reference_from_frame));
   return o;
 }
 
@@ -139,10 +131,10 @@ std::string Csv(const JawConfig& config, const JawSummary& s) {
 std::string Json(const JawConfig& config, const JawSummary& s, const Normalization& n) {
   std::vector<std::string> matrices, frames, files;
   for (const JawFrame& f : s.frames) {
-    matrices.push_back(MatrixJson(f.jaw));
+    matrices.push_back(JsonMatrix4(f.jaw));
     files.push_back(JsonString(config.frame_files[f.index]));
     JsonObject o;
-    o.Int("frame", f.index).String("file", config.frame_files[f.index]).Raw("matrix", MatrixJson(f.jaw));
+    o.Int("frame", f.index).String("file", config.frame_files[f.index]).Raw("matrix", JsonMatrix4(f.jaw));
     o.Raw("euler_deg", JsonArray({JsonNumber(f.euler_deg[0]), JsonNumber(f.euler_deg[1]), JsonNumber(f.euler_deg[2])}));
     o.Raw("translation",
           JsonArray({JsonNumber(f.translation[0]), JsonNumber(f.translation[1]), JsonNumber(f.translation[2])}));
@@ -155,7 +147,7 @@ std::string Json(const JawConfig& config, const JawSummary& s, const Normalizati
                              "4x4 row-major, reference lower part -> frame lower part, skull coordinates");
   root.Int("reference", s.reference);
   root.String("orientation", JawConfigValue(config, "orientation"));
-  root.Raw("normalization", MatrixJson(n.matrix));
+  root.Raw("normalization", JsonMatrix4(n.matrix));
   root.Raw("files", JsonArray(files)).Raw("matrices", JsonArray(matrices)).Raw("frames", JsonArray(frames));
   root.Int("failed_frames", s.failed_frames).Fixed("seconds", s.seconds, 4);
   return root.str() + "\n";

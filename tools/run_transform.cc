@@ -5,7 +5,6 @@
 // resampled onto a grid (the input raster's own, or REF's), as a GeoTIFF
 // (io/raster_resample.h).
 #include <gflags/gflags.h>
-#include <sys/stat.h>
 
 #include <Eigen/LU>
 #include <cstdio>
@@ -38,12 +37,6 @@ DECLARE_bool(quiet);  // tools/run_measure.cc
 
 namespace surfreg {
 namespace {
-
-bool SameFile(const std::string& a, const std::string& b) {
-  struct stat sa, sb;
-  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
-                    sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
-}
 
 // The flags, checked before anything is read.
 void CheckFlags(const std::string& input, bool raster_out, bool raster_in) {

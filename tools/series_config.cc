@@ -1,7 +1,6 @@
 #include "tools/series_config.h"
 
 #include <glog/logging.h>
-#include <sys/stat.h>
 
 #include <algorithm>
 #include <cctype>
@@ -55,8 +54,18 @@ std::pair<int, int> PairOf(const Value& v, const std::string& item) {
   return {index(item.substr(0, dash)), index(item.substr(dash + 1))};
 }
 
+// Align's option keys that do not apply to a series: each pair starts from
+// the inputs, and the held-out check and masks are one pair's.
+bool SeriesTakes(const std::string& option) {
+  for (const char* other :
+       {"initial_rotation_deg", "initial_translation", "holdout", "holdout_seed", "holdout_verdict", "mask_mode"}) {
+    if (option == other) return false;
+  }
+  return true;
+}
+
 const config_table::Table<SeriesConfig>& Table() {
-  static const config_table::Table<SeriesConfig> table(std::vector<Entry>{
+  static const std::vector<Entry> own = {
       {{"surfaces", "a list of surface files (.xyz .txt .csv .ply .off .obj .las, or GDAL rasters)",
         "the epochs, in time order"},
        [](const Value& v, C* c) {
@@ -99,40 +108,6 @@ const config_table::Table<SeriesConfig>& Table() {
         "text clouds: the columns of x, y, z and optionally the weight"},
        [](const Value& v, C* c) { c->columns = cv::Columns(v); },
        [](const C& c) { return cv::ListText(c.columns); }},
-      Option("cost"),
-      Option("prealign"),
-      Option("loss"),
-      Option("loss_scale"),
-      Option("trust_region"),
-      Option("line_search"),
-      Option("linear_solver"),
-      Option("max_iterations"),
-      Option("function_tolerance"),
-      Option("trim_fraction"),
-      Option("normal_distance"),
-      Option("slope_weight"),
-      Option("gap_weight"),
-      Option("density_correction"),
-      Option("free"),
-      Option("levels"),
-      Option("level_factor"),
-      Option("subsample"),
-      Option("multi_start"),
-      Option("multi_start_angle_deg"),
-      Option("multi_start_shift"),
-      Option("stddev"),
-      Option("stddev_subsamples"),
-      Option("wide_search"),
-      Option("stable"),
-      Option("stable_sigmas"),
-      Option("stable_grow_sigmas"),
-      Option("domain"),
-      Option("domain_max_edge_spacings"),
-      Option("domain_min_thinness"),
-      Option("max_fold_fraction"),
-      Option("covariance"),
-      Option("threads"),
-      Option("cell_kernel"),
       {{"output", "a file name, or nothing", "the series JSON"},
        [](const Value& v, C* c) { c->output = cv::Path(v, false); },
        [](const C& c) { return c.output; }},
@@ -144,14 +119,21 @@ const config_table::Table<SeriesConfig>& Table() {
       {{"progress", "true or false", "a line per stage on stderr"},
        [](const Value& v, C* c) { c->progress = cv::Boolean(v); },
        [](const C& c) { return cv::Text(c.progress); }},
-  });
+  };
+  // The inputs' keys, then every alignment key (registration/align_keys.h)
+  // a series takes, then the outputs.
+  static const config_table::Table<SeriesConfig> table = [] {
+    const auto first_output = std::find_if(own.begin(), own.end(), [](const Entry& e) {
+      return std::string(e.key.name) == "output";
+    });
+    std::vector<Entry> keys(own.begin(), first_output);
+    for (const AlignOptionEntry& entry : AlignOptionKeys()) {
+      if (SeriesTakes(entry.key.name)) keys.push_back(Option(entry.key.name));
+    }
+    keys.insert(keys.end(), first_output, own.end());
+    return config_table::Table<SeriesConfig>(std::move(keys));
+  }();
   return table;
-}
-
-bool SameFile(const std::string& a, const std::string& b) {
-  struct stat sa, sb;
-  return a == b || (::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 &&
-                    sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino);
 }
 
 int ResolveReference(const SeriesConfig& config) {

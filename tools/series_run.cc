@@ -81,15 +81,6 @@ std::vector<ConsecutiveChange> Consecutive(const std::vector<Surface>& epochs,
   return changes;
 }
 
-std::string MatrixJson(const Eigen::Matrix4d& m) {
-  std::vector<std::string> rows;
-  for (int i = 0; i < 4; ++i) {
-    rows.push_back(JsonArray(
-        {JsonNumber(m(i, 0)), JsonNumber(m(i, 1)), JsonNumber(m(i, 2)), JsonNumber(m(i, 3))}));
-  }
-  return JsonArray(rows);
-}
-
 std::string Numbers3(const std::array<double, 3>& v) {
   return JsonArray({JsonNumber(v[0]), JsonNumber(v[1]), JsonNumber(v[2])});
 }
@@ -102,7 +93,7 @@ std::string SeriesJson(const SeriesRun& run) {
     JsonObject o;
     o.Int("index", static_cast<int64_t>(k))
         .String("file", run.config.surfaces[k])
-        .Raw("matrix", MatrixJson(e.matrix))
+        .Raw("matrix", JsonMatrix4(e.matrix))
         .String("pdal_matrix", MatrixOneLine(e.matrix))
         .Raw("euler_deg", Numbers3(e.euler_deg))
         .Raw("translation", Numbers3(e.translation))
@@ -120,7 +111,7 @@ std::string SeriesJson(const SeriesRun& run) {
     const double smaller_before = std::min(p.before.domain_area_a, p.before.domain_area_b);
     const double smaller_after = std::min(p.after.domain_area_a, p.after.domain_area_b);
     JsonObject pairwise;
-    pairwise.Raw("matrix", MatrixJson(p.pairwise.matrix))
+    pairwise.Raw("matrix", JsonMatrix4(p.pairwise.matrix))
         .Object("stddev", StddevJson(p.pairwise.stddev))
         .String("verdict", VerdictName(p.pairwise.verdict))
         .String("verdict_reason", p.pairwise.verdict_reason)
