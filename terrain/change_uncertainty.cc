@@ -8,7 +8,9 @@
 
 #include "measure/input_error.h"
 #include "registration/align.h"
+#include "io/plot.h"
 #include "io/surface_reader_internal.h"
+#include "terrain/spatial_budget.h"
 
 namespace surfreg {
 namespace {
@@ -43,7 +45,98 @@ bool Constant(const std::vector<double>& values) {
   return std::all_of(values.begin(), values.end(), [&](double v) { return v == values.front(); });
 }
 
+// The cell sizes in the frame the samples are in (a geographic raster's are
+// degrees, its samples metres): the median distance of neighbouring
+// samples along a row and along a column.
+void FrameCellSize(const Surface& reference, const Raster& grid, const std::vector<int64_t>& cells,
+                   const std::vector<int64_t>& sample_of_cell, double* dx, double* dy) {
+  std::vector<double> along_row, along_column;
+  for (std::size_t i = 0; i < cells.size() && (along_row.size() < 999 || along_column.size() < 999); ++i) {
+    const int64_t cell = cells[i];
+    const auto distance = [&](int64_t other) {
+      const auto& a = reference.xy[i];
+      const auto& b = reference.xy[static_cast<std::size_t>(other)];
+      return std::hypot(a.x - b.x, a.y - b.y);
+    };
+    if (cell % grid.columns + 1 < grid.columns && sample_of_cell[cell + 1] >= 0) {
+      along_row.push_back(distance(sample_of_cell[cell + 1]));
+    }
+    if (cell / grid.columns + 1 < grid.rows && sample_of_cell[cell + grid.columns] >= 0) {
+      along_column.push_back(distance(sample_of_cell[cell + grid.columns]));
+    }
+  }
+  const auto median = [](std::vector<double> v, double fallback) {
+    if (v.empty()) return fallback;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  *dx = median(along_row, std::fabs(grid.geotransform[1]));
+  *dy = median(along_column, std::fabs(grid.geotransform[5]));
+  if (along_row.empty()) *dx = *dy;
+  if (along_column.empty()) *dy = *dx;
+}
+
+// error_model variogram: the model on the stable cells (σ_DoD estimated
+// when none was given) and the budget's spatially correlated ±.
+void AddSpatialUncertainty(const TerrainRequest& config, const Surface& reference, const MeasureSummary& after,
+                           const ReferenceCells& at, const Execution& execution, bool sigma_given,
+                           ChangeUncertainty* u) {
+  const std::string where = config.Where("error_model");
+  if (at.grid == nullptr || at.cells == nullptr || at.cells->size() != reference.size()) {
+    throw InputError(where + ": the variogram error model needs a raster reference, but " + config.reference +
+                     " is a point cloud");
+  }
+  const Raster& grid = *at.grid;
+  const std::vector<int64_t>& cells = *at.cells;
+  DodGrid dod;
+  dod.layout.columns = grid.columns, dod.layout.rows = grid.rows;
+  const std::size_t n = static_cast<std::size_t>(dod.layout.cells());
+  std::vector<int64_t> sample_of_cell(n, -1);
+  for (std::size_t i = 0; i < cells.size(); ++i) sample_of_cell[static_cast<std::size_t>(cells[i])] = static_cast<int64_t>(i);
+  FrameCellSize(reference, grid, cells, sample_of_cell, &dod.layout.dx, &dod.layout.dy);
+  dod.dz.assign(n, std::nan(""));
+  dod.height.assign(n, std::nan(""));
+  dod.area.assign(n, 0.0);
+  dod.stable.assign(n, 0);
+  std::vector<double> sigma, threshold(n, std::nan(""));
+  if (sigma_given) sigma.assign(n, std::nan(""));
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::size_t c = static_cast<std::size_t>(cells[i]);
+    dod.dz[c] = after.dz_a[i];
+    dod.height[c] = reference.z[i];
+    dod.area[c] = i < after.node_area_a.size() ? after.node_area_a[i] : 0.0;
+    dod.stable[c] = at.stable.empty() || at.stable[i];
+    if (sigma_given) sigma[c] = u->sigma_dod[i];
+  }
+  u->model = FitDodErrorModel(dod, &sigma, execution, where);
+  if (!sigma_given) {
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      u->sigma_dod[i] = std::isfinite(after.dz_a[i]) ? sigma[static_cast<std::size_t>(cells[i])] : std::nan("");
+    }
+  }
+  const double confidence = config.terrain.lod_confidence, lod = config.terrain.lod;
+  u->threshold = ChangeThresholds(u->sigma_dod, confidence, lod);
+  for (std::size_t i = 0; i < cells.size(); ++i) threshold[static_cast<std::size_t>(cells[i])] = u->threshold[i];
+  for (std::size_t c = 0; c < n; ++c) {
+    if (!std::isfinite(sigma[c])) dod.dz[c] = std::nan("");
+  }
+  const SpatialSigma s =
+      PropagateSpatialSigma(dod.layout, dod.dz, sigma, threshold, dod.area, u->model.variogram, execution);
+  u->spatial = true;
+  u->fill_sigma_spatial = s.fill, u->cut_sigma_spatial = s.cut, u->net_sigma_spatial = s.net;
+  u->spatial_block = s.block;
+}
+
 }  // namespace
+
+ChangeSigmas ModelSigmas(const ChangeUncertainty& u) {
+  const ChangeBudget& b = u.budget;
+  if (u.spatial) return {u.fill_sigma_spatial, u.cut_sigma_spatial, u.net_sigma_spatial};
+  if (u.error_model == "correlated") {
+    return {b.fill_sigma_correlated, b.cut_sigma_correlated, b.net_sigma_correlated};
+  }
+  return {b.fill_sigma_independent, b.cut_sigma_independent, b.net_sigma_independent};
+}
 
 std::vector<double> SigmaPerSample(const TerrainRequest& config, const std::string& key,
                                    std::size_t samples, const Raster& grid,
@@ -96,9 +189,13 @@ std::vector<double> SigmaPerSample(const TerrainRequest& config, const std::stri
 ChangeUncertainty AnalyseChangeUncertainty(const TerrainRequest& config, const Surface& reference,
                                            const Surface& moved, const std::vector<double>& sigma_reference,
                                            const std::vector<double>& sigma_moving,
-                                           const MeasureSummary& after, const MeasureOptions& options) {
+                                           const MeasureSummary& after, const MeasureOptions& options,
+                                           const ReferenceCells& cells) {
   ChangeUncertainty u;
-  if (sigma_reference.empty() && sigma_moving.empty()) return u;
+  u.error_model = config.terrain.error_model;
+  const bool variogram = u.error_model == "variogram";
+  const bool sigma_given = !sigma_reference.empty() || !sigma_moving.empty();
+  if (!sigma_given && !variogram) return u;
   u.active = true;
   const std::size_t n = reference.size();
   const std::vector<double> sa = sigma_reference.empty() ? std::vector<double>(n, 0.0) : sigma_reference;
@@ -122,6 +219,9 @@ ChangeUncertainty AnalyseChangeUncertainty(const TerrainRequest& config, const S
   u.sigma_dod = PropagateSigma(sa, sb);
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(after.dz_a[i])) u.sigma_dod[i] = std::nan("");
+  }
+  if (variogram) {
+    AddSpatialUncertainty(config, reference, after, cells, ExecutionFor(options.threads), sigma_given, &u);
   }
   const double confidence = config.terrain.lod_confidence, lod = config.terrain.lod;
   u.threshold = ChangeThresholds(u.sigma_dod, confidence, lod);
@@ -185,10 +285,33 @@ void AddRegistrationUncertainty(const Surface& reference, const Surface& moving,
   u->fill_sigma_registration = std::sqrt(std::max(0.0, fill.dot(cov * fill)));
   u->cut_sigma_registration = std::sqrt(std::max(0.0, cut.dot(cov * cut)));
   u->net_sigma_registration = std::sqrt(std::max(0.0, net.dot(cov * net)));
-  const ChangeBudget& b = u->budget;
-  u->fill_sigma_total = std::hypot(b.fill_sigma_independent, u->fill_sigma_registration);
-  u->cut_sigma_total = std::hypot(b.cut_sigma_independent, u->cut_sigma_registration);
-  u->net_sigma_total = std::hypot(b.net_sigma_independent, u->net_sigma_registration);
+  const ChangeSigmas dem = ModelSigmas(*u);
+  u->fill_sigma_total = std::hypot(dem.fill, u->fill_sigma_registration);
+  u->cut_sigma_total = std::hypot(dem.cut, u->cut_sigma_registration);
+  u->net_sigma_total = std::hypot(dem.net, u->net_sigma_registration);
+}
+
+void WriteVariogramPng(const std::string& path, const DodErrorModel& model, const std::string& units,
+                       const std::string& where) {
+  const EmpiricalVariogram& e = model.empirical;
+  const Variogram& v = model.variogram;
+  std::vector<Series> series(2);
+  series[0].name = "empirical (stable terrain)";
+  series[0].x = e.lag, series[0].y = e.gamma;
+  series[0].line = false, series[0].markers = true;
+  series[1].name = "fit: nugget " + Number(v.nugget) + ", sills " + Number(v.sill[0]) + " / " +
+                   Number(v.sill[1]) + ", ranges " + Number(v.range[0]) + " / " + Number(v.range[1]);
+  const double first = e.lag.empty() ? 1.0 : e.lag.front(), last = e.lag.empty() ? 1.0 : e.lag.back();
+  for (int k = 0; k <= 200; ++k) {
+    const double h = first * std::pow(last / first, k / 200.0);
+    series[1].x.push_back(h);
+    series[1].y.push_back(v.Gamma(h));
+  }
+  const FigureText text{"variogram of dz / sigma on stable terrain", "lag (" + units + ")",
+                        "semivariance (dz / sigma)^2"};
+  ChartStyle style;
+  style.log_x = true;
+  WriteChartPng(path, series, text, style, where);
 }
 
 std::string ChangeUncertaintySummary(const TerrainRequest& config, const ChangeUncertainty& u,
@@ -217,10 +340,24 @@ std::string ChangeUncertaintySummary(const TerrainRequest& config, const ChangeU
   text += "              cellwise over " + std::to_string(b.fill_nodes) + " + " + std::to_string(b.cut_nodes) +
           " of " + std::to_string(b.nodes) + " nodes; areas of detected gain " + Number(b.fill_area) +
           " and loss " + Number(b.cut_area) + " " + (units == "m" ? "m^2" : "units^2");
+  if (u.spatial) {
+    const Variogram& v = u.model.variogram;
+    text += "\n              spatially correlated (variogram): fill +/- " + Number(u.fill_sigma_spatial) + ", cut +/- " +
+            Number(u.cut_sigma_spatial) + ", net +/- " + Number(u.net_sigma_spatial) + " " + cube;
+    if (u.spatial_block > 1) text += " (blocks of " + std::to_string(u.spatial_block) + " cells)";
+    text += "\n              variogram of dz/sigma on " + std::to_string(u.model.stable_cells) +
+            " stable cells: nugget " + Number(v.nugget) + ", sill " + Number(v.sill[0]) + " range " +
+            Number(v.range[0]) + ", sill " + Number(v.sill[1]) + " range " + Number(v.range[1]) + " " + units;
+    if (u.model.sigma_estimated && !u.model.sigma_model.sigma.empty()) {
+      const auto& m = u.model.sigma_model;
+      text += "; sigma_DoD " + Number(m.sigma.front()) + " to " + Number(m.sigma.back()) + " " + units +
+              " from slope " + Number(m.slope.front()) + " to " + Number(m.slope.back());
+    }
+  }
   if (u.registration) {
     text += "\n              registration +/- fill " + Number(u.fill_sigma_registration) + ", cut " +
             Number(u.cut_sigma_registration) + ", net " + Number(u.net_sigma_registration) +
-            " (from the motion's covariance); with the independent: fill +/- " + Number(u.fill_sigma_total) +
+            " (from the motion's covariance); with the " + u.error_model + " DEM errors: fill +/- " + Number(u.fill_sigma_total) +
             ", cut +/- " + Number(u.cut_sigma_total) + ", net +/- " + Number(u.net_sigma_total);
   }
   return text;

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "terrain/change_budget.h"
+#include "terrain/dod_error.h"
 #include "measure/measures.h"
 #include "measure/surface.h"
 #include "terrain/terrain_request.h"
@@ -35,25 +36,54 @@ struct ChangeUncertainty {
   std::vector<double> sigma_dod;    // per reference sample; NaN outside Ω
   std::vector<double> threshold;    // per reference sample: max(lod, t σ_DoD); NaN outside Ω
   ChangeBudget budget;
+  // error_model variogram: the model fitted on the stable terrain and the
+  // budget's ± with the DoD's spatial correlation (terrain/spatial_budget.h;
+  // `spatial_block` > 1: the large-region approximation's block of cells).
+  std::string error_model = "independent";
+  bool spatial = false;
+  DodErrorModel model;
+  double fill_sigma_spatial = 0, cut_sigma_spatial = 0, net_sigma_spatial = 0;
+  int spatial_block = 1;
   // The motion's own uncertainty carried to the budget (AddRegistrationUncertainty):
   // ± one standard error of fill, cut and net from the motion's covariance
   // alone (a registration error shifts every node alike: fully correlated),
-  // and combined with the independent DEM errors in quadrature.
+  // and combined in quadrature with the DEM errors of the error model
+  // (independent, correlated or spatial).
   bool registration = false;
   double fill_sigma_registration = 0, cut_sigma_registration = 0, net_sigma_registration = 0;
   double fill_sigma_total = 0, cut_sigma_total = 0, net_sigma_total = 0;
 };
 
+// The DEM errors' ± of fill, cut and net under the request's error model.
+struct ChangeSigmas {
+  double fill = 0, cut = 0, net = 0;
+};
+ChangeSigmas ModelSigmas(const ChangeUncertainty& u);
+
+// Where the reference's samples lie on its raster, for error_model
+// variogram: the grid (null for a point cloud) and each sample's cell; and
+// which samples are stable terrain (empty: all).
+struct ReferenceCells {
+  const Raster* grid = nullptr;
+  const std::vector<int64_t>* cells = nullptr;
+  std::vector<bool> stable;
+};
+
 // σ_DoD at the reference's samples after the motion: the reference's own σ
 // and the moving DEM's σ interpolated at each reference node on the moved
-// surface (linearly, on its mesh, as dz is); then the budget of `after`
-// (measured with keep_node_gaps) at lod and lod_confidence. `moved` is the
-// moving surface after the motion, in the reference's frame, sample for
-// sample as the input; `options` those of `after`.
+// surface (linearly, on its mesh, as dz is), or with error_model variogram
+// and no σ given, σ estimated from slope and curvature on the stable
+// terrain; then the budget of `after` (measured with keep_node_gaps) at lod
+// and lod_confidence, and with error_model variogram its spatially
+// correlated ±. `moved` is the moving surface after the motion, in the
+// reference's frame, sample for sample as the input; `options` those of
+// `after`. InputError (naming error_model) for a variogram of a point cloud
+// or of too little stable terrain.
 ChangeUncertainty AnalyseChangeUncertainty(const TerrainRequest& config, const Surface& reference,
                                            const Surface& moved, const std::vector<double>& sigma_reference,
                                            const std::vector<double>& sigma_moving,
-                                           const MeasureSummary& after, const MeasureOptions& options);
+                                           const MeasureSummary& after, const MeasureOptions& options,
+                                           const ReferenceCells& cells = {});
 
 // Adds the registration's share: the derivative of dz at every reference
 // node in each of the six motion parameters (central differences of two
@@ -67,6 +97,12 @@ void AddRegistrationUncertainty(const Surface& reference, const Surface& moving,
                                 const std::array<double, 3>& translation, const std::array<double, 3>& centre,
                                 const Eigen::Matrix<double, 6, 6>& covariance, const MeasureSummary& after,
                                 const MeasureOptions& options, ChangeUncertainty* u);
+
+// The empirical variogram of the standardized stable dz with its fit (and
+// the fit's two components), as a PNG; lags in `units`. `where` starts the
+// errors.
+void WriteVariogramPng(const std::string& path, const DodErrorModel& model, const std::string& units,
+                       const std::string& where);
 
 // Summary lines for people (no trailing newline), `units` "m" or "data units".
 std::string ChangeUncertaintySummary(const TerrainRequest& config, const ChangeUncertainty& u,

@@ -358,8 +358,11 @@ TerrainReport AnalyseTerrain(const TerrainRequest& config, const TerrainInputs& 
     report.after = Measure(in.reference, moved, options);
   }
   report.before = Measure(in.reference, in.moving, options);
+  ReferenceCells cells;
+  if (in.reference_is_raster) cells.grid = &in.reference_grid, cells.cells = &in.reference_cells;
+  cells.stable = report.stable;
   report.uncertainty = AnalyseChangeUncertainty(config, in.reference, moved, in.sigma_reference,
-                                                in.sigma_moving, report.after, options);
+                                                in.sigma_moving, report.after, options, cells);
   AddRegistrationUncertainty(in.reference, in.moving, result.rotation_vector, result.translation, result.centre,
                              result.covariance, report.after, options, &report.uncertainty);
   report.stable_before = ComputeDzStatistics(report.before.dz_a, report.stable);
@@ -439,6 +442,9 @@ void WriteTerrainOutputs(const TerrainRequest& config, const TerrainInputs& in,
     MapStyle style;
     style.colorbar_label = "dz (" + Units(in) + ")";
     WriteMapPng(t.dod_png, field, text, style, config.Where("dod_png"));
+  }
+  if (!t.variogram_png.empty() && u.spatial) {
+    WriteVariogramPng(t.variogram_png, u.model, Units(in), config.Where("variogram_png"));
   }
   if (!t.histogram_png.empty()) {
     std::vector<Series> series(2);

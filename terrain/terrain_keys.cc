@@ -63,7 +63,7 @@ std::string Sigma(const Value& v) {
 void CheckTerrainOutput(const std::string& key, const std::string& path, const std::string& where) {
   std::string extension = path.substr(std::min(path.size(), path.find_last_of('.')));
   for (char& ch : extension) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  const bool png = key == "dod_png" || key == "histogram_png";
+  const bool png = key == "dod_png" || key == "histogram_png" || key == "variogram_png";
   const bool tif = key == "dod" || key == "dod_sigma" || key == "dod_thresholded";
   if (tif && extension != ".tif" && extension != ".tiff") {
     throw InputError(where + ": written as GeoTIFF; expected a name ending in .tif, got '" + path + "'");
@@ -118,12 +118,26 @@ const std::vector<TerrainSettingEntry>& TerrainSettingKeys() {
        [](const TerrainSettings& t) { return t.sigma_moving; }},
       {{"lod_confidence", "a number in (0, 1), or 0 for none",
         "change only where |dz| > t sigma_DoD, t the two-sided normal quantile (0.95: 1.96); "
-        "needs sigma_reference or sigma_moving"},
+        "needs sigma_reference or sigma_moving, or error_model variogram"},
        [](const Value& v, TerrainSettings* t) {
          const double value = Number(v, 0, 1, "[)");
          t->lod_confidence = value;
        },
        [](const TerrainSettings& t) { return Text(t.lod_confidence); }},
+      {{"error_model", "one of independent, correlated, variogram",
+        "the DoD's errors behind the change budget's +/-: independent cells, fully correlated, or "
+        "variogram: sigma by slope and curvature and the spatial correlation, both estimated on the "
+        "stable terrain (raster reference)"},
+       [](const Value& v, TerrainSettings* t) {
+         const std::string text = Scalar(v);
+         if (text != "independent" && text != "correlated" && text != "variogram") Reject(v);
+         t->error_model = text;
+       },
+       [](const TerrainSettings& t) { return t.error_model; }},
+      {{"variogram_png", "a .png file name, or nothing",
+        "with error_model variogram: the empirical variogram of the standardized stable dz and its fit"},
+       [](const Value& v, TerrainSettings* t) { t->variogram_png = Path(v, false); },
+       [](const TerrainSettings& t) { return t.variogram_png; }},
       {{"dod_sigma", "a .tif file name, or nothing",
         "the DoD's propagated standard error on the reference raster's grid"},
        [](const Value& v, TerrainSettings* t) { t->dod_sigma = Path(v, false); },

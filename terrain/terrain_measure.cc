@@ -6,6 +6,7 @@
 #include "io/interrupt.h"
 #include "io/raster_io.h"
 #include "measure/input_error.h"
+#include "measure/mask_region.h"
 #include "measure/raster_pair.h"
 #include "measure/tasks.h"
 #include "terrain/terrain.h"
@@ -78,8 +79,18 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
         }
         WriteGeoTiff(request.terrain.dod, dod, request.Where("dod"), execution.threads);
       });
+  ReferenceCells cells;
+  if (inputs.reference_is_raster) cells.grid = &inputs.reference_grid, cells.cells = &inputs.reference_cells;
+  if (options.weight == WeightMode::kMask && !options.mask.empty() && !inputs.compact) {
+    // The mask (include: the stable terrain; exclude: the unstable part) is where dz is noise.
+    const MaskRegion mask = MakeMaskRegion(options.mask, options.mask_mode,
+                                           {inputs.reference.origin[0], inputs.reference.origin[1]},
+                                           inputs.reference.xy);
+    cells.stable.resize(inputs.reference.size());
+    for (std::size_t i = 0; i < inputs.reference.size(); ++i) cells.stable[i] = InsideMask(mask, inputs.reference.xy[i]);
+  }
   m.uncertainty = AnalyseChangeUncertainty(request, inputs.reference, inputs.moving, inputs.sigma_reference,
-                                           inputs.sigma_moving, m.summary, options);
+                                           inputs.sigma_moving, m.summary, options, cells);
   // Kept for the budget only (terrain_measure.h).
   m.summary.dz_b = {};
   if (!m.uncertainty.active) m.summary.node_area_a = {};

@@ -31,6 +31,11 @@ struct TerrainSettings {
   // raster on that DEM's grid; "" = none (terrain/change_budget.h).
   std::string sigma_reference, sigma_moving;
   double lod_confidence = 0;              // (0, 1): threshold t(confidence) · σ_DoD; 0 = none
+  // The budget's ± (terrain/change_uncertainty.h): "independent" or
+  // "correlated" cells, or "variogram": σ and the spatial correlation
+  // estimated on the stable terrain (terrain/dod_error.h).
+  std::string error_model = "independent";
+  std::string variogram_png;              // the variogram with its fit
   std::string dod_sigma, dod_thresholded;  // GeoTIFFs on the reference raster's grid
   // Two DEMs too large to hold (tools/align_tiled.h): a memory budget such
   // as "2G" ("" = untiled), and the per-tile dz statistics CSV.

@@ -141,6 +141,8 @@ sigma_moving: sigma.tif
 lod_confidence: 0.9
 dod_sigma: sigma_dod.tif
 dod_thresholded: dod_detected.tif
+error_model: variogram
+variogram_png: variogram.png
 normal_distance: false
 slope_weight: 1.5
 gap_weight: 0.7
@@ -237,6 +239,8 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.lod_confidence, 0.9);
   EXPECT_EQ(t.dod_sigma, "sigma_dod.tif");
   EXPECT_EQ(t.dod_thresholded, "dod_detected.tif");
+  EXPECT_EQ(t.error_model, "variogram");
+  EXPECT_EQ(t.variogram_png, "variogram.png");
   EXPECT_EQ(c.classes, (std::vector<int>{2, 9}));
   EXPECT_EQ(c.columns, (std::vector<std::string>{"E", "N", "H", "5"}));
   EXPECT_EQ(o.mask_mode, MaskMode::kExclude);

@@ -257,17 +257,22 @@ void FinishAlignConfig(AlignConfig* config) {
                                                                      : config->terrain.sigma_moving;
     if (IsRasterPath(text)) files.emplace_back(key, text);
   }
-  const bool has_sigma = !config->terrain.sigma_reference.empty() || !config->terrain.sigma_moving.empty();
+  const bool has_sigma = !config->terrain.sigma_reference.empty() || !config->terrain.sigma_moving.empty() ||
+                         config->terrain.error_model == "variogram";
   for (const char* key : {"lod_confidence", "dod_sigma"}) {
     if (!has_sigma && config->origin.count(key) != 0 && !AlignConfigValue(*config, key).empty() &&
         AlignConfigValue(*config, key) != "0") {
       throw InputError(config->Where(key) +
-                       " needs the DEMs' vertical errors: give sigma_reference and/or sigma_moving");
+                       " needs the DEMs' vertical errors: give sigma_reference and/or sigma_moving, or "
+                       "error_model: variogram");
     }
+  }
+  if (!config->terrain.variogram_png.empty() && config->terrain.error_model != "variogram") {
+    throw InputError(config->Where("variogram_png") + ": needs error_model: variogram");
   }
   for (const char* key :
        {"output", "matrix_txt", "aligned", "log", "stable_map", "dod", "dod_png", "histogram_png", "change_csv", "dod_sigma",
-        "dod_thresholded", "tile_stats", "patch_shifts"}) {
+        "dod_thresholded", "variogram_png", "tile_stats", "patch_shifts"}) {
     const std::string path = AlignConfigValue(*config, key);
     if (path.empty()) continue;
     const std::string where = config->Where(key);

@@ -40,6 +40,13 @@ std::string JsonFixed(double value, int decimals) {
   return buffer;
 }
 
+std::string JsonNumbers(const std::vector<double>& values) {
+  std::vector<std::string> items;
+  items.reserve(values.size());
+  for (double v : values) items.push_back(JsonNumber(v));
+  return JsonArray(items);
+}
+
 std::string JsonArray(const std::vector<std::string>& values) {
   std::string out = "[";
   for (std::size_t i = 0; i < values.size(); ++i) {

@@ -32,6 +32,9 @@ std::string JsonFixed(double value, int decimals);
 // [a, b, c] from values already in JSON form.
 std::string JsonArray(const std::vector<std::string>& values);
 
+// [a, b, c] of numbers, each as JsonNumber writes it.
+std::string JsonNumbers(const std::vector<double>& values);
+
 class JsonObject {
  public:
   // `json` is a value already in JSON form (a number, array, object, ...).

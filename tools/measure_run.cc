@@ -35,7 +35,8 @@ using Clock = std::chrono::steady_clock;
 constexpr const char* kTerrainKeys[] = {"reference_crs", "moving_crs",      "frame",
                                         "band",          "window",          "lod",
                                         "sigma_reference", "sigma_moving", "lod_confidence",
-                                        "classes",       "columns",         "dod"};
+                                        "classes",       "columns",         "dod",
+                                        "error_model",   "variogram_png"};
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
@@ -230,14 +231,24 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     throw InputError(config.Where("lod") +
                      ": cut/fill beyond a level of detection needs --volume=overlay");
   }
-  const bool sigma = !config.terrain.sigma_reference.empty() || !config.terrain.sigma_moving.empty();
+  const bool variogram = config.terrain.error_model == "variogram";
+  const bool sigma = !config.terrain.sigma_reference.empty() || !config.terrain.sigma_moving.empty() || variogram;
   if (config.terrain.lod_confidence > 0 && !sigma) {
     throw InputError(config.Where("lod_confidence") +
-                     " needs the DEMs' vertical errors: give --sigma_reference and/or --sigma_moving");
+                     " needs the DEMs' vertical errors: give --sigma_reference and/or --sigma_moving, or "
+                     "--error_model=variogram");
   }
   if (sigma && !options.detect_change) {
-    const char* key = config.terrain.sigma_reference.empty() ? "sigma_moving" : "sigma_reference";
+    const char* key = variogram ? "error_model"
+                      : config.terrain.sigma_reference.empty() ? "sigma_moving" : "sigma_reference";
     throw InputError(config.Where(key) + ": the change budget needs --volume=overlay");
+  }
+  if (!config.terrain.variogram_png.empty()) {
+    if (!variogram) {
+      throw InputError(config.Where("variogram_png") + ": needs --error_model=variogram");
+    }
+    CheckTerrainOutput("variogram_png", config.terrain.variogram_png, config.Where("variogram_png"));
+    CheckOutputPath(config.terrain.variogram_png, config.Where("variogram_png"));
   }
   // The budget weights dz at A's nodes by their areas; the DoD is dz there.
   options.keep_node_gaps = sigma || !config.terrain.dod.empty();
@@ -319,6 +330,10 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   report.dz = measured.dz;
   report.has_dz = true;
   report.uncertainty = std::move(measured.uncertainty);
+  if (!config.terrain.variogram_png.empty() && report.uncertainty.spatial) {
+    WriteVariogramPng(config.terrain.variogram_png, report.uncertainty.model, report.metric ? "m" : "units",
+                      config.Where("variogram_png"));
+  }
   report.config = config;
   report.read_s = measured.read_s;
   report.total_s = Seconds(Clock::now() - start);

@@ -40,6 +40,35 @@ JsonObject ChangeUncertaintyJson(const TerrainRequest& config, const ChangeUncer
       .Number("fill_sigma_correlated", b.fill_sigma_correlated)
       .Number("cut_sigma_correlated", b.cut_sigma_correlated)
       .Number("net_sigma_correlated", b.net_sigma_correlated);
+  json.String("error_model", u.error_model);
+  if (u.spatial) {
+    const Variogram& v = u.model.variogram;
+    const EmpiricalVariogram& e = u.model.empirical;
+    JsonObject variogram;
+    variogram.Number("nugget", v.nugget)
+        .Raw("sills", JsonNumbers({v.sill[0], v.sill[1]}))
+        .Raw("ranges", JsonNumbers({v.range[0], v.range[1]}))
+        .Int("stable_cells", u.model.stable_cells)
+        .Number("stable_median", u.model.stable_median)
+        .Number("stable_nmad", u.model.stable_nmad)
+        .Raw("lags", JsonNumbers(e.lag))
+        .Raw("gamma", JsonNumbers(e.gamma));
+    JsonObject sigma;
+    sigma.Raw("estimated", u.model.sigma_estimated ? "true" : "false");
+    if (u.model.sigma_estimated) {
+      const SigmaModel& m = u.model.sigma_model;
+      sigma.Raw("slope", JsonNumbers(m.slope))
+          .Raw("sigma", JsonNumbers(m.sigma))
+          .Raw("curvature", JsonNumbers(m.curvature))
+          .Raw("factor", JsonNumbers(m.factor));
+    }
+    json.Number("fill_sigma_spatial", u.fill_sigma_spatial)
+        .Number("cut_sigma_spatial", u.cut_sigma_spatial)
+        .Number("net_sigma_spatial", u.net_sigma_spatial)
+        .Int("spatial_block", u.spatial_block)
+        .Object("variogram", variogram)
+        .Object("sigma_model", sigma);
+  }
   if (u.registration) {
     json.Number("fill_sigma_registration", u.fill_sigma_registration)
         .Number("cut_sigma_registration", u.cut_sigma_registration)

@@ -1,0 +1,56 @@
+#pragma once
+// The standard error of volumes summed over a DoD whose errors are
+// spatially correlated (docs/terrain.md, "Spatially correlated errors"):
+// the error at cell i is σ_i Z_i, Z a unit Gaussian field with the
+// correlation ρ(d) of a fitted variogram (terrain/variogram.h), and a volume
+// is Σ a_i g(dz_i) for fill, cut or net beyond a threshold L_i.
+//
+// Without a threshold the net is linear and Var = Σ_ij a_i a_j σ_i σ_j ρ_ij
+// exactly. A threshold makes g jump at ±L; then each cell's g is expanded in
+// Hermite polynomials of Z_i (Mehler's formula: Cov(g_i, g_j) = Σ_k c_ik
+// c_jk ρ^k / k!), kept as c_i1 c_j1 ρ + √(R_i R_j) ρ², R_i the variance left
+// beyond the first term: exact for ρ = 0 and ρ = 1, an upper bound between.
+// c and R are taken at the cell's detected change (dz beyond L, 0 within):
+// cells below the threshold carry the chance of a false detection.
+#include <vector>
+
+#include "measure/tasks.h"
+#include "terrain/variogram.h"
+
+namespace surfreg {
+
+// Σ_ij w_i w_j K(d_ij) over the cells of `grid` (w: one weight per cell,
+// 0 where none), K radial and 0 beyond `support` (length units; infinite
+// = the whole grid). Exact when the grid is small enough that every pair
+// within the support is at most `budget` multiply-adds; otherwise the
+// weights are summed over blocks of b x b cells (b the smallest that fits
+// the budget) and the blocks' sums paired at their centres' distance: an
+// approximation linear in the cells, whose error is that of K varying over
+// a block. `block` (optional) gets b.
+double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w, double (*kernel)(double, const void*),
+                           const void* kernel_data, double support, const Execution& execution,
+                           double budget = 1e8, int* block = nullptr);
+
+// The first Hermite coefficient c₁ = E[g(X) Z] and the variance R left
+// beyond it, Var g(X) − c₁², of one cell's contribution g to fill (X > L:
+// X), cut (X < −L: −X) and net (their difference) for X = μ + σ Z, with
+// μ the detected change (dz if |dz| > L, else 0). L = 0: no threshold.
+struct HermiteTerms {
+  double fill_c1 = 0, fill_rest = 0, cut_c1 = 0, cut_rest = 0, net_c1 = 0, net_rest = 0;
+};
+HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold);
+
+struct SpatialSigma {
+  double fill = 0, cut = 0, net = 0;  // ± one standard error
+  int block = 1;                      // the largest block of the approximation (1: exact)
+};
+
+// The standard errors of fill, cut and net over the cells with a finite
+// dz, σ and area (`dz`, `sigma`, `threshold`, `area` one per cell of
+// `grid`), the correlation that of `variogram`.
+SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const std::vector<double>& dz,
+                                   const std::vector<double>& sigma, const std::vector<double>& threshold,
+                                   const std::vector<double>& area, const Variogram& variogram,
+                                   const Execution& execution, double budget = 1e8);
+
+}  // namespace surfreg

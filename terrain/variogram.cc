@@ -1,0 +1,236 @@
+#include "terrain/variogram.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+
+namespace surfreg {
+namespace {
+
+// SplitMix64: a small generator whose sequence is the same on every
+// platform, so that the sampled pairs (and the fit) are too.
+struct Random {
+  uint64_t state;
+  uint64_t Next() {
+    uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  double Uniform() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }
+};
+
+// For a Gaussian Δ ~ N(0, 2γ): median(Δ²) = 0.45494 · 2γ (Dowd 1984).
+constexpr double kDowd = 1.0 / (2 * 0.454936423119572);
+constexpr double kBinGrowth = 1.25;
+constexpr int64_t kMinPairs = 30;
+
+// One bin's pairs: random cells with valid values, a random offset whose
+// length falls in [lo, hi) (uniform over the annulus' area, half a turn of
+// directions: the variogram is symmetric).
+void SampleBin(const GridLayout& grid, const std::vector<double>& values, const std::vector<int64_t>& valid,
+               double lo, double hi, int bin, int64_t pairs_per_bin, double* lag, double* gamma,
+               int64_t* pairs) {
+  Random random{0x5eed0000ULL + static_cast<uint64_t>(bin) * 0x100000001b3ULL};
+  std::vector<double> squares;
+  squares.reserve(static_cast<std::size_t>(pairs_per_bin));
+  double distance_sum = 0;
+  const int64_t attempts = 30 * pairs_per_bin;
+  const double pi = std::acos(-1.0);
+  for (int64_t a = 0; a < attempts && static_cast<int64_t>(squares.size()) < pairs_per_bin; ++a) {
+    const int64_t anchor = valid[random.Next() % valid.size()];
+    const double d = std::sqrt(lo * lo + random.Uniform() * (hi * hi - lo * lo));
+    const double angle = random.Uniform() * pi;
+    const long ox = std::lround(d * std::cos(angle) / grid.dx);
+    const long oy = std::lround(d * std::sin(angle) / grid.dy);
+    if (ox == 0 && oy == 0) continue;
+    const double distance = std::hypot(static_cast<double>(ox) * grid.dx, static_cast<double>(oy) * grid.dy);
+    if (distance < lo || distance >= hi) continue;
+    const int64_t column = anchor % grid.columns + ox, row = anchor / grid.columns + oy;
+    if (column < 0 || column >= grid.columns || row < 0 || row >= grid.rows) continue;
+    const double other = values[static_cast<std::size_t>(row * grid.columns + column)];
+    if (!std::isfinite(other)) continue;
+    const double difference = values[static_cast<std::size_t>(anchor)] - other;
+    squares.push_back(difference * difference);
+    distance_sum += distance;
+  }
+  *pairs = static_cast<int64_t>(squares.size());
+  if (*pairs < kMinPairs) return;
+  auto middle = squares.begin() + static_cast<std::ptrdiff_t>(squares.size() / 2);
+  std::nth_element(squares.begin(), middle, squares.end());
+  *gamma = kDowd * *middle;
+  *lag = distance_sum / static_cast<double>(*pairs);
+}
+
+// 1 − spherical correlation at each bin's lag: the shape a sill multiplies.
+std::vector<double> Shape(const std::vector<double>& lags, double range) {
+  std::vector<double> shape(lags.size());
+  for (std::size_t b = 0; b < lags.size(); ++b) shape[b] = 1 - SphericalCorrelation(lags[b], range);
+  return shape;
+}
+
+struct Fit {
+  double residual = std::numeric_limits<double>::infinity();
+  double nugget = 0, sill_short = 0, sill_long = 0;
+};
+
+// Non-negative weighted least squares of y on the columns [1, short, long]
+// (`long_shape` null: two columns) by trying every subset of active
+// columns: three unknowns at most, so this is exact and cheap.
+Fit SolveSills(const std::vector<double>& y, const std::vector<double>& w, const std::vector<double>& short_shape,
+               const std::vector<double>* long_shape) {
+  const int columns = long_shape ? 3 : 2;
+  const std::size_t n = y.size();
+  auto column = [&](int k, std::size_t b) {
+    return k == 0 ? 1.0 : k == 1 ? short_shape[b] : (*long_shape)[b];
+  };
+  Fit best;
+  for (int subset = 1; subset < (1 << columns); ++subset) {
+    int active[3], m = 0;
+    for (int k = 0; k < columns; ++k) {
+      if (subset & (1 << k)) active[m++] = k;
+    }
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d right = Eigen::Vector3d::Zero();
+    for (std::size_t b = 0; b < n; ++b) {
+      for (int i = 0; i < m; ++i) {
+        right[i] += w[b] * column(active[i], b) * y[b];
+        for (int j = 0; j < m; ++j) normal(i, j) += w[b] * column(active[i], b) * column(active[j], b);
+      }
+    }
+    const Eigen::VectorXd beta = normal.topLeftCorner(m, m).ldlt().solve(right.head(m));
+    if (!beta.allFinite() || (beta.array() < 0).any()) continue;
+    double values[3] = {0, 0, 0};
+    for (int i = 0; i < m; ++i) values[active[i]] = beta[i];
+    double residual = 0;
+    for (std::size_t b = 0; b < n; ++b) {
+      double model = 0;
+      for (int k = 0; k < columns; ++k) model += values[k] * column(k, b);
+      residual += w[b] * (y[b] - model) * (y[b] - model);
+    }
+    if (residual < best.residual) best = {residual, values[0], values[1], values[2]};
+  }
+  return best;
+}
+
+}  // namespace
+
+double SphericalCorrelation(double h, double range) {
+  if (!(h > 0)) return 1;
+  if (std::isinf(range)) return 1;
+  if (!(range > 0) || h >= range) return 0;
+  const double u = h / range;
+  return 1 - 1.5 * u + 0.5 * u * u * u;
+}
+
+double Variogram::Gamma(double h) const {
+  if (!(h > 0)) return 0;
+  return nugget + sill[0] * (1 - SphericalCorrelation(h, range[0])) +
+         sill[1] * (1 - SphericalCorrelation(h, range[1]));
+}
+
+double Variogram::Correlation(double h) const {
+  if (!(h > 0)) return 1;
+  const double total = Total();
+  return total > 0 ? 1 - Gamma(h) / total : 0;
+}
+
+EmpiricalVariogram SampleVariogram(const GridLayout& grid, const std::vector<double>& values,
+                                   const Execution& execution, int64_t pairs_per_bin) {
+  EmpiricalVariogram out;
+  std::vector<int64_t> valid;
+  int64_t column_min = grid.columns, column_max = -1, row_min = grid.rows, row_max = -1;
+  for (int64_t cell = 0; cell < grid.cells(); ++cell) {
+    if (!std::isfinite(values[static_cast<std::size_t>(cell)])) continue;
+    valid.push_back(cell);
+    const int64_t column = cell % grid.columns, row = cell / grid.columns;
+    column_min = std::min(column_min, column), column_max = std::max(column_max, column);
+    row_min = std::min(row_min, row), row_max = std::max(row_max, row);
+  }
+  if (valid.size() < 2) return out;
+  const double step = std::min(grid.dx, grid.dy);
+  const double max_lag = 0.5 * std::hypot(static_cast<double>(column_max - column_min) * grid.dx,
+                                          static_cast<double>(row_max - row_min) * grid.dy);
+  std::vector<double> edges = {0.75 * step};
+  while (edges.back() < max_lag) edges.push_back(edges.back() * kBinGrowth);
+  const int bins = static_cast<int>(edges.size()) - 1;
+  if (bins < 1) return out;
+  std::vector<double> lag(static_cast<std::size_t>(bins), 0), gamma(lag.size(), 0);
+  std::vector<int64_t> pairs(lag.size(), 0);
+  ForEachChunk(execution, bins, std::min(bins, kMaxChunks), [&](int, int64_t begin, int64_t end) {
+    for (int64_t b = begin; b < end; ++b) {
+      const std::size_t k = static_cast<std::size_t>(b);
+      SampleBin(grid, values, valid, edges[k], edges[k + 1], static_cast<int>(b), pairs_per_bin, &lag[k],
+                &gamma[k], &pairs[k]);
+    }
+  });
+  for (std::size_t b = 0; b < lag.size(); ++b) {
+    if (pairs[b] < kMinPairs) continue;
+    out.lag.push_back(lag[b]);
+    out.gamma.push_back(gamma[b]);
+    out.pairs.push_back(pairs[b]);
+  }
+  return out;
+}
+
+Variogram FitVariogram(const EmpiricalVariogram& empirical, double min_range, double max_range) {
+  std::vector<double> lags, y, w;
+  for (std::size_t b = 0; b < empirical.lag.size(); ++b) {
+    if (!(empirical.gamma[b] > 0)) continue;
+    lags.push_back(empirical.lag[b]);
+    y.push_back(empirical.gamma[b]);
+    w.push_back(static_cast<double>(empirical.pairs[b]) / (empirical.gamma[b] * empirical.gamma[b]));
+  }
+  Variogram out;
+  if (lags.size() < 3) {
+    double mean = 0;
+    for (double g : y) mean += g;
+    out.nugget = y.empty() ? 0 : mean / static_cast<double>(y.size());
+    return out;
+  }
+  // Coarse: ranges on a grid growing by 8%, every pair short <= long.
+  constexpr double kGrowth = 1.08;
+  std::vector<double> ranges;
+  for (double r = min_range; r <= max_range * (1 + 1e-12); r *= kGrowth) ranges.push_back(r);
+  std::vector<std::vector<double>> shapes;
+  for (double r : ranges) shapes.push_back(Shape(lags, r));
+  Fit best;
+  double best_short = ranges.front(), best_long = ranges.front();
+  auto consider = [&](double r_short, double r_long, const std::vector<double>& s, const std::vector<double>& l,
+                      bool one) {
+    const Fit fit = SolveSills(y, w, s, one ? nullptr : &l);
+    if (fit.residual < best.residual * (1 - 1e-12)) best = fit, best_short = r_short, best_long = r_long;
+  };
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    for (std::size_t j = i; j < ranges.size(); ++j) {
+      consider(ranges[i], ranges[j], shapes[i], shapes[j], i == j);
+    }
+  }
+  // Fine: a grid of 1% steps within one coarse step of the best pair.
+  const double coarse_short = best_short, coarse_long = best_long;
+  for (int a = -8; a <= 8; ++a) {
+    const double r_short = coarse_short * std::pow(kGrowth, a / 8.0);
+    const std::vector<double> s = Shape(lags, r_short);
+    for (int b = -8; b <= 8; ++b) {
+      const double r_long = coarse_long * std::pow(kGrowth, b / 8.0);
+      if (r_long < r_short) continue;
+      consider(r_short, r_long, s, Shape(lags, r_long), false);
+    }
+  }
+  out.nugget = best.nugget;
+  out.sill = {best.sill_short, best.sill_long};
+  out.range = {best.sill_short > 0 ? best_short : 0.0, best.sill_long > 0 ? best_long : 0.0};
+  if (out.range[0] > out.range[1] && out.sill[1] > 0) {
+    std::swap(out.range[0], out.range[1]);
+    std::swap(out.sill[0], out.sill[1]);
+  } else if (out.sill[1] == 0 && out.sill[0] > 0) {
+    // One component: call it the short one only if a long one exists.
+    std::swap(out.range[0], out.range[1]);
+    std::swap(out.sill[0], out.sill[1]);
+  }
+  return out;
+}
+
+}  // namespace surfreg
