@@ -85,7 +85,7 @@ python3 -c 'import json,sys; p=json.load(open(sys.argv[1]))["pairs"]; sys.exit(0
   "$tmp/stdout" || fail "series --pairs: the pairs aligned"
 
 # --- dates: the change between consecutive epochs per year ---
-run series --config configs/series_volcano.yaml --dates=2020-05-01,2021-05-01,2023-05-01,2023-11-01 --json --quiet
+run series --config configs/series_volcano.yaml --dates=2020-05-01,2021-05-01,2023-05-01,2023-11-01 --output="$tmp/dated.json" --json --quiet
 [[ $rc -eq 0 ]] || fail "series --dates: exit code"
 checks=$((checks + 1))
 python3 - "$tmp/stdout" <<'PY' || fail "series --dates: the consecutive changes' years and rates"
