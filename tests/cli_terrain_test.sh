@@ -332,6 +332,37 @@ expect_error "point cloud" align configs/data/volcano_a.xyz configs/data/volcano
 expect_error "dod_sigma" align configs/data/volcano_a.xyz configs/data/volcano_b.xyz \
   --sigma_reference=0.2 --dod_sigma="$out/s.tif" --output="$out/t.json"
 
+# --- error_model variogram: the spatially correlated budget between the two bounds ---
+run measure configs/data/volcano_dem.tif configs/data/volcano_dem_moved.tif --error_model=variogram \
+  --variogram_png="$out/variogram.png" --json
+if [[ $rc -ne 0 ]]; then
+  fail "measure --error_model=variogram"
+else
+  python3 - "$tmp/stdout" "$out/variogram.png" <<'PY' || fail "measure --error_model=variogram: bounds and keys"
+import json, os, sys
+u = json.load(open(sys.argv[1]))["change"]["uncertainty"]
+v = u["variogram"]
+# Without a threshold Var = sum a_i a_j s_i s_j rho_ij with 0 <= rho <= 1: between the bounds.
+ok = (u["error_model"] == "variogram" and u["sigma_model"]["estimated"] is True
+      and u["net_sigma_independent"] <= u["net_sigma_spatial"] <= u["net_sigma_correlated"]
+      and v["stable_cells"] >= 1000 and len(v["sills"]) == 2 and len(v["ranges"]) == 2
+      and len(v["lags"]) == len(v["gamma"]) > 3 and u["spatial_block"] == 1
+      and os.path.getsize(sys.argv[2]) > 1000)
+print("variogram: net +/- %g (independent %g, correlated %g), nugget %g, ranges %s"
+      % (u["net_sigma_spatial"], u["net_sigma_independent"], u["net_sigma_correlated"], v["nugget"], v["ranges"]))
+sys.exit(0 if ok else 1)
+PY
+fi
+rm -rf "${out:?}"/*
+expect_error "needs a raster reference" measure configs/data/volcano_a.xyz configs/data/volcano_b.xyz \
+  --error_model=variogram
+expect_error "stable cells with a DoD value, and the variogram error model needs at least 1000" measure "$tmp/before.asc" "$tmp/after.asc" --error_model=variogram
+expect_error "error_model" measure "$tmp/before.asc" "$tmp/after.asc" --error_model=kriging
+expect_error "needs --error_model=variogram" measure "$tmp/before.asc" "$tmp/after.asc" \
+  --variogram_png="$out/v.png"
+expect_error "needs error_model: variogram" align "${change[@]}" --variogram_png="$out/v.png" \
+  --output="$out/t.json"
+
 # --- lon/lat DEMs in --manifest and sweep: the metric frame, as a single align ---
 # Two 40 x 30 grids of 0.001 deg near Auckland (UTM 60S), B = A + 3 m.
 python3 - "$tmp" <<'PY'

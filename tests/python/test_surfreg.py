@@ -320,6 +320,14 @@ def test_terrain_change_equals_the_cli_measure_json(tmp_path):
     assert t.metric and "EPSG:2193" in t.frame
     assert " m^3" in t.report() and "units" not in t.report()
     assert np.count_nonzero(np.isfinite(t.dz_a)) == t.dz.count
+    assert np.isnan(t.net_sigma_spatial) and t.variogram == {}
+    # The spatially correlated error model, as the CLI computes it.
+    v = surfreg.terrain_change(a, b, lod_confidence=0.95, error_model="variogram")
+    expected = cli_json("measure", a, b, "--lod_confidence=0.95", "--error_model=variogram")["change"]["uncertainty"]
+    assert v.net_sigma_spatial == expected["net_sigma_spatial"] > 0
+    assert (v.fill_sigma_spatial, v.cut_sigma_spatial) == (expected["fill_sigma_spatial"], expected["cut_sigma_spatial"])
+    assert list(v.variogram["ranges"]) == expected["variogram"]["ranges"]
+    assert v.variogram["stable_cells"] == expected["variogram"]["stable_cells"]
 
 
 # --- bad input ------------------------------------------------------------

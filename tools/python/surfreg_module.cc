@@ -276,6 +276,25 @@ void BindResults(py::module_& m) {
       .def_property_readonly("net_sigma_correlated", [](const TerrainMeasure& t) {
         return t.uncertainty.active ? t.uncertainty.budget.net_sigma_correlated : std::nan("");
       }, "the net change's sigma, errors fully correlated")
+      .def_property_readonly("net_sigma_spatial", [](const TerrainMeasure& t) {
+        return t.uncertainty.spatial ? t.uncertainty.net_sigma_spatial : std::nan("");
+      }, "the net change's sigma with the DoD's spatially correlated errors (error_model='variogram'; else NaN)")
+      .def_property_readonly("fill_sigma_spatial", [](const TerrainMeasure& t) {
+        return t.uncertainty.spatial ? t.uncertainty.fill_sigma_spatial : std::nan("");
+      })
+      .def_property_readonly("cut_sigma_spatial", [](const TerrainMeasure& t) {
+        return t.uncertainty.spatial ? t.uncertainty.cut_sigma_spatial : std::nan("");
+      })
+      .def_property_readonly("variogram", [](const TerrainMeasure& t) {
+        py::dict d;
+        if (!t.uncertainty.spatial) return d;
+        const Variogram& v = t.uncertainty.model.variogram;
+        d["nugget"] = v.nugget;
+        d["sills"] = py::make_tuple(v.sill[0], v.sill[1]);
+        d["ranges"] = py::make_tuple(v.range[0], v.range[1]);
+        d["stable_cells"] = t.uncertainty.model.stable_cells;
+        return d;
+      }, "the fitted variogram of dz / sigma on stable terrain (error_model='variogram'; else empty)")
       .def_property_readonly("frame", [](const TerrainMeasure& t) { return t.frame.Describe(); })
       .def_readonly("b_reprojected_from", &TerrainMeasure::b_reprojected_from)
       .def_readonly("metric", &TerrainMeasure::metric, "lengths in metres")
@@ -340,5 +359,5 @@ PYBIND11_MODULE(surfreg, m) {
         "dz statistics at the reference's nodes, cut and fill beyond lod, the change budget\n"
         "with sigma_reference / sigma_moving, the DoD GeoTIFF with dod=. Keys: the terrain\n"
         "keys (reference_crs, moving_crs, frame, band, window, lod, sigma_*, lod_confidence,\n"
-        "dod, dod_sigma, dod_thresholded; docs/terrain.md) and measure()'s options.");
+        "dod, dod_sigma, dod_thresholded, error_model; docs/terrain.md) and measure()'s options.");
 }
