@@ -94,40 +94,61 @@ void AddSpatialUncertainty(const TerrainRequest& config, const Surface& referenc
   std::vector<int64_t> sample_of_cell(n, -1);
   for (std::size_t i = 0; i < cells.size(); ++i) sample_of_cell[static_cast<std::size_t>(cells[i])] = static_cast<int64_t>(i);
   FrameCellSize(reference, grid, cells, sample_of_cell, &dod.layout.dx, &dod.layout.dy);
-  dod.dz.assign(n, std::nan(""));
-  dod.height.assign(n, std::nan(""));
-  dod.area.assign(n, 0.0);
-  dod.stable.assign(n, 0);
-  std::vector<double> sigma, threshold(n, std::nan(""));
-  if (sigma_given) sigma.assign(n, std::nan(""));
+  DodBlock& all = dod.cells;
+  all.columns = grid.columns, all.rows = grid.rows;
+  all.dz.assign(n, std::nan(""));
+  all.height.assign(n, std::nan(""));
+  all.area.assign(n, 0.0);
+  all.stable.assign(n, 0);
+  if (sigma_given) all.sigma.assign(n, std::nan(""));
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const std::size_t c = static_cast<std::size_t>(cells[i]);
-    dod.dz[c] = after.dz_a[i];
-    dod.height[c] = reference.z[i];
-    dod.area[c] = i < after.node_area_a.size() ? after.node_area_a[i] : 0.0;
-    dod.stable[c] = at.stable.empty() || at.stable[i];
-    if (sigma_given) sigma[c] = u->sigma_dod[i];
+    all.dz[c] = after.dz_a[i];
+    all.height[c] = reference.z[i] + reference.origin[2];
+    all.area[c] = i < after.node_area_a.size() ? after.node_area_a[i] : 0.0;
+    all.stable[c] = at.stable.empty() || at.stable[i];
+    if (sigma_given) all.sigma[c] = u->sigma_dod[i];
   }
-  u->model = FitDodErrorModel(dod, &sigma, execution, where);
+  const DodBlockReader read = DodGridReader(dod);
+  u->model = FitDodErrorModel(dod.layout, read, execution, where);
   if (!sigma_given) {
+    DodBlock whole;
+    whole.columns = grid.columns, whole.rows = grid.rows;
+    std::vector<double> sigma;
+    ReadWithSigma(dod.layout, read, u->model, &whole, &sigma);
     for (std::size_t i = 0; i < cells.size(); ++i) {
       u->sigma_dod[i] = std::isfinite(after.dz_a[i]) ? sigma[static_cast<std::size_t>(cells[i])] : std::nan("");
     }
   }
-  const double confidence = config.terrain.lod_confidence, lod = config.terrain.lod;
-  u->threshold = ChangeThresholds(u->sigma_dod, confidence, lod);
-  for (std::size_t i = 0; i < cells.size(); ++i) threshold[static_cast<std::size_t>(cells[i])] = u->threshold[i];
-  for (std::size_t c = 0; c < n; ++c) {
-    if (!std::isfinite(sigma[c])) dod.dz[c] = std::nan("");
-  }
-  const SpatialSigma s =
-      PropagateSpatialSigma(dod.layout, dod.dz, sigma, threshold, dod.area, u->model.variogram, execution);
+  const double confidence = config.terrain.lod_confidence;
+  const double t = confidence > 0 ? TwoSidedNormalQuantile(confidence) : 0.0;
+  const SpatialSigma s = PropagateSpatialSigma(
+      dod.layout, DodBudgetRows(dod.layout, read, u->model, t, config.terrain.lod, nullptr), u->model.variogram,
+      execution);
   u->spatial = true;
   u->fill_sigma_spatial = s.fill, u->cut_sigma_spatial = s.cut, u->net_sigma_spatial = s.net;
   u->spatial_block = s.block;
 }
 
 }  // namespace
+
+BudgetRowReader DodBudgetRows(const GridLayout& grid, const DodBlockReader& read, const DodErrorModel& model,
+                              double t, double lod, ChangeBudgetSums* sums) {
+  return [&grid, read, &model, t, lod, sums](int row0, int row1, int core, BudgetRows* rows) {
+    DodBlock block;
+    block.column = 0, block.row = row0, block.columns = grid.columns, block.rows = row1 - row0;
+    ReadWithSigma(grid, read, model, &block, &rows->sigma);
+    rows->dz = std::move(block.dz);
+    rows->area = std::move(block.area);
+    rows->threshold.resize(rows->sigma.size());
+    for (std::size_t i = 0; i < rows->sigma.size(); ++i) {
+      rows->threshold[i] = std::isfinite(rows->sigma[i]) ? std::max(lod, t * rows->sigma[i]) : std::nan("");
+    }
+    if (sums == nullptr) return;
+    const std::size_t first = static_cast<std::size_t>(core) * static_cast<std::size_t>(grid.columns);
+    for (std::size_t i = 0; i < first; ++i) sums->AddNode(rows->dz[i], rows->area[i], rows->sigma[i], rows->threshold[i]);
+  };
+}
 
 ChangeSigmas ModelSigmas(const ChangeUncertainty& u) {
   const ChangeBudget& b = u.budget;

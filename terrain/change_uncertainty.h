@@ -13,6 +13,7 @@
 
 #include "terrain/change_budget.h"
 #include "terrain/dod_error.h"
+#include "terrain/spatial_budget.h"
 #include "measure/measures.h"
 #include "measure/surface.h"
 #include "terrain/terrain_request.h"
@@ -53,6 +54,12 @@ struct ChangeUncertainty {
   double fill_sigma_registration = 0, cut_sigma_registration = 0, net_sigma_registration = 0;
   double fill_sigma_total = 0, cut_sigma_total = 0, net_sigma_total = 0;
 };
+
+// The rows of a DoD as the propagation reads them (terrain/spatial_budget.h):
+// σ (given, or the model's), the threshold max(lod, t σ); with `sums`, the
+// nodes of each row met for the first time added to that budget.
+BudgetRowReader DodBudgetRows(const GridLayout& grid, const DodBlockReader& read, const DodErrorModel& model,
+                              double t, double lod, ChangeBudgetSums* sums);
 
 // The DEM errors' ± of fill, cut and net under the request's error model.
 struct ChangeSigmas {

@@ -118,61 +118,162 @@ double SigmaModel::At(double s, double c) const {
   return Interpolate(slope, sigma, s) * (curvature.empty() ? 1.0 : Interpolate(curvature, factor, c));
 }
 
-DodErrorModel FitDodErrorModel(const DodGrid& dod, std::vector<double>* sigma, const Execution& execution,
-                               const std::string& where) {
-  const std::size_t n = static_cast<std::size_t>(dod.layout.cells());
-  DodErrorModel model;
-  model.sigma_estimated = sigma->empty();
-  // The stable cells' dz, and of them the inliers: within 4 NMAD of the median
-  // (a change the stable terrain missed is not noise).
-  std::vector<double> stable_dz;
+DodBlockReader DodGridReader(const DodGrid& dod) {
+  return [&dod](DodBlock* block) {
+    const DodBlock& all = dod.cells;
+    const int columns = dod.layout.columns;
+    const auto crop = [&](const auto& from, auto* to) {
+      to->clear();
+      if (from.empty()) return;
+      for (int y = 0; y < block->rows; ++y) {
+        const auto begin = from.begin() + static_cast<std::ptrdiff_t>(block->row + y) * columns + block->column;
+        to->insert(to->end(), begin, begin + block->columns);
+      }
+    };
+    crop(all.dz, &block->dz), crop(all.height, &block->height), crop(all.area, &block->area);
+    crop(all.sigma, &block->sigma), crop(all.stable, &block->stable);
+  };
+}
+
+std::vector<std::array<int, 4>> ErrorModelWindows(const GridLayout& grid) {
+  constexpr int64_t kWholeCells = int64_t{1} << 22;
+  constexpr int kSide = 1024, kAcross = 4;
+  if (grid.cells() <= kWholeCells) return {{0, 0, grid.columns, grid.rows}};
+  std::vector<std::array<int, 4>> windows;
+  const int columns = std::min(kSide, grid.columns), rows = std::min(kSide, grid.rows);
+  for (int j = 0; j < kAcross; ++j) {
+    for (int i = 0; i < kAcross; ++i) {
+      const int column = static_cast<int>(static_cast<int64_t>(grid.columns - columns) * i / (kAcross - 1));
+      const int row = static_cast<int>(static_cast<int64_t>(grid.rows - rows) * j / (kAcross - 1));
+      const std::array<int, 4> window = {column, row, columns, rows};
+      if (std::find(windows.begin(), windows.end(), window) == windows.end()) windows.push_back(window);
+    }
+  }
+  return windows;
+}
+
+namespace {
+
+// The window of `block` with its slope and curvature: read with a cell
+// around it (clipped to the grid), then cropped back.
+void ReadWithSlope(const GridLayout& grid, const DodBlockReader& read, DodBlock* block, std::vector<double>* slope,
+                   std::vector<double>* curvature) {
+  DodBlock wide;
+  wide.column = std::max(0, block->column - 1), wide.row = std::max(0, block->row - 1);
+  wide.columns = std::min(grid.columns, block->column + block->columns + 1) - wide.column;
+  wide.rows = std::min(grid.rows, block->row + block->rows + 1) - wide.row;
+  read(&wide);
+  std::vector<double> wide_slope, wide_curvature;
+  SlopeAndCurvature({wide.columns, wide.rows, grid.dx, grid.dy}, wide.height, &wide_slope, &wide_curvature);
+  const int dx = block->column - wide.column, dy = block->row - wide.row;
+  const auto crop = [&](const auto& from, auto* to) {
+    to->clear();
+    if (from.empty()) return;
+    for (int y = 0; y < block->rows; ++y) {
+      const auto begin = from.begin() + static_cast<std::ptrdiff_t>(y + dy) * wide.columns + dx;
+      to->insert(to->end(), begin, begin + block->columns);
+    }
+  };
+  crop(wide.dz, &block->dz), crop(wide.height, &block->height), crop(wide.area, &block->area);
+  crop(wide.sigma, &block->sigma), crop(wide.stable, &block->stable);
+  crop(wide_slope, slope), crop(wide_curvature, curvature);
+}
+
+}  // namespace
+
+void ReadWithSigma(const GridLayout& grid, const DodBlockReader& read, const DodErrorModel& model, DodBlock* block,
+                   std::vector<double>* sigma) {
+  std::vector<double> slope, curvature;
+  ReadWithSlope(grid, read, block, &slope, &curvature);
+  const std::size_t n = block->dz.size();
+  sigma->assign(n, std::nan(""));
   for (std::size_t i = 0; i < n; ++i) {
-    if (dod.stable[i] && std::isfinite(dod.dz[i])) stable_dz.push_back(dod.dz[i]);
+    if (!std::isfinite(block->dz[i])) continue;
+    (*sigma)[i] = !block->sigma.empty()               ? block->sigma[i]
+                  : model.sigma_model.slope.empty() ? 0.0
+                                                    : model.sigma_model.At(slope[i], curvature[i]);
+  }
+}
+
+DodErrorModel FitDodErrorModel(const GridLayout& grid, const DodBlockReader& read, const Execution& execution,
+                               const std::string& where) {
+  DodErrorModel model;
+  struct Window {
+    DodBlock block;
+    std::vector<double> slope, curvature, standard;
+    std::vector<uint8_t> inlier;
+  };
+  std::vector<Window> windows;
+  for (const auto& [column, row, columns, rows] : ErrorModelWindows(grid)) {
+    Window w;
+    w.block.column = column, w.block.row = row, w.block.columns = columns, w.block.rows = rows;
+    ReadWithSlope(grid, read, &w.block, &w.slope, &w.curvature);
+    windows.push_back(std::move(w));
+  }
+  model.sigma_estimated = std::all_of(windows.begin(), windows.end(), [](const Window& w) { return w.block.sigma.empty(); });
+  // The stable cells' dz, and of them the inliers: within 4 NMAD of the
+  // median (a change the stable terrain missed is not noise).
+  std::vector<double> stable_dz;
+  for (const Window& w : windows) {
+    for (std::size_t i = 0; i < w.block.dz.size(); ++i) {
+      if (w.block.stable[i] && std::isfinite(w.block.dz[i])) stable_dz.push_back(w.block.dz[i]);
+    }
   }
   model.stable_median = Median(stable_dz);
   model.stable_nmad = stable_dz.empty() ? std::nan("") : Nmad(stable_dz);
-  std::vector<uint8_t> inlier(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!dod.stable[i] || !std::isfinite(dod.dz[i])) continue;
-    if (std::fabs(dod.dz[i] - model.stable_median) <= kInlierNmads * model.stable_nmad) {
-      inlier[i] = 1;
-      ++model.stable_cells;
+  for (Window& w : windows) {
+    w.inlier.assign(w.block.dz.size(), 0);
+    for (std::size_t i = 0; i < w.block.dz.size(); ++i) {
+      const double dz = w.block.dz[i];
+      if (w.block.stable[i] && std::isfinite(dz) &&
+          std::fabs(dz - model.stable_median) <= kInlierNmads * model.stable_nmad) {
+        w.inlier[i] = 1;
+        ++model.stable_cells;
+      }
     }
   }
   if (model.stable_cells < kMinStableCells) {
     throw InputError(where + ": only " + std::to_string(model.stable_cells) +
                      " stable cells with a DoD value, and the variogram error model needs at least " +
-                     std::to_string(kMinStableCells) +
-                     " (a larger stable area, or error_model: independent)");
+                     std::to_string(kMinStableCells) + " (a larger stable area, or error_model: independent)");
   }
   if (model.sigma_estimated) {
-    std::vector<double> slope, curvature;
-    SlopeAndCurvature(dod.layout, dod.height, &slope, &curvature);
     std::vector<std::pair<double, double>> by_slope;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (inlier[i] && std::isfinite(slope[i])) by_slope.emplace_back(slope[i], dod.dz[i]);
+    for (const Window& w : windows) {
+      for (std::size_t i = 0; i < w.inlier.size(); ++i) {
+        if (w.inlier[i] && std::isfinite(w.slope[i])) by_slope.emplace_back(w.slope[i], w.block.dz[i]);
+      }
     }
     BinnedNmad(std::move(by_slope), kSlopeBins, &model.sigma_model.slope, &model.sigma_model.sigma);
     std::vector<std::pair<double, double>> by_curvature;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!inlier[i] || !std::isfinite(curvature[i])) continue;
-      const double s = Interpolate(model.sigma_model.slope, model.sigma_model.sigma, slope[i]);
-      if (s > 0) by_curvature.emplace_back(curvature[i], (dod.dz[i] - model.stable_median) / s);
+    for (const Window& w : windows) {
+      for (std::size_t i = 0; i < w.inlier.size(); ++i) {
+        if (!w.inlier[i] || !std::isfinite(w.curvature[i])) continue;
+        const double s = Interpolate(model.sigma_model.slope, model.sigma_model.sigma, w.slope[i]);
+        if (s > 0) by_curvature.emplace_back(w.curvature[i], (w.block.dz[i] - model.stable_median) / s);
+      }
     }
     BinnedNmad(std::move(by_curvature), kCurvatureBins, &model.sigma_model.curvature, &model.sigma_model.factor);
-    sigma->assign(n, std::nan(""));
+  }
+  // σ at every cell; the variogram of the standardized stable dz.
+  std::vector<double> sigmas;
+  std::vector<GridValues> grids;
+  for (Window& w : windows) {
+    const std::size_t n = w.block.dz.size();
+    w.standard.assign(n, std::nan(""));
     for (std::size_t i = 0; i < n; ++i) {
-      if (!std::isfinite(dod.dz[i])) continue;
-      (*sigma)[i] = model.sigma_model.slope.empty() ? 0.0 : model.sigma_model.At(slope[i], curvature[i]);
+      if (!std::isfinite(w.block.dz[i])) continue;
+      const double s = !w.block.sigma.empty()              ? w.block.sigma[i]
+                       : model.sigma_model.slope.empty() ? 0.0
+                                                         : model.sigma_model.At(w.slope[i], w.curvature[i]);
+      if (std::isfinite(s) && std::isfinite(w.block.area[i]) && w.block.area[i] > 0) sigmas.push_back(s);
+      if (w.inlier[i] && s > 0) w.standard[i] = (w.block.dz[i] - model.stable_median) / s;
     }
+    grids.push_back({{w.block.columns, w.block.rows, grid.dx, grid.dy}, &w.standard});
   }
-  // The variogram of the standardized stable dz.
-  std::vector<double> standard(n, std::nan(""));
-  for (std::size_t i = 0; i < n; ++i) {
-    if (inlier[i] && (*sigma)[i] > 0) standard[i] = (dod.dz[i] - model.stable_median) / (*sigma)[i];
-  }
-  model.empirical = SampleVariogram(dod.layout, standard, execution);
-  const double step = std::min(dod.layout.dx, dod.layout.dy);
+  model.sigma_median = Median(std::move(sigmas));
+  model.empirical = SampleVariogram(grids, execution);
+  const double step = std::min(grid.dx, grid.dy);
   const double longest = model.empirical.lag.empty() ? step : 2 * model.empirical.lag.back();
   model.variogram = FitVariogram(model.empirical, 0.5 * step, std::max(step, longest));
   return model;

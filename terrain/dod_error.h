@@ -6,7 +6,9 @@
 // robustly), and dz / σ is correlated in space (a variogram with a short
 // and a long range, terrain/variogram.h). terrain/spatial_budget.h carries
 // the model to the volumes.
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -15,14 +17,32 @@
 
 namespace surfreg {
 
-// A DoD on the reference raster's grid, one value per cell (row-major).
-struct DodGrid {
-  GridLayout layout;
+// A window of a DoD on the reference raster's grid: columns [column,
+// column + columns) and rows [row, row + rows), one value per cell,
+// row-major.
+struct DodBlock {
+  int column = 0, row = 0, columns = 0, rows = 0;
   std::vector<double> dz;       // NaN where there is none
   std::vector<double> height;   // the reference's heights (slope, curvature); NaN where none
   std::vector<double> area;     // each node's area in the budget (0 where none)
+  std::vector<double> sigma;    // the DoD's σ when given (e.g. sigma_reference); empty: estimate it
   std::vector<uint8_t> stable;  // 1: stable terrain, where dz is noise
 };
+// Fills the window `block` names (column, row, columns, rows set): from
+// memory (DodGridReader), or from disk in a tiled run.
+using DodBlockReader = std::function<void(DodBlock* block)>;
+
+// A DoD held whole: the grid and its one block.
+struct DodGrid {
+  GridLayout layout;
+  DodBlock cells;  // the whole grid
+};
+DodBlockReader DodGridReader(const DodGrid& dod);
+
+// The windows a model is fitted on, {column, row, columns, rows}: the whole
+// grid up to 2²² cells, else 16 windows of 1024 x 1024 cells spread evenly
+// (a function of the grid's size alone: tiled and untiled runs fit the same).
+std::vector<std::array<int, 4>> ErrorModelWindows(const GridLayout& grid);
 
 // Slope (|∇z|, rise over run) and curvature (|∂²z/∂x² + ∂²z/∂y²|, per
 // length) of `height` by central differences (one-sided at an edge or
@@ -46,17 +66,22 @@ struct DodErrorModel {
   SigmaModel sigma_model;
   EmpiricalVariogram empirical;   // of (dz − median) / σ on the stable cells
   Variogram variogram;            // its fit; ranges in length units
+  double sigma_median = 0;        // of σ over the windows' cells with a dz and an area
 };
 
 // The stable cells a model needs at least.
 inline constexpr int64_t kMinStableCells = 1000;
 
-// Fits the model on the stable cells of `dod`. `sigma` (one per cell):
-// the DoD's σ when given (then only the variogram is fitted), empty to
-// estimate it from slope and curvature; on return σ at every cell with a
-// dz (NaN elsewhere). Too few stable cells: InputError starting with
-// `where`.
-DodErrorModel FitDodErrorModel(const DodGrid& dod, std::vector<double>* sigma, const Execution& execution,
+// Fits the model on the stable cells of the windows ErrorModelWindows
+// gives, read through `read` (with a cell around them for the slope). Too
+// few stable cells: InputError starting with `where`.
+DodErrorModel FitDodErrorModel(const GridLayout& grid, const DodBlockReader& read, const Execution& execution,
                                const std::string& where);
+
+// Reads the window of `block` (through `read`, with a cell around it for
+// the slope) and sets `sigma` to each cell's σ: the one given, or the
+// model's (NaN where there is no dz).
+void ReadWithSigma(const GridLayout& grid, const DodBlockReader& read, const DodErrorModel& model, DodBlock* block,
+                   std::vector<double>* sigma);
 
 }  // namespace surfreg

@@ -36,21 +36,23 @@ int64_t HalfPlaneOffsetCount(const GridLayout& grid, double support) {
   return static_cast<int64_t>(std::min(2 * rx * ry, 1.6 * rx * ry + rx + ry));
 }
 
-double ExactQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
-                          double (*kernel)(double, const void*), const void* data, double support,
-                          const Execution& execution) {
-  const std::vector<Offset> offsets = HalfPlaneOffsets(grid, support, kernel, data);
+// Σ over the first `core` rows y of `w` (a buffer of `buffer` rows of
+// `columns`) and every offset o of Σ_x w(y, x) w(y + o.dy, x + o.dx) K(o),
+// partners beyond the buffer left out. Offsets in chunks fixed by their
+// number: the same sum for any number of threads.
+double BandQuadraticForm(const std::vector<double>& w, int columns, int core, int buffer,
+                         const std::vector<Offset>& offsets, const Execution& execution) {
   const int64_t n = static_cast<int64_t>(offsets.size());
+  if (n == 0 || core == 0) return 0;
   const int chunks = ChunksFor(n, 8);
   std::vector<double> sums(static_cast<std::size_t>(chunks), 0.0);
-  const int columns = grid.columns, rows = grid.rows;
   ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
     double chunk = 0;
     for (int64_t k = begin; k < end; ++k) {
       const Offset& o = offsets[static_cast<std::size_t>(k)];
       const int x0 = std::max(0, -o.dx), x1 = std::min(columns, columns - o.dx);
       double lagged = 0;
-      for (int y = 0; y + o.dy < rows; ++y) {
+      for (int y = 0; y < core && y + o.dy < buffer; ++y) {
         const double* a = w.data() + static_cast<std::size_t>(y) * columns;
         const double* b = w.data() + static_cast<std::size_t>(y + o.dy) * columns + o.dx;
         double row = 0;
@@ -64,6 +66,20 @@ double ExactQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
   double total = 0;
   for (double s : sums) total += s;
   return total;
+}
+
+// The block side b for a kernel of `support` on `grid`: 1 (exact) while
+// every pair within the support costs at most `budget` multiply-adds.
+int ChooseBlock(const GridLayout& grid, double support, double budget) {
+  for (int b = 1;; ++b) {
+    GridLayout coarse{(grid.columns + b - 1) / b, (grid.rows + b - 1) / b, grid.dx * b, grid.dy * b};
+    const double cost = static_cast<double>(coarse.cells()) * static_cast<double>(HalfPlaneOffsetCount(coarse, support));
+    if (cost <= budget || (coarse.columns <= 1 && coarse.rows <= 1)) return b;
+  }
+}
+
+GridLayout Coarse(const GridLayout& grid, int b) {
+  return {(grid.columns + b - 1) / b, (grid.rows + b - 1) / b, grid.dx * b, grid.dy * b};
 }
 
 // A weighted sum of two spherical correlations and their products:
@@ -82,26 +98,20 @@ double MixKernel(double h, const void* data) {
 double NormalDensity(double x) { return 0.3989422804014327 * std::exp(-0.5 * x * x); }
 double NormalTail(double x) { return 0.5 * std::erfc(x / std::sqrt(2.0)); }  // P(Z > x)
 
-bool AllZero(const std::vector<double>& v) {
-  return std::all_of(v.begin(), v.end(), [](double x) { return x == 0; });
-}
 
 }  // namespace
 
 double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
                            double (*kernel)(double, const void*), const void* kernel_data, double support,
                            const Execution& execution, double budget, int* block) {
-  const double diagonal = std::hypot(grid.columns * grid.dx, grid.rows * grid.dy);
-  support = std::min(support, diagonal);
-  int b = 1;
-  for (;; ++b) {
-    GridLayout coarse{(grid.columns + b - 1) / b, (grid.rows + b - 1) / b, grid.dx * b, grid.dy * b};
-    const double cost = static_cast<double>(coarse.cells()) * static_cast<double>(HalfPlaneOffsetCount(coarse, support));
-    if (cost <= budget || (coarse.columns <= 1 && coarse.rows <= 1)) break;
-  }
+  support = std::min(support, std::hypot(grid.columns * grid.dx, grid.rows * grid.dy));
+  const int b = ChooseBlock(grid, support, budget);
   if (block) *block = b;
-  if (b == 1) return ExactQuadraticForm(grid, w, kernel, kernel_data, support, execution);
-  GridLayout coarse{(grid.columns + b - 1) / b, (grid.rows + b - 1) / b, grid.dx * b, grid.dy * b};
+  if (b == 1) {
+    return BandQuadraticForm(w, grid.columns, grid.rows, grid.rows, HalfPlaneOffsets(grid, support, kernel, kernel_data),
+                             execution);
+  }
+  const GridLayout coarse = Coarse(grid, b);
   std::vector<double> sums(static_cast<std::size_t>(coarse.cells()), 0.0);
   for (int y = 0; y < grid.rows; ++y) {
     const std::size_t row = static_cast<std::size_t>(y / b) * static_cast<std::size_t>(coarse.columns);
@@ -109,7 +119,8 @@ double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
       sums[row + static_cast<std::size_t>(x / b)] += w[static_cast<std::size_t>(y) * grid.columns + x];
     }
   }
-  return ExactQuadraticForm(coarse, sums, kernel, kernel_data, support, execution);
+  return BandQuadraticForm(sums, coarse.columns, coarse.rows, coarse.rows,
+                           HalfPlaneOffsets(coarse, support, kernel, kernel_data), execution);
 }
 
 HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold) {
@@ -136,64 +147,135 @@ HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold) {
   return t;
 }
 
-SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const std::vector<double>& dz,
-                                   const std::vector<double>& sigma, const std::vector<double>& threshold,
-                                   const std::vector<double>& area, const Variogram& variogram,
+int PropagationBandRows(const GridLayout& grid) {
+  return std::max(8, (1 << 20) / std::max(1, grid.columns));
+}
+
+SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader& read, const Variogram& variogram,
                                    const Execution& execution, double budget) {
-  const std::size_t n = static_cast<std::size_t>(grid.cells());
-  // u = a c₁ and v = a √R per cell, for fill, cut and net.
-  std::vector<double> u[3], v[3];
-  for (int k = 0; k < 3; ++k) u[k].assign(n, 0.0), v[k].assign(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double t = threshold.empty() ? 0.0 : threshold[i];
-    if (!std::isfinite(dz[i]) || !std::isfinite(sigma[i]) || !std::isfinite(area[i]) || !std::isfinite(t)) continue;
-    const HermiteTerms h = CellHermiteTerms(dz[i], sigma[i], t);
-    u[0][i] = area[i] * h.fill_c1, v[0][i] = area[i] * std::sqrt(h.fill_rest);
-    u[1][i] = area[i] * h.cut_c1, v[1][i] = area[i] * std::sqrt(h.cut_rest);
-    u[2][i] = area[i] * h.net_c1, v[2][i] = area[i] * std::sqrt(h.net_rest);
-  }
   // ρ = p₀ δ + p₁ S₁ + p₂ S₂; ρ² = (1 − (p₁ + p₂)²) δ + (p₁ S₁ + p₂ S₂)².
   const double total = variogram.Total();
   double p[3] = {1, 0, 0};
   if (total > 0) p[0] = variogram.nugget / total, p[1] = variogram.sill[0] / total, p[2] = variogram.sill[1] / total;
-  const double r[2] = {variogram.range[0], variogram.range[1]};
-  SphericalMix linear_short, linear_long, square_short, square_long;
-  linear_short.range[0] = linear_long.range[0] = square_short.range[0] = square_long.range[0] = r[0];
-  linear_short.range[1] = linear_long.range[1] = square_short.range[1] = square_long.range[1] = r[1];
-  linear_short.linear[0] = p[1];
-  linear_long.linear[1] = p[2];
-  square_short.square[0] = p[1] * p[1];
-  square_short.cross = 2 * p[1] * p[2];
-  square_long.square[1] = p[2] * p[2];
-  const double short_support = std::min(r[0], r[1]);  // S₁ S₂ lives within the shorter range
+  const double diagonal = std::hypot(grid.columns * grid.dx, grid.rows * grid.dy);
+  const double r[2] = {std::min(variogram.range[0], diagonal), std::min(variogram.range[1], diagonal)};
+  // The kernel passes: on u = a c₁ (linear) or v = a √R (square), each with its own block.
+  struct Pass {
+    bool square = false;
+    SphericalMix mix;
+    double support = 0;
+    int block = 1;
+    GridLayout coarse;
+    std::vector<Offset> offsets;
+    std::vector<double> sums[3];  // per budget, the coarse blocks' weights (block > 1)
+    double value[3] = {0, 0, 0};
+  };
+  std::vector<Pass> passes;
+  auto add = [&](bool square, SphericalMix mix, double support) {
+    mix.range[0] = variogram.range[0], mix.range[1] = variogram.range[1];
+    Pass pass;
+    pass.square = square, pass.mix = mix, pass.support = support;
+    pass.block = ChooseBlock(grid, support, budget);
+    pass.coarse = Coarse(grid, pass.block);
+    pass.offsets = HalfPlaneOffsets(pass.coarse, support, MixKernel, &pass.mix);
+    if (pass.block > 1) {
+      for (auto& s : pass.sums) s.assign(static_cast<std::size_t>(pass.coarse.cells()), 0.0);
+    }
+    passes.push_back(std::move(pass));
+  };
+  if (p[1] > 0) {
+    SphericalMix linear, square;
+    linear.linear[0] = p[1];
+    square.square[0] = p[1] * p[1];
+    square.cross = 2 * p[1] * p[2];
+    add(false, linear, r[0]);
+    add(true, square, r[0]);  // S₁ S₂ lives within the shorter range
+  }
+  if (p[2] > 0) {
+    SphericalMix linear, square;
+    linear.linear[1] = p[2];
+    square.square[1] = p[2] * p[2];
+    add(false, linear, r[1]);
+    add(true, square, r[1]);
+  }
+  int reach = 0;  // rows below a band that exact passes pair it with
+  for (const Pass& pass : passes) {
+    if (pass.block == 1) reach = std::max(reach, static_cast<int>(std::min<double>(grid.rows - 1, pass.support / grid.dy)));
+  }
+  const int band = PropagationBandRows(grid);
+  const int columns = grid.columns;
+  double diagonal_u[3] = {0, 0, 0}, diagonal_v[3] = {0, 0, 0};
+  BudgetRows rows;
+  std::vector<double> u[3], v[3];
+  for (int y0 = 0; y0 < grid.rows; y0 += band) {
+    const int y1 = std::min(grid.rows, y0 + band), end = std::min(grid.rows, y1 + reach);
+    const int core = y1 - y0, buffer = end - y0;
+    read(y0, end, core, &rows);
+    const std::size_t n = static_cast<std::size_t>(buffer) * columns;
+    for (int k = 0; k < 3; ++k) u[k].assign(n, 0.0), v[k].assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double t = rows.threshold[i];
+      if (!std::isfinite(rows.dz[i]) || !std::isfinite(rows.sigma[i]) || !std::isfinite(rows.area[i]) ||
+          !std::isfinite(t)) {
+        continue;
+      }
+      const HermiteTerms h = CellHermiteTerms(rows.dz[i], rows.sigma[i], t);
+      const double a = rows.area[i];
+      u[0][i] = a * h.fill_c1, v[0][i] = a * std::sqrt(h.fill_rest);
+      u[1][i] = a * h.cut_c1, v[1][i] = a * std::sqrt(h.cut_rest);
+      u[2][i] = a * h.net_c1, v[2][i] = a * std::sqrt(h.net_rest);
+    }
+    const std::size_t core_cells = static_cast<std::size_t>(core) * columns;
+    for (int k = 0; k < 3; ++k) {
+      for (std::size_t i = 0; i < core_cells; ++i) diagonal_u[k] += u[k][i] * u[k][i], diagonal_v[k] += v[k][i] * v[k][i];
+    }
+    for (Pass& pass : passes) {
+      for (int k = 0; k < 3; ++k) {
+        const std::vector<double>& w = pass.square ? v[k] : u[k];
+        if (pass.block == 1) {
+          pass.value[k] += BandQuadraticForm(w, columns, core, buffer, pass.offsets, execution);
+          continue;
+        }
+        const int b = pass.block;
+        for (int y = 0; y < core; ++y) {
+          const std::size_t row = static_cast<std::size_t>((y0 + y) / b) * static_cast<std::size_t>(pass.coarse.columns);
+          for (int x = 0; x < columns; ++x) pass.sums[k][row + static_cast<std::size_t>(x / b)] += w[static_cast<std::size_t>(y) * columns + x];
+        }
+      }
+    }
+  }
   SpatialSigma out;
   double variance[3];
   for (int k = 0; k < 3; ++k) {
-    double linear = 0, square = 0, diagonal_u = 0, diagonal_v = 0;
-    for (std::size_t i = 0; i < n; ++i) diagonal_u += u[k][i] * u[k][i], diagonal_v += v[k][i] * v[k][i];
-    linear += p[0] * diagonal_u;
-    int block = 1;
-    auto form = [&](const std::vector<double>& w, const SphericalMix& mix, double support) {
-      if (!(support > 0)) return 0.0;
-      int b = 1;
-      const double value = KernelQuadraticForm(grid, w, MixKernel, &mix, support, execution, budget, &b);
-      block = std::max(block, b);
-      return value;
-    };
-    if (p[1] > 0) linear += form(u[k], linear_short, r[0]);
-    if (p[2] > 0) linear += form(u[k], linear_long, r[1]);
-    if (!AllZero(v[k])) {
-      square += (1 - (p[1] + p[2]) * (p[1] + p[2])) * diagonal_v;
-      if (p[1] > 0) square += form(v[k], square_short, short_support);
-      if (p[2] > 0) square += form(v[k], square_long, r[1]);
+    double linear = p[0] * diagonal_u[k], square = (1 - (p[1] + p[2]) * (p[1] + p[2])) * diagonal_v[k];
+    for (Pass& pass : passes) {
+      if (pass.block > 1) {
+        pass.value[k] = BandQuadraticForm(pass.sums[k], pass.coarse.columns, pass.coarse.rows, pass.coarse.rows,
+                                          pass.offsets, execution);
+      }
+      (pass.square ? square : linear) += pass.value[k];
+      out.block = std::max(out.block, pass.block);
     }
     variance[k] = std::max(0.0, linear + square);
-    out.block = std::max(out.block, block);
   }
   out.fill = std::sqrt(variance[0]);
   out.cut = std::sqrt(variance[1]);
   out.net = std::sqrt(variance[2]);
   return out;
+}
+
+SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const std::vector<double>& dz,
+                                   const std::vector<double>& sigma, const std::vector<double>& threshold,
+                                   const std::vector<double>& area, const Variogram& variogram,
+                                   const Execution& execution, double budget) {
+  const BudgetRowReader read = [&](int row0, int row1, int, BudgetRows* rows) {
+    const auto slice = [&](const std::vector<double>& all, std::vector<double>* part) {
+      part->assign(all.begin() + static_cast<std::ptrdiff_t>(row0) * grid.columns,
+                   all.begin() + static_cast<std::ptrdiff_t>(row1) * grid.columns);
+    };
+    slice(dz, &rows->dz), slice(sigma, &rows->sigma), slice(threshold, &rows->threshold), slice(area, &rows->area);
+  };
+  return PropagateSpatialSigma(grid, read, variogram, execution, budget);
 }
 
 }  // namespace surfreg

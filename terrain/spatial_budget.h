@@ -12,6 +12,7 @@
 // beyond the first term: exact for ρ = 0 and ρ = 1, an upper bound between.
 // c and R are taken at the cell's detected change (dz beyond L, 0 within):
 // cells below the threshold carry the chance of a false detection.
+#include <functional>
 #include <vector>
 
 #include "measure/tasks.h"
@@ -45,9 +46,29 @@ struct SpatialSigma {
   int block = 1;                      // the largest block of the approximation (1: exact)
 };
 
+// Rows [row0, row1) of a DoD's cells, the full width of the grid, row-major:
+// dz, σ, the threshold L and the node area (NaN, NaN, 0, 0 where none).
+struct BudgetRows {
+  std::vector<double> dz, sigma, threshold, area;
+};
+// Fills `rows` with rows [row0, row1) of the grid; the first `core` of them
+// are met here for the first time (the rest come again in the next band).
+using BudgetRowReader = std::function<void(int row0, int row1, int core, BudgetRows* rows)>;
+
+// How many rows the propagation takes at a time (its memory: about 80 bytes
+// a cell of them): a function of the grid's width alone, so that a tiled
+// and an untiled run add the same numbers in the same order.
+int PropagationBandRows(const GridLayout& grid);
+
 // The standard errors of fill, cut and net over the cells with a finite
-// dz, σ and area (`dz`, `sigma`, `threshold`, `area` one per cell of
-// `grid`), the correlation that of `variogram`.
+// dz, σ and area, the correlation that of `variogram`, the rows read band
+// by band (PropagationBandRows, plus the rows within the correlation's
+// reach below it).
+SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader& read, const Variogram& variogram,
+                                   const Execution& execution, double budget = 1e8);
+
+// The same for a DoD held whole (`dz`, `sigma`, `threshold`, `area`: one
+// per cell of `grid`).
 SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const std::vector<double>& dz,
                                    const std::vector<double>& sigma, const std::vector<double>& threshold,
                                    const std::vector<double>& area, const Variogram& variogram,

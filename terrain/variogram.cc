@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -27,12 +28,12 @@ constexpr double kDowd = 1.0 / (2 * 0.454936423119572);
 constexpr double kBinGrowth = 1.25;
 constexpr int64_t kMinPairs = 30;
 
-// One bin's pairs: random cells with valid values, a random offset whose
-// length falls in [lo, hi) (uniform over the annulus' area, half a turn of
-// directions: the variogram is symmetric).
-void SampleBin(const GridLayout& grid, const std::vector<double>& values, const std::vector<int64_t>& valid,
-               double lo, double hi, int bin, int64_t pairs_per_bin, double* lag, double* gamma,
-               int64_t* pairs) {
+// One bin's pairs: random valid cells (over all grids alike), a random
+// offset whose length falls in [lo, hi) (uniform over the annulus' area,
+// half a turn of directions: the variogram is symmetric), the partner in
+// the same grid.
+void SampleBin(const std::vector<GridValues>& grids, const std::vector<std::pair<int, int64_t>>& valid, double lo,
+               double hi, int bin, int64_t pairs_per_bin, double* lag, double* gamma, int64_t* pairs) {
   Random random{0x5eed0000ULL + static_cast<uint64_t>(bin) * 0x100000001b3ULL};
   std::vector<double> squares;
   squares.reserve(static_cast<std::size_t>(pairs_per_bin));
@@ -40,7 +41,9 @@ void SampleBin(const GridLayout& grid, const std::vector<double>& values, const 
   const int64_t attempts = 30 * pairs_per_bin;
   const double pi = std::acos(-1.0);
   for (int64_t a = 0; a < attempts && static_cast<int64_t>(squares.size()) < pairs_per_bin; ++a) {
-    const int64_t anchor = valid[random.Next() % valid.size()];
+    const auto& [which, anchor] = valid[random.Next() % valid.size()];
+    const GridLayout& grid = grids[static_cast<std::size_t>(which)].grid;
+    const std::vector<double>& values = *grids[static_cast<std::size_t>(which)].values;
     const double d = std::sqrt(lo * lo + random.Uniform() * (hi * hi - lo * lo));
     const double angle = random.Uniform() * pi;
     const long ox = std::lround(d * std::cos(angle) / grid.dx);
@@ -139,20 +142,31 @@ double Variogram::Correlation(double h) const {
 
 EmpiricalVariogram SampleVariogram(const GridLayout& grid, const std::vector<double>& values,
                                    const Execution& execution, int64_t pairs_per_bin) {
+  return SampleVariogram(std::vector<GridValues>{{grid, &values}}, execution, pairs_per_bin);
+}
+
+EmpiricalVariogram SampleVariogram(const std::vector<GridValues>& grids, const Execution& execution,
+                                   int64_t pairs_per_bin) {
   EmpiricalVariogram out;
-  std::vector<int64_t> valid;
-  int64_t column_min = grid.columns, column_max = -1, row_min = grid.rows, row_max = -1;
-  for (int64_t cell = 0; cell < grid.cells(); ++cell) {
-    if (!std::isfinite(values[static_cast<std::size_t>(cell)])) continue;
-    valid.push_back(cell);
-    const int64_t column = cell % grid.columns, row = cell / grid.columns;
-    column_min = std::min(column_min, column), column_max = std::max(column_max, column);
-    row_min = std::min(row_min, row), row_max = std::max(row_max, row);
+  std::vector<std::pair<int, int64_t>> valid;
+  double max_lag = 0, step = HUGE_VAL;
+  for (std::size_t g = 0; g < grids.size(); ++g) {
+    const GridLayout& grid = grids[g].grid;
+    const std::vector<double>& values = *grids[g].values;
+    int64_t column_min = grid.columns, column_max = -1, row_min = grid.rows, row_max = -1;
+    for (int64_t cell = 0; cell < grid.cells(); ++cell) {
+      if (!std::isfinite(values[static_cast<std::size_t>(cell)])) continue;
+      valid.emplace_back(static_cast<int>(g), cell);
+      const int64_t column = cell % grid.columns, row = cell / grid.columns;
+      column_min = std::min(column_min, column), column_max = std::max(column_max, column);
+      row_min = std::min(row_min, row), row_max = std::max(row_max, row);
+    }
+    if (column_max < 0) continue;
+    step = std::min({step, grid.dx, grid.dy});
+    max_lag = std::max(max_lag, 0.5 * std::hypot(static_cast<double>(column_max - column_min) * grid.dx,
+                                                 static_cast<double>(row_max - row_min) * grid.dy));
   }
   if (valid.size() < 2) return out;
-  const double step = std::min(grid.dx, grid.dy);
-  const double max_lag = 0.5 * std::hypot(static_cast<double>(column_max - column_min) * grid.dx,
-                                          static_cast<double>(row_max - row_min) * grid.dy);
   std::vector<double> edges = {0.75 * step};
   while (edges.back() < max_lag) edges.push_back(edges.back() * kBinGrowth);
   const int bins = static_cast<int>(edges.size()) - 1;
@@ -162,8 +176,8 @@ EmpiricalVariogram SampleVariogram(const GridLayout& grid, const std::vector<dou
   ForEachChunk(execution, bins, std::min(bins, kMaxChunks), [&](int, int64_t begin, int64_t end) {
     for (int64_t b = begin; b < end; ++b) {
       const std::size_t k = static_cast<std::size_t>(b);
-      SampleBin(grid, values, valid, edges[k], edges[k + 1], static_cast<int>(b), pairs_per_bin, &lag[k],
-                &gamma[k], &pairs[k]);
+      SampleBin(grids, valid, edges[k], edges[k + 1], static_cast<int>(b), pairs_per_bin, &lag[k], &gamma[k],
+                &pairs[k]);
     }
   });
   for (std::size_t b = 0; b < lag.size(); ++b) {

@@ -35,6 +35,16 @@ EmpiricalVariogram SampleVariogram(const GridLayout& grid, const std::vector<dou
                                    const Execution& execution = Execution{1},
                                    int64_t pairs_per_bin = 20000);
 
+// The same over several grids (windows of one DoD; each pair within one):
+// cells drawn over all of them alike, lags up to half the largest valid
+// bounding-box diagonal.
+struct GridValues {
+  GridLayout grid;
+  const std::vector<double>* values = nullptr;
+};
+EmpiricalVariogram SampleVariogram(const std::vector<GridValues>& grids, const Execution& execution = Execution{1},
+                                   int64_t pairs_per_bin = 20000);
+
 // The spherical model's correlation at lag h for range r: 1 − 1.5 h/r +
 // 0.5 (h/r)³ below r, 0 beyond; 1 everywhere for an infinite range.
 double SphericalCorrelation(double h, double range);

@@ -236,19 +236,21 @@ TEST(DodErrorTest, SlopeAndCurvatureOfAPlaneAndAParaboloid) {
 TEST(DodErrorTest, SigmaGrowsWithSlopeAndTooLittleStableTerrainIsRefused) {
   DodGrid dod;
   dod.layout = {200, 100, 1.0, 1.0};
+  DodBlock& c = dod.cells;
+  c.columns = 200, c.rows = 100;
   std::mt19937_64 random(5);
   std::normal_distribution<double> normal;
   for (int y = 0; y < dod.layout.rows; ++y) {
     for (int x = 0; x < dod.layout.columns; ++x) {
       const double slope = 0.01 * x;  // z = 0.005 x², slope 0.01 x
-      dod.height.push_back(0.005 * x * x);
-      dod.dz.push_back((0.1 + slope) * normal(random));
-      dod.area.push_back(1);
-      dod.stable.push_back(1);
+      c.height.push_back(0.005 * x * x);
+      c.dz.push_back((0.1 + slope) * normal(random));
+      c.area.push_back(1);
+      c.stable.push_back(1);
     }
   }
-  std::vector<double> sigma;
-  const DodErrorModel model = FitDodErrorModel(dod, &sigma, Execution{1}, "key 'error_model'");
+  const DodBlockReader read = DodGridReader(dod);
+  const DodErrorModel model = FitDodErrorModel(dod.layout, read, Execution{1}, "key 'error_model'");
   EXPECT_TRUE(model.sigma_estimated);
   ASSERT_GE(model.sigma_model.slope.size(), 5u);
   for (std::size_t b = 0; b < model.sigma_model.slope.size(); ++b) {
@@ -257,20 +259,65 @@ TEST(DodErrorTest, SigmaGrowsWithSlopeAndTooLittleStableTerrainIsRefused) {
   }
   ASSERT_EQ(model.sigma_model.curvature.size(), 1u);  // one curvature: one bin, a factor of 1
   EXPECT_NEAR(model.sigma_model.factor[0], 1, 0.03);
-  EXPECT_NEAR(sigma[50 * 200 + 150], 0.1 + 1.5, 0.15);
+  // σ of a window (its edge cells' slope from the cells around it).
+  DodBlock window;
+  window.column = 149, window.row = 50, window.columns = 3, window.rows = 2;
+  std::vector<double> sigma;
+  ReadWithSigma(dod.layout, read, model, &window, &sigma);
+  ASSERT_EQ(sigma.size(), 6u);
+  EXPECT_NEAR(sigma[1], 0.1 + 1.5, 0.15);
+  EXPECT_EQ(window.dz[1], c.dz[50 * 200 + 150]);
   // The standardized dz is white: almost all nugget.
   EXPECT_GT(model.variogram.nugget, 0.8 * model.variogram.Total());
-  std::fill(dod.stable.begin(), dod.stable.end(), 0);
-  std::fill(dod.stable.begin(), dod.stable.begin() + 999, 1);
-  sigma.clear();
+  std::fill(c.stable.begin(), c.stable.end(), 0);
+  std::fill(c.stable.begin(), c.stable.begin() + 999, 1);
   try {
-    FitDodErrorModel(dod, &sigma, Execution{1}, "key 'error_model'");
+    FitDodErrorModel(dod.layout, read, Execution{1}, "key 'error_model'");
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("key 'error_model': only ", 0), 0u) << e.what();
     EXPECT_NE(std::string(e.what()).find("needs at least 1000"), std::string::npos) << e.what();
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
   }
+}
+
+TEST(DodErrorTest, LargeGridsAreFittedOnSixteenWindows) {
+  EXPECT_EQ(ErrorModelWindows({2048, 2048, 1, 1}).size(), 1u);
+  const auto windows = ErrorModelWindows({5000, 1500, 1, 1});
+  ASSERT_EQ(windows.size(), 16u);
+  EXPECT_EQ(windows.front(), (std::array<int, 4>{0, 0, 1024, 1024}));
+  EXPECT_EQ(windows.back(), (std::array<int, 4>{5000 - 1024, 1500 - 1024, 1024, 1024}));
+  EXPECT_EQ(ErrorModelWindows({100000, 50, 1, 1}).size(), 4u);  // one row of windows: 50 rows
+}
+
+// Bands of rows (a wide grid: 16 rows a band) give the one-band sums.
+TEST(SpatialBudgetTest, BandsAddUpToTheWholeGrid) {
+  GridLayout grid{65536, 40, 1.0, 1.0};
+  ASSERT_EQ(PropagationBandRows(grid), 16);
+  std::mt19937_64 random(13);
+  std::normal_distribution<double> normal;
+  std::vector<double> dz, sigma, threshold, area, u;
+  for (int64_t i = 0; i < grid.cells(); ++i) {
+    dz.push_back(normal(random));
+    sigma.push_back(0.5 + 0.1 * static_cast<double>(i % 3));
+    threshold.push_back(0);
+    area.push_back(1);
+    u.push_back(area.back() * sigma.back());
+  }
+  Variogram v;
+  v.nugget = 0.4, v.sill = {0, 0.6}, v.range = {0, 3.5};
+  const SpatialSigma s = PropagateSpatialSigma(grid, dz, sigma, threshold, area, v, Execution{2}, 1e9);
+  struct Range {
+    double r;
+  } range{3.5};
+  const auto kernel = [](double h, const void* data) {
+    return 0.6 * SphericalCorrelation(h, static_cast<const Range*>(data)->r);
+  };
+  double diagonal = 0;
+  for (double x : u) diagonal += x * x;
+  const double whole = 0.4 * diagonal + KernelQuadraticForm(grid, u, kernel, &range, 3.5, Execution{2}, 1e9);
+  EXPECT_EQ(s.block, 1);
+  EXPECT_NEAR(s.net * s.net, whole, 1e-10 * whole);
 }
 
 }  // namespace
