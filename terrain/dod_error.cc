@@ -14,11 +14,13 @@ constexpr double kInlierNmads = 4;
 constexpr int64_t kMinBinCells = 200;
 constexpr int kSlopeBins = 10, kCurvatureBins = 6;
 
+// The middle value, or the mean of the two middle ones (as the budget's medians).
 double Median(std::vector<double> v) {
   if (v.empty()) return std::nan("");
-  auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  const auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), middle, v.end());
-  return *middle;
+  if (v.size() % 2 == 1) return *middle;
+  return 0.5 * (*middle + *std::max_element(v.begin(), middle));
 }
 
 double Nmad(const std::vector<double>& v) {

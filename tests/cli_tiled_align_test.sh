@@ -143,6 +143,7 @@ echo "400001 5199600 300" >>cloud.xyz
 echo "400000 5199601 301" >>cloud.xyz
 expect_refused "a tiled alignment is for two rasters" align a.bil cloud.xyz --max_memory=1G
 expect_refused "flag '--aligned': not with flag '--max_memory'" align a.bil b.bil --max_memory=1G --aligned=out.tif
+expect_refused "flag '--error_model': the variogram error model is not with flag '--max_memory' yet" align a.bil b.bil --max_memory=1G --error_model=variogram
 expect_refused "at least 128M" align a.bil b.bil --max_memory=64M
 expect_refused "flag '--sigma_moving': a σ raster does not go with flag '--max_memory' yet" \
   align a.bil b.bil --max_memory=1G --sigma_moving=a.bil

@@ -125,6 +125,37 @@ for key, value in u.items():
 PY
 done
 
+# error_model variogram: the model and its budget, tiled as untiled (σ estimated, or given as numbers).
+for given in "" "--sigma_reference=0.05"; do
+  run measure a.asc b.asc --json --error_model=variogram --lod_confidence=0.95 $given
+  cp stdout variogram_untiled.json
+  for tile in 16 37; do
+    run measure a.asc b.asc --json --tile=$tile --error_model=variogram --lod_confidence=0.95 $given
+    checks=$((checks + 1))
+    python3 - variogram_untiled.json stdout <<'PY' || fail "--tile=$tile $given: the variogram budget differs from the untiled one"
+import json, sys
+u, t = (json.load(open(p))["change"]["uncertainty"] for p in sys.argv[1:3])
+assert u["net_sigma_spatial"] > u["net_sigma_independent"] > 0 and u["variogram"]["stable_cells"] > 1000, u
+def same(a, b, key):
+    if isinstance(a, dict):
+        assert a.keys() == b.keys(), key
+        for k in a:
+            same(a[k], b[k], key + "." + k)
+    elif isinstance(a, list):
+        assert len(a) == len(b), key
+        for x, y in zip(a, b):
+            same(x, y, key)
+    elif isinstance(a, float):
+        assert abs(a - b) <= 1e-9 * max(abs(a), 1.0), (key, a, b)
+    else:
+        assert a == b, (key, a, b)
+same(u, t, "uncertainty")
+PY
+  done
+done
+expect_refused "flag '--error_model': the variogram error model is fitted on the whole DoD" \
+  measure a.asc b.asc --tile=32 --error_model=variogram --shard=1/2 --partial=p.json
+
 # What is not tiled yet, or cannot be: one line, exit 2 (expect_refused).
 printf '1000 5000 1\n1100 5000 2\n1000 5100 3\n' >cloud.xyz
 expect_refused "flag '--tile': tiles are for two rasters, but argument B is 'cloud.xyz', a cloud" \

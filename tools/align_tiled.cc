@@ -226,6 +226,10 @@ void CheckTiledAlign(const AlignConfig& config) {
     throw InputError(config.Where("weights") + ": per_point weights are not with " + where +
                      " yet");
   }
+  if (config.terrain.error_model == "variogram") {
+    throw InputError(config.Where("error_model") + ": the variogram error model is not with " + where +
+                     " yet (align untiled, or measure the aligned DEMs with --tile)");
+  }
   if (config.options.domain.kind == DomainKind::kHull) {
     throw InputError(config.Where("domain") +
                      ": a tiled alignment measures on the data domain only");

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -24,6 +25,7 @@
 #include "tools/measure_tiled.h"
 #include "terrain/terrain.h"
 #include "terrain/terrain_measure.h"
+#include "terrain/tiled_error.h"
 
 namespace surfreg {
 namespace {
@@ -152,6 +154,44 @@ void CheckTileable(const MeasureOptions& options, const AlignConfig& config,
   if (!what.empty()) throw InputError(where + ": a tiled measure does not take " + what + " yet");
 }
 
+// What error_model variogram needs of a tiled run (terrain/tiled_error.h):
+// one run (no shards, partials or resume), no mask, a north-up grid in a
+// projected CRS or none; the σ given as numbers (`budget`).
+TiledErrorInputs TiledErrorSetup(const AlignConfig& config, const MeasureOptions& options, const TiledParts& parts,
+                                 const std::string& tile_where, const TiledBudget& budget) {
+  const std::string where = config.Where("error_model");
+  if (parts.shards > 1 || !parts.partial.empty() || parts.resume) {
+    throw InputError(where + ": the variogram error model is fitted on the whole DoD, so it is not computed "
+                     "in shards, partials or resumed runs yet: measure in one run");
+  }
+  if (options.weight == WeightMode::kMask) {
+    throw InputError(where + " and a mask: the stable terrain of a tiled variogram is every cell yet; "
+                     "measure untiled, or without the mask");
+  }
+  const RasterShape a = ReadRasterShape(config, "reference");
+  const auto& gt = a.geotransform;
+  if (a.crs.kind == CrsKind::kGeographic || gt[2] != 0 || gt[4] != 0) {
+    throw InputError(where + " and " + tile_where + ": a tiled variogram needs a north-up reference in a "
+                     "projected CRS (or none); measure untiled");
+  }
+  TiledErrorInputs inputs;
+  inputs.grid = {a.columns, a.rows, std::fabs(gt[1]), std::fabs(gt[5])};
+  const std::string path = config.reference;
+  const int band = config.terrain.band;
+  inputs.heights = [path, band](int column, int row, int columns, int rows) {
+    RasterReadOptions read;
+    read.band = band;
+    read.window = {column, row, columns, rows};
+    return ReadRaster(path, read).values;
+  };
+  inputs.sigma_dod = budget.active ? budget.sigma_dod : std::nan("");
+  inputs.confidence = config.terrain.lod_confidence;
+  inputs.lod = config.terrain.lod;
+  inputs.error_model = config.terrain.error_model;
+  inputs.where = where;
+  return inputs;
+}
+
 // What a part of a tiled measure was measured with, equal in every part of
 // one measure and in its checkpoint: the inputs (name and size in bytes),
 // the tile side and every setting given (but the outputs').
@@ -271,10 +311,18 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
   report.tile = TileSetting(settings, &tile_where);
   if (report.tile > 0) {
     CheckTileable(options, config, tile_where);
-    const TiledBudget budget = TiledBudgetOf(config, options.level_of_detection, tile_where);
+    TiledBudget budget = TiledBudgetOf(config, options.level_of_detection, tile_where);
     TiledParts tiled_parts = parts != nullptr ? *parts : TiledParts();
     tiled_parts.checkpoint = parts != nullptr;  // without parts: no state kept for a resume
     tiled_parts.settings = PartSettings(report, settings);
+    // error_model variogram: the tiles' DoD kept on disk for a second pass.
+    std::unique_ptr<TileDodStore> store;
+    TiledErrorInputs error_inputs;
+    if (variogram) {
+      error_inputs = TiledErrorSetup(config, options, tiled_parts, tile_where, budget);
+      store = std::make_unique<TileDodStore>(error_inputs.grid.columns, error_inputs.grid.rows);
+      budget = TiledBudget();  // the second pass adds the budget, σ per cell
+    }
     const TiledMeasureRun run = MeasureRasterTiles(
         config, options, report.mask_crs_wkt, report.mask_file, report.tile, tile_where, tiled_parts,
         [&on_progress, start, last = -1.0](const TiledProgress& p) mutable {
@@ -291,10 +339,21 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
           progress.seconds = seconds;
           on_progress(progress);
         },
-        nullptr, nullptr, budget);
+        nullptr, store ? [&store](const TileDod& t) { store->Add(t); } : std::function<void(const TileDod&)>(),
+        budget);
     report.summary = run.summary;
     report.config = config;
     if (tiled_parts.shards == 1) report.uncertainty = TiledChangeUncertainty(run.part, config);
+    if (store) {
+      if (on_progress) {
+        MeasureProgress progress;
+        progress.stage = "the DoD's error model";
+        progress.done = 1;
+        progress.seconds = Seconds(Clock::now() - start);
+        on_progress(progress);
+      }
+      report.uncertainty = TiledSpatialUncertainty(*store, error_inputs, ExecutionFor(options.threads));
+    }
     report.tiles = run.tiles;
     report.crs_a = run.crs_a;
     report.crs_b = run.crs_b;
@@ -302,6 +361,10 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     report.metric = report.frame.kind != GeoFrame::kAsGiven ||
                     (report.crs_a.kind == CrsKind::kProjected && report.crs_a.metres_per_unit == 1.0);
     report.config = config;
+    if (store && !config.terrain.variogram_png.empty()) {
+      WriteVariogramPng(config.terrain.variogram_png, report.uncertainty.model, report.metric ? "m" : "units",
+                        config.Where("variogram_png"));
+    }
     report.total_s = Seconds(Clock::now() - start);
     if (!tiled_parts.partial.empty()) {
       WriteFileAtomically(tiled_parts.partial,
