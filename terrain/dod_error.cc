@@ -276,7 +276,8 @@ DodErrorModel FitDodErrorModel(const GridLayout& grid, const DodBlockReader& rea
   model.sigma_median = Median(std::move(sigmas));
   model.empirical = SampleVariogram(grids, execution);
   const double step = std::min(grid.dx, grid.dy);
-  const double longest = model.empirical.lag.empty() ? step : 2 * model.empirical.lag.back();
+  // No range beyond the longest lag seen: there the variogram says nothing.
+  const double longest = model.empirical.lag.empty() ? step : model.empirical.lag.back();
   model.variogram = FitVariogram(model.empirical, 0.5 * step, std::max(step, longest));
   return model;
 }

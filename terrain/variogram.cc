@@ -23,10 +23,10 @@ struct Random {
   double Uniform() { return static_cast<double>(Next() >> 11) * 0x1.0p-53; }
 };
 
-// For a Gaussian Δ ~ N(0, 2γ): median(Δ²) = 0.45494 · 2γ (Dowd 1984).
-constexpr double kDowd = 1.0 / (2 * 0.454936423119572);
 constexpr double kBinGrowth = 1.25;
 constexpr int64_t kMinPairs = 30;
+// The F statistic a richer variogram must reach (FitVariogram).
+constexpr double kSignificance = 10;
 
 // One bin's pairs: random valid cells (over all grids alike), a random
 // offset whose length falls in [lo, hi) (uniform over the annulus' area,
@@ -61,9 +61,9 @@ void SampleBin(const std::vector<GridValues>& grids, const std::vector<std::pair
   }
   *pairs = static_cast<int64_t>(squares.size());
   if (*pairs < kMinPairs) return;
-  auto middle = squares.begin() + static_cast<std::ptrdiff_t>(squares.size() / 2);
-  std::nth_element(squares.begin(), middle, squares.end());
-  *gamma = kDowd * *middle;
+  double sum = 0;
+  for (double square : squares) sum += square;
+  *gamma = 0.5 * sum / static_cast<double>(*pairs);
   *lag = distance_sum / static_cast<double>(*pairs);
 }
 
@@ -198,51 +198,70 @@ Variogram FitVariogram(const EmpiricalVariogram& empirical, double min_range, do
     w.push_back(static_cast<double>(empirical.pairs[b]) / (empirical.gamma[b] * empirical.gamma[b]));
   }
   Variogram out;
-  if (lags.size() < 3) {
-    double mean = 0;
-    for (double g : y) mean += g;
-    out.nugget = y.empty() ? 0 : mean / static_cast<double>(y.size());
-    return out;
-  }
-  // Coarse: ranges on a grid growing by 8%, every pair short <= long.
+  // No correlation: the nugget is the weighted mean.
+  double weight = 0, weighted = 0;
+  for (std::size_t b = 0; b < y.size(); ++b) weight += w[b], weighted += w[b] * y[b];
+  out.nugget = weight > 0 ? weighted / weight : 0.0;
+  if (lags.size() < 3) return out;
+  double flat = 0;
+  for (std::size_t b = 0; b < y.size(); ++b) flat += w[b] * (y[b] - out.nugget) * (y[b] - out.nugget);
+  // Ranges on a grid growing by 8%, then refined in 1% steps about the best.
   constexpr double kGrowth = 1.08;
   std::vector<double> ranges;
   for (double r = min_range; r <= max_range * (1 + 1e-12); r *= kGrowth) ranges.push_back(r);
   std::vector<std::vector<double>> shapes;
   for (double r : ranges) shapes.push_back(Shape(lags, r));
-  Fit best;
+  // One spherical model.
+  Fit one;
+  double one_range = ranges.front();
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    const Fit fit = SolveSills(y, w, shapes[i], nullptr);
+    if (fit.residual < one.residual * (1 - 1e-12)) one = fit, one_range = ranges[i];
+  }
+  for (int a = -8; a <= 8; ++a) {
+    const double r = one_range * std::pow(kGrowth, a / 8.0);
+    const Fit fit = SolveSills(y, w, Shape(lags, r), nullptr);
+    if (fit.residual < one.residual * (1 - 1e-12)) one = fit, one_range = r;
+  }
+  // Two: every pair short < long.
+  Fit two;
   double best_short = ranges.front(), best_long = ranges.front();
-  auto consider = [&](double r_short, double r_long, const std::vector<double>& s, const std::vector<double>& l,
-                      bool one) {
-    const Fit fit = SolveSills(y, w, s, one ? nullptr : &l);
-    if (fit.residual < best.residual * (1 - 1e-12)) best = fit, best_short = r_short, best_long = r_long;
+  auto consider = [&](double r_short, double r_long, const std::vector<double>& s, const std::vector<double>& l) {
+    const Fit fit = SolveSills(y, w, s, &l);
+    if (fit.residual < two.residual * (1 - 1e-12)) two = fit, best_short = r_short, best_long = r_long;
   };
   for (std::size_t i = 0; i < ranges.size(); ++i) {
-    for (std::size_t j = i; j < ranges.size(); ++j) {
-      consider(ranges[i], ranges[j], shapes[i], shapes[j], i == j);
-    }
+    for (std::size_t j = i + 1; j < ranges.size(); ++j) consider(ranges[i], ranges[j], shapes[i], shapes[j]);
   }
-  // Fine: a grid of 1% steps within one coarse step of the best pair.
   const double coarse_short = best_short, coarse_long = best_long;
   for (int a = -8; a <= 8; ++a) {
     const double r_short = coarse_short * std::pow(kGrowth, a / 8.0);
     const std::vector<double> s = Shape(lags, r_short);
     for (int b = -8; b <= 8; ++b) {
       const double r_long = coarse_long * std::pow(kGrowth, b / 8.0);
-      if (r_long < r_short) continue;
-      consider(r_short, r_long, s, Shape(lags, r_long), false);
+      if (r_long > r_short) consider(r_short, r_long, s, Shape(lags, r_long));
     }
   }
-  out.nugget = best.nugget;
-  out.sill = {best.sill_short, best.sill_long};
-  out.range = {best.sill_short > 0 ? best_short : 0.0, best.sill_long > 0 ? best_long : 0.0};
-  if (out.range[0] > out.range[1] && out.sill[1] > 0) {
-    std::swap(out.range[0], out.range[1]);
-    std::swap(out.sill[0], out.sill[1]);
-  } else if (out.sill[1] == 0 && out.sill[0] > 0) {
-    // One component: call it the short one only if a long one exists.
-    std::swap(out.range[0], out.range[1]);
-    std::swap(out.sill[0], out.sill[1]);
+  // A model with more terms only where the data ask for it: an F test of
+  // the weighted residuals (1, 3 and 5 parameters), at a level the bins'
+  // noise (their pairs are not independent) does not reach by chance. A
+  // small sill fitted to noise at a long range would swell every budget.
+  const double n = static_cast<double>(lags.size());
+  auto significant = [&](double simple, double rich, double added, double parameters) {
+    if (n - parameters < 1) return false;
+    if (!(rich > 0)) return simple > 0;
+    return (simple - rich) / added / (rich / (n - parameters)) > kSignificance;
+  };
+  const bool use_one = one.sill_short > 0 && significant(flat, one.residual, 2, 3);
+  const bool use_two = use_one && two.sill_short > 0 && two.sill_long > 0 && significant(one.residual, two.residual, 2, 5);
+  if (use_two) {
+    out.nugget = two.nugget;
+    out.sill = {two.sill_short, two.sill_long};
+    out.range = {best_short, best_long};
+  } else if (use_one) {
+    out.nugget = one.nugget;
+    out.sill = {0.0, one.sill_short};
+    out.range = {0.0, one_range};
   }
   return out;
 }

@@ -60,9 +60,12 @@ struct Variogram {
 };
 
 // The weighted least-squares fit (weights pairs / γ², Cressie's) of a
-// nugget and two spherical models with non-negative sills, the ranges
-// searched on a logarithmic grid in [min_range, max_range] and refined.
-// Needs at least 3 bins; a flat variogram gives a pure nugget.
+// nugget plus none, one or two spherical models with non-negative sills,
+// the ranges searched on a logarithmic grid in [min_range, max_range] and
+// refined; a richer model only where an F test of the residuals finds it
+// significant (a flat variogram is a pure nugget). One model is the long
+// one (sill[1], range[1]); an unused one has sill and range 0. Fewer than
+// 3 bins: the nugget alone.
 Variogram FitVariogram(const EmpiricalVariogram& empirical, double min_range, double max_range);
 
 }  // namespace surfreg

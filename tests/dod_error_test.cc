@@ -56,8 +56,14 @@ TEST(VariogramTest, FitRecoversAnExactModel) {
   const Variogram nugget = FitVariogram(flat, 0.5, 300);
   EXPECT_NEAR(nugget.nugget, 0.7, 1e-9);
   EXPECT_NEAR(nugget.sill[0] + nugget.sill[1], 0, 1e-9);
-  EmpiricalVariogram two{{1, 2}, {0.5, 0.7}, {10, 10}};
-  EXPECT_NEAR(FitVariogram(two, 0.5, 10).nugget, 0.6, 1e-12);
+  EmpiricalVariogram two{{1, 2}, {0.5, 0.7}, {10, 10}};  // weights pairs / γ²
+  EXPECT_NEAR(FitVariogram(two, 0.5, 10).nugget, (40 * 0.5 + 10 / 0.49 * 0.7) / (40 + 10 / 0.49), 1e-12);
+  // Noise of 1% about a flat variogram is no correlation; a dip of 20% at the first lag is.
+  EmpiricalVariogram noisy = flat;
+  for (std::size_t b = 0; b < noisy.gamma.size(); ++b) noisy.gamma[b] *= 1 + 0.01 * std::sin(3.0 * b);
+  EXPECT_EQ(FitVariogram(noisy, 0.5, 300).sill[1], 0);
+  noisy.gamma[0] *= 0.8;
+  EXPECT_GT(FitVariogram(noisy, 0.5, 300).sill[1], 0);
 }
 
 // White noise of variance 1: Dowd's semivariance is 1 at every lag.
