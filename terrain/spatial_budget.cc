@@ -82,17 +82,19 @@ GridLayout Coarse(const GridLayout& grid, int b) {
   return {(grid.columns + b - 1) / b, (grid.rows + b - 1) / b, grid.dx * b, grid.dy * b};
 }
 
-// A weighted sum of two spherical correlations and their products:
-// linear[k] S_k + square[k] S_k² + cross S_0 S_1.
-struct SphericalMix {
-  double range[2] = {0, 0};
-  double linear[2] = {0, 0}, square[2] = {0, 0}, cross = 0;
+// (p₁ S₁ + p₂ S₂)^power split in two: the terms with S₁ (zero beyond the
+// short range) and (p₂ S₂)^power (zero beyond the long one).
+struct SphericalPower {
+  double range[2] = {0, 0}, p[2] = {0, 0};
+  int power = 1;
+  bool long_part = false;
 };
 
-double MixKernel(double h, const void* data) {
-  const SphericalMix& m = *static_cast<const SphericalMix*>(data);
-  const double s0 = SphericalCorrelation(h, m.range[0]), s1 = SphericalCorrelation(h, m.range[1]);
-  return m.linear[0] * s0 + m.linear[1] * s1 + m.square[0] * s0 * s0 + m.square[1] * s1 * s1 + m.cross * s0 * s1;
+double PowerKernel(double h, const void* data) {
+  const SphericalPower& m = *static_cast<const SphericalPower*>(data);
+  const double both = m.p[0] * SphericalCorrelation(h, m.range[0]) + m.p[1] * SphericalCorrelation(h, m.range[1]);
+  const double long_only = std::pow(m.p[1] * SphericalCorrelation(h, m.range[1]), m.power);
+  return m.long_part ? long_only : std::pow(both, m.power) - long_only;
 }
 
 double NormalDensity(double x) { return 0.3989422804014327 * std::exp(-0.5 * x * x); }
@@ -128,22 +130,26 @@ HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold) {
   if (!(sigma > 0)) return t;
   const double l = std::max(0.0, threshold);
   const double mu = std::fabs(dz) > l ? dz : 0.0;
-  const double a = (l - mu) / sigma, b = (-l - mu) / sigma;
-  const double upper = NormalTail(a), lower = NormalTail(-b);  // P(X > L), P(X < −L)
+  const double a = (l - mu) / sigma, b = (-l - mu) / sigma;  // X > L: Z > a; X < −L: Z < b
+  const double upper = NormalTail(a), lower = NormalTail(-b);
   const double pa = NormalDensity(a), pb = NormalDensity(b);
   const double second = mu * mu + sigma * sigma;
-  const double fill_mean = mu * upper + sigma * pa;
-  const double fill_square = second * upper + sigma * pa * (mu + l);
-  t.fill_c1 = l * pa + sigma * upper;
-  const double cut_mean = -(mu * lower - sigma * pb);
-  const double cut_square = second * lower - sigma * pb * (mu - l);
-  t.cut_c1 = -(l * pb + sigma * lower);
-  const double net_mean = fill_mean - cut_mean, net_square = fill_square + cut_square;
-  t.net_c1 = t.fill_c1 - t.cut_c1;
-  auto rest = [](double square, double mean, double c1) { return std::max(0.0, square - mean * mean - c1 * c1); };
-  t.fill_rest = rest(fill_square, fill_mean, t.fill_c1);
-  t.cut_rest = rest(cut_square, cut_mean, t.cut_c1);
-  t.net_rest = rest(net_square, net_mean, t.net_c1);
+  // E g, E g², c₁ and c₂ of X 1(X > L) and of −X 1(X < −L), in closed form.
+  const double mean[2] = {mu * upper + sigma * pa, -(mu * lower - sigma * pb)};
+  const double square[2] = {second * upper + sigma * pa * (mu + l), second * lower - sigma * pb * (mu - l)};
+  const double c1[2] = {l * pa + sigma * upper, -(l * pb + sigma * lower)};
+  const double c2[2] = {pa * (a * l + sigma), pb * (sigma - b * l)};
+  auto rest = [](double variance, double first, double second_term) {
+    return std::max(0.0, variance - first * first - 0.5 * second_term * second_term);
+  };
+  for (int k = 0; k < 2; ++k) {
+    t.c1[k] = c1[k], t.c2[k] = c2[k];
+    t.rest[k] = rest(square[k] - mean[k] * mean[k], c1[k], c2[k]);
+  }
+  // net = fill − cut; the two are never both non-zero: E net² = E fill² + E cut².
+  const double net_mean = mean[0] - mean[1];
+  t.c1[2] = c1[0] - c1[1], t.c2[2] = c2[0] - c2[1];
+  t.rest[2] = rest(square[0] + square[1] - net_mean * net_mean, t.c1[2], t.c2[2]);
   return t;
 }
 
@@ -153,16 +159,17 @@ int PropagationBandRows(const GridLayout& grid) {
 
 SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader& read, const Variogram& variogram,
                                    const Execution& execution, double budget) {
-  // ρ = p₀ δ + p₁ S₁ + p₂ S₂; ρ² = (1 − (p₁ + p₂)²) δ + (p₁ S₁ + p₂ S₂)².
+  // ρ = p₀ δ + p₁ S₁ + p₂ S₂ and its powers: ρ^k = (1 − (p₁ + p₂)^k) δ + (p₁ S₁ + p₂ S₂)^k.
   const double total = variogram.Total();
   double p[3] = {1, 0, 0};
   if (total > 0) p[0] = variogram.nugget / total, p[1] = variogram.sill[0] / total, p[2] = variogram.sill[1] / total;
   const double diagonal = std::hypot(grid.columns * grid.dx, grid.rows * grid.dy);
   const double r[2] = {std::min(variogram.range[0], diagonal), std::min(variogram.range[1], diagonal)};
-  // The kernel passes: on u = a c₁ (linear) or v = a √R (square), each with its own block.
+  constexpr int kPowers = 3;
+  // The kernel passes: the weights of one power (w_k = a c₁, a c₂ / √2, a √R)
+  // with the short or the long part of ρ^k, each with its own block.
   struct Pass {
-    bool square = false;
-    SphericalMix mix;
+    SphericalPower kernel;
     double support = 0;
     int block = 1;
     GridLayout coarse;
@@ -171,32 +178,24 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
     double value[3] = {0, 0, 0};
   };
   std::vector<Pass> passes;
-  auto add = [&](bool square, SphericalMix mix, double support) {
-    mix.range[0] = variogram.range[0], mix.range[1] = variogram.range[1];
-    Pass pass;
-    pass.square = square, pass.mix = mix, pass.support = support;
-    pass.block = ChooseBlock(grid, support, budget);
-    pass.coarse = Coarse(grid, pass.block);
-    pass.offsets = HalfPlaneOffsets(pass.coarse, support, MixKernel, &pass.mix);
+  for (int power = 1; power <= kPowers; ++power) {
+    for (int part = 0; part < 2; ++part) {
+      if (!(p[1 + part] > 0) || !(r[part] > 0)) continue;
+      Pass pass;
+      pass.kernel.range[0] = variogram.range[0], pass.kernel.range[1] = variogram.range[1];
+      pass.kernel.p[0] = p[1], pass.kernel.p[1] = p[2];
+      pass.kernel.power = power, pass.kernel.long_part = part == 1;
+      pass.support = r[part];
+      pass.block = ChooseBlock(grid, pass.support, budget);
+      pass.coarse = Coarse(grid, pass.block);
+      passes.push_back(std::move(pass));
+    }
+  }
+  for (Pass& pass : passes) {  // the kernel's address is final now
+    pass.offsets = HalfPlaneOffsets(pass.coarse, pass.support, PowerKernel, &pass.kernel);
     if (pass.block > 1) {
       for (auto& s : pass.sums) s.assign(static_cast<std::size_t>(pass.coarse.cells()), 0.0);
     }
-    passes.push_back(std::move(pass));
-  };
-  if (p[1] > 0) {
-    SphericalMix linear, square;
-    linear.linear[0] = p[1];
-    square.square[0] = p[1] * p[1];
-    square.cross = 2 * p[1] * p[2];
-    add(false, linear, r[0]);
-    add(true, square, r[0]);  // S₁ S₂ lives within the shorter range
-  }
-  if (p[2] > 0) {
-    SphericalMix linear, square;
-    linear.linear[1] = p[2];
-    square.square[1] = p[2] * p[2];
-    add(false, linear, r[1]);
-    add(true, square, r[1]);
   }
   int reach = 0;  // rows below a band that exact passes pair it with
   for (const Pass& pass : passes) {
@@ -204,15 +203,17 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
   }
   const int band = PropagationBandRows(grid);
   const int columns = grid.columns;
-  double diagonal_u[3] = {0, 0, 0}, diagonal_v[3] = {0, 0, 0};
+  double diagonal_sum[kPowers][3] = {};
   BudgetRows rows;
-  std::vector<double> u[3], v[3];
+  std::vector<double> w[kPowers][3];
   for (int y0 = 0; y0 < grid.rows; y0 += band) {
     const int y1 = std::min(grid.rows, y0 + band), end = std::min(grid.rows, y1 + reach);
     const int core = y1 - y0, buffer = end - y0;
     read(y0, end, core, &rows);
     const std::size_t n = static_cast<std::size_t>(buffer) * columns;
-    for (int k = 0; k < 3; ++k) u[k].assign(n, 0.0), v[k].assign(n, 0.0);
+    for (auto& power : w) {
+      for (auto& k : power) k.assign(n, 0.0);
+    }
     for (std::size_t i = 0; i < n; ++i) {
       const double t = rows.threshold[i];
       if (!std::isfinite(rows.dz[i]) || !std::isfinite(rows.sigma[i]) || !std::isfinite(rows.area[i]) ||
@@ -221,25 +222,31 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
       }
       const HermiteTerms h = CellHermiteTerms(rows.dz[i], rows.sigma[i], t);
       const double a = rows.area[i];
-      u[0][i] = a * h.fill_c1, v[0][i] = a * std::sqrt(h.fill_rest);
-      u[1][i] = a * h.cut_c1, v[1][i] = a * std::sqrt(h.cut_rest);
-      u[2][i] = a * h.net_c1, v[2][i] = a * std::sqrt(h.net_rest);
+      for (int k = 0; k < 3; ++k) {
+        w[0][k][i] = a * h.c1[k];
+        w[1][k][i] = a * h.c2[k] * std::sqrt(0.5);
+        w[2][k][i] = a * std::sqrt(h.rest[k]);
+      }
     }
     const std::size_t core_cells = static_cast<std::size_t>(core) * columns;
-    for (int k = 0; k < 3; ++k) {
-      for (std::size_t i = 0; i < core_cells; ++i) diagonal_u[k] += u[k][i] * u[k][i], diagonal_v[k] += v[k][i] * v[k][i];
+    for (int power = 0; power < kPowers; ++power) {
+      for (int k = 0; k < 3; ++k) {
+        for (std::size_t i = 0; i < core_cells; ++i) diagonal_sum[power][k] += w[power][k][i] * w[power][k][i];
+      }
     }
     for (Pass& pass : passes) {
       for (int k = 0; k < 3; ++k) {
-        const std::vector<double>& w = pass.square ? v[k] : u[k];
+        const std::vector<double>& weights = w[pass.kernel.power - 1][k];
         if (pass.block == 1) {
-          pass.value[k] += BandQuadraticForm(w, columns, core, buffer, pass.offsets, execution);
+          pass.value[k] += BandQuadraticForm(weights, columns, core, buffer, pass.offsets, execution);
           continue;
         }
         const int b = pass.block;
         for (int y = 0; y < core; ++y) {
           const std::size_t row = static_cast<std::size_t>((y0 + y) / b) * static_cast<std::size_t>(pass.coarse.columns);
-          for (int x = 0; x < columns; ++x) pass.sums[k][row + static_cast<std::size_t>(x / b)] += w[static_cast<std::size_t>(y) * columns + x];
+          for (int x = 0; x < columns; ++x) {
+            pass.sums[k][row + static_cast<std::size_t>(x / b)] += weights[static_cast<std::size_t>(y) * columns + x];
+          }
         }
       }
     }
@@ -247,16 +254,19 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
   SpatialSigma out;
   double variance[3];
   for (int k = 0; k < 3; ++k) {
-    double linear = p[0] * diagonal_u[k], square = (1 - (p[1] + p[2]) * (p[1] + p[2])) * diagonal_v[k];
+    variance[k] = 0;
+    for (int power = 1; power <= kPowers; ++power) {
+      variance[k] += (1 - std::pow(p[1] + p[2], power)) * diagonal_sum[power - 1][k];
+    }
     for (Pass& pass : passes) {
       if (pass.block > 1) {
         pass.value[k] = BandQuadraticForm(pass.sums[k], pass.coarse.columns, pass.coarse.rows, pass.coarse.rows,
                                           pass.offsets, execution);
       }
-      (pass.square ? square : linear) += pass.value[k];
+      variance[k] += pass.value[k];
       out.block = std::max(out.block, pass.block);
     }
-    variance[k] = std::max(0.0, linear + square);
+    variance[k] = std::max(0.0, variance[k]);
   }
   out.fill = std::sqrt(variance[0]);
   out.cut = std::sqrt(variance[1]);

@@ -8,8 +8,8 @@
 // Without a threshold the net is linear and Var = Σ_ij a_i a_j σ_i σ_j ρ_ij
 // exactly. A threshold makes g jump at ±L; then each cell's g is expanded in
 // Hermite polynomials of Z_i (Mehler's formula: Cov(g_i, g_j) = Σ_k c_ik
-// c_jk ρ^k / k!), kept as c_i1 c_j1 ρ + √(R_i R_j) ρ², R_i the variance left
-// beyond the first term: exact for ρ = 0 and ρ = 1, an upper bound between.
+// c_jk ρ^k / k!), kept to k = 2 and bounded beyond by √(R_i R_j) ρ³, R_i
+// the variance left: exact for ρ = 0 and ρ = 1, an upper bound between.
 // c and R are taken at the cell's detected change (dz beyond L, 0 within):
 // cells below the threshold carry the chance of a false detection.
 #include <functional>
@@ -32,12 +32,13 @@ double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
                            const void* kernel_data, double support, const Execution& execution,
                            double budget = 1e8, int* block = nullptr);
 
-// The first Hermite coefficient c₁ = E[g(X) Z] and the variance R left
-// beyond it, Var g(X) − c₁², of one cell's contribution g to fill (X > L:
-// X), cut (X < −L: −X) and net (their difference) for X = μ + σ Z, with
-// μ the detected change (dz if |dz| > L, else 0). L = 0: no threshold.
+// One cell's contribution g to fill (X > L: X), cut (X < −L: −X) and net
+// (their difference) for X = μ + σ Z, μ the detected change (dz if |dz| >
+// L, else 0; L = 0: no threshold), in Hermite terms: c₁ = E[g Z], c₂ =
+// E[g (Z² − 1)] and the variance left beyond them, Var g − c₁² − c₂²/2.
 struct HermiteTerms {
-  double fill_c1 = 0, fill_rest = 0, cut_c1 = 0, cut_rest = 0, net_c1 = 0, net_rest = 0;
+  enum Budget { kFill = 0, kCut = 1, kNet = 2 };
+  double c1[3] = {0, 0, 0}, c2[3] = {0, 0, 0}, rest[3] = {0, 0, 0};
 };
 HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold);
 

@@ -121,23 +121,26 @@ TEST(SpatialBudgetTest, QuadraticFormIsTheDoubleSum) {
   EXPECT_NEAR(blocked, sum * sum, 1e-10 * sum * sum);
 }
 
-// E[g(X) Z] and Var g(X) − c₁² by quadrature over Z.
+// E[g Z], E[g (Z² − 1)] and Var g − c₁² − c₂²/2 by quadrature over Z.
 HermiteTerms NumericTerms(double dz, double sigma, double l) {
   const double mu = std::fabs(dz) > l ? dz : 0.0;
-  double moments[3][3] = {};  // [fill, cut, net][E g, E g², E g Z]
+  double moments[3][4] = {};  // [fill, cut, net][E g, E g², E g Z, E g (Z² − 1)]
   const double step = 1e-4;
   for (double z = -12; z <= 12; z += step) {
     const double weight = std::exp(-0.5 * z * z) / std::sqrt(2 * M_PI) * step;
     const double x = mu + sigma * z;
     const double g[3] = {x > l ? x : 0.0, x < -l ? -x : 0.0, (x > l || x < -l) ? x : 0.0};
     for (int k = 0; k < 3; ++k) {
-      moments[k][0] += weight * g[k], moments[k][1] += weight * g[k] * g[k], moments[k][2] += weight * g[k] * z;
+      moments[k][0] += weight * g[k], moments[k][1] += weight * g[k] * g[k];
+      moments[k][2] += weight * g[k] * z, moments[k][3] += weight * g[k] * (z * z - 1);
     }
   }
-  auto rest = [&](int k) {
-    return moments[k][1] - moments[k][0] * moments[k][0] - moments[k][2] * moments[k][2];
-  };
-  return {moments[0][2], rest(0), moments[1][2], rest(1), moments[2][2], rest(2)};
+  HermiteTerms t;
+  for (int k = 0; k < 3; ++k) {
+    t.c1[k] = moments[k][2], t.c2[k] = moments[k][3];
+    t.rest[k] = moments[k][1] - moments[k][0] * moments[k][0] - t.c1[k] * t.c1[k] - 0.5 * t.c2[k] * t.c2[k];
+  }
+  return t;
 }
 
 TEST(SpatialBudgetTest, HermiteTermsMatchQuadrature) {
@@ -145,18 +148,20 @@ TEST(SpatialBudgetTest, HermiteTermsMatchQuadrature) {
            {0.3, 0.5, 0.98}, {2.0, 0.5, 0.98}, {-1.2, 0.5, 0.98}, {5.0, 0.4, 1.0}, {0.1, 1.0, 0.0}, {-0.7, 2.0, 0.0}}) {
     const HermiteTerms t = CellHermiteTerms(dz, sigma, l), q = NumericTerms(dz, sigma, l);
     const double tolerance = 2e-3 * sigma * sigma + 1e-6;
-    EXPECT_NEAR(t.fill_c1, q.fill_c1, tolerance) << dz << " " << l;
-    EXPECT_NEAR(t.cut_c1, q.cut_c1, tolerance) << dz << " " << l;
-    EXPECT_NEAR(t.net_c1, q.net_c1, tolerance) << dz << " " << l;
-    EXPECT_NEAR(t.fill_rest, std::max(0.0, q.fill_rest), tolerance) << dz << " " << l;
-    EXPECT_NEAR(t.cut_rest, std::max(0.0, q.cut_rest), tolerance) << dz << " " << l;
-    EXPECT_NEAR(t.net_rest, std::max(0.0, q.net_rest), tolerance) << dz << " " << l;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(t.c1[k], q.c1[k], tolerance) << dz << " " << l << " budget " << k;
+      EXPECT_NEAR(t.c2[k], q.c2[k], tolerance) << dz << " " << l << " budget " << k;
+      EXPECT_NEAR(t.rest[k], std::max(0.0, q.rest[k]), tolerance) << dz << " " << l << " budget " << k;
+    }
   }
   // No threshold: the net is linear, c₁ = σ and nothing is left.
   const HermiteTerms linear = CellHermiteTerms(0.4, 0.3, 0);
-  EXPECT_NEAR(linear.net_c1, 0.3, 1e-15);
-  EXPECT_NEAR(linear.net_rest, 0, 1e-15);
-  EXPECT_EQ(CellHermiteTerms(1, 0, 0.5).net_c1, 0);  // σ = 0: no error
+  EXPECT_NEAR(linear.c1[HermiteTerms::kNet], 0.3, 1e-15);
+  EXPECT_NEAR(linear.c2[HermiteTerms::kNet], 0, 1e-15);
+  EXPECT_NEAR(linear.rest[HermiteTerms::kNet], 0, 1e-15);
+  // No change detected: the net's g is odd, c₂ = 0.
+  EXPECT_NEAR(CellHermiteTerms(0.2, 0.5, 0.98).c2[HermiteTerms::kNet], 0, 1e-15);
+  EXPECT_EQ(CellHermiteTerms(1, 0, 0.5).c1[HermiteTerms::kNet], 0);  // σ = 0: no error
 }
 
 // A DoD with heteroscedastic σ and node areas; no threshold.
