@@ -1,7 +1,7 @@
 #pragma once
 // The spatial correlation of a DoD's errors (docs/terrain.md, "Spatially
 // correlated errors"): an empirical variogram of values on a grid (the
-// standardized dz of stable terrain), robust, and its fit by a nugget plus a
+// standardized dz of stable terrain, outliers cut), and its fit by a nugget plus a
 // short- and a long-range spherical model, as Hugonnet et al. (2022) and
 // xDEM do. The correlation it implies is what terrain/spatial_budget.h
 // propagates to volumes.
@@ -22,7 +22,7 @@ struct GridLayout {
 
 struct EmpiricalVariogram {
   std::vector<double> lag;      // mean distance of each bin's pairs (length units)
-  std::vector<double> gamma;    // semivariance: Dowd's robust estimator, 1.099 · median(Δ²)
+  std::vector<double> gamma;    // semivariance: Matheron's estimator, ½ mean(Δ²)
   std::vector<int64_t> pairs;   // pairs in the bin
 };
 

@@ -3,7 +3,12 @@
 // closed forms.
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <random>
 #include <string>
@@ -217,6 +222,66 @@ TEST(SpatialBudgetTest, ChangeFarBeyondTheThresholdIsLinear) {
   EXPECT_NEAR(s.net, bounds.net_sigma_independent, 1e-9 * s.net);
   EXPECT_NEAR(s.fill, bounds.fill_sigma_independent, 1e-9 * s.fill);
   EXPECT_NEAR(s.cut, bounds.cut_sigma_independent, 1e-9 * s.cut);
+}
+
+// Monte Carlo: errors drawn from the model's own covariance (Cholesky) on
+// a 24 x 24 DoD with a block of change; the spread of the net's error
+// against the propagated σ, without a threshold (exact) and at 95% (an
+// upper bound, within 25%).
+TEST(SpatialBudgetTest, ThresholdedNetAgainstMonteCarlo) {
+  const GridLayout grid{24, 24, 1.0, 1.0};
+  const int n = static_cast<int>(grid.cells());
+  Variogram v;
+  v.nugget = 0.3, v.sill = {0, 0.7}, v.range = {0, 5};
+  const double sigma = 0.5;
+  Eigen::MatrixXd covariance(n, n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const double d = std::hypot(i % 24 - j % 24, i / 24 - j / 24);
+      covariance(i, j) = sigma * sigma * v.Correlation(d);
+    }
+  }
+  const Eigen::MatrixXd root = covariance.llt().matrixL();
+  std::vector<double> change(static_cast<std::size_t>(n), 0.0), area(change.size(), 1.0);
+  for (int i = 0; i < n; ++i) {
+    if (i % 24 < 8 && i / 24 < 8) change[static_cast<std::size_t>(i)] = 3.0;
+  }
+  std::mt19937_64 random(17);
+  std::normal_distribution<double> normal;
+  for (const double confidence : {0.0, 0.95}) {
+    const double l = confidence > 0 ? TwoSidedNormalQuantile(confidence) * sigma : 0.0;
+    std::vector<double> errors, sigmas;
+    double true_net = 0;
+    for (double c : change) true_net += c;
+    for (int draw = 0; draw < 4000; ++draw) {
+      Eigen::VectorXd z(n);
+      for (int i = 0; i < n; ++i) z[i] = normal(random);
+      const Eigen::VectorXd e = root * z;
+      std::vector<double> dz(change.size());
+      double net = 0;
+      for (int i = 0; i < n; ++i) {
+        dz[static_cast<std::size_t>(i)] = change[static_cast<std::size_t>(i)] + e[i];
+        if (std::fabs(dz[static_cast<std::size_t>(i)]) > l) net += dz[static_cast<std::size_t>(i)];
+      }
+      errors.push_back(net - true_net);
+      if (draw < 100) {
+        const std::vector<double> s(change.size(), sigma), t(change.size(), l);
+        sigmas.push_back(PropagateSpatialSigma(grid, dz, s, t, area, v, Execution{1}).net);
+      }
+    }
+    double mean = 0, square = 0;
+    for (double x : errors) mean += x / errors.size();
+    for (double x : errors) square += (x - mean) * (x - mean) / (errors.size() - 1);
+    std::sort(sigmas.begin(), sigmas.end());
+    const double propagated = sigmas[sigmas.size() / 2], spread = std::sqrt(square);
+    if (confidence == 0) {
+      EXPECT_NEAR(propagated / spread, 1.0, 0.04);
+    } else {
+      EXPECT_GE(propagated / spread, 0.97);
+      EXPECT_LE(propagated / spread, 1.25);
+    }
+    std::printf("confidence %.2f: propagated %.3f, Monte Carlo %.3f\n", confidence, propagated, spread);
+  }
 }
 
 TEST(DodErrorTest, SlopeAndCurvatureOfAPlaneAndAParaboloid) {

@@ -79,11 +79,13 @@ const Command kCommands[] = {
      "[--mask_mode=include|exclude] [--mask_layer=NAME] [--domain=data|hull] [--min_overlap_fraction=F] [--lod=L] "
      "[--reference_crs=CRS] [--moving_crs=CRS] "
      "[--frame=auto|enu|utm] [--band=N] [--window=C,R,W,H] [--sigma_reference=S|RASTER] "
-     "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--classes=C,...] [--columns=X,Y,Z] "
+     "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--error_model=independent|correlated|variogram] "
+     "[--variogram_png=FILE.png] [--classes=C,...] [--columns=X,Y,Z] "
      "[--tile=N | --max_memory=SIZE] [--shard=K/N --partial=P.json] [--resume] [--dod=DOD.tif] "
      "[--json] [--quiet]",
      "compare surface B with A in one metric frame: volume between them (rho_d), mean gap, "
-     "cut/fill (with propagated uncertainty when each DEM's sigma is given), timings",
+     "cut/fill (with propagated uncertainty when each DEM's sigma is given, or with the DoD's "
+     "spatially correlated errors estimated from the data), timings",
      "json quiet shard partial resume", IsMeasureKey},
     {"align", RunAlign,
      "(--config FILE.yaml | REFERENCE MOVING) [--KEY=VALUE for any config key] [--json] [--quiet]",
