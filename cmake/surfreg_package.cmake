@@ -31,8 +31,9 @@ set(SURFREG_PUBLIC_MEASURE_HEADERS
 set(SURFREG_PUBLIC_REGISTRATION_HEADERS
   align.h align_keys.h align_options.h align_result.h holdout.h rigid_motion.h series.h stable_terrain.h)
 set(SURFREG_PUBLIC_FACES_HEADERS face_frame.h jaw.h symmetry.h)
-set(SURFREG_PUBLIC_TERRAIN_HEADERS change_budget.h change_uncertainty.h geo_frame.h terrain.h
-  terrain_keys.h terrain_measure.h terrain_request.h tiled_measure.h tiled_motion.h tiled_partial.h)
+set(SURFREG_PUBLIC_TERRAIN_HEADERS change_budget.h change_uncertainty.h dod_error.h geo_frame.h spatial_budget.h terrain.h
+  terrain_keys.h terrain_measure.h terrain_request.h tiled_error.h tiled_measure.h tiled_motion.h tiled_partial.h
+  variogram.h)
 set(SURFREG_PUBLIC_IO_HEADERS
   mesh_reader.h plot.h polygon_reader.h raster_io.h surface_reader.h surface_writer.h)
 list(TRANSFORM SURFREG_PUBLIC_MEASURE_HEADERS PREPEND ${PROJECT_SOURCE_DIR}/measure/)

@@ -105,7 +105,7 @@ void AddSpatialUncertainty(const TerrainRequest& config, const Surface& referenc
     const std::size_t c = static_cast<std::size_t>(cells[i]);
     all.dz[c] = after.dz_a[i];
     all.height[c] = reference.z[i] + reference.origin[2];
-    all.area[c] = i < after.node_area_a.size() ? after.node_area_a[i] : 0.0;
+    all.area[c] = u->area[i];
     all.stable[c] = at.stable.empty() || at.stable[i];
     if (sigma_given) all.sigma[c] = u->sigma_dod[i];
   }
@@ -241,12 +241,25 @@ ChangeUncertainty AnalyseChangeUncertainty(const TerrainRequest& config, const S
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(after.dz_a[i])) u.sigma_dod[i] = std::nan("");
   }
+  u.area = after.node_area_a;
+  u.area.resize(n, 0.0);
+  if (!cells.counted.empty()) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!cells.counted[i]) u.area[i] = 0;
+    }
+  }
   if (variogram) {
     AddSpatialUncertainty(config, reference, after, cells, ExecutionFor(options.threads), sigma_given, &u);
   }
   const double confidence = config.terrain.lod_confidence, lod = config.terrain.lod;
   u.threshold = ChangeThresholds(u.sigma_dod, confidence, lod);
-  u.budget = ComputeChangeBudget(after.dz_a, after.node_area_a, u.sigma_dod, confidence, lod);
+  std::vector<double> sigma_counted = u.sigma_dod;  // the medians over the counted nodes
+  if (!cells.counted.empty()) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!cells.counted[i]) sigma_counted[i] = std::nan("");
+    }
+  }
+  u.budget = ComputeChangeBudget(after.dz_a, u.area, sigma_counted, confidence, lod);
   return u;
 }
 
@@ -291,7 +304,7 @@ void AddRegistrationUncertainty(const Surface& reference, const Surface& moving,
     const std::vector<double> down = Measure(reference, TransformSurface(moving, matrix_of(theta - step)), at_nodes).dz_a;
     for (std::size_t i = 0; i < n; ++i) {
       if (side[i] == 0 || !std::isfinite(up[i]) || !std::isfinite(down[i])) continue;
-      const double derivative = (up[i] - down[i]) / (2 * h) * after.node_area_a[i];
+      const double derivative = (up[i] - down[i]) / (2 * h) * u->area[i];
       (side[i] > 0 ? fill : cut)[k] += side[i] > 0 ? derivative : -derivative;  // cut counts |dz|
     }
   }
@@ -359,7 +372,7 @@ std::string ChangeUncertaintySummary(const TerrainRequest& config, const ChangeU
           line("cut", b.cut, b.cut_sigma_independent, b.cut_sigma_correlated) + ",\n              " +
           line("net", b.net, b.net_sigma_independent, b.net_sigma_correlated) + " " + cube + "\n";
   text += "              cellwise over " + std::to_string(b.fill_nodes) + " + " + std::to_string(b.cut_nodes) +
-          " of " + std::to_string(b.nodes) + " nodes; areas of detected gain " + Number(b.fill_area) +
+          " of " + std::to_string(b.nodes) + " nodes" + (t.change_mask.empty() ? "" : " inside " + t.change_mask) + "; areas of detected gain " + Number(b.fill_area) +
           " and loss " + Number(b.cut_area) + " " + (units == "m" ? "m^2" : "units^2");
   if (u.spatial) {
     const Variogram& v = u.model.variogram;

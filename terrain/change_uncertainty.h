@@ -36,6 +36,7 @@ struct ChangeUncertainty {
   bool active = false;              // some σ was given
   std::vector<double> sigma_dod;    // per reference sample; NaN outside Ω
   std::vector<double> threshold;    // per reference sample: max(lod, t σ_DoD); NaN outside Ω
+  std::vector<double> area;         // per reference sample: its area in the budget (0 outside change_mask)
   ChangeBudget budget;
   // error_model variogram: the model fitted on the stable terrain and the
   // budget's ± with the DoD's spatial correlation (terrain/spatial_budget.h;
@@ -68,12 +69,14 @@ struct ChangeSigmas {
 ChangeSigmas ModelSigmas(const ChangeUncertainty& u);
 
 // Where the reference's samples lie on its raster, for error_model
-// variogram: the grid (null for a point cloud) and each sample's cell; and
-// which samples are stable terrain (empty: all).
+// variogram: the grid (null for a point cloud) and each sample's cell;
+// which samples are stable terrain (empty: all); and which the budget
+// counts (empty: all).
 struct ReferenceCells {
   const Raster* grid = nullptr;
   const std::vector<int64_t>* cells = nullptr;
   std::vector<bool> stable;
+  std::vector<bool> counted;  // the nodes the budget sums over (change_mask); empty: all
 };
 
 // σ_DoD at the reference's samples after the motion: the reference's own σ

@@ -20,6 +20,7 @@
 #include "io/surface_reader.h"
 #include "io/surface_reader_internal.h"
 #include "io/plot.h"
+#include "io/polygon_reader.h"
 #include "terrain/terrain_internal.h"
 
 namespace surfreg {
@@ -200,6 +201,26 @@ void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const
   }
 }
 
+std::vector<bool> ChangeMaskNodes(const TerrainRequest& config, const TerrainInputs& in) {
+  const std::string& path = config.terrain.change_mask;
+  if (path.empty()) return {};
+  const std::string where = config.Where("change_mask");
+  MaskFile file;
+  try {
+    file = ReadMask(path);
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+  MaskToFrame(in, file.crs_wkt, where, &file.rings);
+  const MaskRegion region = MakeMaskRegion(file.rings, MaskMode::kInclude,
+                                           {in.reference.origin[0], in.reference.origin[1]}, in.reference.xy);
+  std::vector<bool> inside(in.reference.size());
+  int64_t count = 0;
+  for (std::size_t i = 0; i < inside.size(); ++i) count += (inside[i] = InsideMask(region, in.reference.xy[i]));
+  if (count == 0) throw InputError(where + ": " + path + " holds none of the reference's samples");
+  return inside;
+}
+
 TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* given_reference,
                                 const Surface* given_moving, bool tiled_origin,
                                 std::optional<int> threads, bool compact) {
@@ -361,6 +382,7 @@ TerrainReport AnalyseTerrain(const TerrainRequest& config, const TerrainInputs& 
   ReferenceCells cells;
   if (in.reference_is_raster) cells.grid = &in.reference_grid, cells.cells = &in.reference_cells;
   cells.stable = report.stable;
+  cells.counted = ChangeMaskNodes(config, in);
   report.uncertainty = AnalyseChangeUncertainty(config, in.reference, moved, in.sigma_reference,
                                                 in.sigma_moving, report.after, options, cells);
   AddRegistrationUncertainty(in.reference, in.moving, result.rotation_vector, result.translation, result.centre,

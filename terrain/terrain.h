@@ -94,6 +94,11 @@ void ExpandCompactRasters(const TerrainRequest& config, TerrainInputs* inputs);
 void MaskToFrame(const TerrainInputs& in, const std::string& mask_crs_wkt, const std::string& where,
                  std::vector<MaskRing>* rings);
 
+// The reference's samples inside the polygons of config.terrain.change_mask
+// (read with ReadMask, brought into the frame as MaskToFrame does): the
+// nodes the change budget sums over. Empty when no change_mask is given.
+std::vector<bool> ChangeMaskNodes(const TerrainRequest& config, const TerrainInputs& in);
+
 struct TerrainReport {
   MeasureSummary before, after;     // with change detection and node gaps
   // Per reference sample: inside the mask (all if none) and, with stable

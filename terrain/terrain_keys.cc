@@ -138,6 +138,11 @@ const std::vector<TerrainSettingEntry>& TerrainSettingKeys() {
         "with error_model variogram: the empirical variogram of the standardized stable dz and its fit"},
        [](const Value& v, TerrainSettings* t) { t->variogram_png = Path(v, false); },
        [](const TerrainSettings& t) { return t.variogram_png; }},
+      {{"change_mask", "a polygon file (text rings or a vector file such as .gpkg), or nothing",
+        "the change budget (fill, cut, net and their +/-) over the reference's nodes inside these "
+        "polygons only (in the reference's CRS, or the vector file's own); nothing = the whole overlap"},
+       [](const Value& v, TerrainSettings* t) { t->change_mask = Path(v, false); },
+       [](const TerrainSettings& t) { return t.change_mask; }},
       {{"dod_sigma", "a .tif file name, or nothing",
         "the DoD's propagated standard error on the reference raster's grid"},
        [](const Value& v, TerrainSettings* t) { t->dod_sigma = Path(v, false); },

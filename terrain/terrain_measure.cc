@@ -89,6 +89,7 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
     cells.stable.resize(inputs.reference.size());
     for (std::size_t i = 0; i < inputs.reference.size(); ++i) cells.stable[i] = InsideMask(mask, inputs.reference.xy[i]);
   }
+  if (!inputs.compact) cells.counted = ChangeMaskNodes(request, inputs);
   m.uncertainty = AnalyseChangeUncertainty(request, inputs.reference, inputs.moving, inputs.sigma_reference,
                                            inputs.sigma_moving, m.summary, options, cells);
   // Kept for the budget only (terrain_measure.h).

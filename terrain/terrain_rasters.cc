@@ -92,7 +92,7 @@ bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution
                         (crs[0].kind == CrsKind::kProjected && crs[1].kind == CrsKind::kProjected &&
                          SameCrs(crs[0], crs[1]));
   const TerrainSettings& t = config.terrain;
-  if (!as_given || !t.sigma_reference.empty() || !t.sigma_moving.empty() || t.error_model == "variogram" ||
+  if (!as_given || !t.sigma_reference.empty() || !t.sigma_moving.empty() || t.error_model == "variogram" || !t.change_mask.empty() ||
       !t.mask_raster.empty() || !t.dod_sigma.empty() || !t.dod_thresholded.empty()) {
     *reference = std::move(grids[0]);
     *moving = std::move(grids[1]);

@@ -17,7 +17,7 @@ bool TerrainSettings::Active(const std::string& reference, const std::string& mo
          !histogram_png.empty() || !change_csv.empty() || !known_matrix.empty() ||
          !mask_raster.empty() || !sigma_reference.empty() || !sigma_moving.empty() ||
          lod_confidence > 0 || !dod_sigma.empty() || !dod_thresholded.empty() ||
-         error_model != "independent" || !variogram_png.empty();
+         error_model != "independent" || !variogram_png.empty() || !change_mask.empty();
 }
 
 std::string TerrainRequest::Where(const std::string& key) const {

@@ -36,6 +36,8 @@ struct TerrainSettings {
   // estimated on the stable terrain (terrain/dod_error.h).
   std::string error_model = "independent";
   std::string variogram_png;              // the variogram with its fit
+  // Polygons (a mask file) over which the change budget is summed; "" = the whole overlap.
+  std::string change_mask;
   std::string dod_sigma, dod_thresholded;  // GeoTIFFs on the reference raster's grid
   // Two DEMs too large to hold (tools/align_tiled.h): a memory budget such
   // as "2G" ("" = untiled), and the per-tile dz statistics CSV.

@@ -143,6 +143,7 @@ dod_sigma: sigma_dod.tif
 dod_thresholded: dod_detected.tif
 error_model: variogram
 variogram_png: variogram.png
+change_mask: roi.gpkg
 normal_distance: false
 slope_weight: 1.5
 gap_weight: 0.7
@@ -241,6 +242,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_EQ(t.dod_thresholded, "dod_detected.tif");
   EXPECT_EQ(t.error_model, "variogram");
   EXPECT_EQ(t.variogram_png, "variogram.png");
+  EXPECT_EQ(t.change_mask, "roi.gpkg");
   EXPECT_EQ(c.classes, (std::vector<int>{2, 9}));
   EXPECT_EQ(c.columns, (std::vector<std::string>{"E", "N", "H", "5"}));
   EXPECT_EQ(o.mask_mode, MaskMode::kExclude);

@@ -304,6 +304,28 @@ print("measure with sigma: fill %g +/- %g, cut %g +/- %g%s" % (b["fill"], b["fil
 sys.exit(1 if bad else 0)
 PY
 fi
+# change_mask: the budget over the 8 x 8 nodes of columns 10-17, rows 5-12 (the +2 block and no cut).
+printf '1756100 5916520\n1756180 5916520\n1756180 5916600\n1756100 5916600\n' >"$tmp/roi.txt"
+run measure "$tmp/before.asc" "$tmp/after.asc" --reference_crs=EPSG:2193 --moving_crs=EPSG:2193 \
+  --sigma_reference=0.3 --sigma_moving=0.4 --lod_confidence=0.95 --change_mask="$tmp/roi.txt" --json
+if [[ $rc -ne 0 ]]; then
+  fail "measure --change_mask"
+else
+  python3 - "$tmp/stdout" <<'PY' || fail "measure --change_mask: closed forms"
+import json, sys
+b = json.load(open(sys.argv[1]))["change"]["uncertainty"]
+want = {"nodes": 64, "fill_nodes": 9, "cut_nodes": 0, "fill": 1800, "cut": 0, "fill_sigma_independent": 150,
+        "fill_sigma_correlated": 450, "net_sigma_correlated": 450}
+bad = [k for k, v in want.items() if not abs(b[k] - v) <= 1e-9 * max(1, abs(v))]
+print("change_mask: %d nodes, fill %g +/- %g%s" % (b["nodes"], b["fill"], b["fill_sigma_independent"],
+      "; wrong: %s" % bad if bad else ""))
+sys.exit(1 if bad or not b["change_mask"].endswith("roi.txt") else 0)
+PY
+fi
+expect_error "change_mask" measure "$tmp/before.asc" "$tmp/after.asc" --change_mask="$tmp/roi.txt"
+printf '0 0\n1 0\n1 1\n' >"$tmp/nowhere.txt"
+expect_error "holds none of the reference's samples" measure "$tmp/before.asc" "$tmp/after.asc" \
+  --reference_crs=EPSG:2193 --moving_crs=EPSG:2193 --sigma_reference=0.3 --change_mask="$tmp/nowhere.txt"
 expect_error "lod_confidence" measure "$tmp/before.asc" "$tmp/after.asc" --lod_confidence=0.95
 expect_error "not on the grid" align "${change[@]}" --sigma_moving="$tmp/sigma_shifted.asc" \
   --output="$out/t.json"

@@ -259,7 +259,7 @@ void FinishAlignConfig(AlignConfig* config) {
   }
   const bool has_sigma = !config->terrain.sigma_reference.empty() || !config->terrain.sigma_moving.empty() ||
                          config->terrain.error_model == "variogram";
-  for (const char* key : {"lod_confidence", "dod_sigma"}) {
+  for (const char* key : {"lod_confidence", "dod_sigma", "change_mask"}) {
     if (!has_sigma && config->origin.count(key) != 0 && !AlignConfigValue(*config, key).empty() &&
         AlignConfigValue(*config, key) != "0") {
       throw InputError(config->Where(key) +

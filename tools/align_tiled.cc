@@ -215,7 +215,7 @@ void CheckTiledAlign(const AlignConfig& config) {
                      "(gdal_translate -srcwin)");
   }
   for (const char* key : {"aligned", "histogram_png", "change_csv", "dod_sigma",
-                          "dod_thresholded", "mask_raster"}) {
+                          "dod_thresholded", "mask_raster", "change_mask"}) {
     if (!AlignConfigValue(config, key).empty()) {
       throw InputError(config.Where(key) + ": not with " + where +
                        " yet (it needs the whole surfaces); a tiled alignment writes output, "

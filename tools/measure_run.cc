@@ -38,7 +38,7 @@ constexpr const char* kTerrainKeys[] = {"reference_crs", "moving_crs",      "fra
                                         "band",          "window",          "lod",
                                         "sigma_reference", "sigma_moving", "lod_confidence",
                                         "classes",       "columns",         "dod",
-                                        "error_model",   "variogram_png"};
+                                        "error_model",   "variogram_png",   "change_mask"};
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
@@ -151,6 +151,7 @@ void CheckTileable(const MeasureOptions& options, const AlignConfig& config,
   if (options.weight == WeightMode::kPerPoint) what = "per-point weights";
   if (options.domain.kind == DomainKind::kHull) what = "--domain=hull";
   if (!config.terrain.mask_raster.empty()) what = "a mask raster";
+  if (!config.terrain.change_mask.empty()) what = "a change_mask";
   if (!what.empty()) throw InputError(where + ": a tiled measure does not take " + what + " yet");
 }
 
@@ -277,6 +278,11 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     throw InputError(config.Where("lod_confidence") +
                      " needs the DEMs' vertical errors: give --sigma_reference and/or --sigma_moving, or "
                      "--error_model=variogram");
+  }
+  if (!config.terrain.change_mask.empty() && !sigma) {
+    throw InputError(config.Where("change_mask") +
+                     ": the change budget needs the DEMs' vertical errors: give --sigma_reference and/or "
+                     "--sigma_moving, or --error_model=variogram");
   }
   if (sigma && !options.detect_change) {
     const char* key = variogram ? "error_model"

@@ -40,7 +40,7 @@ JsonObject ChangeUncertaintyJson(const TerrainRequest& config, const ChangeUncer
       .Number("fill_sigma_correlated", b.fill_sigma_correlated)
       .Number("cut_sigma_correlated", b.cut_sigma_correlated)
       .Number("net_sigma_correlated", b.net_sigma_correlated);
-  json.String("error_model", u.error_model);
+  json.String("error_model", u.error_model).String("change_mask", config.terrain.change_mask);
   if (u.spatial) {
     const Variogram& v = u.model.variogram;
     const EmpiricalVariogram& e = u.model.empirical;
