@@ -92,6 +92,18 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
   if (!inputs.compact) cells.counted = ChangeMaskNodes(request, inputs);
   m.uncertainty = AnalyseChangeUncertainty(request, inputs.reference, inputs.moving, inputs.sigma_reference,
                                            inputs.sigma_moving, m.summary, options, cells);
+  if (!request.terrain.dod_sigma.empty()) {
+    if (!inputs.reference_is_raster || !m.uncertainty.active) {
+      throw InputError(request.Where("dod_sigma") + ": σ_DoD is written on A's grid: A must be a raster, "
+                       "with a σ or error_model variogram");
+    }
+    Raster sigma = inputs.reference_grid;
+    sigma.values.assign(static_cast<std::size_t>(sigma.columns) * sigma.rows, std::nan(""));
+    for (std::size_t i = 0; i < inputs.reference_cells.size(); ++i) {
+      sigma.values[inputs.reference_cells[i]] = m.uncertainty.sigma_dod[i];
+    }
+    WriteGeoTiff(request.terrain.dod_sigma, sigma, request.Where("dod_sigma"), execution.threads);
+  }
   // Kept for the budget only (terrain_measure.h).
   m.summary.dz_b = {};
   if (!m.uncertainty.active) m.summary.node_area_a = {};

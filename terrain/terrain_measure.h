@@ -37,8 +37,8 @@ struct TerrainMeasure {
 // request.terrain.lod, and dz kept at A's nodes. Two rasters on one grid
 // (one CRS or none, uniform weights, no σ) are measured from their heights
 // alone (measure/raster_pair.h): the same numbers, without per-sample
-// structures. Writes the DoD GeoTIFF when
-// request.terrain.dod names one (A must then be a raster). Non-null `a` or
+// structures. Writes the DoD GeoTIFF when request.terrain.dod names one,
+// and σ_DoD when request.terrain.dod_sigma does (A must then be a raster). Non-null `a` or
 // `b`: those samples instead of reading the file. Errors are InputError
 // naming the key or file.
 TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions options,

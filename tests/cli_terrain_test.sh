@@ -356,7 +356,7 @@ expect_error "dod_sigma" align configs/data/volcano_a.xyz configs/data/volcano_b
 
 # --- error_model variogram: the spatially correlated budget between the two bounds ---
 run measure configs/data/volcano_dem.tif configs/data/volcano_dem_moved.tif --error_model=variogram \
-  --variogram_png="$out/variogram.png" --json
+  --variogram_png="$out/variogram.png" --dod_sigma="$out/sigma.tif" --json
 if [[ $rc -ne 0 ]]; then
   fail "measure --error_model=variogram"
 else
@@ -369,7 +369,7 @@ ok = (u["error_model"] == "variogram" and u["sigma_model"]["estimated"] is True
       and u["net_sigma_independent"] <= u["net_sigma_spatial"] <= u["net_sigma_correlated"]
       and v["stable_cells"] >= 1000 and len(v["sills"]) == 2 and len(v["ranges"]) == 2
       and len(v["lags"]) == len(v["gamma"]) > 3 and u["spatial_block"] == 1
-      and os.path.getsize(sys.argv[2]) > 1000)
+      and os.path.getsize(sys.argv[2]) > 1000 and os.path.getsize(sys.argv[2].replace("variogram.png", "sigma.tif")) > 1000)
 print("variogram: net +/- %g (independent %g, correlated %g), nugget %g, ranges %s"
       % (u["net_sigma_spatial"], u["net_sigma_independent"], u["net_sigma_correlated"], v["nugget"], v["ranges"]))
 sys.exit(0 if ok else 1)
@@ -380,6 +380,8 @@ expect_error "needs a raster reference" measure configs/data/volcano_a.xyz confi
   --error_model=variogram
 expect_error "stable cells with a DoD value, and the variogram error model needs at least 1000" measure "$tmp/before.asc" "$tmp/after.asc" --error_model=variogram
 expect_error "error_model" measure "$tmp/before.asc" "$tmp/after.asc" --error_model=kriging
+expect_error "dod_sigma': needs the DEMs' vertical errors" measure "$tmp/before.asc" "$tmp/after.asc" \
+  --dod_sigma="$out/s.tif"
 expect_error "needs --error_model=variogram" measure "$tmp/before.asc" "$tmp/after.asc" \
   --variogram_png="$out/v.png"
 expect_error "needs error_model: variogram" align "${change[@]}" --variogram_png="$out/v.png" \

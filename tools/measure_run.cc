@@ -38,7 +38,8 @@ constexpr const char* kTerrainKeys[] = {"reference_crs", "moving_crs",      "fra
                                         "band",          "window",          "lod",
                                         "sigma_reference", "sigma_moving", "lod_confidence",
                                         "classes",       "columns",         "dod",
-                                        "error_model",   "variogram_png",   "change_mask"};
+                                        "error_model",   "variogram_png",   "change_mask",
+                                        "dod_sigma"};
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
@@ -152,6 +153,7 @@ void CheckTileable(const MeasureOptions& options, const AlignConfig& config,
   if (options.domain.kind == DomainKind::kHull) what = "--domain=hull";
   if (!config.terrain.mask_raster.empty()) what = "a mask raster";
   if (!config.terrain.change_mask.empty()) what = "a change_mask";
+  if (!config.terrain.dod_sigma.empty()) what = "--dod_sigma";
   if (!what.empty()) throw InputError(where + ": a tiled measure does not take " + what + " yet");
 }
 
@@ -278,6 +280,18 @@ MeasureReport MeasureSurfaces(SurfaceInput a, SurfaceInput b, const std::vector<
     throw InputError(config.Where("lod_confidence") +
                      " needs the DEMs' vertical errors: give --sigma_reference and/or --sigma_moving, or "
                      "--error_model=variogram");
+  }
+  if (!config.terrain.dod_sigma.empty()) {
+    const std::string where = config.Where("dod_sigma");
+    if (!sigma) {
+      throw InputError(where + ": needs the DEMs' vertical errors: give --sigma_reference and/or --sigma_moving, "
+                       "or --error_model=variogram");
+    }
+    if (!a.samples && !IsRasterPath(report.file_a)) {
+      throw InputError(where + ": σ_DoD is written on A's grid, but A ('" + report.file_a + "') is no raster");
+    }
+    CheckTerrainOutput("dod_sigma", config.terrain.dod_sigma, where);
+    CheckOutputPath(config.terrain.dod_sigma, where);
   }
   if (!config.terrain.change_mask.empty() && !sigma) {
     throw InputError(config.Where("change_mask") +

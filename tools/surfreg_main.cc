@@ -80,7 +80,7 @@ const Command kCommands[] = {
      "[--reference_crs=CRS] [--moving_crs=CRS] "
      "[--frame=auto|enu|utm] [--band=N] [--window=C,R,W,H] [--sigma_reference=S|RASTER] "
      "[--sigma_moving=S|RASTER] [--lod_confidence=C] [--error_model=independent|correlated|variogram] "
-     "[--variogram_png=FILE.png] [--classes=C,...] [--columns=X,Y,Z] "
+     "[--variogram_png=FILE.png] [--change_mask=FILE] [--dod_sigma=S.tif] [--classes=C,...] [--columns=X,Y,Z] "
      "[--tile=N | --max_memory=SIZE] [--shard=K/N --partial=P.json] [--resume] [--dod=DOD.tif] "
      "[--json] [--quiet]",
      "compare surface B with A in one metric frame: volume between them (rho_d), mean gap, "
