@@ -120,21 +120,35 @@ double SigmaModel::At(double s, double c) const {
   return Interpolate(slope, sigma, s) * (curvature.empty() ? 1.0 : Interpolate(curvature, factor, c));
 }
 
+namespace {
+
+// Rows [row, row + rows) and columns [column, column + columns) of
+// `source`, a block `source_columns` wide, into `target` (empty stays empty).
+template <typename T>
+void CopyRows(const std::vector<T>& source, int source_columns, int column, int row, int columns, int rows,
+              std::vector<T>* target) {
+  target->clear();
+  if (source.empty()) return;
+  for (int y = 0; y < rows; ++y) {
+    const auto begin = source.begin() + static_cast<std::ptrdiff_t>(row + y) * source_columns + column;
+    target->insert(target->end(), begin, begin + columns);
+  }
+}
+
+// The window of `to` (its columns and rows) at (column, row) of `from`, every field.
+void CopyWindow(const DodBlock& from, int from_columns, int column, int row, DodBlock* to) {
+  const int w = to->columns, h = to->rows;
+  CopyRows(from.dz, from_columns, column, row, w, h, &to->dz);
+  CopyRows(from.height, from_columns, column, row, w, h, &to->height);
+  CopyRows(from.area, from_columns, column, row, w, h, &to->area);
+  CopyRows(from.sigma, from_columns, column, row, w, h, &to->sigma);
+  CopyRows(from.stable, from_columns, column, row, w, h, &to->stable);
+}
+
+}  // namespace
+
 DodBlockReader DodGridReader(const DodGrid& dod) {
-  return [&dod](DodBlock* block) {
-    const DodBlock& all = dod.cells;
-    const int columns = dod.layout.columns;
-    const auto crop = [&](const auto& from, auto* to) {
-      to->clear();
-      if (from.empty()) return;
-      for (int y = 0; y < block->rows; ++y) {
-        const auto begin = from.begin() + static_cast<std::ptrdiff_t>(block->row + y) * columns + block->column;
-        to->insert(to->end(), begin, begin + block->columns);
-      }
-    };
-    crop(all.dz, &block->dz), crop(all.height, &block->height), crop(all.area, &block->area);
-    crop(all.sigma, &block->sigma), crop(all.stable, &block->stable);
-  };
+  return [&dod](DodBlock* block) { CopyWindow(dod.cells, dod.layout.columns, block->column, block->row, block); };
 }
 
 std::vector<std::array<int, 4>> ErrorModelWindows(const GridLayout& grid) {
@@ -168,17 +182,9 @@ void ReadWithSlope(const GridLayout& grid, const DodBlockReader& read, DodBlock*
   std::vector<double> wide_slope, wide_curvature;
   SlopeAndCurvature({wide.columns, wide.rows, grid.dx, grid.dy}, wide.height, &wide_slope, &wide_curvature);
   const int dx = block->column - wide.column, dy = block->row - wide.row;
-  const auto crop = [&](const auto& from, auto* to) {
-    to->clear();
-    if (from.empty()) return;
-    for (int y = 0; y < block->rows; ++y) {
-      const auto begin = from.begin() + static_cast<std::ptrdiff_t>(y + dy) * wide.columns + dx;
-      to->insert(to->end(), begin, begin + block->columns);
-    }
-  };
-  crop(wide.dz, &block->dz), crop(wide.height, &block->height), crop(wide.area, &block->area);
-  crop(wide.sigma, &block->sigma), crop(wide.stable, &block->stable);
-  crop(wide_slope, slope), crop(wide_curvature, curvature);
+  CopyWindow(wide, wide.columns, dx, dy, block);
+  CopyRows(wide_slope, wide.columns, dx, dy, block->columns, block->rows, slope);
+  CopyRows(wide_curvature, wide.columns, dx, dy, block->columns, block->rows, curvature);
 }
 
 }  // namespace
