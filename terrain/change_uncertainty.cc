@@ -138,6 +138,8 @@ BudgetRowReader DodBudgetRows(const GridLayout& grid, const DodBlockReader& read
     DodBlock block;
     block.column = 0, block.row = row0, block.columns = grid.columns, block.rows = row1 - row0;
     ReadWithSigma(grid, read, model, &block, &rows->sigma);
+    rows->noise.resize(block.dz.size());
+    for (std::size_t i = 0; i < block.dz.size(); ++i) rows->noise[i] = StableInlier(model, block.stable[i], block.dz[i]);
     rows->dz = std::move(block.dz);
     rows->area = std::move(block.area);
     rows->threshold.resize(rows->sigma.size());

@@ -189,6 +189,10 @@ void ReadWithSlope(const GridLayout& grid, const DodBlockReader& read, DodBlock*
 
 }  // namespace
 
+bool StableInlier(const DodErrorModel& model, bool stable, double dz) {
+  return stable && std::isfinite(dz) && std::fabs(dz - model.stable_median) <= kInlierNmads * model.stable_nmad;
+}
+
 void ReadWithSigma(const GridLayout& grid, const DodBlockReader& read, const DodErrorModel& model, DodBlock* block,
                    std::vector<double>* sigma) {
   std::vector<double> slope, curvature;
@@ -232,9 +236,7 @@ DodErrorModel FitDodErrorModel(const GridLayout& grid, const DodBlockReader& rea
   for (Window& w : windows) {
     w.inlier.assign(w.block.dz.size(), 0);
     for (std::size_t i = 0; i < w.block.dz.size(); ++i) {
-      const double dz = w.block.dz[i];
-      if (w.block.stable[i] && std::isfinite(dz) &&
-          std::fabs(dz - model.stable_median) <= kInlierNmads * model.stable_nmad) {
+      if (StableInlier(model, w.block.stable[i], w.block.dz[i])) {
         w.inlier[i] = 1;
         ++model.stable_cells;
       }

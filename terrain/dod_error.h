@@ -78,6 +78,10 @@ inline constexpr int64_t kMinStableCells = 1000;
 DodErrorModel FitDodErrorModel(const GridLayout& grid, const DodBlockReader& read, const Execution& execution,
                                const std::string& where);
 
+// Whether a cell's dz is taken as noise by `model`: stable terrain, and
+// within 4 NMAD of the stable median (the cells the model was fitted on).
+bool StableInlier(const DodErrorModel& model, bool stable, double dz);
+
 // Reads the window of `block` (through `read`, with a cell around it for
 // the slope) and sets `sigma` to each cell's σ: the one given, or the
 // model's (NaN where there is no dz).

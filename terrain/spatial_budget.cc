@@ -125,11 +125,11 @@ double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
                            HalfPlaneOffsets(coarse, support, kernel, kernel_data), execution);
 }
 
-HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold) {
+HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold, bool noise) {
   HermiteTerms t;
   if (!(sigma > 0)) return t;
   const double l = std::max(0.0, threshold);
-  const double mu = std::fabs(dz) > l ? dz : 0.0;
+  const double mu = !noise && std::fabs(dz) > l ? dz : 0.0;
   const double a = (l - mu) / sigma, b = (-l - mu) / sigma;  // X > L: Z > a; X < −L: Z < b
   const double upper = NormalTail(a), lower = NormalTail(-b);
   const double pa = NormalDensity(a), pb = NormalDensity(b);
@@ -220,7 +220,7 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
           !std::isfinite(t)) {
         continue;
       }
-      const HermiteTerms h = CellHermiteTerms(rows.dz[i], rows.sigma[i], t);
+      const HermiteTerms h = CellHermiteTerms(rows.dz[i], rows.sigma[i], t, !rows.noise.empty() && rows.noise[i]);
       const double a = rows.area[i];
       for (int k = 0; k < 3; ++k) {
         w[0][k][i] = a * h.c1[k];

@@ -12,6 +12,7 @@
 // the variance left: exact for ρ = 0 and ρ = 1, an upper bound between.
 // c and R are taken at the cell's detected change (dz beyond L, 0 within):
 // cells below the threshold carry the chance of a false detection.
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -34,13 +35,13 @@ double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
 
 // One cell's contribution g to fill (X > L: X), cut (X < −L: −X) and net
 // (their difference) for X = μ + σ Z, μ the detected change (dz if |dz| >
-// L, else 0; L = 0: no threshold), in Hermite terms: c₁ = E[g Z], c₂ =
+// L, else 0; L = 0: no threshold; 0 on known stable terrain, `noise`), in Hermite terms: c₁ = E[g Z], c₂ =
 // E[g (Z² − 1)] and the variance left beyond them, Var g − c₁² − c₂²/2.
 struct HermiteTerms {
   enum Budget { kFill = 0, kCut = 1, kNet = 2 };
   double c1[3] = {0, 0, 0}, c2[3] = {0, 0, 0}, rest[3] = {0, 0, 0};
 };
-HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold);
+HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold, bool noise = false);
 
 struct SpatialSigma {
   double fill = 0, cut = 0, net = 0;  // ± one standard error
@@ -51,6 +52,9 @@ struct SpatialSigma {
 // dz, σ, the threshold L and the node area (NaN, NaN, 0, 0 where none).
 struct BudgetRows {
   std::vector<double> dz, sigma, threshold, area;
+  // 1 where the cell is known stable terrain (its dz is noise: no change,
+  // detected or not); empty: none known.
+  std::vector<uint8_t> noise;
 };
 // Fills `rows` with rows [row0, row1) of the grid; the first `core` of them
 // are met here for the first time (the rest come again in the next band).

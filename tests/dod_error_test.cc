@@ -167,6 +167,13 @@ TEST(SpatialBudgetTest, HermiteTermsMatchQuadrature) {
   // No change detected: the net's g is odd, c₂ = 0.
   EXPECT_NEAR(CellHermiteTerms(0.2, 0.5, 0.98).c2[HermiteTerms::kNet], 0, 1e-15);
   EXPECT_EQ(CellHermiteTerms(1, 0, 0.5).c1[HermiteTerms::kNet], 0);  // σ = 0: no error
+  // Known stable terrain: a cell detected by chance is noise (μ = 0), as one below the threshold.
+  const HermiteTerms chance = CellHermiteTerms(1.2, 0.5, 0.98, /*noise=*/true), none = CellHermiteTerms(0.0, 0.5, 0.98);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(chance.c1[k], none.c1[k]);
+    EXPECT_EQ(chance.rest[k], none.rest[k]);
+  }
+  EXPECT_NE(CellHermiteTerms(1.2, 0.5, 0.98).c1[HermiteTerms::kFill], none.c1[HermiteTerms::kFill]);
 }
 
 // A DoD with heteroscedastic σ and node areas; no threshold.
