@@ -22,10 +22,10 @@ namespace surfreg {
 // row-major.
 struct DodBlock {
   int column = 0, row = 0, columns = 0, rows = 0;
-  std::vector<double> dz;       // NaN where there is none
-  std::vector<double> height;   // the reference's heights (slope, curvature); NaN where none
-  std::vector<double> area;     // each node's area in the budget (0 where none)
-  std::vector<double> sigma;    // the DoD's σ when given (e.g. sigma_reference); empty: estimate it
+  std::vector<double> dz;      // NaN where there is none
+  std::vector<double> height;  // the reference's heights (slope, curvature); NaN where none
+  std::vector<double> area;    // each node's area in the budget (0 where none)
+  std::vector<double> sigma;   // the DoD's σ when given (e.g. sigma_reference); empty: estimate it
   std::vector<uint8_t> stable;  // 1: stable terrain, where dz is noise
 };
 // Fills the window `block` names (column, row, columns, rows set): from
@@ -47,26 +47,26 @@ std::vector<std::array<int, 4>> ErrorModelWindows(const GridLayout& grid);
 // Slope (|∇z|, rise over run) and curvature (|∂²z/∂x² + ∂²z/∂y²|, per
 // length) of `height` by central differences (one-sided at an edge or
 // beside a hole; NaN where a cell has no neighbour).
-void SlopeAndCurvature(const GridLayout& grid, const std::vector<double>& height, std::vector<double>* slope,
-                       std::vector<double>* curvature);
+void SlopeAndCurvature(const GridLayout& grid, const std::vector<double>& height,
+                       std::vector<double>* slope, std::vector<double>* curvature);
 
 // σ of dz against slope and curvature: the NMAD of dz in quantile bins of
 // slope, then a factor from the NMAD of dz / σ(slope) in bins of
 // curvature; linear between the bins' medians, constant beyond.
 struct SigmaModel {
-  std::vector<double> slope, sigma;         // bins' median slope and σ
-  std::vector<double> curvature, factor;    // bins' median curvature and factor
+  std::vector<double> slope, sigma;                 // bins' median slope and σ
+  std::vector<double> curvature, factor;            // bins' median curvature and factor
   double At(double slope, double curvature) const;  // NaN slope or curvature: the middle bin's
 };
 
 struct DodErrorModel {
-  int64_t stable_cells = 0;       // stable cells used (dz within 4 NMAD of the median)
+  int64_t stable_cells = 0;  // stable cells used (dz within 4 NMAD of the median)
   double stable_median = 0, stable_nmad = 0;
-  bool sigma_estimated = false;   // σ from slope and curvature (else the σ given)
+  bool sigma_estimated = false;  // σ from slope and curvature (else the σ given)
   SigmaModel sigma_model;
-  EmpiricalVariogram empirical;   // of (dz − median) / σ on the stable cells
-  Variogram variogram;            // its fit; ranges in length units
-  double sigma_median = 0;        // of σ over the windows' cells with a dz and an area
+  EmpiricalVariogram empirical;  // of (dz − median) / σ on the stable cells
+  Variogram variogram;           // its fit; ranges in length units
+  double sigma_median = 0;       // of σ over the windows' cells with a dz and an area
 };
 
 // The stable cells a model needs at least.
@@ -75,8 +75,8 @@ inline constexpr int64_t kMinStableCells = 1000;
 // Fits the model on the stable cells of the windows ErrorModelWindows
 // gives, read through `read` (with a cell around them for the slope). Too
 // few stable cells: InputError starting with `where`.
-DodErrorModel FitDodErrorModel(const GridLayout& grid, const DodBlockReader& read, const Execution& execution,
-                               const std::string& where);
+DodErrorModel FitDodErrorModel(const GridLayout& grid, const DodBlockReader& read,
+                               const Execution& execution, const std::string& where);
 
 // Whether a cell's dz is taken as noise by `model`: stable terrain, and
 // within 4 NMAD of the stable median (the cells the model was fitted on).
@@ -85,7 +85,7 @@ bool StableInlier(const DodErrorModel& model, bool stable, double dz);
 // Reads the window of `block` (through `read`, with a cell around it for
 // the slope) and sets `sigma` to each cell's σ: the one given, or the
 // model's (NaN where there is no dz).
-void ReadWithSigma(const GridLayout& grid, const DodBlockReader& read, const DodErrorModel& model, DodBlock* block,
-                   std::vector<double>* sigma);
+void ReadWithSigma(const GridLayout& grid, const DodBlockReader& read, const DodErrorModel& model,
+                   DodBlock* block, std::vector<double>* sigma);
 
 }  // namespace surfreg

@@ -16,8 +16,10 @@ struct Offset {
 std::vector<Offset> HalfPlaneOffsets(const GridLayout& grid, double support,
                                      double (*kernel)(double, const void*), const void* data) {
   std::vector<Offset> offsets;
-  const int reach_x = static_cast<int>(std::min<double>(grid.columns - 1, std::floor(support / grid.dx)));
-  const int reach_y = static_cast<int>(std::min<double>(grid.rows - 1, std::floor(support / grid.dy)));
+  const int reach_x =
+      static_cast<int>(std::min<double>(grid.columns - 1, std::floor(support / grid.dx)));
+  const int reach_y =
+      static_cast<int>(std::min<double>(grid.rows - 1, std::floor(support / grid.dy)));
   for (int dy = 0; dy <= reach_y; ++dy) {
     for (int dx = dy == 0 ? 0 : -reach_x; dx <= reach_x; ++dx) {
       const double d = std::hypot(dx * grid.dx, dy * grid.dy);
@@ -72,8 +74,10 @@ double BandQuadraticForm(const std::vector<double>& w, int columns, int core, in
 // every pair within the support costs at most `budget` multiply-adds.
 int ChooseBlock(const GridLayout& grid, double support, double budget) {
   for (int b = 1;; ++b) {
-    GridLayout coarse{(grid.columns + b - 1) / b, (grid.rows + b - 1) / b, grid.dx * b, grid.dy * b};
-    const double cost = static_cast<double>(coarse.cells()) * static_cast<double>(HalfPlaneOffsetCount(coarse, support));
+    GridLayout coarse{(grid.columns + b - 1) / b, (grid.rows + b - 1) / b, grid.dx * b,
+                      grid.dy * b};
+    const double cost = static_cast<double>(coarse.cells()) *
+                        static_cast<double>(HalfPlaneOffsetCount(coarse, support));
     if (cost <= budget || (coarse.columns <= 1 && coarse.rows <= 1)) return b;
   }
 }
@@ -92,7 +96,8 @@ struct SphericalPower {
 
 double PowerKernel(double h, const void* data) {
   const SphericalPower& m = *static_cast<const SphericalPower*>(data);
-  const double both = m.p[0] * SphericalCorrelation(h, m.range[0]) + m.p[1] * SphericalCorrelation(h, m.range[1]);
+  const double both =
+      m.p[0] * SphericalCorrelation(h, m.range[0]) + m.p[1] * SphericalCorrelation(h, m.range[1]);
   const double long_only = std::pow(m.p[1] * SphericalCorrelation(h, m.range[1]), m.power);
   return m.long_part ? long_only : std::pow(both, m.power) - long_only;
 }
@@ -100,25 +105,26 @@ double PowerKernel(double h, const void* data) {
 double NormalDensity(double x) { return 0.3989422804014327 * std::exp(-0.5 * x * x); }
 double NormalTail(double x) { return 0.5 * std::erfc(x / std::sqrt(2.0)); }  // P(Z > x)
 
-
 }  // namespace
 
 double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
-                           double (*kernel)(double, const void*), const void* kernel_data, double support,
-                           const Execution& execution, double budget, int* block) {
+                           double (*kernel)(double, const void*), const void* kernel_data,
+                           double support, const Execution& execution, double budget, int* block) {
   support = std::min(support, std::hypot(grid.columns * grid.dx, grid.rows * grid.dy));
   const int b = ChooseBlock(grid, support, budget);
   if (block) *block = b;
   if (b == 1) {
-    return BandQuadraticForm(w, grid.columns, grid.rows, grid.rows, HalfPlaneOffsets(grid, support, kernel, kernel_data),
-                             execution);
+    return BandQuadraticForm(w, grid.columns, grid.rows, grid.rows,
+                             HalfPlaneOffsets(grid, support, kernel, kernel_data), execution);
   }
   const GridLayout coarse = Coarse(grid, b);
   std::vector<double> sums(static_cast<std::size_t>(coarse.cells()), 0.0);
   for (int y = 0; y < grid.rows; ++y) {
-    const std::size_t row = static_cast<std::size_t>(y / b) * static_cast<std::size_t>(coarse.columns);
+    const std::size_t row =
+        static_cast<std::size_t>(y / b) * static_cast<std::size_t>(coarse.columns);
     for (int x = 0; x < grid.columns; ++x) {
-      sums[row + static_cast<std::size_t>(x / b)] += w[static_cast<std::size_t>(y) * grid.columns + x];
+      sums[row + static_cast<std::size_t>(x / b)] +=
+          w[static_cast<std::size_t>(y) * grid.columns + x];
     }
   }
   return BandQuadraticForm(sums, coarse.columns, coarse.rows, coarse.rows,
@@ -136,7 +142,8 @@ HermiteTerms CellHermiteTerms(double dz, double sigma, double threshold, bool no
   const double second = mu * mu + sigma * sigma;
   // E g, E g², c₁ and c₂ of X 1(X > L) and of −X 1(X < −L), in closed form.
   const double mean[2] = {mu * upper + sigma * pa, -(mu * lower - sigma * pb)};
-  const double square[2] = {second * upper + sigma * pa * (mu + l), second * lower - sigma * pb * (mu - l)};
+  const double square[2] = {second * upper + sigma * pa * (mu + l),
+                            second * lower - sigma * pb * (mu - l)};
   const double c1[2] = {l * pa + sigma * upper, -(l * pb + sigma * lower)};
   const double c2[2] = {pa * (a * l + sigma), pb * (sigma - b * l)};
   auto rest = [](double variance, double first, double second_term) {
@@ -157,14 +164,18 @@ int PropagationBandRows(const GridLayout& grid) {
   return std::max(8, (1 << 20) / std::max(1, grid.columns));
 }
 
-SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader& read, const Variogram& variogram,
-                                   const Execution& execution, double budget) {
+SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader& read,
+                                   const Variogram& variogram, const Execution& execution,
+                                   double budget) {
   // ρ = p₀ δ + p₁ S₁ + p₂ S₂ and its powers: ρ^k = (1 − (p₁ + p₂)^k) δ + (p₁ S₁ + p₂ S₂)^k.
   const double total = variogram.Total();
   double p[3] = {1, 0, 0};
-  if (total > 0) p[0] = variogram.nugget / total, p[1] = variogram.sill[0] / total, p[2] = variogram.sill[1] / total;
+  if (total > 0)
+    p[0] = variogram.nugget / total, p[1] = variogram.sill[0] / total,
+    p[2] = variogram.sill[1] / total;
   const double diagonal = std::hypot(grid.columns * grid.dx, grid.rows * grid.dy);
-  const double r[2] = {std::min(variogram.range[0], diagonal), std::min(variogram.range[1], diagonal)};
+  const double r[2] = {std::min(variogram.range[0], diagonal),
+                       std::min(variogram.range[1], diagonal)};
   constexpr int kPowers = 3;
   // The kernel passes: the weights of one power (w_k = a c₁, a c₂ / √2, a √R)
   // with the short or the long part of ρ^k, each with its own block.
@@ -199,7 +210,9 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
   }
   int reach = 0;  // rows below a band that exact passes pair it with
   for (const Pass& pass : passes) {
-    if (pass.block == 1) reach = std::max(reach, static_cast<int>(std::min<double>(grid.rows - 1, pass.support / grid.dy)));
+    if (pass.block == 1)
+      reach = std::max(reach,
+                       static_cast<int>(std::min<double>(grid.rows - 1, pass.support / grid.dy)));
   }
   const int band = PropagationBandRows(grid);
   const int columns = grid.columns;
@@ -216,11 +229,12 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
     }
     for (std::size_t i = 0; i < n; ++i) {
       const double t = rows.threshold[i];
-      if (!std::isfinite(rows.dz[i]) || !std::isfinite(rows.sigma[i]) || !std::isfinite(rows.area[i]) ||
-          !std::isfinite(t)) {
+      if (!std::isfinite(rows.dz[i]) || !std::isfinite(rows.sigma[i]) ||
+          !std::isfinite(rows.area[i]) || !std::isfinite(t)) {
         continue;
       }
-      const HermiteTerms h = CellHermiteTerms(rows.dz[i], rows.sigma[i], t, !rows.noise.empty() && rows.noise[i]);
+      const HermiteTerms h =
+          CellHermiteTerms(rows.dz[i], rows.sigma[i], t, !rows.noise.empty() && rows.noise[i]);
       const double a = rows.area[i];
       for (int k = 0; k < 3; ++k) {
         w[0][k][i] = a * h.c1[k];
@@ -231,21 +245,25 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
     const std::size_t core_cells = static_cast<std::size_t>(core) * columns;
     for (int power = 0; power < kPowers; ++power) {
       for (int k = 0; k < 3; ++k) {
-        for (std::size_t i = 0; i < core_cells; ++i) diagonal_sum[power][k] += w[power][k][i] * w[power][k][i];
+        for (std::size_t i = 0; i < core_cells; ++i)
+          diagonal_sum[power][k] += w[power][k][i] * w[power][k][i];
       }
     }
     for (Pass& pass : passes) {
       for (int k = 0; k < 3; ++k) {
         const std::vector<double>& weights = w[pass.kernel.power - 1][k];
         if (pass.block == 1) {
-          pass.value[k] += BandQuadraticForm(weights, columns, core, buffer, pass.offsets, execution);
+          pass.value[k] +=
+              BandQuadraticForm(weights, columns, core, buffer, pass.offsets, execution);
           continue;
         }
         const int b = pass.block;
         for (int y = 0; y < core; ++y) {
-          const std::size_t row = static_cast<std::size_t>((y0 + y) / b) * static_cast<std::size_t>(pass.coarse.columns);
+          const std::size_t row = static_cast<std::size_t>((y0 + y) / b) *
+                                  static_cast<std::size_t>(pass.coarse.columns);
           for (int x = 0; x < columns; ++x) {
-            pass.sums[k][row + static_cast<std::size_t>(x / b)] += weights[static_cast<std::size_t>(y) * columns + x];
+            pass.sums[k][row + static_cast<std::size_t>(x / b)] +=
+                weights[static_cast<std::size_t>(y) * columns + x];
           }
         }
       }
@@ -260,8 +278,8 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
     }
     for (Pass& pass : passes) {
       if (pass.block > 1) {
-        pass.value[k] = BandQuadraticForm(pass.sums[k], pass.coarse.columns, pass.coarse.rows, pass.coarse.rows,
-                                          pass.offsets, execution);
+        pass.value[k] = BandQuadraticForm(pass.sums[k], pass.coarse.columns, pass.coarse.rows,
+                                          pass.coarse.rows, pass.offsets, execution);
       }
       variance[k] += pass.value[k];
       out.block = std::max(out.block, pass.block);
@@ -275,7 +293,8 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader
 }
 
 SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const std::vector<double>& dz,
-                                   const std::vector<double>& sigma, const std::vector<double>& threshold,
+                                   const std::vector<double>& sigma,
+                                   const std::vector<double>& threshold,
                                    const std::vector<double>& area, const Variogram& variogram,
                                    const Execution& execution, double budget) {
   const BudgetRowReader read = [&](int row0, int row1, int, BudgetRows* rows) {
@@ -283,7 +302,8 @@ SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const std::vector<dou
       part->assign(all.begin() + static_cast<std::ptrdiff_t>(row0) * grid.columns,
                    all.begin() + static_cast<std::ptrdiff_t>(row1) * grid.columns);
     };
-    slice(dz, &rows->dz), slice(sigma, &rows->sigma), slice(threshold, &rows->threshold), slice(area, &rows->area);
+    slice(dz, &rows->dz), slice(sigma, &rows->sigma), slice(threshold, &rows->threshold),
+        slice(area, &rows->area);
   };
   return PropagateSpatialSigma(grid, read, variogram, execution, budget);
 }

@@ -29,14 +29,15 @@ namespace surfreg {
 // the budget) and the blocks' sums paired at their centres' distance: an
 // approximation linear in the cells, whose error is that of K varying over
 // a block. `block` (optional) gets b.
-double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w, double (*kernel)(double, const void*),
-                           const void* kernel_data, double support, const Execution& execution,
-                           double budget = 1e8, int* block = nullptr);
+double KernelQuadraticForm(const GridLayout& grid, const std::vector<double>& w,
+                           double (*kernel)(double, const void*), const void* kernel_data,
+                           double support, const Execution& execution, double budget = 1e8,
+                           int* block = nullptr);
 
 // One cell's contribution g to fill (X > L: X), cut (X < −L: −X) and net
 // (their difference) for X = μ + σ Z, μ the detected change (dz if |dz| >
-// L, else 0; L = 0: no threshold; 0 on known stable terrain, `noise`), in Hermite terms: c₁ = E[g Z], c₂ =
-// E[g (Z² − 1)] and the variance left beyond them, Var g − c₁² − c₂²/2.
+// L, else 0; L = 0: no threshold; 0 on known stable terrain, `noise`), in Hermite terms: c₁ = E[g
+// Z], c₂ = E[g (Z² − 1)] and the variance left beyond them, Var g − c₁² − c₂²/2.
 struct HermiteTerms {
   enum Budget { kFill = 0, kCut = 1, kNet = 2 };
   double c1[3] = {0, 0, 0}, c2[3] = {0, 0, 0}, rest[3] = {0, 0, 0};
@@ -69,13 +70,15 @@ int PropagationBandRows(const GridLayout& grid);
 // dz, σ and area, the correlation that of `variogram`, the rows read band
 // by band (PropagationBandRows, plus the rows within the correlation's
 // reach below it).
-SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader& read, const Variogram& variogram,
-                                   const Execution& execution, double budget = 1e8);
+SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const BudgetRowReader& read,
+                                   const Variogram& variogram, const Execution& execution,
+                                   double budget = 1e8);
 
 // The same for a DoD held whole (`dz`, `sigma`, `threshold`, `area`: one
 // per cell of `grid`).
 SpatialSigma PropagateSpatialSigma(const GridLayout& grid, const std::vector<double>& dz,
-                                   const std::vector<double>& sigma, const std::vector<double>& threshold,
+                                   const std::vector<double>& sigma,
+                                   const std::vector<double>& threshold,
                                    const std::vector<double>& area, const Variogram& variogram,
                                    const Execution& execution, double budget = 1e8);
 

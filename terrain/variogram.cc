@@ -1,11 +1,10 @@
 #include "terrain/variogram.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
-
-#include <Eigen/Dense>
 
 namespace surfreg {
 namespace {
@@ -32,8 +31,9 @@ constexpr double kSignificance = 10;
 // offset whose length falls in [lo, hi) (uniform over the annulus' area,
 // half a turn of directions: the variogram is symmetric), the partner in
 // the same grid.
-void SampleBin(const std::vector<GridValues>& grids, const std::vector<std::pair<int, int64_t>>& valid, double lo,
-               double hi, int bin, int64_t pairs_per_bin, double* lag, double* gamma, int64_t* pairs) {
+void SampleBin(const std::vector<GridValues>& grids,
+               const std::vector<std::pair<int, int64_t>>& valid, double lo, double hi, int bin,
+               int64_t pairs_per_bin, double* lag, double* gamma, int64_t* pairs) {
   Random random{0x5eed0000ULL + static_cast<uint64_t>(bin) * 0x100000001b3ULL};
   std::vector<double> squares;
   squares.reserve(static_cast<std::size_t>(pairs_per_bin));
@@ -49,7 +49,8 @@ void SampleBin(const std::vector<GridValues>& grids, const std::vector<std::pair
     const long ox = std::lround(d * std::cos(angle) / grid.dx);
     const long oy = std::lround(d * std::sin(angle) / grid.dy);
     if (ox == 0 && oy == 0) continue;
-    const double distance = std::hypot(static_cast<double>(ox) * grid.dx, static_cast<double>(oy) * grid.dy);
+    const double distance =
+        std::hypot(static_cast<double>(ox) * grid.dx, static_cast<double>(oy) * grid.dy);
     if (distance < lo || distance >= hi) continue;
     const int64_t column = anchor % grid.columns + ox, row = anchor / grid.columns + oy;
     if (column < 0 || column >= grid.columns || row < 0 || row >= grid.rows) continue;
@@ -82,8 +83,8 @@ struct Fit {
 // Non-negative weighted least squares of y on the columns [1, short, long]
 // (`long_shape` null: two columns) by trying every subset of active
 // columns: three unknowns at most, so this is exact and cheap.
-Fit SolveSills(const std::vector<double>& y, const std::vector<double>& w, const std::vector<double>& short_shape,
-               const std::vector<double>* long_shape) {
+Fit SolveSills(const std::vector<double>& y, const std::vector<double>& w,
+               const std::vector<double>& short_shape, const std::vector<double>* long_shape) {
   const int columns = long_shape ? 3 : 2;
   const std::size_t n = y.size();
   auto column = [&](int k, std::size_t b) {
@@ -100,7 +101,8 @@ Fit SolveSills(const std::vector<double>& y, const std::vector<double>& w, const
     for (std::size_t b = 0; b < n; ++b) {
       for (int i = 0; i < m; ++i) {
         right[i] += w[b] * column(active[i], b) * y[b];
-        for (int j = 0; j < m; ++j) normal(i, j) += w[b] * column(active[i], b) * column(active[j], b);
+        for (int j = 0; j < m; ++j)
+          normal(i, j) += w[b] * column(active[i], b) * column(active[j], b);
       }
     }
     const Eigen::VectorXd beta = normal.topLeftCorner(m, m).ldlt().solve(right.head(m));
@@ -163,8 +165,9 @@ EmpiricalVariogram SampleVariogram(const std::vector<GridValues>& grids, const E
     }
     if (column_max < 0) continue;
     step = std::min({step, grid.dx, grid.dy});
-    max_lag = std::max(max_lag, 0.5 * std::hypot(static_cast<double>(column_max - column_min) * grid.dx,
-                                                 static_cast<double>(row_max - row_min) * grid.dy));
+    max_lag =
+        std::max(max_lag, 0.5 * std::hypot(static_cast<double>(column_max - column_min) * grid.dx,
+                                           static_cast<double>(row_max - row_min) * grid.dy));
   }
   if (valid.size() < 2) return out;
   std::vector<double> edges = {0.75 * step};
@@ -176,8 +179,8 @@ EmpiricalVariogram SampleVariogram(const std::vector<GridValues>& grids, const E
   ForEachChunk(execution, bins, std::min(bins, kMaxChunks), [&](int, int64_t begin, int64_t end) {
     for (int64_t b = begin; b < end; ++b) {
       const std::size_t k = static_cast<std::size_t>(b);
-      SampleBin(grids, valid, edges[k], edges[k + 1], static_cast<int>(b), pairs_per_bin, &lag[k], &gamma[k],
-                &pairs[k]);
+      SampleBin(grids, valid, edges[k], edges[k + 1], static_cast<int>(b), pairs_per_bin, &lag[k],
+                &gamma[k], &pairs[k]);
     }
   });
   for (std::size_t b = 0; b < lag.size(); ++b) {
@@ -195,7 +198,8 @@ Variogram FitVariogram(const EmpiricalVariogram& empirical, double min_range, do
     if (!(empirical.gamma[b] > 0)) continue;
     lags.push_back(empirical.lag[b]);
     y.push_back(empirical.gamma[b]);
-    w.push_back(static_cast<double>(empirical.pairs[b]) / (empirical.gamma[b] * empirical.gamma[b]));
+    w.push_back(static_cast<double>(empirical.pairs[b]) /
+                (empirical.gamma[b] * empirical.gamma[b]));
   }
   Variogram out;
   // No correlation: the nugget is the weighted mean.
@@ -204,7 +208,8 @@ Variogram FitVariogram(const EmpiricalVariogram& empirical, double min_range, do
   out.nugget = weight > 0 ? weighted / weight : 0.0;
   if (lags.size() < 3) return out;
   double flat = 0;
-  for (std::size_t b = 0; b < y.size(); ++b) flat += w[b] * (y[b] - out.nugget) * (y[b] - out.nugget);
+  for (std::size_t b = 0; b < y.size(); ++b)
+    flat += w[b] * (y[b] - out.nugget) * (y[b] - out.nugget);
   // Ranges on a grid growing by 8%, then refined in 1% steps about the best.
   constexpr double kGrowth = 1.08;
   std::vector<double> ranges;
@@ -226,12 +231,15 @@ Variogram FitVariogram(const EmpiricalVariogram& empirical, double min_range, do
   // Two: every pair short < long.
   Fit two;
   double best_short = ranges.front(), best_long = ranges.front();
-  auto consider = [&](double r_short, double r_long, const std::vector<double>& s, const std::vector<double>& l) {
+  auto consider = [&](double r_short, double r_long, const std::vector<double>& s,
+                      const std::vector<double>& l) {
     const Fit fit = SolveSills(y, w, s, &l);
-    if (fit.residual < two.residual * (1 - 1e-12)) two = fit, best_short = r_short, best_long = r_long;
+    if (fit.residual < two.residual * (1 - 1e-12))
+      two = fit, best_short = r_short, best_long = r_long;
   };
   for (std::size_t i = 0; i < ranges.size(); ++i) {
-    for (std::size_t j = i + 1; j < ranges.size(); ++j) consider(ranges[i], ranges[j], shapes[i], shapes[j]);
+    for (std::size_t j = i + 1; j < ranges.size(); ++j)
+      consider(ranges[i], ranges[j], shapes[i], shapes[j]);
   }
   const double coarse_short = best_short, coarse_long = best_long;
   for (int a = -8; a <= 8; ++a) {
@@ -253,7 +261,8 @@ Variogram FitVariogram(const EmpiricalVariogram& empirical, double min_range, do
     return (simple - rich) / added / (rich / (n - parameters)) > kSignificance;
   };
   const bool use_one = one.sill_short > 0 && significant(flat, one.residual, 2, 3);
-  const bool use_two = use_one && two.sill_short > 0 && two.sill_long > 0 && significant(one.residual, two.residual, 2, 5);
+  const bool use_two = use_one && two.sill_short > 0 && two.sill_long > 0 &&
+                       significant(one.residual, two.residual, 2, 5);
   if (use_two) {
     out.nugget = two.nugget;
     out.sill = {two.sill_short, two.sill_long};

@@ -21,9 +21,9 @@ struct GridLayout {
 };
 
 struct EmpiricalVariogram {
-  std::vector<double> lag;      // mean distance of each bin's pairs (length units)
-  std::vector<double> gamma;    // semivariance: Matheron's estimator, ½ mean(Δ²)
-  std::vector<int64_t> pairs;   // pairs in the bin
+  std::vector<double> lag;     // mean distance of each bin's pairs (length units)
+  std::vector<double> gamma;   // semivariance: Matheron's estimator, ½ mean(Δ²)
+  std::vector<int64_t> pairs;  // pairs in the bin
 };
 
 // The empirical variogram of `values` (one per cell of `grid`, NaN = none)
@@ -42,7 +42,8 @@ struct GridValues {
   GridLayout grid;
   const std::vector<double>* values = nullptr;
 };
-EmpiricalVariogram SampleVariogram(const std::vector<GridValues>& grids, const Execution& execution = Execution{1},
+EmpiricalVariogram SampleVariogram(const std::vector<GridValues>& grids,
+                                   const Execution& execution = Execution{1},
                                    int64_t pairs_per_bin = 20000);
 
 // The spherical model's correlation at lag h for range r: 1 − 1.5 h/r +
@@ -55,8 +56,8 @@ struct Variogram {
   std::array<double, 2> sill = {0, 0};   // short, long
   std::array<double, 2> range = {0, 0};  // length units, range[0] <= range[1]
   double Total() const { return nugget + sill[0] + sill[1]; }
-  double Gamma(double h) const;          // 0 at h = 0
-  double Correlation(double h) const;    // 1 − Gamma(h) / Total(); 1 at h = 0
+  double Gamma(double h) const;        // 0 at h = 0
+  double Correlation(double h) const;  // 1 − Gamma(h) / Total(); 1 at h = 0
 };
 
 // The weighted least-squares fit (weights pairs / γ², Cressie's) of a

@@ -1,22 +1,22 @@
 // The spatially correlated DoD error model (terrain/variogram.h,
 // terrain/spatial_budget.h, terrain/dod_error.h) against brute force and
 // closed forms.
+#include "terrain/dod_error.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "measure/input_error.h"
 #include "terrain/change_budget.h"
-#include "terrain/dod_error.h"
 #include "terrain/spatial_budget.h"
 #include "terrain/variogram.h"
 
@@ -62,10 +62,12 @@ TEST(VariogramTest, FitRecoversAnExactModel) {
   EXPECT_NEAR(nugget.nugget, 0.7, 1e-9);
   EXPECT_NEAR(nugget.sill[0] + nugget.sill[1], 0, 1e-9);
   EmpiricalVariogram two{{1, 2}, {0.5, 0.7}, {10, 10}};  // weights pairs / γ²
-  EXPECT_NEAR(FitVariogram(two, 0.5, 10).nugget, (40 * 0.5 + 10 / 0.49 * 0.7) / (40 + 10 / 0.49), 1e-12);
+  EXPECT_NEAR(FitVariogram(two, 0.5, 10).nugget, (40 * 0.5 + 10 / 0.49 * 0.7) / (40 + 10 / 0.49),
+              1e-12);
   // Noise of 1% about a flat variogram is no correlation; a dip of 20% at the first lag is.
   EmpiricalVariogram noisy = flat;
-  for (std::size_t b = 0; b < noisy.gamma.size(); ++b) noisy.gamma[b] *= 1 + 0.01 * std::sin(3.0 * b);
+  for (std::size_t b = 0; b < noisy.gamma.size(); ++b)
+    noisy.gamma[b] *= 1 + 0.01 * std::sin(3.0 * b);
   EXPECT_EQ(FitVariogram(noisy, 0.5, 300).sill[1], 0);
   noisy.gamma[0] *= 0.8;
   EXPECT_GT(FitVariogram(noisy, 0.5, 300).sill[1], 0);
@@ -114,14 +116,17 @@ TEST(SpatialBudgetTest, QuadraticFormIsTheDoubleSum) {
     }
   }
   int block = 0;
-  const double fast = KernelQuadraticForm(grid, w, SquareRootKernel, nullptr, 9, Execution{2}, 1e8, &block);
+  const double fast =
+      KernelQuadraticForm(grid, w, SquareRootKernel, nullptr, 9, Execution{2}, 1e8, &block);
   EXPECT_EQ(block, 1);
   EXPECT_NEAR(fast, brute, 1e-11 * std::fabs(brute));
-  EXPECT_EQ(KernelQuadraticForm(grid, w, SquareRootKernel, nullptr, 9, Execution{1}), fast);  // any threads
+  EXPECT_EQ(KernelQuadraticForm(grid, w, SquareRootKernel, nullptr, 9, Execution{1}),
+            fast);  // any threads
   // A constant kernel over blocks is exact too: (Σ w)².
   double sum = 0;
   for (double v : w) sum += v;
-  const double blocked = KernelQuadraticForm(grid, w, OneKernel, nullptr, HUGE_VAL, Execution{1}, 2e3, &block);
+  const double blocked =
+      KernelQuadraticForm(grid, w, OneKernel, nullptr, HUGE_VAL, Execution{1}, 2e3, &block);
   EXPECT_GT(block, 1);
   EXPECT_NEAR(blocked, sum * sum, 1e-10 * sum * sum);
 }
@@ -143,20 +148,26 @@ HermiteTerms NumericTerms(double dz, double sigma, double l) {
   HermiteTerms t;
   for (int k = 0; k < 3; ++k) {
     t.c1[k] = moments[k][2], t.c2[k] = moments[k][3];
-    t.rest[k] = moments[k][1] - moments[k][0] * moments[k][0] - t.c1[k] * t.c1[k] - 0.5 * t.c2[k] * t.c2[k];
+    t.rest[k] =
+        moments[k][1] - moments[k][0] * moments[k][0] - t.c1[k] * t.c1[k] - 0.5 * t.c2[k] * t.c2[k];
   }
   return t;
 }
 
 TEST(SpatialBudgetTest, HermiteTermsMatchQuadrature) {
-  for (const auto& [dz, sigma, l] : std::vector<std::array<double, 3>>{
-           {0.3, 0.5, 0.98}, {2.0, 0.5, 0.98}, {-1.2, 0.5, 0.98}, {5.0, 0.4, 1.0}, {0.1, 1.0, 0.0}, {-0.7, 2.0, 0.0}}) {
+  for (const auto& [dz, sigma, l] : std::vector<std::array<double, 3>>{{0.3, 0.5, 0.98},
+                                                                       {2.0, 0.5, 0.98},
+                                                                       {-1.2, 0.5, 0.98},
+                                                                       {5.0, 0.4, 1.0},
+                                                                       {0.1, 1.0, 0.0},
+                                                                       {-0.7, 2.0, 0.0}}) {
     const HermiteTerms t = CellHermiteTerms(dz, sigma, l), q = NumericTerms(dz, sigma, l);
     const double tolerance = 2e-3 * sigma * sigma + 1e-6;
     for (int k = 0; k < 3; ++k) {
       EXPECT_NEAR(t.c1[k], q.c1[k], tolerance) << dz << " " << l << " budget " << k;
       EXPECT_NEAR(t.c2[k], q.c2[k], tolerance) << dz << " " << l << " budget " << k;
-      EXPECT_NEAR(t.rest[k], std::max(0.0, q.rest[k]), tolerance) << dz << " " << l << " budget " << k;
+      EXPECT_NEAR(t.rest[k], std::max(0.0, q.rest[k]), tolerance)
+          << dz << " " << l << " budget " << k;
     }
   }
   // No threshold: the net is linear, c₁ = σ and nothing is left.
@@ -168,7 +179,8 @@ TEST(SpatialBudgetTest, HermiteTermsMatchQuadrature) {
   EXPECT_NEAR(CellHermiteTerms(0.2, 0.5, 0.98).c2[HermiteTerms::kNet], 0, 1e-15);
   EXPECT_EQ(CellHermiteTerms(1, 0, 0.5).c1[HermiteTerms::kNet], 0);  // σ = 0: no error
   // Known stable terrain: a cell detected by chance is noise (μ = 0), as one below the threshold.
-  const HermiteTerms chance = CellHermiteTerms(1.2, 0.5, 0.98, /*noise=*/true), none = CellHermiteTerms(0.0, 0.5, 0.98);
+  const HermiteTerms chance = CellHermiteTerms(1.2, 0.5, 0.98, /*noise=*/true),
+                     none = CellHermiteTerms(0.0, 0.5, 0.98);
   for (int k = 0; k < 3; ++k) {
     EXPECT_EQ(chance.c1[k], none.c1[k]);
     EXPECT_EQ(chance.rest[k], none.rest[k]);
@@ -199,7 +211,8 @@ TEST(SpatialBudgetTest, NuggetAndInfiniteRangeAreTheTwoBounds) {
   const ChangeBudget bounds = ComputeChangeBudget(d.dz, d.area, d.sigma, 0, 0);
   Variogram nugget;
   nugget.nugget = 0.9;
-  const SpatialSigma independent = PropagateSpatialSigma(d.grid, d.dz, d.sigma, d.threshold, d.area, nugget, Execution{1});
+  const SpatialSigma independent =
+      PropagateSpatialSigma(d.grid, d.dz, d.sigma, d.threshold, d.area, nugget, Execution{1});
   EXPECT_NEAR(independent.net, bounds.net_sigma_independent, 1e-12 * bounds.net_sigma_independent);
   Variogram infinite;
   infinite.sill = {0, 1.3}, infinite.range = {0, HUGE_VAL};
@@ -209,7 +222,8 @@ TEST(SpatialBudgetTest, NuggetAndInfiniteRangeAreTheTwoBounds) {
   // Between them, a finite range.
   Variogram finite;
   finite.nugget = 0.3, finite.sill = {0, 0.7}, finite.range = {0, 10};
-  const SpatialSigma between = PropagateSpatialSigma(d.grid, d.dz, d.sigma, d.threshold, d.area, finite, Execution{1});
+  const SpatialSigma between =
+      PropagateSpatialSigma(d.grid, d.dz, d.sigma, d.threshold, d.area, finite, Execution{1});
   EXPECT_GT(between.net, independent.net);
   EXPECT_LT(between.net, correlated.net);
   EXPECT_EQ(between.block, 1);
@@ -224,7 +238,8 @@ TEST(SpatialBudgetTest, ChangeFarBeyondTheThresholdIsLinear) {
   for (double& t : d.threshold) t = 1;
   Variogram nugget;
   nugget.nugget = 1;
-  const SpatialSigma s = PropagateSpatialSigma(d.grid, d.dz, d.sigma, d.threshold, d.area, nugget, Execution{1});
+  const SpatialSigma s =
+      PropagateSpatialSigma(d.grid, d.dz, d.sigma, d.threshold, d.area, nugget, Execution{1});
   const ChangeBudget bounds = ComputeChangeBudget(d.dz, d.area, d.sigma, 0, 1);
   EXPECT_NEAR(s.net, bounds.net_sigma_independent, 1e-9 * s.net);
   EXPECT_NEAR(s.fill, bounds.fill_sigma_independent, 1e-9 * s.fill);
@@ -287,7 +302,8 @@ TEST(SpatialBudgetTest, ThresholdedNetAgainstMonteCarlo) {
       EXPECT_GE(propagated / spread, 0.97);
       EXPECT_LE(propagated / spread, 1.25);
     }
-    std::printf("confidence %.2f: propagated %.3f, Monte Carlo %.3f\n", confidence, propagated, spread);
+    std::printf("confidence %.2f: propagated %.3f, Monte Carlo %.3f\n", confidence, propagated,
+                spread);
   }
 }
 
@@ -389,7 +405,8 @@ TEST(SpatialBudgetTest, BandsAddUpToTheWholeGrid) {
   }
   Variogram v;
   v.nugget = 0.4, v.sill = {0, 0.6}, v.range = {0, 3.5};
-  const SpatialSigma s = PropagateSpatialSigma(grid, dz, sigma, threshold, area, v, Execution{2}, 1e9);
+  const SpatialSigma s =
+      PropagateSpatialSigma(grid, dz, sigma, threshold, area, v, Execution{2}, 1e9);
   struct Range {
     double r;
   } range{3.5};
@@ -398,7 +415,8 @@ TEST(SpatialBudgetTest, BandsAddUpToTheWholeGrid) {
   };
   double diagonal = 0;
   for (double x : u) diagonal += x * x;
-  const double whole = 0.4 * diagonal + KernelQuadraticForm(grid, u, kernel, &range, 3.5, Execution{2}, 1e9);
+  const double whole =
+      0.4 * diagonal + KernelQuadraticForm(grid, u, kernel, &range, 3.5, Execution{2}, 1e9);
   EXPECT_EQ(s.block, 1);
   EXPECT_NEAR(s.net * s.net, whole, 1e-10 * whole);
 }
