@@ -10,6 +10,7 @@
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 
+#include "faces/height_mesh.h"
 #include "measure/delaunay.h"
 #include "measure/tasks.h"
 #include "measure/input_error.h"
@@ -400,37 +401,9 @@ std::string SymmetryResult::BriefReport() const {
 
 namespace {
 
-// A mesh with one height per vertex (duplicates averaged, as Measure does).
-struct HeightMesh {
-  std::vector<Point2> xy;
-  std::vector<double> z;
-  Triangulation mesh;
-};
-
-HeightMesh MakeHeightMesh(std::vector<Point2> xy, const std::vector<double>& z) {
-  HeightMesh out;
-  out.mesh = Triangulate(xy);
-  out.xy = std::move(xy);
-  std::vector<double> sum(z.size(), 0.0);
-  std::vector<int> count(z.size(), 0);
-  for (std::size_t i = 0; i < z.size(); ++i) {
-    sum[out.mesh.vertex_of_input[i]] += z[i];
-    ++count[out.mesh.vertex_of_input[i]];
-  }
-  out.z.assign(z.size(), 0.0);
-  for (std::size_t i = 0; i < z.size(); ++i) {
-    if (count[i] > 0) out.z[i] = sum[i] / count[i];
-  }
-  return out;
-}
-
-// Interpolated height at p, or NaN outside; `start` carries the walk.
-double HeightAt(const HeightMesh& m, const Point2& p, int32_t* start) {
-  const Location location = LocatePoint(m.xy, m.mesh, p, *start);
-  if (location.triangle >= 0) *start = location.triangle;
-  if (!location.found()) return std::numeric_limits<double>::quiet_NaN();
-  return InterpolateAt(m.mesh, m.z, location);
-}
+using faces_internal::HeightAt;
+using faces_internal::HeightMesh;
+using faces_internal::MakeHeightMesh;
 
 }  // namespace
 
