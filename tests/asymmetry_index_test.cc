@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "faces/asymmetry_cohort.h"
 #include "faces/symmetry.h"
 #include "measure/input_error.h"
 
@@ -160,6 +161,71 @@ TEST(AsymmetryIndexTest, NoiseSigmaAndTheIndicesSpread) {
     EXPECT_GT(sigma[j], 0.5 * spread) << names[j];
     EXPECT_LT(sigma[j], 2.0 * spread) << names[j];
   }
+}
+
+// A cohort: faces of one population (a bump of random height and place on
+// the lower left cheek, fresh samples); norms from 40 of them, z-scores of
+// 40 others: mean 0 and SD 1 to sampling error (SE of the mean 0.22, of the
+// SD about 0.11 for 40 faces).
+TEST(AsymmetryIndexTest, CohortZScoresHaveMeanZeroAndSdOne) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> height(0.1, 0.6), shift(-0.5, 0.5);
+  const auto random_face = [&](uint32_t seed) {
+    const double h = height(rng), dx = shift(rng), dy = shift(rng);
+    std::mt19937 jitter(seed);
+    std::uniform_real_distribution<double> j(-0.1, 0.1);
+    std::vector<std::array<double, 3>> points;
+    for (int iy = 0; iy <= 50; ++iy) {
+      for (int ix = 0; ix <= 40; ++ix) {
+        double x = -8 + 0.4 * ix, y = -10 + 0.4 * iy;
+        if (ix > 0 && ix < 40 && iy > 0 && iy < 50) x += j(jitter), y += j(jitter);
+        const double r2 = ((x - 4 - dx) * (x - 4 - dx) + (y + 7 - dy) * (y + 7 - dy)) / 4;
+        points.push_back({x, y, Base(x, y) + (r2 < 1 ? h * (1 - r2) * (1 - r2) : 0.0)});
+      }
+    }
+    return ComputeAsymmetryIndices(MakeSurface(points, {}, "cohort face"), SymmetryPlane());
+  };
+  std::string table;
+  for (uint32_t k = 0; k < 40; ++k) {
+    const AsymmetryIndices r = random_face(k);
+    if (k == 0) table = IndexTableHeader(r) + "\n";
+    table += IndexTableRow("face " + std::to_string(k) + ".xyz", 2091, 0.0, r) + "\n";
+  }
+  const AsymmetryNorms norms = ParseAsymmetryNorms(table, "cohort.csv");
+  ASSERT_EQ(norms.faces, 40);
+  std::vector<double> z;
+  for (uint32_t k = 100; k < 140; ++k) {
+    for (const ZScore& s : ZScores(norms, IndexValues(random_face(k)))) {
+      if (s.name == "lower_third_rms") z.push_back(s.z);
+    }
+  }
+  ASSERT_EQ(z.size(), 40u);
+  double mean = 0, var = 0;
+  for (double v : z) mean += v;
+  mean /= z.size();
+  for (double v : z) var += (v - mean) * (v - mean);
+  const double sd = std::sqrt(var / (z.size() - 1));
+  std::printf("z of lower_third_rms over 40 new faces: mean %.3f, sd %.3f\n", mean, sd);
+  // Both cohorts' means err: the SE of the difference is sqrt(1/40 + 1/40).
+  EXPECT_LT(std::abs(mean), 3 * std::sqrt(2 / 40.0));
+  EXPECT_GT(sd, 0.65);
+  EXPECT_LT(sd, 1.35);
+
+  // Repeatability: two scans of one face differ by little; the table's
+  // errors are one line with file and line.
+  const std::vector<IndexValue> diff =
+      IndexDifferences(IndexValues(random_face(1)), IndexValues(random_face(1)));
+  EXPECT_EQ(diff.size(), IndexValues(random_face(2)).size());
+  EXPECT_THROW(ParseAsymmetryNorms("file,face_rms\na.xyz,1\n", "one.csv"), InputError);
+  try {
+    ParseAsymmetryNorms("file,face_rms\na.xyz,1\nb.xyz,x\n", "bad.csv");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.csv:3: column 'face_rms'"), std::string::npos)
+        << e.what();
+  }
+  const AsymmetryNorms other = ParseAsymmetryNorms("file,cheek_rms\na,1\nb,2\n", "other.csv");
+  EXPECT_THROW(ZScores(other, diff), InputError);
 }
 
 TEST(AsymmetryIndexTest, BadRegionsAreRefused) {
