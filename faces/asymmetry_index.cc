@@ -317,28 +317,6 @@ AsymmetryIndices ComputeAsymmetryIndices(const Surface& face, const SymmetryPlan
     noise_var[i] = sigma2 * (1.0 + lambda2);
   }
 
-  // The plane's covariance from the node gaps.
-  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
-  double mean_var = 0;
-  int64_t gaps = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (std::isnan(d[i])) continue;
-    jtj += jacobian[i] * jacobian[i].transpose();
-    mean_var += noise_var[i];
-    ++gaps;
-  }
-  if (gaps == 0) {
-    throw InputError(face.source + ": the face does not overlap its mirror image about the plane");
-  }
-  mean_var /= static_cast<double>(gaps);
-  Eigen::Matrix3d plane_cov = Eigen::Matrix3d::Constant(kNaN);
-  const Eigen::LDLT<Eigen::Matrix3d> jtj_ldlt(jtj);
-  if (jtj_ldlt.info() == Eigen::Success && jtj_ldlt.vectorD().minCoeff() > 1e-12 * jtj.trace()) {
-    plane_cov = mean_var * jtj_ldlt.solve(Eigen::Matrix3d::Identity());
-  }
-  out.plane_sigma = {std::sqrt(plane_cov(0, 0)) * 180 / kPi, std::sqrt(plane_cov(1, 1)) * 180 / kPi,
-                     std::sqrt(plane_cov(2, 2))};
-
   // The overlap: the face's data-domain triangles whose corners all have a difference.
   std::vector<int32_t> overlap;
   double y_lo = std::numeric_limits<double>::infinity(), y_hi = -y_lo;
@@ -355,6 +333,41 @@ AsymmetryIndices ComputeAsymmetryIndices(const Surface& face, const SymmetryPlan
   if (overlap.empty()) {
     throw InputError(face.source + ": the face does not overlap its mirror image about the plane");
   }
+  // The plane's covariance. The plane minimizes ∫|d|, a least-absolute-
+  // deviations fit: its gradient Σ a_i sign(d_i) J_i (a_i the node's area)
+  // has, under noise of σ_i at node i, the covariance
+  //   B = Σ a_i² (1 − (2Φ(d_i/σ_i) − 1)²) J_i J_iᵀ
+  // and the slope H = Σ a_i 2φ(d_i/σ_i)/σ_i J_i J_iᵀ; the plane's covariance
+  // is H⁻¹ B H⁻¹. Only nodes whose |d| is within a few σ of 0 hold the plane.
+  std::vector<double> node_area(n, 0.0);
+  for (int32_t t : overlap) {
+    const int32_t* tv = &tri[3 * t];
+    const Point2 &a = f.xy[tv[0]], &b = f.xy[tv[1]], &c = f.xy[tv[2]];
+    const double area = 0.5 * std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+    for (int k = 0; k < 3; ++k) node_area[tv[k]] += area / 3;
+  }
+  Eigen::Matrix3d slope = Eigen::Matrix3d::Zero(), spread = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (node_area[i] == 0 || !(noise_var[i] > 0)) continue;
+    const double sigma = std::sqrt(noise_var[i]), ratio = d[i] / sigma;
+    const double density = std::exp(-0.5 * ratio * ratio) / std::sqrt(2 * kPi);
+    const double mean_sign = std::erf(ratio / std::sqrt(2.0));
+    const Eigen::Matrix3d jj = jacobian[i] * jacobian[i].transpose();
+    slope += node_area[i] * 2 * density / sigma * jj;
+    spread += node_area[i] * node_area[i] * (1 - mean_sign * mean_sign) * jj;
+  }
+  Eigen::Matrix3d plane_cov = Eigen::Matrix3d::Zero();  // no noise: the plane is exact
+  if (slope.trace() > 0) {
+    const Eigen::LDLT<Eigen::Matrix3d> slope_ldlt(slope);
+    plane_cov = Eigen::Matrix3d::Constant(kNaN);
+    if (slope_ldlt.info() == Eigen::Success && slope_ldlt.vectorD().minCoeff() > 1e-12 * slope.trace()) {
+      const Eigen::Matrix3d inverse = slope_ldlt.solve(Eigen::Matrix3d::Identity());
+      plane_cov = inverse * spread * inverse;
+    }
+  }
+  out.plane_sigma = {std::sqrt(plane_cov(0, 0)) * 180 / kPi, std::sqrt(plane_cov(1, 1)) * 180 / kPi,
+                     std::sqrt(plane_cov(2, 2))};
+
   const double third = (y_hi - y_lo) / 3;
   const double band[4] = {y_lo, y_lo + third, y_hi - third, y_hi};
   for (int k = 0; k < 4; ++k) out.thirds_y[k] = band[k] + face.origin[1];

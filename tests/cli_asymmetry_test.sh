@@ -117,13 +117,101 @@ if [[ -f configs/data/mannequin_head.off ]]; then
   if [[ $rc -ne 0 ]]; then
     fail "asymmetry mannequin_head.off"
   else
-    for text in "orientation auto" "rho_d (units^3)" "angle between the planes"; do
+    for text in "orientation auto" "rho_d" "deg apart" "lower_third"; do
       grep -qF -- "$text" "$tmp/stdout" || fail "asymmetry mannequin_head.off: no '$text'"
     done
   fi
 fi
 
+# --- indices by region, the points, a cohort and its norms, test-retest ---
+printf '2 -8\n7 -8\n7 -2\n2 -2\n' >"$tmp/cheek.txt"
+cohort=$tmp/cohort
+mkdir "$cohort"
+python3 - configs/data/face_a.xyz "$cohort" <<'PY'
+import random, sys
+points = [tuple(map(float, l.split()[:3])) for l in open(sys.argv[1]) if l.strip() and l[0] != "#"]
+for k in range(3):
+    rng = random.Random(k)
+    with open("%s/scan%d.xyz" % (sys.argv[2], k), "w") as f:
+        for x, y, z in points:
+            f.write("%.6f %.6f %.6f\n" % (x, y, z + rng.gauss(0, 0.05)))
+PY
+run asymmetry "$cohort" --csv="$good/cohort.csv"
+[[ $rc -eq 0 ]] || fail "asymmetry FOLDER --csv"
+[[ $(grep -c "^asymmetry: face" "$tmp/stderr") -eq 3 ]] || fail "asymmetry FOLDER: expected a progress line per face"
+run asymmetry "$cohort" --csv="$good/cohort_quiet.csv" --quiet
+[[ $rc -eq 0 && ! -s $tmp/stderr ]] || fail "asymmetry FOLDER --quiet: stderr not empty"
+run asymmetry configs/data/face_a.xyz --json --regions=cheek:"$tmp/cheek.txt" --norms="$good/cohort.csv" \
+  --points="$good/points.csv" --units=mm
+if [[ $rc -ne 0 ]]; then
+  fail "asymmetry --regions --norms --points"
+else
+  python3 - "$tmp/stdout" "$good/points.csv" "$good/cohort.csv" "$good/cohort_quiet.csv" <<'PY' || fail "asymmetry: regions, z-scores, points, cohort"
+import csv, json, math, statistics, sys
+j = json.load(open(sys.argv[1]))
+regions = j["regions"]
+names = ["face", "upper_third", "middle_third", "lower_third", "left", "right", "cheek"]
+assert list(regions) == names, list(regions)
+for name in names:
+    r = regions[name]
+    for key in ("rms", "rms_sigma", "mean_abs", "mean_abs_sigma", "mean", "volume", "max_abs", "area", "nodes"):
+        assert key in r and math.isfinite(r[key]), (name, key)
+    assert 0 <= r["mean_abs"] <= r["rms"] <= r["max_abs"], (name, r)
+    assert r["rms_sigma"] > 0, name
+# The thirds and the halves each tile the overlap.
+area = regions["face"]["area"]
+assert abs(sum(regions[t]["area"] for t in names[1:4]) - area) < 1e-9 * area
+assert abs(regions["left"]["area"] + regions["right"]["area"] - area) < 1e-9 * area
+assert abs(regions["cheek"]["area"] - 30) < 1e-9, regions["cheek"]["area"]  # the square lies on the face
+# ∫d² adds up over the thirds.
+d2 = sum(regions[t]["rms"] ** 2 * regions[t]["area"] for t in names[1:4])
+assert abs(d2 - regions["face"]["rms"] ** 2 * area) < 1e-9 * d2
+assert len(j["thirds_y"]) == 4 and j["noise_sigma"] > 0 and set(j["plane_sigma"]) == {"tilt_y_deg", "tilt_z_deg", "offset"}
+# z-scores against the cohort's table, by hand.
+rows = list(csv.DictReader(open(sys.argv[3])))
+assert len(rows) == 3 and open(sys.argv[3]).read() == open(sys.argv[4]).read()
+for key in ("face_rms", "lower_third_rms", "left_mean"):
+    values = [float(r[key]) for r in rows]
+    name, stat = key.rsplit("_", 1) if not key.endswith("_mean") else (key[:-5], "mean")
+    value = regions[name if stat != "rms" else key[:-4]]["rms" if stat == "rms" else "mean"]
+    z = (value - statistics.mean(values)) / statistics.stdev(values)
+    assert abs(j["z_scores"][key] - z) < 1e-6 * max(1, abs(z)), (key, j["z_scores"][key], z)
+# The points: one row per face point, the face's RMS from them close to the region's.
+points = list(csv.DictReader(open(sys.argv[2])))
+assert len(points) == j["points"], (len(points), j["points"])
+d = [float(p["difference"]) for p in points if p["difference"] != "nan"]
+assert len(d) > 0.9 * len(points)
+rms = math.sqrt(sum(v * v for v in d) / len(d))
+assert abs(rms / regions["face"]["rms"] - 1) < 0.15, (rms, regions["face"]["rms"])
+PY
+fi
+run asymmetry "$cohort/scan0.xyz" "$cohort/scan1.xyz" --json
+if [[ $rc -ne 0 ]]; then
+  fail "asymmetry SCAN1 SCAN2"
+else
+  python3 - "$tmp/stdout" <<'PY' || fail "asymmetry SCAN1 SCAN2: differences"
+import json, sys
+j = json.load(open(sys.argv[1]))
+a, b = j["scans"]
+for key, value in j["differences"].items():
+    region, stat = ("_".join(key.split("_")[:-2]), "mean_abs") if key.endswith("_mean_abs") else \
+                   ("_".join(key.split("_")[:-2]), "max_abs") if key.endswith("_max_abs") else key.rsplit("_", 1)
+    expected = b["regions"][region][stat] - a["regions"][region][stat]
+    assert abs(value - expected) < 1e-9 * max(1, abs(expected)), (key, value, expected)
+assert abs(j["differences"]["face_rms"]) < 0.05, j["differences"]["face_rms"]
+PY
+fi
+
 # --- bad input: exit 2, one line, nothing written ---
+expect_error "--regions" 1 asymmetry configs/data/face_a.xyz --regions=cheek --output="$out/a.json"
+expect_error "no_such_polygon.txt" 1 asymmetry configs/data/face_a.xyz --regions=c:"$tmp/no_such_polygon.txt" --output="$out/a.json"
+expect_error "region 'c d'" 1 asymmetry configs/data/face_a.xyz --regions="c d:$tmp/cheek.txt" --output="$out/a.json"
+expect_error "--points" 1 asymmetry configs/data/face_a.xyz --points="$out/p.txt" --output="$out/a.json"
+expect_error "--map" 1 asymmetry "$cohort" --map="$out/m.png" --csv="$out/c.csv"
+printf 'file,face_rms\na.xyz,0.5\nb.xyz,oops\n' >"$tmp/bad_norms.csv"
+expect_error "bad_norms.csv:3" 1 asymmetry configs/data/face_a.xyz --norms="$tmp/bad_norms.csv" --output="$out/a.json"
+expect_error "no_such_norms.csv" 1 asymmetry configs/data/face_a.xyz --norms="$tmp/no_such_norms.csv" --output="$out/a.json"
+expect_error "too many arguments" 2 asymmetry "$cohort/scan0.xyz" "$cohort/scan1.xyz" "$cohort/scan2.xyz" --output="$out/a.json"
 expect_error "no_such_face.xyz" 1 asymmetry "$tmp/no_such_face.xyz" --output="$out/a.json"
 expect_error "--orientation" 1 asymmetry configs/data/face_a.xyz --orientation=sideways \
   --output="$out/a.json" "${map[@]/$good\/map.png/$out/m.png}"
@@ -139,7 +227,7 @@ expect_error "missing FACE" 2 asymmetry --output="$out/a.json"
 
 # The help synopsis names every flag asymmetry takes.
 run help
-for flag in --orientation --depth_limit --map --json --output; do
+for flag in --orientation --depth_limit --regions --map --points --csv --norms --units --json --output --quiet; do
   grep -q "asymmetry.*$flag" "$tmp/stdout" "$tmp/stderr" || fail "help: asymmetry synopsis lacks $flag"
 done
 

@@ -1,7 +1,11 @@
-// surfreg asymmetry FACE [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D]
-// [--map=MAP.png] [--json] [--output=ASYMMETRY.json]: facial asymmetry
-// (faces/symmetry.h): the face in the standard frame against its
-// mirror image about x = 0, then about the optimized symmetry plane.
+// surfreg asymmetry FACE | FOLDER | SCAN1 SCAN2 [--orientation=auto|as_is|RX,RY,RZ]
+// [--depth_limit=D] [--regions=NAME:FILE,...] [--map=MAP.png] [--points=D.csv|.ply]
+// [--csv=TABLE.csv] [--norms=COHORT.csv] [--units=mm] [--json] [--output=ASYMMETRY.json]
+// [--quiet]: facial asymmetry (faces/symmetry.h, faces/asymmetry_index.h): the face in
+// the standard frame against its mirror image about x = 0, then about the
+// optimized symmetry plane, and the indices by region about that plane. A
+// folder is a cohort (one table row per face); two scans of one face give
+// the indices' differences (test-retest).
 //
 // Orientation: without --orientation, a mesh (a file with triangles) is
 // oriented automatically (principal axes and the nose heuristics) and a point
@@ -11,39 +15,53 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
+#include "faces/asymmetry_cohort.h"
 #include "faces/face_frame.h"
-#include "measure/input_error.h"
 #include "faces/symmetry.h"
 #include "io/atomic_file.h"
+#include "io/mesh_reader.h"
+#include "io/plot.h"
+#include "measure/input_error.h"
+#include "tools/asymmetry_report.h"
 #include "tools/commands.h"
 #include "tools/face_orientation.h"
-#include "io/mesh_reader.h"
 #include "tools/json_writer.h"
 #include "tools/key_flags.h"
-#include "io/plot.h"
 
 DEFINE_string(map, "",
               "asymmetry: write a PNG map of the left-right difference (face - mirror) about the "
               "refined plane here");
+DEFINE_string(regions, "", "asymmetry: regions of your own, NAME:POLYGON_FILE[,NAME:FILE...] (face-frame x y)");
+DEFINE_string(points, "", "asymmetry: write the difference at every point here (.csv or .ply)");
+DEFINE_string(csv, "", "asymmetry: write the indices as a table, one row per face (a cohort's norms)");
+DEFINE_string(norms, "", "asymmetry: a table written by --csv: add each index's z-score against it");
+DEFINE_string(units, "units", "asymmetry: the scan's length unit, for labels (e.g. mm)");
 DECLARE_string(orientation);  // tools/run_normalize.cc
 DECLARE_double(depth_limit);  // tools/run_normalize.cc
+DECLARE_bool(quiet);          // tools/run_measure.cc
 
 namespace surfreg {
 namespace {
 
 constexpr int kMapCells = 360;  // grid cells along the face's longer side
 
-bool EndsWithPng(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string tail = path.substr(path.size() - 4);
-  for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return tail == ".png";
+bool EndsWith(const std::string& path, const char* tail) {
+  const std::string t(tail);
+  if (path.size() < t.size()) return false;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (std::tolower(static_cast<unsigned char>(path[path.size() - t.size() + k])) != t[k]) return false;
+  }
+  return true;
 }
 
 std::string Format(const char* format, double value) {
@@ -52,102 +70,84 @@ std::string Format(const char* format, double value) {
   return text;
 }
 
+struct Request {
+  FaceFrameOptions frame_options;
+  bool orientation_given = false;
+  AsymmetryIndexOptions index_options;
+  bool has_norms = false;
+  AsymmetryNorms norms;
+};
+
 // Flags first: a mistake is reported before any work.
-FaceFrameOptions CheckFlags() {
-  FaceFrameOptions options;
-  FaceOrientationFromString(FLAGS_orientation, "flag '--orientation'", &options);
+Request CheckFlags(bool single_face) {
+  Request request;
+  FaceOrientationFromString(FLAGS_orientation, "flag '--orientation'", &request.frame_options);
+  gflags::CommandLineFlagInfo orientation;
+  request.orientation_given =
+      gflags::GetCommandLineFlagInfo("orientation", &orientation) && !orientation.is_default;
   if (!(FLAGS_depth_limit >= 0.0) || !std::isfinite(FLAGS_depth_limit)) {
-    throw InputError("flag '--depth_limit': expected a number >= 0, got " +
-                     Format("%g", FLAGS_depth_limit));
+    throw InputError("flag '--depth_limit': expected a number >= 0, got " + Format("%g", FLAGS_depth_limit));
   }
-  options.depth_limit = FLAGS_depth_limit;
-  if (!FLAGS_map.empty()) {
-    if (!EndsWithPng(FLAGS_map)) {
-      throw InputError("flag '--map': " + FLAGS_map + ": expected a .png file name");
+  request.frame_options.depth_limit = FLAGS_depth_limit;
+  for (const auto& [path, flag] : {std::pair{FLAGS_map, "--map"}, std::pair{FLAGS_points, "--points"}}) {
+    if (!path.empty() && !single_face) {
+      throw InputError(std::string("flag '") + flag + "': one face at a time (not a folder or two scans)");
     }
+  }
+  if (!FLAGS_map.empty()) {
+    if (!EndsWith(FLAGS_map, ".png")) throw InputError("flag '--map': " + FLAGS_map + ": expected a .png file name");
     RequirePngFigures("flag '--map'");
     CheckOutputPath(FLAGS_map, "flag '--map'");
   }
+  if (!FLAGS_points.empty()) {
+    if (!EndsWith(FLAGS_points, ".csv") && !EndsWith(FLAGS_points, ".ply")) {
+      throw InputError("flag '--points': " + FLAGS_points + ": expected a .csv or .ply file name");
+    }
+    CheckOutputPath(FLAGS_points, "flag '--points'");
+  }
+  if (!FLAGS_csv.empty()) CheckOutputPath(FLAGS_csv, "flag '--csv'");
   if (!KeyFlag("output").empty()) CheckOutputPath(KeyFlag("output"), "flag '--output'");
-  return options;
+  if (FLAGS_units.empty()) throw InputError("flag '--units': expected a unit name such as mm");
+  if (!FLAGS_regions.empty()) request.index_options.regions = ReadFaceRegions(FLAGS_regions, "flag '--regions'");
+  if (!FLAGS_norms.empty()) {
+    std::ifstream in(FLAGS_norms, std::ios::binary);
+    if (!in) throw InputError("flag '--norms': cannot read '" + FLAGS_norms + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    request.norms = ParseAsymmetryNorms(text.str(), FLAGS_norms);
+    request.has_norms = true;
+  }
+  return request;
 }
 
-std::string Triple(const std::array<double, 3>& v) {
-  return JsonArray({JsonNumber(v[0]), JsonNumber(v[1]), JsonNumber(v[2])});
+FaceAsymmetry Analyze(const std::string& file, const Request& request) {
+  FaceAsymmetry a;
+  a.file = file;
+  a.frame_options = request.frame_options;
+  const Mesh mesh = ReadMesh(file);
+  if (!request.orientation_given && mesh.triangles.empty()) a.frame_options.orientation = FaceOrientation::kAsIs;
+  a.frame = NormalizeFace(mesh, a.frame_options);
+  a.face = FaceSurface(a.frame, file);
+  {
+    // At the optimum |d| has a kink, where the line search ends with a
+    // warning; the termination message reports it, so keep stderr quiet.
+    const int level = FLAGS_minloglevel;
+    FLAGS_minloglevel = google::GLOG_ERROR;
+    try {
+      a.symmetry = EstimateSymmetry(a.face);
+    } catch (...) {
+      FLAGS_minloglevel = level;
+      throw;
+    }
+    FLAGS_minloglevel = level;
+  }
+  a.indices = ComputeAsymmetryIndices(a.face, a.symmetry.refined.plane, request.index_options);
+  if (request.has_norms) a.z_scores = ZScores(request.norms, IndexValues(a.indices));
+  return a;
 }
 
-JsonObject EstimateJson(const SymmetryEstimate& e) {
-  JsonObject plane;
-  plane.Raw("normal", Triple(e.plane.normal)).Number("offset", e.plane.offset);
-  const MeasureSummary& m = e.measure;
-  JsonObject json;
-  json.Number("rho_d", m.rho_d)
-      .Number("mean_abs_dz", m.mean_abs_dz)
-      .Number("overlap_area", m.overlap_area)
-      .Object("plane", plane)
-      .Number("rho_d_per_area", m.overlap_area > 0 ? m.rho_d / m.overlap_area : 0.0)
-      .Number("rho_d_axial", m.rho_d_axial)
-      .Number("signed_volume", m.signed_volume)
-      .Number("volume_above", m.volume_above)
-      .Number("volume_below", m.volume_below)
-      .Int("n_overlap_nodes", m.n_overlap_nodes);
-  return json;
-}
-
-std::string ResultJson(const std::string& file, const FaceFrameOptions& options,
-                       const Surface& face, const SymmetryResult& r) {
-  JsonObject json;
-  json.String("face", file)
-      .String("orientation", FaceOrientationToString(options))
-      .Number("depth_limit", options.depth_limit)
-      .Int("points", static_cast<int64_t>(face.size()))
-      .Object("initial", EstimateJson(r.initial))
-      .Object("refined", EstimateJson(r.refined))
-      .Raw("improved", r.improved ? "true" : "false")
-      .String("note", r.note)
-      .Number("angle_deg", r.angle_deg)
-      .Int("iterations", r.iterations)
-      .String("termination", r.termination)
-      .Fixed("seconds_refine", r.seconds_refine, 4)
-      .Fixed("seconds", r.seconds, 4);
-  if (!FLAGS_map.empty()) json.String("map", FLAGS_map);
-  return json.str();
-}
-
-void PrintRow(const char* name, const std::string& a, const std::string& b) {
-  std::printf("  %-38s %-32s %s\n", name, a.c_str(), b.c_str());
-}
-
-std::string PlaneText(const SymmetryPlane& p) {
-  return "(" + Format("%.6f", p.normal[0]) + ", " + Format("%.6f", p.normal[1]) + ", " +
-         Format("%.6f", p.normal[2]) + ")";
-}
-
-void PrintText(const std::string& file, const FaceFrameOptions& options, const Surface& face,
-               const SymmetryResult& r) {
-  std::printf("face:  %s  (%zu points in the face frame, orientation %s)\n", file.c_str(),
-              face.size(), FaceOrientationToString(options).c_str());
-  const MeasureSummary &a = r.initial.measure, &b = r.refined.measure;
-  PrintRow("", "initial (x = 0)", "refined plane");
-  PrintRow("rho_d (units^3)", Format("%.6g", a.rho_d), Format("%.6g", b.rho_d));
-  PrintRow("rho_d per area = mean |dz| (units)", Format("%.6g", a.mean_abs_dz),
-           Format("%.6g", b.mean_abs_dz));
-  PrintRow("rho'_d: mean |dz| at the nodes (units)", Format("%.6g", a.rho_d_axial),
-           Format("%.6g", b.rho_d_axial));
-  PrintRow("overlap area (units^2)", Format("%.6g", a.overlap_area), Format("%.6g", b.overlap_area));
-  PrintRow("plane normal", PlaneText(r.initial.plane), PlaneText(r.refined.plane));
-  PrintRow("plane offset (units)", Format("%.6g", r.initial.plane.offset),
-           Format("%.6g", r.refined.plane.offset));
-  std::printf("angle between the planes: %.4f deg\n", r.angle_deg);
-  std::printf("refinement: %d iterations, %.3f s (%s); total %.3f s\n", r.iterations,
-              r.seconds_refine, r.termination.c_str(), r.seconds);
-  if (!r.note.empty()) std::printf("note: %s\n", r.note.c_str());
-  if (!FLAGS_map.empty()) std::printf("map: %s\n", FLAGS_map.c_str());
-  if (!KeyFlag("output").empty()) std::printf("written: %s\n", KeyFlag("output").c_str());
-}
-
-void WriteMap(const Surface& face, const SymmetryPlane& plane) {
-  const AsymmetryMap map = MapAsymmetry(face, plane, kMapCells);
+void WriteMap(const FaceAsymmetry& a) {
+  const AsymmetryMap map = MapAsymmetry(a.face, a.symmetry.refined.plane, kMapCells);
   GridField field;
   field.columns = map.columns;
   field.rows = map.rows;
@@ -159,50 +159,137 @@ void WriteMap(const Surface& face, const SymmetryPlane& plane) {
   field.x_max = map.x_max;
   field.y_min = map.y_min;
   field.y_max = map.y_max;
-  const FigureText text{"Left-right difference about the refined symmetry plane",
-                        "x, across the face (units)", "y, chin to forehead (units)"};
+  const RegionIndex& whole = a.indices.whole;
+  const FigureText text{"face - mirror about the refined plane: RMS " + Format("%.3g", whole.rms) + " " +
+                            FLAGS_units + ", max " + Format("%.3g", whole.max_abs) + " " + FLAGS_units,
+                        "x, across the face, subject's right to left (" + FLAGS_units + ")",
+                        "y, chin to forehead (" + FLAGS_units + ")"};
   MapStyle style;
   style.diverging = true;
-  style.colorbar_label = "face - mirror height (units; > 0: this side stands out)";
+  style.colorbar_label = "face - mirror (" + FLAGS_units + "; > 0: this side stands out)";
   WriteMapPng(FLAGS_map, field, text, style, "flag '--map'");
+}
+
+std::string TableRow(const FaceAsymmetry& a) {
+  std::string row = IndexTableRow(a.file, static_cast<int64_t>(a.face.size()), a.symmetry.angle_deg, a.indices);
+  for (const ZScore& s : a.z_scores) row += "," + Format("%.6g", s.z);
+  return row + "\n";
+}
+
+std::string TableHeader(const FaceAsymmetry& a) {
+  std::string header = IndexTableHeader(a.indices);
+  for (const ZScore& s : a.z_scores) header += ",z_" + s.name;
+  return header + "\n";
+}
+
+std::vector<std::string> FolderFaces(const std::string& folder) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> files;
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
+    if (!entry.is_regular_file(error)) continue;
+    for (const char* ext : {".xyz", ".txt", ".ply", ".off", ".obj", ".las", ".laz"}) {
+      if (EndsWith(entry.path().string(), ext)) files.push_back(entry.path().string());
+    }
+  }
+  if (error) throw InputError(folder + ": cannot list the folder: " + error.message());
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError(folder + ": no face files (.xyz .txt .ply .off .obj .las .laz)");
+  return files;
+}
+
+void Finish(const std::string& json, const std::string& table) {
+  if (!FLAGS_csv.empty()) WriteFileAtomically(FLAGS_csv, table, "flag '--csv'");
+  if (!KeyFlag("output").empty()) WriteFileAtomically(KeyFlag("output"), json + "\n", "flag '--output'");
+  if (FLAGS_json) std::printf("%s\n", json.c_str());
+}
+
+void PrintWritten() {
+  for (const std::string& path : {FLAGS_map, FLAGS_points, FLAGS_csv, KeyFlag("output")}) {
+    if (!path.empty()) std::printf("written: %s\n", path.c_str());
+  }
+}
+
+int RunOne(const std::string& file, const Request& request) {
+  const FaceAsymmetry a = Analyze(file, request);
+  if (!FLAGS_map.empty()) WriteMap(a);
+  if (!FLAGS_points.empty()) WritePointDifferences(a, FLAGS_points, "flag '--points'");
+  Finish(FaceAsymmetryJson(a, FLAGS_map).str(), TableHeader(a) + TableRow(a));
+  if (!FLAGS_json) {
+    PrintFaceAsymmetry(a, FLAGS_units);
+    PrintWritten();
+  }
+  return 0;
+}
+
+int RunCohort(const std::string& folder, const Request& request) {
+  const std::vector<std::string> files = FolderFaces(folder);
+  std::vector<std::string> faces;
+  std::string table;
+  if (!FLAGS_json) std::printf("%-40s %10s %12s %12s %12s %8s\n", "face", "angle_deg", "face_rms", "lower_rms", "left_mean", "z(rms)");
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    if (!FLAGS_quiet) std::fprintf(stderr, "asymmetry: face %zu/%zu %s\n", k + 1, files.size(), files[k].c_str());
+    const FaceAsymmetry a = Analyze(files[k], request);
+    if (k == 0) {
+      table = TableHeader(a);
+    } else if (TableHeader(a) != table.substr(0, table.find('\n') + 1)) {
+      throw InputError(files[k] + ": its indices differ from the first face's (regions off the face?)");
+    }
+    table += TableRow(a);
+    faces.push_back(FaceAsymmetryJson(a, "").str());
+    if (!FLAGS_json) {
+      const RegionIndex* lower = a.indices.Find("lower_third");
+      const RegionIndex* left = a.indices.Find("left");
+      std::string z = "-";
+      for (const ZScore& s : a.z_scores) {
+        if (s.name == "face_rms") z = Format("%+.2f", s.z);
+      }
+      std::printf("%-40s %10.4f %12.5g %12.5g %12.5g %8s\n", files[k].c_str(), a.symmetry.angle_deg, a.indices.whole.rms,
+                  lower != nullptr ? lower->rms : 0.0, left != nullptr ? left->mean : 0.0, z.c_str());
+    }
+  }
+  JsonObject json;
+  json.String("folder", folder).Int("faces", static_cast<int64_t>(files.size())).Raw("results", JsonArray(faces));
+  Finish(json.str(), table);
+  if (!FLAGS_json) PrintWritten();
+  return 0;
+}
+
+int RunRetest(const std::string& first, const std::string& second, const Request& request) {
+  const FaceAsymmetry a = Analyze(first, request), b = Analyze(second, request);
+  const std::vector<IndexValue> va = IndexValues(a.indices), vb = IndexValues(b.indices);
+  const std::vector<IndexValue> diff = IndexDifferences(va, vb);
+  JsonObject differences;
+  for (const IndexValue& d : diff) differences.Number(d.name, d.value);
+  JsonObject json;
+  json.Raw("scans", JsonArray({FaceAsymmetryJson(a, "").str(), FaceAsymmetryJson(b, "").str()}))
+      .Object("differences", differences)
+      .Number("plane_angle_deg", PlaneAngleDegrees(a.symmetry.refined.plane, b.symmetry.refined.plane));
+  Finish(json.str(), TableHeader(a) + TableRow(a) + TableRow(b));
+  if (FLAGS_json) return 0;
+  std::printf("test-retest: %s and %s (second minus first; %s)\n", first.c_str(), second.c_str(),
+              FLAGS_units.c_str());
+  std::printf("  %-24s %14s %14s %14s\n", "index", "first", "second", "difference");
+  for (std::size_t k = 0; k < diff.size(); ++k) {
+    if (EndsWith(diff[k].name, "_area") || EndsWith(diff[k].name, "_max_abs")) continue;
+    std::printf("  %-24s %14.6g %14.6g %+14.4g\n", diff[k].name.c_str(), va[k].value, vb[k].value, diff[k].value);
+  }
+  std::printf("planes %.4f deg apart\n", PlaneAngleDegrees(a.symmetry.refined.plane, b.symmetry.refined.plane));
+  PrintWritten();
+  return 0;
 }
 
 }  // namespace
 
 int RunAsymmetry(const std::vector<std::string>& args) {
-  if (args.empty()) throw UsageError("asymmetry: missing FACE");
-  if (args.size() > 1) throw UsageError("asymmetry: too many arguments");
-  FaceFrameOptions frame_options = CheckFlags();
-  const Mesh mesh = ReadMesh(args[0]);
-  gflags::CommandLineFlagInfo orientation;
-  if (gflags::GetCommandLineFlagInfo("orientation", &orientation) && orientation.is_default &&
-      mesh.triangles.empty()) {
-    frame_options.orientation = FaceOrientation::kAsIs;
-  }
-  const Surface face = FaceSurface(NormalizeFace(mesh, frame_options), args[0]);
-  SymmetryResult result;
-  {
-    // At the optimum |d| has a kink, where the line search ends with a
-    // warning; the termination message reports it, so keep stderr quiet.
-    const int level = FLAGS_minloglevel;
-    FLAGS_minloglevel = google::GLOG_ERROR;
-    try {
-      result = EstimateSymmetry(face);
-    } catch (...) {
-      FLAGS_minloglevel = level;
-      throw;
-    }
-    FLAGS_minloglevel = level;
-  }
-  if (!FLAGS_map.empty()) WriteMap(face, result.refined.plane);
-  const std::string json = ResultJson(args[0], frame_options, face, result);
-  if (!KeyFlag("output").empty()) WriteFileAtomically(KeyFlag("output"), json + "\n", "flag '--output'");
-  if (FLAGS_json) {
-    std::printf("%s\n", json.c_str());
-  } else {
-    PrintText(args[0], frame_options, face, result);
-  }
-  return 0;
+  if (args.empty()) throw UsageError("asymmetry: missing FACE (a face file, a folder of faces, or two scans)");
+  if (args.size() > 2) throw UsageError("asymmetry: too many arguments (at most two scans of one face)");
+  std::error_code error;
+  const bool folder = args.size() == 1 && std::filesystem::is_directory(args[0], error);
+  const Request request = CheckFlags(args.size() == 1 && !folder);
+  if (folder) return RunCohort(args[0], request);
+  if (args.size() == 2) return RunRetest(args[0], args[1], request);
+  return RunOne(args[0], request);
 }
 
 }  // namespace surfreg

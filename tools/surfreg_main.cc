@@ -105,10 +105,12 @@ const Command kCommands[] = {
      "bring a face mesh or cloud into the standard face frame; write its visible height field",
      "orientation depth_limit output json", nullptr},
     {"asymmetry", RunAsymmetry,
-     "FACE [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] [--map=MAP.png] [--json] "
-     "[--output=ASYMMETRY.json] [--quiet]",
-     "facial asymmetry: the face against its mirror image, about x = 0 and the optimized plane",
-     "orientation depth_limit map output json quiet", nullptr},
+     "FACE | FOLDER | SCAN1 SCAN2 [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] "
+     "[--regions=NAME:FILE,...] [--map=MAP.png] [--points=D.csv|.ply] [--csv=TABLE.csv] [--norms=COHORT.csv] "
+     "[--units=mm] [--json] [--output=ASYMMETRY.json] [--quiet]",
+     "facial asymmetry: the face against its mirror image about the optimized plane; indices by region "
+     "(thirds, halves, yours) with sigma; a folder is a cohort (a table row per face), two scans a test-retest",
+     "orientation depth_limit regions map points csv norms units output json quiet", nullptr},
     {"jaw", RunJaw, "--config JAW.yaml [--KEY=VALUE ...] [--quiet]",
      "jaw motion over a 3D sequence: the lower part relative to the upper part, per frame",
      "config quiet", IsJawKey},
