@@ -57,7 +57,9 @@ JsonObject RegionJson(const RegionIndex& r) {
   return json;
 }
 
-bool EndsWith(const std::string& path, const char* tail) {
+}  // namespace
+
+bool EndsWithLower(const std::string& path, const char* tail) {
   const std::string t(tail);
   if (path.size() < t.size()) return false;
   for (std::size_t k = 0; k < t.size(); ++k) {
@@ -66,8 +68,6 @@ bool EndsWith(const std::string& path, const char* tail) {
   }
   return true;
 }
-
-}  // namespace
 
 std::vector<FaceRegion> ReadFaceRegions(const std::string& spec, const std::string& where) {
   std::vector<FaceRegion> regions;
@@ -178,7 +178,7 @@ void PrintFaceAsymmetry(const FaceAsymmetry& a, const std::string& units) {
 
 void WritePointDifferences(const FaceAsymmetry& a, const std::string& path,
                            const std::string& where) {
-  const bool ply = EndsWith(path, ".ply");
+  const bool ply = EndsWithLower(path, ".ply");
   const std::vector<double>& d = a.indices.node_difference;
   std::string out;
   out.reserve(d.size() * 64);

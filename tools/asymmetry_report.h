@@ -25,6 +25,9 @@ struct FaceAsymmetry {
   std::vector<ZScore> z_scores;  // against --norms, if given
 };
 
+// Whether `path` ends with `tail` (lower case), ignoring the path's case.
+bool EndsWithLower(const std::string& path, const char* tail);
+
 // "NAME:FILE[,NAME:FILE...]" (the --regions flag) read into regions; throws
 // InputError naming the flag, or the polygon file and line.
 std::vector<FaceRegion> ReadFaceRegions(const std::string& spec, const std::string& where);

@@ -55,15 +55,6 @@ namespace {
 
 constexpr int kMapCells = 360;  // grid cells along the face's longer side
 
-bool EndsWith(const std::string& path, const char* tail) {
-  const std::string t(tail);
-  if (path.size() < t.size()) return false;
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    if (std::tolower(static_cast<unsigned char>(path[path.size() - t.size() + k])) != t[k]) return false;
-  }
-  return true;
-}
-
 std::string Format(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value + 0.0);
@@ -95,12 +86,12 @@ Request CheckFlags(bool single_face) {
     }
   }
   if (!FLAGS_map.empty()) {
-    if (!EndsWith(FLAGS_map, ".png")) throw InputError("flag '--map': " + FLAGS_map + ": expected a .png file name");
+    if (!EndsWithLower(FLAGS_map, ".png")) throw InputError("flag '--map': " + FLAGS_map + ": expected a .png file name");
     RequirePngFigures("flag '--map'");
     CheckOutputPath(FLAGS_map, "flag '--map'");
   }
   if (!FLAGS_points.empty()) {
-    if (!EndsWith(FLAGS_points, ".csv") && !EndsWith(FLAGS_points, ".ply")) {
+    if (!EndsWithLower(FLAGS_points, ".csv") && !EndsWithLower(FLAGS_points, ".ply")) {
       throw InputError("flag '--points': " + FLAGS_points + ": expected a .csv or .ply file name");
     }
     CheckOutputPath(FLAGS_points, "flag '--points'");
@@ -189,7 +180,7 @@ std::vector<std::string> FolderFaces(const std::string& folder) {
   for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
     if (!entry.is_regular_file(error)) continue;
     for (const char* ext : {".xyz", ".txt", ".ply", ".off", ".obj", ".las", ".laz"}) {
-      if (EndsWith(entry.path().string(), ext)) files.push_back(entry.path().string());
+      if (EndsWithLower(entry.path().string(), ext)) files.push_back(entry.path().string());
     }
   }
   if (error) throw InputError(folder + ": cannot list the folder: " + error.message());
@@ -271,7 +262,7 @@ int RunRetest(const std::string& first, const std::string& second, const Request
               FLAGS_units.c_str());
   std::printf("  %-24s %14s %14s %14s\n", "index", "first", "second", "difference");
   for (std::size_t k = 0; k < diff.size(); ++k) {
-    if (EndsWith(diff[k].name, "_area") || EndsWith(diff[k].name, "_max_abs")) continue;
+    if (EndsWithLower(diff[k].name, "_area") || EndsWithLower(diff[k].name, "_max_abs")) continue;
     std::printf("  %-24s %14.6g %14.6g %+14.4g\n", diff[k].name.c_str(), va[k].value, vb[k].value, diff[k].value);
   }
   std::printf("planes %.4f deg apart\n", PlaneAngleDegrees(a.symmetry.refined.plane, b.symmetry.refined.plane));
