@@ -149,6 +149,15 @@ const std::vector<AlignOptionEntry>& AlignOptionKeys() {
         "volume cost: weight by f / (f + local interpolation gap), f = this x its median; 0 = off"},
        [](const Value& v, AlignOptions* o) { o->gap_weight = Number(v, 0, 100); },
        [](const AlignOptions& o) { return Text(o.gap_weight); }},
+      {{"density_weight", "0 or a number in [1, 1e6]",
+        "volume cost: where the reference's area per sample varies this many times (90th / 10th percentile; a "
+        "mesh's vertices), weight each place by its sample density, so each sample counts alike; 0 = off"},
+       [](const Value& v, AlignOptions* o) {
+         const double r = Number(v, 0, 1e6);
+         if (r != 0 && r < 1) Reject(v);
+         o->density_weight = r;
+       },
+       [](const AlignOptions& o) { return Text(o.density_weight); }},
       {{"density_correction", "0 or a number in [1, 1e6]",
         "correct the sparser surface's chords for its curvature when its area per sample is this many times the "
         "other's; 0 = off"},

@@ -98,6 +98,12 @@ struct AlignOptions {
   // × its median (gap_weight.h ApplyGapWeight); 0 = off. Clean faces' errors
   // are several times smaller with it (docs/registration.md).
   double gap_weight = 0.3;
+  // Volume cost (and its prealignment): where the reference's local area
+  // per sample varies by this ratio or more (its 90th over its 10th
+  // percentile: a mesh's vertices), μ also times the median area per sample
+  // over the local one, so that each sample counts alike (gap_weight.h
+  // ApplyDensityWeight); 0 = off. Random samplings give 2.5-2.6.
+  double density_weight = 5.0;
   // When one surface has this many times the other's area per sample or
   // more, the sparser one's nodes are lowered by the difference of the two
   // samplings' mean chord at their curvature (chord_bias.h

@@ -103,4 +103,82 @@ void ApplyGapWeight(double floor_fraction, ReferenceSide* reference, const Execu
     a.weight[v] *= floor / (floor + (local[v] >= 0 ? local[v] : median));
 }
 
+namespace {
+
+// Each node's local area per sample: a third of its data triangles' xy area
+// (all triangles when `domain` is empty), averaged over the corners of the
+// triangles around it (one sample's share scatters, a Poisson sampling's by
+// ±50%, a ring's much less); −1 on no data triangle.
+template <typename XY>
+std::vector<double> LocalAreaPerSample(std::size_t n, const Triangulation& mesh, const std::vector<uint8_t>& domain,
+                                       const XY& xy) {
+  const int32_t triangles = mesh.num_triangles();
+  std::vector<double> own(n, 0.0), sum(n, 0.0), local(n, -1.0);
+  std::vector<int32_t> count(n, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int32_t t = 0; t < triangles; ++t) {
+      if (!domain.empty() && !domain[t]) continue;
+      const int32_t* v = &mesh.triangles[3 * t];
+      if (pass == 0) {
+        const Point2 p = xy(v[0]), q = xy(v[1]), r = xy(v[2]);
+        const double third = std::fabs((q.x - p.x) * (r.y - p.y) - (r.x - p.x) * (q.y - p.y)) / 6.0;
+        for (int i = 0; i < 3; ++i) own[v[i]] += third;
+        continue;
+      }
+      for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < 3; ++i) {
+          sum[v[i]] += own[v[j]];
+          ++count[v[i]];
+        }
+      }
+    }
+  }
+  for (std::size_t v = 0; v < n; ++v)
+    if (count[v] > 0 && sum[v] > 0) local[v] = sum[v] / count[v];
+  return local;
+}
+
+// The q-quantile of the positive values (0 for fewer than 10).
+double PositiveQuantile(const std::vector<double>& values, double q) {
+  std::vector<double> known;
+  for (double a : values)
+    if (a > 0) known.push_back(a);
+  if (known.size() < 10) return 0;
+  const auto k = known.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(known.size() - 1));
+  std::nth_element(known.begin(), k, known.end());
+  return *k;
+}
+
+double Spread(const std::vector<double>& local) {
+  const double p10 = PositiveQuantile(local, 0.1), p90 = PositiveQuantile(local, 0.9);
+  return p10 > 0 ? p90 / p10 : 0.0;
+}
+
+std::vector<double> LocalArea(const ReferenceSide& a) {
+  return LocalAreaPerSample(a.xy.size(), a.mesh, a.domain, [&](int32_t v) { return a.xy[v]; });
+}
+
+}  // namespace
+
+double DensitySpread(const ReferenceSide& reference) { return Spread(LocalArea(reference)); }
+
+double DensitySpread(const MovingSide& moving) {
+  return Spread(LocalAreaPerSample(moving.points.size(), moving.mesh, moving.domain, [&](int32_t v) {
+    return Point2{moving.points[v].x(), moving.points[v].y()};
+  }));
+}
+
+bool ApplyDensityWeight(double uneven_ratio, ReferenceSide* reference) {
+  if (uneven_ratio == 0) return false;
+  ReferenceSide& a = *reference;
+  const std::vector<double> local = LocalArea(a);
+  if (!(Spread(local) >= uneven_ratio)) return false;
+  const double median = PositiveQuantile(local, 0.5);
+  if (a.weight.empty()) a.weight.assign(local.size(), 1.0);
+  // A node on no data triangle is integrated nowhere: its μ is left.
+  for (std::size_t v = 0; v < local.size(); ++v)
+    if (local[v] > 0) a.weight[v] *= median / local[v];
+  return true;
+}
+
 }  // namespace surfreg

@@ -49,4 +49,28 @@ std::vector<double> CurvatureGaps(const std::vector<Eigen::Vector3d>& points, co
 // rounding-level gaps (a plane) weigh 1. 0 = off.
 void ApplyGapWeight(double floor_fraction, ReferenceSide* reference, const Execution& execution = Execution{1});
 
+// Multiplies the reference's μ (1 where it has none) at every node by
+// a_median / a_v, a_v the node's local area per sample (a third of its data
+// triangles' xy area, averaged over the corners of the triangles around it)
+// and a_median its median over the nodes, when the sampling's density is
+// uneven by design: the 90th percentile of a_v at least `uneven_ratio` times
+// the 10th. Then ∫ μ |gap| counts each sample alike, as ICP's sum over
+// points does, instead of each unit of area: a mesh's vertices (dense on a
+// face's nose, eyes and ears, a hundred times sparser on its cheeks and
+// sides) otherwise let the few samples of the sparse parts, whose long
+// triangles carry the largest interpolation error and the fewest samples
+// of noise to average, set the motion (tests/bench/face_vertex_bench.py:
+// halves 0.031° → 0.010°, noisy copies 0.035° → 0.008°). Random
+// samplings (that ratio 2.5-2.6), grids and scan lines (1-1.2) are left as
+// they are. 0 = off. Returns whether it applied.
+bool ApplyDensityWeight(double uneven_ratio, ReferenceSide* reference);
+
+// The spread of a surface's local area per sample over its data domain (as
+// ApplyDensityWeight measures it): its 90th percentile over its 10th; 0 for
+// fewer than 10 nodes. At `density_weight` or more the sampling is uneven by
+// design and the chord correction (chord_bias.h), whose model is one area
+// per sample for the whole surface, is not made.
+double DensitySpread(const ReferenceSide& reference);
+double DensitySpread(const MovingSide& moving);
+
 }  // namespace surfreg

@@ -147,6 +147,7 @@ change_mask: roi.gpkg
 normal_distance: false
 slope_weight: 1.5
 gap_weight: 0.7
+density_weight: 7
 density_correction: 2.5
 weights: per_point
 domain: hull
@@ -187,6 +188,7 @@ TEST(AlignConfig, EveryKeyFromYaml) {
   EXPECT_FALSE(o.normal_distance);
   EXPECT_EQ(o.slope_weight, 1.5);
   EXPECT_EQ(o.gap_weight, 0.7);
+  EXPECT_EQ(o.density_weight, 7.0);
   EXPECT_EQ(o.density_correction, 2.5);
   EXPECT_TRUE(c.per_point_weights);
   EXPECT_EQ(o.domain.kind, DomainKind::kHull);
@@ -359,6 +361,9 @@ TEST(AlignConfigErrors, WrongTypeNamesKeyLineTypeAndValue) {
   EXPECT_TRUE(Contains(YamlError("density_correction: 0.5"),
                        "key 'density_correction' expects 0 or a number in [1, 1e6], got '0.5'"));
   EXPECT_EQ(FromYaml("density_correction: 0").options.density_correction, 0.0);
+  EXPECT_TRUE(Contains(YamlError("density_weight: 0.5"),
+                       "key 'density_weight' expects 0 or a number in [1, 1e6], got '0.5'"));
+  EXPECT_EQ(FromYaml("density_weight: 0").options.density_weight, 0.0);
   EXPECT_TRUE(Contains(YamlError("level_factor: 1"), "expects a number in [1.5, 64], got '1'"));
   EXPECT_TRUE(Contains(YamlError("covariance: maybe"), "expects true or false, got 'maybe'"));
   EXPECT_TRUE(Contains(YamlError("threads: [1, 2]"), "expects an integer >= 1, or all, got '[1, 2]'"));

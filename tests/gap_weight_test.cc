@@ -259,3 +259,62 @@ TEST(GapWeightTest, GapWeightIsTheInverseLocalGap) {
 
 }  // namespace
 }  // namespace surfreg
+
+namespace surfreg {
+namespace {
+
+// A square of side 60 sampled on a grid of spacing 1, with a 10 × 10 patch
+// resampled at spacing 0.25 (a mesh's dense nose among sparse cheeks; a
+// third of the nodes): the area per sample is 1 away from the patch and
+// 1/16 inside it, so the spread (90th over 10th percentile over the nodes)
+// is 16 and the density weight makes μ ∝ 1 / area per sample; on the plain
+// grid it is about 1 (the outline's nodes own less) and nothing changes.
+std::vector<std::array<double, 3>> GridWithDensePatch(bool patch) {
+  std::vector<std::array<double, 3>> points;
+  for (int j = 0; j <= 60; ++j)
+    for (int i = 0; i <= 60; ++i) {
+      if (patch && i > 25 && i < 35 && j > 25 && j < 35) continue;
+      points.push_back({double(i), double(j), 0.01 * i * j});
+    }
+  if (patch)
+    for (int j = 0; j <= 32; ++j)
+      for (int i = 0; i <= 32; ++i) {
+        const double x = 26 + i * 0.25, y = 26 + j * 0.25;
+        points.push_back({x, y, 0.01 * x * y});
+      }
+  return points;
+}
+
+TEST(DensityWeightTest, UnevenSamplingWeighsEachSampleAlike) {
+  ReferenceSide even = PrepareReference(MakeSurface(GridWithDensePatch(false), {}, "grid"));
+  EXPECT_LT(DensitySpread(even), 1.2);
+  EXPECT_FALSE(ApplyDensityWeight(5.0, &even));
+  EXPECT_TRUE(even.weight.empty());
+
+  const Surface uneven_surface = MakeSurface(GridWithDensePatch(true), {}, "patch");
+  ReferenceSide uneven = PrepareReference(uneven_surface);
+  const double spread = DensitySpread(uneven);
+  EXPECT_NEAR(spread, 16.0, 1e-6);
+  EXPECT_FALSE(ApplyDensityWeight(0.0, &uneven));  // off
+  EXPECT_FALSE(ApplyDensityWeight(spread * 1.01, &uneven));  // below the threshold
+  ASSERT_TRUE(ApplyDensityWeight(5.0, &uneven));
+  ASSERT_EQ(uneven.weight.size(), uneven.xy.size());
+  // Away from the patch's rim: μ of a coarse node over μ of a fine one is
+  // the inverse ratio of their areas per sample, 1/16.
+  double coarse = 0, fine = 0;
+  for (std::size_t v = 0; v < uneven.xy.size(); ++v) {
+    const double x = uneven.xy[v].x + uneven_surface.origin[0], y = uneven.xy[v].y + uneven_surface.origin[1];
+    if (std::abs(x - 5) < 1e-9 && std::abs(y - 5) < 1e-9) coarse = uneven.weight[v];
+    if (std::abs(x - 30) < 1e-9 && std::abs(y - 30) < 1e-9) fine = uneven.weight[v];
+  }
+  ASSERT_GT(fine, 0);
+  EXPECT_NEAR(coarse / fine, 1 / 16.0, 1e-9);
+
+  // Fewer than 10 nodes: no spread.
+  ReferenceSide tiny = PrepareReference(MakeSurface({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 1}}, {}, "tiny"));
+  EXPECT_EQ(DensitySpread(tiny), 0.0);
+  EXPECT_FALSE(ApplyDensityWeight(5.0, &tiny));
+}
+
+}  // namespace
+}  // namespace surfreg

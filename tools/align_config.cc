@@ -68,6 +68,7 @@ const config_table::Table<AlignConfig>& Table() {
       Option("normal_distance"),
       Option("slope_weight"),
       Option("gap_weight"),
+      Option("density_weight"),
       Option("density_correction"),
       Option("free"),
       Option("levels"),
