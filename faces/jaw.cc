@@ -5,12 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 
 #include <Eigen/Geometry>
 #include <ceres/ceres.h>
 
+#include "faces/jaw_internal.h"
+#include "faces/jaw_split.h"
 #include "measure/input_error.h"
 #include "registration/axial_cost.h"
 #include "registration/pair_state.h"
@@ -57,12 +58,10 @@ Eigen::Vector3d Apply(const Eigen::Matrix4d& m, double x, double y, double z) {
   return m.topLeftCorner<3, 3>() * Eigen::Vector3d(x, y, z) + m.topRightCorner<3, 1>();
 }
 
-struct Split {
-  std::vector<std::array<double, 3>> upper, lower;  // input coordinates of the frame
-  int dropped = 0;
-};
+}  // namespace
 
-// Classifies each point of `frame` where `reference_from_frame` puts it.
+namespace jaw_internal {
+
 Split SplitFrame(const Surface& frame, const Eigen::Matrix4d& reference_from_frame,
                  const JawBoundary& boundary) {
   Split split;
@@ -79,14 +78,7 @@ Split SplitFrame(const Surface& frame, const Eigen::Matrix4d& reference_from_fra
   return split;
 }
 
-// One part of the reference, prepared once.
-struct ReferencePart {
-  Surface surface;
-  ReferenceSide side;
-};
-
-Surface PartSurface(const std::vector<std::array<double, 3>>& points, const std::string& name,
-                    int min_points) {
+Surface PartSurface(const Points& points, const std::string& name, int min_points) {
   if (static_cast<int>(points.size()) < min_points) {
     throw InputError(name + ": only " + std::to_string(points.size()) +
                      " points after the split (at least " + std::to_string(min_points) +
@@ -96,6 +88,12 @@ Surface PartSurface(const std::vector<std::array<double, 3>>& points, const std:
   ValidateSurface(surface);
   return surface;
 }
+
+}  // namespace jaw_internal
+
+namespace {
+
+using jaw_internal::Points;
 
 // Mean |r| over the active nodes (ρ'd), or NaN when none is active; their
 // count in `active` if given.
@@ -146,6 +144,12 @@ class PartResiduals : public ceres::CostFunction {
   Theta ThetaOf(const double* x) const {
     return {x[0] / scale_, x[1] / scale_, x[2] / scale_, x[3], x[4], x[5]};
   }
+  // The residuals and Jacobians (θ units) of the last evaluation if it was
+  // at x, else null: Ceres evaluates the Jacobian at each accepted step, so
+  // the solution's usually need no new evaluation.
+  const AxialResiduals* ResidualsAt(const double* x) const {
+    return evaluated_ && ok_ && std::equal(x, x + 6, x_.begin()) ? &residuals_ : nullptr;
+  }
 
  private:
   PairState& state_;
@@ -173,6 +177,8 @@ class StepTolerance : public ceres::IterationCallback {
 
 struct AxialSolve {
   Theta theta{};
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // at theta
+  bool covariance_ok = false;
   double initial_cost = 0, final_cost = 0;
   int iterations = 0;
   bool converged = false, usable = false;
@@ -185,13 +191,7 @@ struct AxialSolve {
 // the overlap at θ0.
 AxialSolve SolveAxialPart(PairState& state, const Theta& theta0, double scale, int64_t overlap,
                           const JawOptions& options) {
-  AxialSettings settings;
-  settings.trim_fraction = options.trim_fraction;
-  settings.normal_distance = options.normal_distance;
-  // A mean over the kept nodes (any constant count gives the same minimum):
-  // otherwise sliding the part off the reference lowers the cost by dropping
-  // nodes (axial_cost.h).
-  settings.normalize_count = std::ceil((1.0 - options.trim_fraction) * static_cast<double>(overlap));
+  const AxialSettings settings = jaw_internal::PartSettings(options, overlap);
   std::array<double, 6> x{};
   for (int i = 0; i < 6; ++i) x[i] = theta0[i] * (i < 3 ? scale : 1.0);
   auto* cost = new PartResiduals(state, settings, scale);
@@ -225,12 +225,38 @@ AxialSolve SolveAxialPart(PairState& state, const Theta& theta0, double scale, i
                   summary.termination_type == ceres::USER_SUCCESS;
   out.usable = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
   out.message = summary.message;
+  if (const AxialResiduals* at = cost->ResidualsAt(x.data())) {
+    out.covariance_ok = jaw_internal::GaussNewtonCovariance(*at, &out.covariance);
+  } else if (state.Update(out.theta)) {
+    AxialResiduals residuals;
+    ComputeAxialResiduals(state, settings, true, &residuals);
+    out.covariance_ok = jaw_internal::GaussNewtonCovariance(residuals, &out.covariance);
+  }
   return out;
 }
 
-// Registers one part of a frame onto the reference's part, from `warm`.
+void Describe(JawFrame* frame) {
+  frame->euler_deg = EulerDegrees(frame->jaw.topLeftCorner<3, 3>());
+  for (int k = 0; k < 3; ++k) frame->translation[k] = frame->jaw(k, 3);
+}
+
+}  // namespace
+
+namespace jaw_internal {
+
+AxialSettings PartSettings(const JawOptions& options, int64_t overlap) {
+  AxialSettings settings;
+  settings.trim_fraction = options.trim_fraction;
+  settings.normal_distance = options.normal_distance;
+  // A mean over the kept nodes (any constant count gives the same minimum):
+  // otherwise sliding the part off the reference lowers the cost by dropping
+  // nodes (axial_cost.h).
+  settings.normalize_count = std::ceil((1.0 - options.trim_fraction) * static_cast<double>(overlap));
+  return settings;
+}
+
 JawPartResult RegisterPart(const ReferencePart& reference, const Surface& part,
-                           const Eigen::Matrix4d& warm, const JawOptions& options) {
+                           const Eigen::Matrix4d& warm, const JawOptions& options, bool measure) {
   JawPartResult result;
   result.points = static_cast<int>(part.size());
   const std::array<double, 3>& origin = reference.surface.origin;
@@ -279,19 +305,26 @@ JawPartResult RegisterPart(const ReferencePart& reference, const Surface& part,
   }
   state.Update(theta);
   result.rho_d_axial_after = MeanAbsResidual(state);
-  const VolumeCostValue volume = EvaluateVolumeCost(state, false, ExecutionFor(options.num_threads));
-  result.mean_abs_dz_after = volume.PerArea();
-  result.overlap_area_after = volume.area;
+  // The covariance where the part ends: the axial solution's, else (kept
+  // warm start, volume refinement) evaluated there with the same settings.
+  result.covariance_ok = solved.covariance_ok;
+  result.covariance = solved.covariance;
+  if (theta != solved.theta || !solved.usable) {
+    AxialResiduals residuals;
+    ComputeAxialResiduals(state, PartSettings(options, overlap), true, &residuals);
+    result.covariance_ok = GaussNewtonCovariance(residuals, &result.covariance);
+  }
+  if (measure) {
+    const VolumeCostValue volume = EvaluateVolumeCost(state, false, ExecutionFor(options.num_threads));
+    result.mean_abs_dz_after = volume.PerArea();
+    result.overlap_area_after = volume.area;
+  }
   result.reference_from_frame = RigidOfTheta(theta, moving.centroid, origin).ToMatrix();
+  result.centre = moving.centroid + Eigen::Vector3d(origin[0], origin[1], origin[2]);
   return result;
 }
 
-void Describe(JawFrame* frame) {
-  frame->euler_deg = EulerDegrees(frame->jaw.topLeftCorner<3, 3>());
-  for (int k = 0; k < 3; ++k) frame->translation[k] = frame->jaw(k, 3);
-}
-
-}  // namespace
+}  // namespace jaw_internal
 
 JawPart ClassifyJawPoint(const JawBoundary& boundary, double x, double y) {
   if (boundary.polygon.empty()) {
@@ -329,6 +362,7 @@ bool JawOptions::IsValid(std::string* error) const {
   if (!(max_fold_fraction >= 0 && max_fold_fraction <= 1)) return fail("max_fold_fraction must be in [0, 1]");
   if (num_threads < 0) return fail("threads must be >= 1 (0: every core)");
   if (min_part_points < 3) return fail("min_part_points must be >= 3");
+  if (path_point && !path_point->allFinite()) return fail("path_point must be finite");
   return true;
 }
 
@@ -341,17 +375,24 @@ JawSummary TrackJaw(int count, const std::function<Surface(int)>& load, const Ja
     throw InputError("jaw: reference frame " + std::to_string(options.reference) + " is beyond the " +
                      std::to_string(count) + " frames");
   }
+  using namespace jaw_internal;  // NOLINT: the shared pieces of this file
   JawSummary summary;
   summary.reference = options.reference;
   summary.frames.resize(count);
+  summary.boundary = options.boundary;
+  if (options.find_boundary) {
+    summary.boundary = FindJawBoundary(count, load, options, &summary.search);
+    summary.boundary_found = true;
+  }
 
   // The reference's parts, prepared once.
   ReferencePart upper, lower;
+  Eigen::Vector3d& p0 = summary.path_reference;
   {
     const Clock::time_point frame_start = Clock::now();
     const Surface frame = load(options.reference);
     ValidateSurface(frame);
-    const Split split = SplitFrame(frame, Eigen::Matrix4d::Identity(), options.boundary);
+    const Split split = SplitFrame(frame, Eigen::Matrix4d::Identity(), summary.boundary);
     upper.surface = PartSurface(split.upper, frame.source + " (upper part)", options.min_part_points);
     lower.surface = PartSurface(split.lower, frame.source + " (lower part)", options.min_part_points);
     upper.side = PrepareReference(upper.surface);
@@ -362,6 +403,9 @@ JawSummary TrackJaw(int count, const std::function<Surface(int)>& load, const Ja
     f.upper.points = static_cast<int>(split.upper.size());
     f.lower.points = static_cast<int>(split.lower.size());
     f.dropped = split.dropped;
+    summary.path_point_given = options.path_point.has_value();
+    p0 = options.path_point ? *options.path_point : LowestPoint(split.lower);
+    f.path_point = p0;
     f.seconds = Seconds(frame_start);
     Describe(&f);
     summary.reference_upper_points = f.upper.points;
@@ -388,7 +432,7 @@ JawSummary TrackJaw(int count, const std::function<Surface(int)>& load, const Ja
     const int second = 2 * neighbour - k;
     const Eigen::Matrix4d warm_upper = warm(neighbour, second, true);
     const Eigen::Matrix4d warm_lower = warm(neighbour, second, false);
-    const Split split = SplitFrame(frame, warm_upper, options.boundary);
+    const Split split = SplitFrame(frame, warm_upper, summary.boundary);
     JawFrame& f = summary.frames[k];
     f.index = k;
     f.dropped = split.dropped;
@@ -398,12 +442,16 @@ JawSummary TrackJaw(int count, const std::function<Surface(int)>& load, const Ja
     f.lower = RegisterPart(lower, lower_part, warm_lower, options);
     f.jaw = f.upper.reference_from_frame * f.lower.reference_from_frame.inverse();
     Describe(&f);
+    PropagateFrameCovariance(p0, &f);
     f.seconds = Seconds(frame_start);
     if (f.upper.verdict == Verdict::kFailed || f.lower.verdict == Verdict::kFailed) ++summary.failed_frames;
     if (options.on_frame) options.on_frame(f);
   };
   for (int k = options.reference + 1; k < count; ++k) track(k, k - 1);
   for (int k = options.reference - 1; k >= 0; --k) track(k, k + 1);
+  for (int k = 0; k + 1 < count; ++k) {
+    summary.helical_axes.push_back(RelativeHelicalAxis(summary.frames[k].jaw, summary.frames[k + 1].jaw));
+  }
   summary.seconds = Seconds(start);
   return summary;
 }
@@ -417,29 +465,6 @@ std::array<double, 2> MotionDifference(const Eigen::Matrix4d& a, const Eigen::Ma
   const double angle = Eigen::AngleAxisd(r).angle() * kDegrees;
   const double shift = (a.topRightCorner<3, 1>() - b.topRightCorner<3, 1>()).norm();
   return {angle, shift};
-}
-
-std::string JawSummary::BriefReport() const {
-  std::array<double, 3> lo{}, hi{};
-  for (int k = 0; k < 3; ++k) {
-    lo[k] = hi[k] = frames.empty() ? 0.0 : frames[0].euler_deg[k];
-  }
-  for (const JawFrame& f : frames) {
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], f.euler_deg[k]);
-      hi[k] = std::max(hi[k], f.euler_deg[k]);
-    }
-  }
-  char text[512];
-  std::snprintf(text, sizeof(text),
-                "frames:     %zu (reference %d: %d upper, %d lower points)\n"
-                "jaw angles: rx %.3f..%.3f  ry %.3f..%.3f  rz %.3f..%.3f deg\n"
-                "failed:     %d frames\n"
-                "time:       %.3f s (%.3f s per frame)\n",
-                frames.size(), reference, reference_upper_points, reference_lower_points, lo[0], hi[0],
-                lo[1], hi[1], lo[2], hi[2], failed_frames, seconds,
-                frames.empty() ? 0.0 : seconds / static_cast<double>(frames.size()));
-  return text;
 }
 
 }  // namespace surfreg

@@ -37,14 +37,28 @@
 //   U_k = G_k⁻¹ and L_k = H_k⁻¹ G_k⁻¹, so J_k = G_k⁻¹ G_k H_k = H_k.
 // J of the reference frame is the identity.
 //
+// From the J_k (docs/faces.md, Jaw motion):
+// - σ: each part's Gauss-Newton covariance σ²(JᵀJ)⁻¹ of its six parameters
+//   at the solution (σ² the variance of the kept, weighted residuals),
+//   propagated to first order to J_k = U_k · L_k⁻¹ (the parts independent):
+//   the σ of the reported Euler angles and translation, and of the path point;
+// - the path of a point p0 of the reference (JawOptions::path_point, or the
+//   mean of the kPathLowestPoints reference lower-part points of smallest
+//   y): p_k = J_k · p0 (helical_axis.h);
+// - the finite helical axis between consecutive frames: of J_{k+1} · J_k⁻¹.
+// Neither boundary given (JawOptions::find_boundary): the boundary level is
+// found first from the sequence (jaw_split.h).
+//
 // The library never prints; `JawOptions::on_frame` reports each frame.
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "faces/helical_axis.h"
 #include "measure/surface.h"
 #include "registration/align.h"  // EulerDegrees
 
@@ -112,6 +126,15 @@ struct JawOptions {
   int num_threads = 0;  // for the volume measure and refinement; 0: every core
   // A part with fewer points than this after the split is an error.
   int min_part_points = 50;
+  // The point whose path is reported, in the reference frame's coordinates
+  // (data units); unset: the mean of the kPathLowestPoints reference
+  // lower-part points of smallest y (the chin's lowest point, y running
+  // chin → forehead).
+  std::optional<Eigen::Vector3d> path_point;
+  // Find boundary.y_level from the sequence (jaw_split.h; then
+  // boundary.y_level and polygon are not used, boundary.margin is). Each
+  // frame is then loaded twice: once by the search, once by the tracking.
+  bool find_boundary = false;
   // Called once per frame, in processing order (not frame order).
   std::function<void(const JawFrame&)> on_frame;
 
@@ -130,6 +153,14 @@ struct JawPartResult {
   // vertical distance, data units) and overlap area at the result.
   double rho_d_axial_before = 0, rho_d_axial_after = 0;
   double mean_abs_dz_after = 0, overlap_area_after = 0;
+  // The Gauss-Newton covariance σ²(JᵀJ)⁻¹ of the six parameters θ = (ω, s)
+  // at the result: reference_from_frame = R(ω)(p − centre) + centre + s
+  // (ω radians, s data units), σ² = Σr² / (kept − 6) over the kept residuals.
+  // covariance_ok false (covariance NaN): fewer than 7 kept residuals or
+  // JᵀJ singular. The reference frame's parts: zeros, ok.
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  bool covariance_ok = true;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the part's centroid, input coordinates
 };
 
 struct JawFrame {
@@ -138,8 +169,32 @@ struct JawFrame {
   Eigen::Matrix4d jaw = Eigen::Matrix4d::Identity();  // J_k = U_k · L_k⁻¹
   std::array<double, 3> euler_deg{};    // of J_k: R = Rz · Ry · Rx
   std::array<double, 3> translation{};  // of J_k (its last column), data units
+  // σ of (rx, ry, rz) in degrees and (tx, ty, tz) in data units, and their
+  // covariance, first order from both parts' (independent) covariances.
+  // Zeros for the reference; NaN when either part's covariance is not ok.
+  std::array<double, 6> stddev{};
+  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
+  // The path point in this frame, J_k · p0 (reference frame coordinates), and its σ.
+  Eigen::Vector3d path_point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d path_point_stddev = Eigen::Vector3d::Zero();
   JawPartResult upper, lower;
   int dropped = 0;  // points within the margin of the boundary
+  double seconds = 0;
+};
+
+// The default path point: the mean of this many lowest reference lower-part
+// points (one sample's position is as random as the sampling).
+inline constexpr int kPathLowestPoints = 5;
+
+// How the boundary was found (JawOptions::find_boundary; jaw_split.h).
+struct JawBoundarySearch {
+  int frame = -1;          // the frame most different from the reference, whose gaps decided
+  double noise = 0;        // robust σ of the skull's gaps in that frame (data units)
+  double threshold = 0;    // gaps above this label a reference point as moving (jaw)
+  double jaw_gap = 0;      // median |gap| of the reference points below the level
+  int points = 0;          // reference points labelled
+  int moving_points = 0;   // of them, labelled moving
+  int misclassified = 0;   // labels on the wrong side of the level
   double seconds = 0;
 };
 
@@ -148,15 +203,25 @@ struct JawSummary {
   int reference = 0;
   int reference_upper_points = 0, reference_lower_points = 0;
   int failed_frames = 0;  // frames where either part's verdict is failed
+  JawBoundary boundary;        // as used: given, or with the y level found
+  bool boundary_found = false;  // found from the sequence (then `search`)
+  JawBoundarySearch search;
+  Eigen::Vector3d path_reference = Eigen::Vector3d::Zero();  // p0
+  bool path_point_given = false;                              // p0 from JawOptions::path_point
+  // Between consecutive frames k → k + 1 (count − 1 of them): of J_{k+1} · J_k⁻¹.
+  std::vector<HelicalAxis> helical_axes;
   double seconds = 0;
-  std::string BriefReport() const;  // a few lines: counts, ranges of the angles, time
+  // A few lines: counts, the boundary, ranges of the angles and the path,
+  // the largest helical angle, time.
+  std::string BriefReport() const;
 };
 
 // Tracks the jaw over `count` frames; `load(k)` returns frame k (called once
-// per frame, in processing order; frames need not all be in memory). Throws
-// InputError for invalid options, a frame that is not a valid surface, a
-// part with fewer than min_part_points points, or parts that do not overlap
-// the reference's at the warm start.
+// per frame, in processing order, and once more before that with
+// find_boundary; frames need not all be in memory). Throws InputError for
+// invalid options, a frame that is not a valid surface, a part with fewer
+// than min_part_points points, parts that do not overlap the reference's at
+// the warm start, or (find_boundary) a sequence whose parts cannot be found.
 JawSummary TrackJaw(int count, const std::function<Surface(int)>& load, const JawOptions& options);
 JawSummary TrackJaw(const std::vector<Surface>& frames, const JawOptions& options);
 

@@ -344,6 +344,31 @@ TEST_F(JawConfigTest, FlagsOverrideAndReferenceByFile) {
   EXPECT_EQ(config.Where("cost"), "flag '--cost'");
 }
 
+// Neither boundary: find_boundary; a boundary_y cleared by an empty flag
+// likewise; the path keys.
+TEST_F(JawConfigTest, FindsTheBoundaryWhenNoneIsGivenAndPathKeys) {
+  JawConfig config;
+  ApplyJawYaml("frames: " + Path("frames") + "\npath_point: [1.5, -80, -70]\n", "jaw.yaml", &config);
+  FinishJawConfig(&config);
+  EXPECT_TRUE(config.options.find_boundary);
+  EXPECT_FALSE(config.has_boundary_y);
+  EXPECT_EQ(JawConfigValue(config, "boundary_y"), "");
+  ASSERT_TRUE(config.options.path_point.has_value());
+  EXPECT_EQ(*config.options.path_point, Eigen::Vector3d(1.5, -80, -70));
+  EXPECT_EQ(JawConfigValue(config, "path_point"), "[1.5, -80, -70]");
+  JawConfig given;
+  ApplyJawYaml("frames: " + Path("frames") + "\nboundary_y: -35\n", "jaw.yaml", &given);
+  FinishJawConfig(&given);
+  EXPECT_FALSE(given.options.find_boundary);
+  EXPECT_FALSE(given.options.path_point.has_value());
+  EXPECT_EQ(JawConfigValue(given, "path_point"), "");
+  ApplyJawFlag("boundary_y", "", &given);
+  ApplyJawFlag("path_point", "0,1,2", &given);
+  FinishJawConfig(&given);
+  EXPECT_TRUE(given.options.find_boundary);
+  EXPECT_EQ(*given.options.path_point, Eigen::Vector3d(0, 1, 2));
+}
+
 TEST_F(JawConfigTest, ErrorsNameTheKeyOrFile) {
   const std::string frames = "frames: " + Path("frames") + "\n";
   EXPECT_NE(Error(frames + "boundry_y: 1\n").find("did you mean 'boundary_y'"), std::string::npos)
@@ -358,7 +383,7 @@ TEST_F(JawConfigTest, ErrorsNameTheKeyOrFile) {
   std::filesystem::create_directories(dir_ / "empty");
   const std::string empty = Error("frames: " + Path("empty") + "\nboundary_y: 1\n");
   EXPECT_NE(empty.find("has no surface files"), std::string::npos) << empty;
-  EXPECT_NE(Error(frames).find("boundary_y"), std::string::npos);  // no boundary
+  EXPECT_EQ(Error(frames), "");  // no boundary: found from the frames (FindsTheBoundaryWhenNoneIsGiven)
   EXPECT_NE(Error(frames + "boundary_y: 1\nreference: 7\n").find("key 'reference'"), std::string::npos);
   EXPECT_NE(Error(frames + "boundary_y: 1\nplot: " + Path("p.jpg") + "\n").find("key 'plot'"), std::string::npos);
   EXPECT_NE(Error(frames + "boundary_y: 1\noutput_csv: " + Path("no/dir/x.csv") + "\n").find("key 'output_csv'"),
@@ -369,6 +394,12 @@ TEST_F(JawConfigTest, ErrorsNameTheKeyOrFile) {
             std::string::npos);
   EXPECT_NE(Error(frames + "boundary_y: 1\nboundary_y: 2\n").find("given twice"), std::string::npos);
   EXPECT_NE(Error(frames + "boundary_y: 1\norientation: sideways\n").find("key 'orientation'"), std::string::npos);
+  EXPECT_NE(Error(frames + "boundary_y: 1\npath_point: [1, 2]\n").find("key 'path_point'"), std::string::npos);
+  EXPECT_NE(Error(frames + "boundary_y: 1\npath_plot: " + Path("p.svg") + "\n").find("key 'path_plot'"),
+            std::string::npos);
+  EXPECT_NE(Error(frames + "boundary_y: 1\nplot: " + Path("p.png") + "\npath_plot: " + Path("p.png") + "\n")
+                .find("is also plot"),
+            std::string::npos);
   JawConfig config;
   EXPECT_THROW(ApplyJawFlag("boundary", "1", &config), InputError);
 }

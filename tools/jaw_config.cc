@@ -54,10 +54,11 @@ const config_table::Table<JawConfig>& Table() {
          FaceOrientationFromString(text, v.where, &c->orientation);
        },
        [](const C& c) { return FaceOrientationToString(c.orientation); }},
-      {{"boundary_y", "a number", "y level: upper at and above, lower below"},
+      {{"boundary_y", "a number", "y level: upper at and above, lower below (none: found from the frames)"},
        [](const Value& v, C* c) {
-         c->options.boundary.y_level = cv::NumberOf(v, cv::Scalar(v));
-         c->has_boundary_y = true;
+         // Nothing (YAML null, or "" from a flag) clears it: the level is then found.
+         c->has_boundary_y = !(v.kind == Value::kNull || (v.kind == Value::kScalar && v.text.empty()));
+         if (c->has_boundary_y) c->options.boundary.y_level = cv::NumberOf(v, cv::Scalar(v));
        },
        [](const C& c) { return c.has_boundary_y ? cv::Text(c.options.boundary.y_level) : std::string(); }},
       {{"boundary_polygon", "a polygon file (x y per line)", "inside = lower"},
@@ -66,6 +67,17 @@ const config_table::Table<JawConfig>& Table() {
       {{"boundary_margin", "a number >= 0", "drop points this close to the boundary"},
        [](const Value& v, C* c) { c->options.boundary.margin = cv::Number(v, 0, 1e300); },
        [](const C& c) { return cv::Text(c.options.boundary.margin); }},
+      {{"path_point", "[x, y, z] in data units",
+        "the point whose path is reported (reference frame); default: the lowest lower-part point"},
+       [](const Value& v, C* c) {
+         const std::array<double, 3> p = cv::Vector3(v);
+         c->options.path_point = Eigen::Vector3d(p[0], p[1], p[2]);
+       },
+       [](const C& c) {
+         if (!c.options.path_point) return std::string();
+         const Eigen::Vector3d& p = *c.options.path_point;
+         return cv::Text(std::array<double, 3>{p.x(), p.y(), p.z()});
+       }},
       {{"cost", "one of axial, volume", "axial: trimmed least squares; volume: then L-BFGS on rho_d"},
        [](const Value& v, C* c) { c->options.cost = cv::Choice(v, kCosts); },
        [](const C& c) { return cv::NameOf(c.options.cost, kCosts); }},
@@ -105,6 +117,9 @@ const config_table::Table<JawConfig>& Table() {
       {{"plot", "a .png file name", "the six motion parameters over the frames"},
        [](const Value& v, C* c) { c->plot = cv::Path(v, false); },
        [](const C& c) { return c.plot; }},
+      {{"path_plot", "a .png file name", "the path point's displacement: sagittal (z, y) and frontal (x, y)"},
+       [](const Value& v, C* c) { c->path_plot = cv::Path(v, false); },
+       [](const C& c) { return c.path_plot; }},
       {{"progress", "true or false", "one line per frame on stderr"},
        [](const Value& v, C* c) { c->progress = cv::Boolean(v); },
        [](const C& c) { return cv::Text(c.progress); }},
@@ -178,12 +193,12 @@ void ResolveReference(JawConfig* config) {
 
 void CheckOutputs(JawConfig* config) {
   std::vector<std::pair<std::string, std::string>> outputs;  // key, path
-  for (const char* key : {"output_csv", "output_json", "plot"}) {
+  for (const char* key : {"output_csv", "output_json", "plot", "path_plot"}) {
     const std::string path = JawConfigValue(*config, key);
     if (path.empty()) continue;
     const std::string where = config->Where(key);
     CheckOutputPath(path, where);
-    if (std::string(key) == "plot") {
+    if (std::string(key) == "plot" || std::string(key) == "path_plot") {
       std::string ext = std::filesystem::path(path).extension().string();
       for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
       if (ext != ".png") throw InputError(where + ": expects a .png file name, got '" + path + "'");
@@ -233,11 +248,10 @@ void FinishJawConfig(JawConfig* config) {
   ResolveReference(config);
   config->options.reference = config->reference_index;
   const bool polygon = !config->boundary_polygon.empty();
-  if (polygon == config->has_boundary_y) {
-    throw InputError(std::string(polygon ? config->Where("boundary_polygon") + ": give either boundary_y or "
-                                           "boundary_polygon, not both"
-                                         : config->Where("boundary_y") + ": required (or boundary_polygon)"));
+  if (polygon && config->has_boundary_y) {
+    throw InputError(config->Where("boundary_polygon") + ": give either boundary_y or boundary_polygon, not both");
   }
+  config->options.find_boundary = !polygon && !config->has_boundary_y;
   config->options.boundary.polygon.clear();
   if (polygon) {
     try {

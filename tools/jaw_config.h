@@ -16,6 +16,8 @@
 //   boundary_y        y level: y ≥ level is upper, below lower   [none]
 //   boundary_polygon  polygon file (x y per line): inside = lower [none]
 //   boundary_margin   points this close to the boundary are dropped [0]
+//   path_point        [x, y, z]: the point whose path is reported, in the
+//                     reference frame (data units)  [the lowest lower-part point]
 //   cost              axial | volume (axial, then volume_iterations of ρd) [axial]
 //   trim_fraction, max_iterations, step_tolerance, volume_iterations,
 //   normal_distance, predict, max_fold_fraction, threads, min_part_points:
@@ -23,8 +25,10 @@
 //   output_csv        per-frame CSV (frame,rx_deg,...,tz, then details) [none]
 //   output_json       per-frame 4×4 matrices and details        [none]
 //   plot              PNG of the six motion parameters over the frames [none]
+//   path_plot         PNG of the path point's displacement, sagittal and frontal [none]
 //   progress          one line per frame on stderr               [true]
-// Exactly one of boundary_y and boundary_polygon must be given.
+// At most one of boundary_y and boundary_polygon; neither: the level is found
+// from the sequence (JawOptions::find_boundary, faces/jaw_split.h).
 //
 // Errors: InputError with one line naming where ("jaw.yaml:3: key 'cost'",
 // "flag '--cost'") and what; unknown keys get a "did you mean".
@@ -49,7 +53,7 @@ struct JawConfig {
   bool has_boundary_y = false;
   std::string boundary_polygon;  // file; "" = none
   JawOptions options;            // boundary (polygon read by FinishJawConfig) and solver settings
-  std::string output_csv, output_json, plot;
+  std::string output_csv, output_json, plot, path_plot;
   bool progress = true;
   std::string config_file;
   // Where each key was last set ("jaw.yaml:3: key 'cost'", "flag '--cost'").
@@ -77,8 +81,8 @@ void ApplyJawFlag(const std::string& key, const std::string& value, JawConfig* c
 
 // Once every setting is applied: lists the frames (a missing file, a folder
 // without surface files, or fewer than 2 frames are errors naming 'frames'),
-// resolves the reference, reads the boundary polygon, checks that exactly
-// one boundary is given, the outputs can be written (directories exist,
+// resolves the reference, reads the boundary polygon, checks that at most
+// one boundary is given (none: find_boundary), the outputs can be written (directories exist,
 // plot ends in .png, no output names a frame or another output) and the
 // options as a whole (JawOptions::IsValid). Throws InputError naming the key.
 void FinishJawConfig(JawConfig* config);

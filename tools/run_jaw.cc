@@ -1,11 +1,12 @@
 // surfreg jaw --config JAW.yaml [--key=value ...]: jaw motion over a 3D
 // sequence (faces/jaw.h) with the settings of tools/jaw_config.h;
-// writes the per-frame CSV, the JSON of 4×4 matrices and the plot where
-// asked (atomically), a progress line per frame on stderr and a summary on
-// stdout.
+// writes the per-frame CSV, the JSON of 4×4 matrices (with σ, the path and
+// the helical axes) and the plots where asked (atomically), a progress line
+// per frame on stderr and a summary on stdout.
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -42,6 +43,8 @@ DEFINE_string(min_part_points, "", "jaw: fewest points a part may have");
 DEFINE_string(output_csv, "", "jaw: write the per-frame CSV here");
 DEFINE_string(output_json, "", "jaw: write the per-frame matrices (JSON) here");
 DEFINE_string(plot, "", "jaw: write a PNG of the six motion parameters here");
+DEFINE_string(path_point, "", "jaw: x,y,z of the point whose path is reported (reference frame)");
+DEFINE_string(path_plot, "", "jaw: write a PNG of the path point's displacement here");
 DECLARE_string(config);
 
 namespace surfreg {
@@ -106,6 +109,15 @@ JsonObject PartJson(const JawPartResult& p, bool reference) {
   return o;
 }
 
+// A CSV number: %.9g, "nan" when undefined.
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.9g", value);
+  return text;
+}
+
+std::string Vector(const Eigen::Vector3d& v) { return JsonNumbers({v.x(), v.y(), v.z()}); }
+
 const char* VerdictText(const JawFrame& f, const JawPartResult& p) {
   return f.is_reference ? "reference" : VerdictName(p.verdict);
 }
@@ -114,18 +126,40 @@ std::string Csv(const JawConfig& config, const JawSummary& s) {
   std::string csv =
       "frame,rx_deg,ry_deg,rz_deg,tx,ty,tz,file,upper_verdict,lower_verdict,upper_points,lower_points,"
       "dropped,upper_iterations,lower_iterations,upper_rho_d_axial,lower_rho_d_axial,upper_mean_abs_dz,"
-      "lower_mean_abs_dz,seconds\n";
+      "lower_mean_abs_dz,seconds,rx_sd_deg,ry_sd_deg,rz_sd_deg,tx_sd,ty_sd,tz_sd,path_x,path_y,path_z,"
+      "path_x_sd,path_y_sd,path_z_sd\n";
   char line[1024];
   for (const JawFrame& f : s.frames) {
-    std::snprintf(line, sizeof(line), "%d,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%s,%s,%s,%d,%d,%d,%d,%d,%.9g,%.9g,%.9g,%.9g,%.4f\n",
+    std::snprintf(line, sizeof(line), "%d,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%s,%s,%s,%d,%d,%d,%d,%d,%.9g,%.9g,%.9g,%.9g,%.4f",
                   f.index, f.euler_deg[0], f.euler_deg[1], f.euler_deg[2], f.translation[0], f.translation[1],
                   f.translation[2], config.frame_files[f.index].c_str(), VerdictText(f, f.upper), VerdictText(f, f.lower),
                   f.upper.points, f.lower.points, f.dropped, f.upper.iterations, f.lower.iterations,
                   f.upper.rho_d_axial_after, f.lower.rho_d_axial_after, f.upper.mean_abs_dz_after,
                   f.lower.mean_abs_dz_after, f.seconds);
     csv += line;
+    for (double v : f.stddev) csv += "," + Number(v);
+    for (int k = 0; k < 3; ++k) csv += "," + Number(f.path_point[k]);
+    for (int k = 0; k < 3; ++k) csv += "," + Number(f.path_point_stddev[k]);
+    csv += "\n";
   }
   return csv;
+}
+
+JsonObject BoundaryJson(const JawConfig& config, const JawSummary& s) {
+  JsonObject o;
+  if (s.boundary.polygon.empty()) {
+    o.Number("y", s.boundary.y_level);
+  } else {
+    o.String("polygon", config.boundary_polygon);
+  }
+  o.String("found", s.boundary_found ? "automatic" : "given").Number("margin", s.boundary.margin);
+  if (s.boundary_found) {
+    const JawBoundarySearch& q = s.search;
+    o.Int("frame", q.frame).Number("noise", q.noise).Number("threshold", q.threshold);
+    o.Number("jaw_gap", q.jaw_gap).Int("points", q.points).Int("moving_points", q.moving_points);
+    o.Int("misclassified", q.misclassified).Fixed("seconds", q.seconds, 4);
+  }
+  return o;
 }
 
 std::string Json(const JawConfig& config, const JawSummary& s, const Normalization& n) {
@@ -138,6 +172,8 @@ std::string Json(const JawConfig& config, const JawSummary& s, const Normalizati
     o.Raw("euler_deg", JsonArray({JsonNumber(f.euler_deg[0]), JsonNumber(f.euler_deg[1]), JsonNumber(f.euler_deg[2])}));
     o.Raw("translation",
           JsonArray({JsonNumber(f.translation[0]), JsonNumber(f.translation[1]), JsonNumber(f.translation[2])}));
+    o.Raw("stddev", JsonNumbers(std::vector<double>(f.stddev.begin(), f.stddev.end())));
+    o.Raw("path_point", Vector(f.path_point)).Raw("path_point_stddev", Vector(f.path_point_stddev));
     o.Object("upper", PartJson(f.upper, f.is_reference)).Object("lower", PartJson(f.lower, f.is_reference));
     o.Int("dropped", f.dropped).Fixed("seconds", f.seconds, 4);
     frames.push_back(o.str());
@@ -148,6 +184,24 @@ std::string Json(const JawConfig& config, const JawSummary& s, const Normalizati
   root.Int("reference", s.reference);
   root.String("orientation", JawConfigValue(config, "orientation"));
   root.Raw("normalization", JsonMatrix4(n.matrix));
+  root.Object("boundary", BoundaryJson(config, s));
+  JsonObject path;
+  path.Raw("point_reference", Vector(s.path_reference));
+  path.String("rule", s.path_point_given ? "given" : "lowest");
+  path.String("description", s.path_point_given
+                                 ? "path_point as given, reference frame coordinates"
+                                 : "the mean of the 5 reference lower-part points of smallest y");
+  root.Object("path", path);
+  std::vector<std::string> axes;
+  for (std::size_t k = 0; k < s.helical_axes.size(); ++k) {
+    const HelicalAxis& h = s.helical_axes[k];
+    JsonObject o;
+    o.Int("from", static_cast<int64_t>(k)).Int("to", static_cast<int64_t>(k + 1));
+    o.String("kind", HelicalKindName(h.kind)).Raw("direction", Vector(h.direction));
+    o.Raw("point", Vector(h.point)).Number("angle_deg", h.angle_deg).Number("slide", h.slide);
+    axes.push_back(o.str());
+  }
+  root.Raw("helical_axes", JsonArray(axes));
   root.Raw("files", JsonArray(files)).Raw("matrices", JsonArray(matrices)).Raw("frames", JsonArray(frames));
   root.Int("failed_frames", s.failed_frames).Fixed("seconds", s.seconds, 4);
   return root.str() + "\n";
@@ -169,6 +223,38 @@ void WritePlot(const JawConfig& config, const JawSummary& s) {
   text.x_label = "frame";
   text.y_label = "rotation (deg, R = Rz Ry Rx) / translation (data units)";
   WriteChartPng(config.plot, series, text, ChartStyle(), config.Where("plot"));
+}
+
+// The path point's displacement from its reference position, y (up) against
+// z (sagittal view) and against x (frontal view), on equal axes so that
+// the path's shape is not distorted.
+void WritePathPlot(const JawConfig& config, const JawSummary& s) {
+  std::vector<Series> series(2);
+  series[0].name = "sagittal: dz (horizontal), dy";
+  series[1].name = "frontal: dx (horizontal), dy";
+  double extent = 0;
+  for (Series& line : series) line.markers = true;
+  for (const JawFrame& f : s.frames) {
+    const Eigen::Vector3d d = f.path_point - s.path_reference;
+    series[0].x.push_back(d.z());
+    series[0].y.push_back(d.y());
+    series[1].x.push_back(d.x());
+    series[1].y.push_back(d.y());
+    extent = std::max(extent, d.cwiseAbs().maxCoeff());
+  }
+  ChartStyle style;
+  style.width = style.height = 700;
+  extent = extent > 0 ? 1.05 * extent : 1.0;
+  style.x_min = style.y_min = -extent;
+  style.x_max = style.y_max = extent;
+  char point[128];
+  std::snprintf(point, sizeof(point), "(%.3g, %.3g, %.3g)", s.path_reference.x(), s.path_reference.y(),
+                s.path_reference.z());
+  FigureText text;
+  text.title = std::string("path of ") + point + " relative to the skull";
+  text.x_label = "dz (sagittal) or dx (frontal), data units";
+  text.y_label = "dy (data units, chin -> forehead)";
+  WriteChartPng(config.path_plot, series, text, style, config.Where("path_plot"));
 }
 
 void PrintFrame(const JawConfig& config, const JawFrame& f) {
@@ -208,8 +294,9 @@ int RunJaw(const std::vector<std::string>& args) {
     WriteFileAtomically(config.output_json, Json(config, summary, normalization), config.Where("output_json"));
   }
   if (!config.plot.empty()) WritePlot(config, summary);
+  if (!config.path_plot.empty()) WritePathPlot(config, summary);
   std::printf("%s", summary.BriefReport().c_str());
-  for (const char* key : {"output_csv", "output_json", "plot"}) {
+  for (const char* key : {"output_csv", "output_json", "plot", "path_plot"}) {
     const std::string path = JawConfigValue(config, key);
     if (!path.empty()) std::printf("%-13s%s\n", (std::string(key) + ":").c_str(), path.c_str());
   }
