@@ -279,6 +279,13 @@ AsymmetryIndices ComputeAsymmetryIndices(const Surface& face, const SymmetryPlan
   out.noise_sigma = options.noise_sigma >= 0 ? options.noise_sigma : EstimateNoise(f);
   std::vector<double> d(n, kNaN), noise_var(n, 0.0), side(n, 0.0);
   std::vector<Eigen::Vector3d> jacobian(n, Eigen::Vector3d::Zero());
+  // Where each node's mirror value comes from: the mirror triangle's
+  // vertices (face samples reflected) and their barycentric weights, so
+  // that noise is propagated with the correlation it has (one sample's
+  // height enters its own d and, mirrored, the d of the nodes around its
+  // mirror image).
+  std::vector<std::array<int32_t, 3>> mirror_vertex(n, {-1, -1, -1});
+  std::vector<std::array<double, 3>> mirror_weight(n, {0.0, 0.0, 0.0});
   // ∂S(q)/∂(a, b, e) for the plane n ∝ n0 + a u + b v, offset + e, at 0.
   // The tilts pivot about the input origin, the centre of a face in its frame.
   const auto mirror_motion = [&](const Eigen::Vector3d& q, int parameter) -> Eigen::Vector3d {
@@ -307,6 +314,8 @@ AsymmetryIndices ComputeAsymmetryIndices(const Surface& face, const SymmetryPlan
     for (int k = 0; k < 3; ++k) {
       const double w = loc.barycentric[k];
       lambda2 += w * w;
+      mirror_vertex[i][k] = tv[k];
+      mirror_weight[i][k] = w;
       // Mirror vertex tv[k] is face sample tv[k] reflected (vertex index = input index).
       const Eigen::Vector3d q(face.xy[tv[k]].x, face.xy[tv[k]].y, face.z[tv[k]]);
       for (int j = 0; j < 3; ++j) {
@@ -333,12 +342,32 @@ AsymmetryIndices ComputeAsymmetryIndices(const Surface& face, const SymmetryPlan
   if (overlap.empty()) {
     throw InputError(face.source + ": the face does not overlap its mirror image about the plane");
   }
+  // Σ_k (∂Q/∂z_k)² σ_n² for a quantity Q with ∂Q/∂d_i = g_i: sample k's
+  // height enters d_k (+1) and the d_i whose mirror triangle has k as a
+  // corner (−λ), so the sums are per sample, not per node.
+  std::vector<double> by_sample(n);
+  const auto noise_variance = [&](const std::function<double(std::size_t)>& g) {
+    std::fill(by_sample.begin(), by_sample.end(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double gi = g(i);
+      if (gi == 0) continue;
+      by_sample[i] += gi;
+      for (int k = 0; k < 3; ++k) {
+        if (mirror_vertex[i][k] >= 0) by_sample[mirror_vertex[i][k]] -= gi * mirror_weight[i][k];
+      }
+    }
+    double sum = 0;
+    for (double c : by_sample) sum += c * c;
+    return sigma2 * sum;
+  };
+
   // The plane's covariance. The plane minimizes ∫|d|, a least-absolute-
   // deviations fit: its gradient Σ a_i sign(d_i) J_i (a_i the node's area)
-  // has, under noise of σ_i at node i, the covariance
-  //   B = Σ a_i² (1 − (2Φ(d_i/σ_i) − 1)²) J_i J_iᵀ
-  // and the slope H = Σ a_i 2φ(d_i/σ_i)/σ_i J_i J_iᵀ; the plane's covariance
-  // is H⁻¹ B H⁻¹. Only nodes whose |d| is within a few σ of 0 hold the plane.
+  // responds to noise through the smoothed slope of sign, 2φ(d_i/σ_i)/σ_i
+  // (σ_i the noise of d_i): its covariance B is that response propagated
+  // per sample (above), its mean slope H = Σ a_i 2φ(d_i/σ_i)/σ_i J_i J_iᵀ,
+  // and the plane's covariance H⁻¹ B H⁻¹. Only nodes whose |d| is within a
+  // few σ of 0 hold the plane.
   std::vector<double> node_area(n, 0.0);
   for (int32_t t : overlap) {
     const int32_t* tv = &tri[3 * t];
@@ -347,14 +376,24 @@ AsymmetryIndices ComputeAsymmetryIndices(const Surface& face, const SymmetryPlan
     for (int k = 0; k < 3; ++k) node_area[tv[k]] += area / 3;
   }
   Eigen::Matrix3d slope = Eigen::Matrix3d::Zero(), spread = Eigen::Matrix3d::Zero();
+  std::vector<double> response(n, 0.0);  // a_i 2φ(d_i/σ_i)/σ_i
   for (std::size_t i = 0; i < n; ++i) {
     if (node_area[i] == 0 || !(noise_var[i] > 0)) continue;
     const double sigma = std::sqrt(noise_var[i]), ratio = d[i] / sigma;
     const double density = std::exp(-0.5 * ratio * ratio) / std::sqrt(2 * kPi);
-    const double mean_sign = std::erf(ratio / std::sqrt(2.0));
-    const Eigen::Matrix3d jj = jacobian[i] * jacobian[i].transpose();
-    slope += node_area[i] * 2 * density / sigma * jj;
-    spread += node_area[i] * node_area[i] * (1 - mean_sign * mean_sign) * jj;
+    response[i] = node_area[i] * 2 * density / sigma;
+    slope += response[i] * jacobian[i] * jacobian[i].transpose();
+  }
+  for (int a = 0; a < 3; ++a) {
+    for (int b = a; b < 3; ++b) {
+      // B_ab from the per-sample responses of components a and b: by
+      // polarization, (V(a + b) − V(a − b)) / 4.
+      const double plus = noise_variance([&](std::size_t i) { return response[i] * (jacobian[i](a) + jacobian[i](b)); });
+      const double minus = a == b ? 0.0 : noise_variance([&](std::size_t i) {
+        return response[i] * (jacobian[i](a) - jacobian[i](b));
+      });
+      spread(a, b) = spread(b, a) = a == b ? plus / 4 : (plus - minus) / 4;
+    }
   }
   Eigen::Matrix3d plane_cov = Eigen::Matrix3d::Zero();  // no noise: the plane is exact
   if (slope.trace() > 0) {
@@ -424,20 +463,24 @@ AsymmetryIndices ComputeAsymmetryIndices(const Surface& face, const SymmetryPlan
     index.rms = std::sqrt(std::max(0.0, sums.d2 / sums.area));
     index.mean_abs = sums.abs / sums.area;
     index.max_abs = sums.max_abs;
-    // σ: noise node by node, the plane through each index's gradient.
-    double var_volume = 0, var_rms = 0, var_abs = 0;
+    // σ: the noise per sample, the plane through each index's gradient.
+    const double rms_scale = index.rms > 0 ? 1 / (sums.area * index.rms) : 0.0;
+    const auto gradient_volume = [&](std::size_t i) { return std::isnan(d[i]) ? 0.0 : weight[i]; };
+    const auto gradient_rms = [&](std::size_t i) {
+      return std::isnan(d[i]) ? 0.0 : weight[i] * d[i] * rms_scale;
+    };
+    const auto gradient_abs = [&](std::size_t i) {
+      return std::isnan(d[i]) ? 0.0 : weight[i] * ((d[i] > 0) - (d[i] < 0)) / sums.area;
+    };
+    const double var_volume = noise_variance(gradient_volume);
+    const double var_rms = noise_variance(gradient_rms);
+    const double var_abs = noise_variance(gradient_abs);
     Eigen::Vector3d g_volume = Eigen::Vector3d::Zero(), g_rms = g_volume, g_abs = g_volume;
     for (std::size_t i = 0; i < n; ++i) {
       if (weight[i] == 0 || std::isnan(d[i])) continue;
-      const double w = weight[i];
-      const double w_rms = index.rms > 0 ? w * d[i] / (sums.area * index.rms) : 0.0;
-      const double w_abs = w * ((d[i] > 0) - (d[i] < 0)) / sums.area;
-      var_volume += w * w * noise_var[i];
-      var_rms += w_rms * w_rms * noise_var[i];
-      var_abs += w_abs * w_abs * noise_var[i];
-      g_volume += w * jacobian[i];
-      g_rms += w_rms * jacobian[i];
-      g_abs += w_abs * jacobian[i];
+      g_volume += gradient_volume(i) * jacobian[i];
+      g_rms += gradient_rms(i) * jacobian[i];
+      g_abs += gradient_abs(i) * jacobian[i];
     }
     const bool plane_known = !std::isnan(plane_cov(0, 0));
     const auto plane_var = [&](const Eigen::Vector3d& g) {
