@@ -24,11 +24,13 @@
 //
 // Standard deviations add two independent parts: the surface noise (σ_n,
 // estimated from the face's roughness: each sample against the plane of its
-// Delaunay neighbours, robustly) propagated node by node, and the plane's
-// uncertainty (Gauss-Newton covariance σ_d² (JᵀJ)⁻¹ of the node gaps in the
-// plane's two tilts and offset, J exact to first order) propagated through
-// each index's gradient. Node gaps' noise is taken as independent, so σ
-// is a lower bound where the scan's errors are spatially correlated.
+// Delaunay neighbours, robustly) propagated per sample (a sample's height
+// enters its own d and, mirrored, the d of the nodes around its mirror
+// image), and the plane's uncertainty (the least-absolute-deviations
+// sandwich H⁻¹BH⁻¹ of the plane's two tilts and offset, J = ∂d/∂plane exact
+// to first order) propagated through each index's gradient. Noise is taken
+// as independent from sample to sample, so σ is a lower bound where the
+// scan's errors are spatially correlated.
 #include <array>
 #include <cstdint>
 #include <string>
