@@ -333,6 +333,29 @@ def test_terrain_change_equals_the_cli_measure_json(tmp_path):
 # --- bad input ------------------------------------------------------------
 
 
+def test_asymmetry_equals_the_cli_json(tmp_path):
+    face = str(pathlib.Path(__file__).resolve().parents[2] / "configs" / "data" / "face_a.xyz")
+    square = [(2.0, -8.0), (7.0, -8.0), (7.0, -2.0), (2.0, -2.0)]
+    polygon = tmp_path / "cheek.txt"
+    polygon.write_text("".join("%r %r\n" % p for p in square))
+    expected = cli_json("asymmetry", face, "--regions=cheek:%s" % polygon)
+    got = surfreg.asymmetry(face, regions={"cheek": square})
+    assert list(got.regions) == list(expected["regions"])
+    for name, region in expected["regions"].items():
+        for key, value in region.items():
+            assert got.regions[name][key] == pytest.approx(value, rel=1e-9, abs=1e-12), (name, key)
+    assert got.plane["normal"] == pytest.approx(expected["refined"]["plane"]["normal"], abs=1e-12)
+    assert got.angle_deg == pytest.approx(expected["angle_deg"], rel=1e-9)
+    assert got.noise_sigma == pytest.approx(expected["noise_sigma"], rel=1e-12)
+    assert got.refined.rho_d == pytest.approx(expected["refined"]["rho_d"], rel=1e-12)
+    assert got.points.shape == (expected["points"], 3) and got.difference.shape == (expected["points"],)
+    # The array form: the same face in its frame gives the same indices.
+    again = surfreg.asymmetry(got.points)
+    assert again.regions["face"]["rms"] == pytest.approx(got.regions["face"]["rms"], rel=1e-9)
+    with pytest.raises(surfreg.InputError, match="region 'two words'"):
+        surfreg.asymmetry(face, regions={"two words": square})
+
+
 def test_too_few_points():
     a = sample(100, 0.0, 10.0, seed=6)
     with pytest.raises(ValueError, match=r"^array reference: 2 points; a surface needs at least 3"):

@@ -2,7 +2,7 @@
 // Surface (measure/surface.h, io/surface_reader.h), measure() → Measure
 // (measure/measures.h), align() → Alignment (registration/align.h) and
 // terrain_change() → TerrainChange (terrain/terrain_measure.h), series() →
-// Series (registration/series.h). Options are
+// Series (registration/series.h), asymmetry() → Asymmetry (faces_module.cc). Options are
 // keywords with the names, values and messages of the config keys, from the
 // libraries' key tables (measure/measure_keys.h, registration/align_keys.h,
 // terrain/terrain_keys.h). The CLI's code is not linked.
@@ -31,6 +31,9 @@
 namespace py = pybind11;
 
 namespace surfreg::python {
+
+void BindFaces(py::module_& m);  // tools/python/faces_module.cc
+
 namespace {
 
 std::string Keyword(const py::handle& name) { return "keyword '" + py::str(name).cast<std::string>() + "'"; }
@@ -329,6 +332,7 @@ PYBIND11_MODULE(surfreg, m) {
         return "<surfreg.Surface '" + s.source + "' " + std::to_string(s.size()) + " points>";
       });
   BindResults(m);
+  BindFaces(m);
 
   m.def("read_surface", &ReadSurfacePy, py::arg("path"), py::arg("classes") = py::none(),
         py::arg("columns") = py::none(),
