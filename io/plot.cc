@@ -385,6 +385,29 @@ void WriteMapPng(const std::string& path, const GridField& field, const FigureTe
   cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
   cairo_paint(cr);
   cairo_restore(cr);
+  if (!style.outlines.empty()) {
+    cairo_save(cr);
+    cairo_rectangle(cr, plot.left, plot.top, plot.width, plot.height);
+    cairo_clip(cr);
+    cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+    cairo_set_line_width(cr, 1.2);
+    const double dash[2] = {5.0, 3.0};
+    cairo_set_dash(cr, dash, 2, 0.0);
+    const double sx = plot.width / (field.x_max - field.x_min), sy = plot.height / (field.y_max - field.y_min);
+    for (const auto& line : style.outlines) {
+      for (std::size_t k = 0; k < line.size(); ++k) {
+        const double px = plot.left + (line[k][0] - field.x_min) * sx;
+        const double py = plot.top + (field.y_max - line[k][1]) * sy;
+        if (k == 0) {
+          cairo_move_to(cr, px, py);
+        } else {
+          cairo_line_to(cr, px, py);
+        }
+      }
+      cairo_stroke(cr);
+    }
+    cairo_restore(cr);
+  }
   DrawAxes(cr, plot, width, x, y, text);
   DrawColorBar(cr, bar_rect, bar, style);
   SavePng(canvas, path, label);

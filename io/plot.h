@@ -7,6 +7,7 @@
 // Files are written atomically (io/atomic_file.h): a failed or
 // interrupted write leaves no file. Errors (unwritable path, a figure with
 // nothing to draw) throw InputError whose message starts with `label`.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,10 @@ struct MapStyle {
   double limit = 0;
   double value_min = 0, value_max = 0;
   std::string colorbar_label;  // e.g. "dz (m)"
+  // Lines drawn over the map (dashed, dark grey), in the field's x, y: region
+  // outlines, a mid-line. A polyline is closed only if its last point repeats
+  // its first.
+  std::vector<std::vector<std::array<double, 2>>> outlines;
 };
 
 // A map of `field` with a colour bar, one pixel per cell at most (a larger

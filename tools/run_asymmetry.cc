@@ -137,7 +137,7 @@ FaceAsymmetry Analyze(const std::string& file, const Request& request) {
   return a;
 }
 
-void WriteMap(const FaceAsymmetry& a) {
+void WriteMap(const FaceAsymmetry& a, const std::vector<FaceRegion>& regions) {
   const AsymmetryMap map = MapAsymmetry(a.face, a.symmetry.refined.plane, kMapCells);
   GridField field;
   field.columns = map.columns;
@@ -158,6 +158,24 @@ void WriteMap(const FaceAsymmetry& a) {
   MapStyle style;
   style.diverging = true;
   style.colorbar_label = "face - mirror (" + FLAGS_units + "; > 0: this side stands out)";
+  // The regions: the thirds' edges, the plane's trace at the face's mean
+  // depth (the halves' border), the user's polygons.
+  for (int k = 1; k < 3; ++k) {
+    style.outlines.push_back({{map.x_min, a.indices.thirds_y[k]}, {map.x_max, a.indices.thirds_y[k]}});
+  }
+  const SymmetryPlane& plane = a.symmetry.refined.plane;
+  double depth = 0;
+  for (const auto& p : a.frame.points) depth += p[2];
+  depth /= static_cast<double>(std::max<std::size_t>(1, a.frame.points.size()));
+  const auto trace_x = [&](double y) {
+    return (plane.offset - plane.normal[1] * y - plane.normal[2] * depth) / plane.normal[0];
+  };
+  style.outlines.push_back({{trace_x(map.y_min), map.y_min}, {trace_x(map.y_max), map.y_max}});
+  for (const FaceRegion& region : regions) {
+    std::vector<std::array<double, 2>> ring = region.polygon;
+    ring.push_back(ring.front());
+    style.outlines.push_back(std::move(ring));
+  }
   WriteMapPng(FLAGS_map, field, text, style, "flag '--map'");
 }
 
@@ -203,7 +221,7 @@ void PrintWritten() {
 
 int RunOne(const std::string& file, const Request& request) {
   const FaceAsymmetry a = Analyze(file, request);
-  if (!FLAGS_map.empty()) WriteMap(a);
+  if (!FLAGS_map.empty()) WriteMap(a, request.index_options.regions);
   if (!FLAGS_points.empty()) WritePointDifferences(a, FLAGS_points, "flag '--points'");
   Finish(FaceAsymmetryJson(a, FLAGS_map).str(), TableHeader(a) + TableRow(a));
   if (!FLAGS_json) {
