@@ -144,12 +144,6 @@ class PartResiduals : public ceres::CostFunction {
   Theta ThetaOf(const double* x) const {
     return {x[0] / scale_, x[1] / scale_, x[2] / scale_, x[3], x[4], x[5]};
   }
-  // The residuals and Jacobians (θ units) of the last evaluation if it was
-  // at x, else null: Ceres evaluates the Jacobian at each accepted step, so
-  // the solution's usually need no new evaluation.
-  const AxialResiduals* ResidualsAt(const double* x) const {
-    return evaluated_ && ok_ && std::equal(x, x + 6, x_.begin()) ? &residuals_ : nullptr;
-  }
 
  private:
   PairState& state_;
@@ -177,8 +171,6 @@ class StepTolerance : public ceres::IterationCallback {
 
 struct AxialSolve {
   Theta theta{};
-  Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();  // at theta
-  bool covariance_ok = false;
   double initial_cost = 0, final_cost = 0;
   int iterations = 0;
   bool converged = false, usable = false;
@@ -225,13 +217,6 @@ AxialSolve SolveAxialPart(PairState& state, const Theta& theta0, double scale, i
                   summary.termination_type == ceres::USER_SUCCESS;
   out.usable = summary.IsSolutionUsable() && std::isfinite(summary.final_cost);
   out.message = summary.message;
-  if (const AxialResiduals* at = cost->ResidualsAt(x.data())) {
-    out.covariance_ok = jaw_internal::GaussNewtonCovariance(*at, &out.covariance);
-  } else if (state.Update(out.theta)) {
-    AxialResiduals residuals;
-    ComputeAxialResiduals(state, settings, true, &residuals);
-    out.covariance_ok = jaw_internal::GaussNewtonCovariance(residuals, &out.covariance);
-  }
   return out;
 }
 
@@ -305,19 +290,18 @@ JawPartResult RegisterPart(const ReferencePart& reference, const Surface& part,
   }
   state.Update(theta);
   result.rho_d_axial_after = MeanAbsResidual(state);
-  // The covariance where the part ends: the axial solution's, else (kept
-  // warm start, volume refinement) evaluated there with the same settings.
-  result.covariance_ok = solved.covariance_ok;
-  result.covariance = solved.covariance;
-  if (theta != solved.theta || !solved.usable) {
-    AxialResiduals residuals;
-    ComputeAxialResiduals(state, PartSettings(options, overlap), true, &residuals);
-    result.covariance_ok = GaussNewtonCovariance(residuals, &result.covariance);
-  }
   if (measure) {
     const VolumeCostValue volume = EvaluateVolumeCost(state, false, ExecutionFor(options.num_threads));
     result.mean_abs_dz_after = volume.PerArea();
     result.overlap_area_after = volume.area;
+    // Where the part ends (the axial solution, or the kept warm start, or
+    // the volume refinement), with the settings it was solved with.
+    const PartCovariance covariance =
+        PartSandwichCovariance(state, PartSettings(options, overlap), scale);
+    result.covariance_ok = covariance.ok;
+    result.covariance = covariance.covariance;
+    result.covariance_tiles = covariance.tiles;
+    result.covariance_measured_curvature = covariance.measured_curvature;
   }
   result.reference_from_frame = RigidOfTheta(theta, moving.centroid, origin).ToMatrix();
   result.centre = moving.centroid + Eigen::Vector3d(origin[0], origin[1], origin[2]);

@@ -38,10 +38,17 @@
 // J of the reference frame is the identity.
 //
 // From the J_k (docs/faces.md, Jaw motion):
-// - σ: each part's Gauss-Newton covariance σ²(JᵀJ)⁻¹ of its six parameters
-//   at the solution (σ² the variance of the kept, weighted residuals),
-//   propagated to first order to J_k = U_k · L_k⁻¹ (the parts independent):
-//   the σ of the reported Euler angles and translation, and of the path point;
+// - σ: each part's covariance of its six parameters at the solution, a
+//   sandwich H⁻¹ M H⁻¹ clustered over spatial tiles of the part
+//   (registration/sandwich.h; jaw_internal.h PartSandwichCovariance): M the
+//   spread of the tiles' shares of Jᵀr over the kept residuals (the
+//   sampling's interpolation errors are correlated within a tile), H the
+//   curvature of the trimmed cost by central differences (smaller than
+//   JᵀJ: nodes cross the trim threshold as θ moves). Propagated to first
+//   order to J_k = U_k · L_k⁻¹ (the parts independent): the σ of the
+//   reported Euler angles and translation, and of the path point. On fresh
+//   samplings of one motion the errors are a median 0.76 σ (0.67 if
+//   calibrated; the Gauss-Newton σ²(JᵀJ)⁻¹ gave 2.1); docs/faces.md;
 // - the path of a point p0 of the reference (JawOptions::path_point, or the
 //   mean of the kPathLowestPoints reference lower-part points of smallest
 //   y): p_k = J_k · p0 (helical_axis.h);
@@ -153,13 +160,19 @@ struct JawPartResult {
   // vertical distance, data units) and overlap area at the result.
   double rho_d_axial_before = 0, rho_d_axial_after = 0;
   double mean_abs_dz_after = 0, overlap_area_after = 0;
-  // The Gauss-Newton covariance σ²(JᵀJ)⁻¹ of the six parameters θ = (ω, s)
-  // at the result: reference_from_frame = R(ω)(p − centre) + centre + s
-  // (ω radians, s data units), σ² = Σr² / (kept − 6) over the kept residuals.
-  // covariance_ok false (covariance NaN): fewer than 7 kept residuals or
-  // JᵀJ singular. The reference frame's parts: zeros, ok.
+  // The covariance of the six parameters θ = (ω, s) at the result:
+  // reference_from_frame = R(ω)(p − centre) + centre + s (ω radians, s data
+  // units); the clustered sandwich of the trimmed axial cost
+  // (jaw_internal.h PartSandwichCovariance), over covariance_tiles spatial
+  // tiles, its curvature measured by central differences
+  // (covariance_measured_curvature; false: JᵀJ of the kept residuals, the
+  // fallback where the differences give no positive definite curvature).
+  // covariance_ok false (covariance NaN): fewer than 7 kept residuals, JᵀJ
+  // singular or fewer than 12 tiles. The reference frame's parts: zeros, ok.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Zero();
   bool covariance_ok = true;
+  int covariance_tiles = 0;
+  bool covariance_measured_curvature = true;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the part's centroid, input coordinates
 };
 

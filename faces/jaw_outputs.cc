@@ -1,6 +1,7 @@
 // What TrackJaw derives from the parts' registrations (jaw.h): the
-// Gauss-Newton covariance of a part, its propagation to the jaw's reported
-// parameters and the path point, the default path point, the summary text.
+// covariance of a part (a clustered sandwich, jaw_internal.h), its
+// propagation to the jaw's reported parameters and the path point, the
+// default path point, the summary text.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
@@ -12,7 +13,10 @@
 
 #include "faces/helical_axis.h"
 #include "faces/jaw_internal.h"
+#include "registration/align_options.h"
 #include "registration/rigid_motion.h"
+#include "registration/sandwich.h"
+#include "registration/solvers.h"
 
 namespace surfreg {
 namespace jaw_internal {
@@ -66,6 +70,53 @@ bool GaussNewtonCovariance(const AxialResiduals& residuals, Matrix6d* covariance
   *covariance = variance * eigen.eigenvectors() * lambda.cwiseInverse().asDiagonal() *
                 eigen.eigenvectors().transpose();
   return true;
+}
+
+PartCovariance PartSandwichCovariance(PairState& state, const AxialSettings& settings,
+                                      double scale) {
+  PartCovariance out;
+  out.covariance = Matrix6d::Constant(kNaN);
+  AxialResiduals residuals;
+  ComputeAxialResiduals(state, settings, /*jacobians=*/true, &residuals);
+  Matrix6d gauss_newton;
+  if (!GaussNewtonCovariance(residuals, &gauss_newton)) return out;
+  // The sandwich of the cost minimized (align's, for the axial cost).
+  AlignOptions options;  // all six free
+  SolveContext context;
+  context.options = &options;
+  context.axial = settings;
+  context.rotation_scale = scale;
+  std::array<double, 6> step{};
+  for (int i = 0; i < 6; ++i) {
+    step[i] = kBreadStepSigmas * std::sqrt(std::max(0.0, gauss_newton(i, i)));
+  }
+  const SandwichEstimate sandwich = AxialSandwichCovariance(state, context, step);
+  out.tiles = sandwich.tiles;
+  if (sandwich.ok) {
+    out.ok = true;
+    out.measured_curvature = true;
+    out.covariance = sandwich.covariance;
+    return out;
+  }
+  // The differences failed (no positive definite H: e.g. all residuals 0):
+  // the same meat with JᵀJ for H.
+  const Matrix6d meat = AxialScoreSpread(state, residuals, 6, &out.tiles);
+  if (out.tiles < 12) return out;
+  Matrix6d h = Matrix6d::Zero();
+  for (std::size_t k = 0; k < residuals.r.size(); ++k) {
+    if (!residuals.active[k]) continue;
+    const Eigen::Map<const Eigen::Matrix<double, 6, 1>> row(residuals.jacobian[k].data());
+    h.selfadjointView<Eigen::Lower>().rankUpdate(row);
+  }
+  h = h.selfadjointView<Eigen::Lower>();
+  // Positive definite: GaussNewtonCovariance checked it.
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(h);
+  const Matrix6d inverse = eigen.eigenvectors() * eigen.eigenvalues().cwiseInverse().asDiagonal() *
+                           eigen.eigenvectors().transpose();
+  out.covariance = inverse * meat * inverse;
+  out.ok = out.covariance.allFinite();
+  if (!out.ok) out.covariance = Matrix6d::Constant(kNaN);
+  return out;
 }
 
 void PropagateFrameCovariance(const Eigen::Vector3d& p0, JawFrame* frame) {

@@ -256,15 +256,8 @@ Vector6 AxialGradient(const PairState& state, const AxialSettings& settings) {
 
 }  // namespace
 
-SandwichEstimate AxialSandwichCovariance(PairState& state, const SolveContext& context,
-                                         const std::array<double, 6>& step) {
-  SandwichEstimate out;
-  const std::vector<int> free = FreeParameters(*context.options);
-  const int n = static_cast<int>(free.size());
-  if (n == 0) return out;
-  const std::array<double, 6> theta = state.theta();
-  AxialResiduals residuals;
-  ComputeAxialResiduals(state, context.axial, /*jacobians=*/true, &residuals);
+Matrix6 AxialScoreSpread(const PairState& state, const AxialResiduals& residuals, int free_parameters,
+                         int* tiles) {
   // Nodes: A's first, then B's (moved); binned by where they lie, over the
   // same fine grid on A's bounding box as the volume cost's cells.
   const ReferenceSide& a = state.reference();
@@ -277,11 +270,25 @@ SandwichEstimate AxialSandwichCovariance(PairState& state, const SolveContext& c
     t.d_abs += residuals.r[k] * Eigen::Map<const Vector6>(residuals.jacobian[k].data());  // its share of Jᵀr
     t.used = true;
   }
-  const std::vector<TileSums> tiles = MergedTiles(fine, TileTarget(state));
-  out.tiles = static_cast<int>(tiles.size());
-  if (out.tiles < 2 * n) return out;
+  const std::vector<TileSums> merged = MergedTiles(fine, TileTarget(state));
+  *tiles = static_cast<int>(merged.size());
+  if (merged.size() <= static_cast<std::size_t>(std::max(1, free_parameters))) return Matrix6::Zero();
   std::vector<Vector6> scores;
-  for (const TileSums& t : tiles) scores.push_back(t.d_abs);
+  for (const TileSums& t : merged) scores.push_back(t.d_abs);
+  return ScoreSpread(scores, free_parameters);
+}
+
+SandwichEstimate AxialSandwichCovariance(PairState& state, const SolveContext& context,
+                                         const std::array<double, 6>& step) {
+  SandwichEstimate out;
+  const std::vector<int> free = FreeParameters(*context.options);
+  const int n = static_cast<int>(free.size());
+  if (n == 0) return out;
+  const std::array<double, 6> theta = state.theta();
+  AxialResiduals residuals;
+  ComputeAxialResiduals(state, context.axial, /*jacobians=*/true, &residuals);
+  const Matrix6 meat = AxialScoreSpread(state, residuals, n, &out.tiles);
+  if (out.tiles < 2 * n) return out;
   // The bread by central differences of Jᵀr, not JᵀJ: on noisy surfaces the
   // Jacobian's slopes carry the noise too, and JᵀJ then overstates the
   // curvature along the horizontal motions (the Gauss-Newton bread gave
@@ -304,7 +311,7 @@ SandwichEstimate AxialSandwichCovariance(PairState& state, const SolveContext& c
     }
   }
   state.Update(theta);
-  out.ok = Sandwich(hessian, ScoreSpread(scores, n), free, context.rotation_scale, &out.covariance);
+  out.ok = Sandwich(hessian, meat, free, context.rotation_scale, &out.covariance);
   return out;
 }
 

@@ -17,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include "registration/axial_cost.h"
 #include "registration/pair_state.h"
 #include "registration/solvers.h"
 
@@ -46,6 +47,15 @@ struct SandwichEstimate {
 // solve's, at its solution), else a new one.
 SandwichEstimate SandwichCovariance(const PairState& state, const SolveContext& context,
                                     VolumeCostCache* cache = nullptr);
+
+// The meat of the axial cost's sandwich from residuals computed at the
+// state's θ (with Jacobians): the active nodes' shares r_k J_kᵀ of Jᵀr,
+// summed over the tiles AxialSandwichCovariance uses (A's nodes, then B's
+// moved ones, binned where they lie; about SandwichTileCount tiles), and
+// their spread Σ_b (s_b − s̄)(s_b − s̄)ᵀ · B / (B − p), p the free parameters.
+// `tiles`: the tiles that held an active node.
+Eigen::Matrix<double, 6, 6> AxialScoreSpread(const PairState& state, const AxialResiduals& residuals,
+                                             int free_parameters, int* tiles);
 
 // The same for the axial cost at the state's θ: H by central differences
 // of Jᵀr, M the spread of the tiles' shares of Jᵀr (nodes binned where

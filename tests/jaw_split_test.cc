@@ -124,12 +124,19 @@ TEST(JawSplit, RefusesASequenceWithoutMotion) {
   }
 }
 
-// σ against a Monte Carlo over samplings: the same motion, each run with
-// fresh samples of both frames; the errors' spread against the reported σ.
+// σ against a Monte Carlo over samplings: the same motion (frame 2, 6°
+// opening), each run with fresh samples of every frame (seeds 1000..1023);
+// |error| / σ pooled over the runs and the six parameters. Calibrated: a
+// median of 0.674 and 0.27% beyond 3σ. Measured (faces/jaw_internal.h
+// PartSandwichCovariance; docs/faces.md, Jaw motion): median 0.76, none
+// beyond 3σ (over 6 blocks of 24 seeds: 0.60–1.02, at most 1 of 144); the
+// per-parameter spread 0.81–1.06 σ (40 seeds). The Gauss-Newton σ it
+// replaces gave 2.06 and 30% beyond 3σ; the same sandwich with JᵀJ for the
+// curvature 1.39 and 10%.
 TEST(JawStddev, MatchesTheSpreadOverSamplings) {
   std::vector<double> ratios;  // |error| / σ, every parameter of every run
   std::array<double, 6> sum_square{}, sum_sigma{}, sum{};
-  const int runs = 12;
+  const int runs = 24;
   for (int run = 0; run < runs; ++run) {
     ChewingOptions chewing;
     chewing.frames = 3;
@@ -142,6 +149,11 @@ TEST(JawStddev, MatchesTheSpreadOverSamplings) {
     options.boundary.margin = 2.0;
     const JawSummary summary = TrackJaw(Surfaces(frames), options);
     const JawFrame& f = summary.frames[2];
+    for (const JawPartResult* part : {&f.upper, &f.lower}) {
+      EXPECT_TRUE(part->covariance_ok);
+      EXPECT_TRUE(part->covariance_measured_curvature);  // not the JᵀJ fallback
+      EXPECT_GE(part->covariance_tiles, 32);             // about SandwichTileCount (64)
+    }
     const Eigen::Matrix3d truth_rotation = frames[2].jaw.topLeftCorner<3, 3>();
     const std::array<double, 3> truth_euler = EulerDegrees(truth_rotation);
     for (int k = 0; k < 6; ++k) {
@@ -156,8 +168,10 @@ TEST(JawStddev, MatchesTheSpreadOverSamplings) {
     EXPECT_EQ(summary.frames[0].stddev, (std::array<double, 6>{}));  // the reference: exact
   }
   const double median = Median(ratios);
-  std::printf("median |error|/sigma over %d runs x 6 parameters: %.3f (0.674 if calibrated)\n",
-              runs, median);
+  const auto beyond = std::count_if(ratios.begin(), ratios.end(), [](double r) { return r > 3; });
+  std::printf("median |error|/sigma over %d runs x 6 parameters: %.3f (0.674 if calibrated); "
+              "%d of %zu beyond 3 sigma\n",
+              runs, median, static_cast<int>(beyond), ratios.size());
   const char* names[6] = {"rx", "ry", "rz", "tx", "ty", "tz"};
   for (int k = 0; k < 6; ++k) {
     const double mean = sum[k] / runs;
@@ -167,12 +181,9 @@ TEST(JawStddev, MatchesTheSpreadOverSamplings) {
                 names[k], mean, spread, std::sqrt(sum_square[k] / runs), sum_sigma[k] / runs,
                 spread / (sum_sigma[k] / runs));
   }
-  // The Gauss-Newton σ assumes independent residuals; the sampling's
-  // interpolation errors are correlated in space, and the trimmed residuals
-  // understate the variance: measured 2.2 (the errors' spread 1.5–3.3 × σ).
-  // The bounds catch a σ wrong by its units or scale, not that.
-  EXPECT_GT(median, 0.674 / 3);
-  EXPECT_LT(median, 0.674 * 5);
+  EXPECT_GE(median, 0.4);
+  EXPECT_LE(median, 1.0);
+  EXPECT_LE(static_cast<double>(beyond), 0.03 * static_cast<double>(ratios.size()));
 }
 
 // The path: p_k = J_k · p0 for the default point (the mean of the lowest

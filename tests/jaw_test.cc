@@ -126,6 +126,28 @@ TEST(JawTrack, HeadMotionAloneGivesIdentityJaw) {
   EXPECT_EQ(summary.frames[1].upper.verdict, Verdict::kConvergedImproved);
 }
 
+// A frame identical to the reference: every kept gap is 0, so is σ. The
+// sandwich's central differences have no step (0 Gauss-Newton σ) and JᵀJ
+// stands in for the curvature (faces/jaw_internal.h PartSandwichCovariance).
+TEST(JawTrack, IdenticalFrameHasZeroSigma) {
+  ChewingOptions chewing;
+  chewing.frames = 1;
+  chewing.upper_points = chewing.lower_points = 2000;
+  const std::vector<ChewingFrame> one = MakeChewingSequence(Face(), chewing);
+  JawOptions options;
+  options.boundary.y_level = chewing.boundary_y;
+  const Surface surface = MakeSurface(one[0].points, {}, "a");
+  const JawSummary summary = TrackJaw({surface, surface}, options);
+  const JawFrame& f = summary.frames[1];
+  for (const JawPartResult* part : {&f.upper, &f.lower}) {
+    EXPECT_TRUE(part->covariance_ok);
+    EXPECT_FALSE(part->covariance_measured_curvature);
+    EXPECT_GE(part->covariance_tiles, 32);
+    EXPECT_LT(part->covariance.norm(), 1e-20);
+  }
+  for (int k = 0; k < 6; ++k) EXPECT_LT(f.stddev[k], 1e-9) << k;
+}
+
 // A reference in the middle: frames before it are tracked backwards; the
 // truth is then relative to that frame: J_k = H_k · H_ref⁻¹ (in the
 // reference's skull frame, G_ref⁻¹ conjugated).
