@@ -103,6 +103,16 @@ void ApplyGapWeight(double floor_fraction, ReferenceSide* reference, const Execu
     a.weight[v] *= floor / (floor + (local[v] >= 0 ? local[v] : median));
 }
 
+double PositiveQuantile(const std::vector<double>& values, double q) {
+  std::vector<double> known;
+  for (double a : values)
+    if (a > 0) known.push_back(a);
+  if (known.size() < 10) return 0;
+  const auto k = known.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(known.size() - 1));
+  std::nth_element(known.begin(), k, known.end());
+  return *k;
+}
+
 namespace {
 
 // Each node's local area per sample: a third of its data triangles' xy area
@@ -136,17 +146,6 @@ std::vector<double> LocalAreaPerSample(std::size_t n, const Triangulation& mesh,
   for (std::size_t v = 0; v < n; ++v)
     if (count[v] > 0 && sum[v] > 0) local[v] = sum[v] / count[v];
   return local;
-}
-
-// The q-quantile of the positive values (0 for fewer than 10).
-double PositiveQuantile(const std::vector<double>& values, double q) {
-  std::vector<double> known;
-  for (double a : values)
-    if (a > 0) known.push_back(a);
-  if (known.size() < 10) return 0;
-  const auto k = known.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(known.size() - 1));
-  std::nth_element(known.begin(), k, known.end());
-  return *k;
 }
 
 double Spread(const std::vector<double>& local) {

@@ -71,6 +71,10 @@ bool ApplyDensityWeight(double uneven_ratio, ReferenceSide* reference);
 // design and the chord correction (chord_bias.h), whose model is one area
 // per sample for the whole surface, is not made.
 double DensitySpread(const ReferenceSide& reference);
+
+// The q-quantile (0 ≤ q ≤ 1, by selection) of the positive values; 0 for
+// fewer than 10 of them.
+double PositiveQuantile(const std::vector<double>& values, double q);
 double DensitySpread(const MovingSide& moving);
 
 }  // namespace surfreg

@@ -7,7 +7,9 @@
 // the vertical gap d at every reference sample in the overlap; its centre m
 // (the median over the samples now taken as stable); each sample's scale
 // s_i = σ √(n² + g_i²), g_i the interpolation gap the reference's curvature
-// predicts there (gap_weight.h CurvatureGaps), n the noise (1.4826 × MAD of
+// predicts there (gap_weight.h CurvatureGaps, at the median spacing; where
+// the sampling is uneven by design, a mesh's vertices, scaled by the local
+// area per sample over its median), n the noise (1.4826 × MAD of
 // d on the flatter half of the stable samples) and σ the robust scale of
 // (d − m) / √(n² + g²) on the stable samples, so that curved places, whose
 // gaps are larger at the right pose, are not taken for change; a change
@@ -98,7 +100,9 @@ StableTerrain ClassifyStable(const Surface& reference, const std::vector<double>
 struct SampleAdjacency {
   std::vector<int32_t> offset;  // size n + 1
   std::vector<int32_t> neighbour;
-  std::vector<double> curvature_gap;  // g_i, data units (the median where undefined)
+  // g_i, data units (the median curvature where undefined), at the local
+  // spacing where the density is uneven by design (stable_terrain.cc).
+  std::vector<double> curvature_gap;
   // ∂z/∂x, ∂z/∂y at each sample: the least-squares plane through it and
   // its neighbours (0 where they do not determine one).
   std::vector<std::array<double, 2>> gradient;
