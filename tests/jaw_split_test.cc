@@ -20,19 +20,6 @@
 namespace surfreg {
 namespace {
 
-const std::vector<std::array<double, 3>>& Face() {
-  static const auto* face = new std::vector<std::array<double, 3>>(ReadFacePoints(DenseFacePath()));
-  return *face;
-}
-
-std::vector<Surface> Surfaces(const std::vector<ChewingFrame>& frames) {
-  std::vector<Surface> out;
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    out.push_back(MakeSurface(frames[k].points, {}, "frame " + std::to_string(k)));
-  }
-  return out;
-}
-
 double Median(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
   return v[v.size() / 2];
@@ -48,12 +35,12 @@ TEST(JawSplit, FindsTheMouthLineAndTracks) {
     chewing.period_frames = 6;
     chewing.upper_points = chewing.lower_points = 3000;
     chewing.boundary_y = truth;
-    const std::vector<ChewingFrame> frames = MakeChewingSequence(Face(), chewing);
+    const std::vector<ChewingFrame> frames = MakeChewingSequence(DenseFace(), chewing);
     JawOptions options;
     options.boundary.margin = 2.0;
     options.find_boundary = true;
     options.boundary.y_level = 1e3;  // not used: found
-    const JawSummary summary = TrackJaw(Surfaces(frames), options);
+    const JawSummary summary = TrackJaw(FrameSurfaces(frames), options);
     ASSERT_TRUE(summary.boundary_found);
     std::printf(
         "mouth line %.1f: found %.3f from frame %d (%d of %d points moving, %d misclassified, "
@@ -77,7 +64,7 @@ TEST(JawSplit, FindJawBoundaryDirectly) {
   ChewingOptions chewing;
   chewing.frames = 4;
   chewing.upper_points = chewing.lower_points = 2000;
-  const std::vector<Surface> frames = Surfaces(MakeChewingSequence(Face(), chewing));
+  const std::vector<Surface> frames = FrameSurfaces(MakeChewingSequence(DenseFace(), chewing));
   JawOptions options;
   options.boundary.margin = 1.5;
   int loads = 0;
@@ -107,7 +94,7 @@ TEST(JawSplit, RefusesASequenceWithoutMotion) {
   chewing.upper_points = chewing.lower_points = 2000;
   chewing.max_opening_deg = 0;
   chewing.lateral_deg = 0;
-  const std::vector<Surface> resampled = Surfaces(MakeChewingSequence(Face(), chewing));
+  const std::vector<Surface> resampled = FrameSurfaces(MakeChewingSequence(DenseFace(), chewing));
   const std::vector<Surface> identical = {resampled[0], resampled[0], resampled[0]};
   JawOptions options;
   options.find_boundary = true;
@@ -143,11 +130,11 @@ TEST(JawStddev, MatchesTheSpreadOverSamplings) {
     chewing.period_frames = 6;
     chewing.upper_points = chewing.lower_points = 3000;
     chewing.seed = 1000 + run;
-    const std::vector<ChewingFrame> frames = MakeChewingSequence(Face(), chewing);
+    const std::vector<ChewingFrame> frames = MakeChewingSequence(DenseFace(), chewing);
     JawOptions options;
     options.boundary.y_level = chewing.boundary_y;
     options.boundary.margin = 2.0;
-    const JawSummary summary = TrackJaw(Surfaces(frames), options);
+    const JawSummary summary = TrackJaw(FrameSurfaces(frames), options);
     const JawFrame& f = summary.frames[2];
     for (const JawPartResult* part : {&f.upper, &f.lower}) {
       EXPECT_TRUE(part->covariance_ok);
@@ -193,11 +180,11 @@ TEST(JawPath, PathPointAndHelicalAxes) {
   ChewingOptions chewing;
   chewing.frames = 5;
   chewing.upper_points = chewing.lower_points = 3000;
-  const std::vector<ChewingFrame> frames = MakeChewingSequence(Face(), chewing);
+  const std::vector<ChewingFrame> frames = MakeChewingSequence(DenseFace(), chewing);
   JawOptions options;
   options.boundary.y_level = chewing.boundary_y;
   options.boundary.margin = 2.0;
-  const JawSummary summary = TrackJaw(Surfaces(frames), options);
+  const JawSummary summary = TrackJaw(FrameSurfaces(frames), options);
   // The default point: the mean of the 5 lowest points below the margin.
   std::vector<std::array<double, 3>> lower;
   for (const auto& p : frames[0].points) {
@@ -228,7 +215,7 @@ TEST(JawPath, PathPointAndHelicalAxes) {
   }
   JawOptions given = options;
   given.path_point = Eigen::Vector3d(0, -60, -20);
-  const JawSummary other = TrackJaw(Surfaces(frames), given);
+  const JawSummary other = TrackJaw(FrameSurfaces(frames), given);
   EXPECT_TRUE(other.path_point_given);
   EXPECT_EQ(other.path_reference, Eigen::Vector3d(0, -60, -20));
   EXPECT_LT(
@@ -236,7 +223,7 @@ TEST(JawPath, PathPointAndHelicalAxes) {
           .norm(),
       1e-9);
   given.path_point = Eigen::Vector3d(0, std::nan(""), 0);
-  EXPECT_THROW(TrackJaw(Surfaces(frames), given), InputError);
+  EXPECT_THROW(TrackJaw(FrameSurfaces(frames), given), InputError);
 }
 
 }  // namespace

@@ -25,19 +25,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-const std::vector<std::array<double, 3>>& Face() {
-  static const auto* face = new std::vector<std::array<double, 3>>(ReadFacePoints(DenseFacePath()));
-  return *face;
-}
-
-std::vector<Surface> Surfaces(const std::vector<ChewingFrame>& frames) {
-  std::vector<Surface> out;
-  for (std::size_t k = 0; k < frames.size(); ++k) {
-    out.push_back(MakeSurface(frames[k].points, {}, "frame " + std::to_string(k)));
-  }
-  return out;
-}
-
 Eigen::Matrix4d Motion(const Eigen::Vector3d& axis, double angle_deg, const Eigen::Vector3d& shift) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   m.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle_deg * kPi / 180, axis.normalized()).toRotationMatrix();
@@ -70,11 +57,11 @@ TEST(JawTrack, RecoversTheChewingMotionOnEveryFrame) {
   chewing.frames = 8;
   chewing.upper_points = 5000;
   chewing.lower_points = 5000;
-  const std::vector<ChewingFrame> frames = MakeChewingSequence(Face(), chewing);
+  const std::vector<ChewingFrame> frames = MakeChewingSequence(DenseFace(), chewing);
   JawOptions options;
   options.boundary.y_level = chewing.boundary_y;
   options.boundary.margin = 2.0;
-  const JawSummary summary = TrackJaw(Surfaces(frames), options);
+  const JawSummary summary = TrackJaw(FrameSurfaces(frames), options);
   ASSERT_EQ(summary.frames.size(), frames.size());
   EXPECT_TRUE(summary.frames[0].is_reference);
   EXPECT_EQ(summary.frames[0].jaw, Eigen::Matrix4d::Identity());
@@ -106,7 +93,7 @@ TEST(JawTrack, RecoversTheChewingMotionOnEveryFrame) {
 TEST(JawTrack, HeadMotionAloneGivesIdentityJaw) {
   ChewingOptions chewing;
   chewing.frames = 1;
-  const std::vector<ChewingFrame> one = MakeChewingSequence(Face(), chewing);
+  const std::vector<ChewingFrame> one = MakeChewingSequence(DenseFace(), chewing);
   const Eigen::Matrix4d g = Motion({0.2, 1.0, 0.3}, 0.8, {0.5, -0.4, 0.3});
   std::vector<std::array<double, 3>> moved = one[0].points;
   for (auto& p : moved) {
@@ -133,7 +120,7 @@ TEST(JawTrack, IdenticalFrameHasZeroSigma) {
   ChewingOptions chewing;
   chewing.frames = 1;
   chewing.upper_points = chewing.lower_points = 2000;
-  const std::vector<ChewingFrame> one = MakeChewingSequence(Face(), chewing);
+  const std::vector<ChewingFrame> one = MakeChewingSequence(DenseFace(), chewing);
   JawOptions options;
   options.boundary.y_level = chewing.boundary_y;
   const Surface surface = MakeSurface(one[0].points, {}, "a");
@@ -157,12 +144,12 @@ TEST(JawTrack, ReferenceInTheMiddle) {
   chewing.upper_points = chewing.lower_points = 3000;
   chewing.head_angle_deg = 0;
   chewing.head_shift = 0;
-  const std::vector<ChewingFrame> frames = MakeChewingSequence(Face(), chewing);
+  const std::vector<ChewingFrame> frames = MakeChewingSequence(DenseFace(), chewing);
   JawOptions options;
   options.boundary.y_level = chewing.boundary_y;
   options.boundary.margin = 2.0;
   options.reference = 2;
-  const JawSummary summary = TrackJaw(Surfaces(frames), options);
+  const JawSummary summary = TrackJaw(FrameSurfaces(frames), options);
   EXPECT_TRUE(summary.frames[2].is_reference);
   for (int k = 0; k < 4; ++k) {
     const Eigen::Matrix4d truth = frames[k].jaw * frames[2].jaw.inverse();
@@ -180,8 +167,8 @@ TEST(JawTrack, PolygonBoundaryTracksAsTheSameLine) {
   ChewingOptions chewing;
   chewing.frames = 4;
   chewing.upper_points = chewing.lower_points = 3000;
-  const std::vector<ChewingFrame> frames = MakeChewingSequence(Face(), chewing);
-  const std::vector<Surface> surfaces = Surfaces(frames);
+  const std::vector<ChewingFrame> frames = MakeChewingSequence(DenseFace(), chewing);
+  const std::vector<Surface> surfaces = FrameSurfaces(frames);
   JawOptions line;
   line.boundary.y_level = chewing.boundary_y;
   line.boundary.margin = 2.0;
@@ -266,11 +253,11 @@ TEST(JawTrack, ReferenceSplitCounts) {
   ChewingOptions chewing;
   chewing.frames = 2;
   chewing.upper_points = chewing.lower_points = 2000;
-  const std::vector<ChewingFrame> frames = MakeChewingSequence(Face(), chewing);
+  const std::vector<ChewingFrame> frames = MakeChewingSequence(DenseFace(), chewing);
   JawOptions options;
   options.boundary.y_level = -30;
   options.boundary.margin = 3;
-  const JawSummary summary = TrackJaw(Surfaces(frames), options);
+  const JawSummary summary = TrackJaw(FrameSurfaces(frames), options);
   int upper = 0, lower = 0, dropped = 0;
   for (const auto& p : frames[0].points) {
     if (std::fabs(p[1] + 30) < 3) {
@@ -288,7 +275,7 @@ TEST(JawTrack, InvalidInputs) {
   ChewingOptions chewing;
   chewing.frames = 2;
   chewing.upper_points = chewing.lower_points = 500;
-  const std::vector<Surface> frames = Surfaces(MakeChewingSequence(Face(), chewing));
+  const std::vector<Surface> frames = FrameSurfaces(MakeChewingSequence(DenseFace(), chewing));
   JawOptions options;
   options.boundary.y_level = 500;  // everything is lower
   EXPECT_THROW(TrackJaw(frames, options), InputError);
@@ -462,7 +449,7 @@ TEST(JawShippedData, WriteWhenAsked) {
   chewing.period_frames = 10;
   chewing.upper_points = 3000;
   chewing.lower_points = 3000;
-  ASSERT_TRUE(WriteChewingSequence(MakeChewingSequence(Face(), chewing), directory));
+  ASSERT_TRUE(WriteChewingSequence(MakeChewingSequence(DenseFace(), chewing), directory));
 }
 
 }  // namespace

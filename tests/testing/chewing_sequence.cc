@@ -192,4 +192,17 @@ bool WriteChewingSequence(const std::vector<ChewingFrame>& frames, const std::st
   return true;
 }
 
+const std::vector<std::array<double, 3>>& DenseFace() {
+  static const auto* face = new std::vector<std::array<double, 3>>(ReadFacePoints(DenseFacePath()));
+  return *face;
+}
+
+std::vector<Surface> FrameSurfaces(const std::vector<ChewingFrame>& frames) {
+  std::vector<Surface> out;
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    out.push_back(MakeSurface(frames[k].points, {}, "frame " + std::to_string(k)));
+  }
+  return out;
+}
+
 }  // namespace surfreg

@@ -26,6 +26,8 @@
 
 #include <Eigen/Core>
 
+#include "measure/surface.h"
+
 namespace surfreg {
 
 struct ChewingOptions {
@@ -67,5 +69,11 @@ std::string DenseFacePath();
 // ty, tz of H_k, Euler R = Rz·Ry·Rx as surfreg reports) plus truth.json (the
 // 4×4 matrices) into `directory`. Returns false on a write error.
 bool WriteChewingSequence(const std::vector<ChewingFrame>& frames, const std::string& directory);
+
+// The dense face (DenseFacePath), read once.
+const std::vector<std::array<double, 3>>& DenseFace();
+
+// The frames as surfaces, named "frame k".
+std::vector<Surface> FrameSurfaces(const std::vector<ChewingFrame>& frames);
 
 }  // namespace surfreg
