@@ -53,6 +53,15 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
 bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptions& options,
                           GridPairResult* out);
 
+// The same for B meshed on its own cells by the rule but with its samples
+// anywhere (a raster moved by a rigid motion, turned, of another spacing)
+// and A on a lattice, with uniform weights: each B triangle cut by A's
+// column, row and diagonal lines into the overlay's cells (grid_moved.cc).
+// False, for the general path, also when a node lies exactly on an edge of
+// the other's mesh or B's triangles fold or turn the other way.
+bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions& options,
+                        GridPairResult* out);
+
 // The summary's volume fields from an overlay's sums and the four areas
 // (hulls of A and B, data domains of A and B), as Measure sets them.
 void SetVolumeFields(const VolumeResult& volume, const std::array<double, 4>& areas,

@@ -395,7 +395,10 @@ bool MeasureGrids(const Surface& a, const Surface& b, const MeasureOptions& opti
                   const Progress& progress, MeasureSummary* out) {
   const Clock::time_point stage = Clock::now();
   GridPairResult grid;
-  if (!MeasureOnSameGrid(a, b, options, &grid) && !MeasureOnOffsetGrids(a, b, options, &grid)) return false;
+  if (!MeasureOnSameGrid(a, b, options, &grid) && !MeasureOnOffsetGrids(a, b, options, &grid) &&
+      !MeasureOnMovedGrid(a, b, options, &grid)) {
+    return false;
+  }
   progress("volume (one grid)", 0.6);
   MeasureSummary& summary = *out;
   if (!options.allow_empty_overlap) {

@@ -1,5 +1,5 @@
-// Two rasters on one grid, or on one lattice offset by a fraction of a
-// cell, measured by their cells (measure/grid_pair.h): every field of the
+// Two rasters on one grid, on one lattice offset by a fraction of a cell,
+// or one moved anywhere, measured by their cells (measure/grid_pair.h): every field of the
 // summary equals the general path's (triangulation, walks, overlay) to
 // rounding, on windows with holes, after a mirror or a rotation of the
 // lattice, with masks and a level of detection; closed forms for a
@@ -66,11 +66,16 @@ void ExpectNear(double general, double grid, const char* what) {
   EXPECT_NEAR(grid, general, 1e-12 * std::max(1.0, std::fabs(general))) << what;
 }
 
+enum class Path { kOneGrid, kOffset, kMoved };
+
 // Every field of the two summaries, to rounding.
-void ExpectSameMeasure(const Surface& a, const Surface& b, MeasureOptions options, bool offset = false) {
+void ExpectSameMeasure(const Surface& a, const Surface& b, MeasureOptions options, Path path = Path::kOneGrid) {
   GridPairResult direct;
-  if (offset) {
+  if (path == Path::kOffset) {
     ASSERT_TRUE(MeasureOnOffsetGrids(a, b, options, &direct)) << "not taken as offset grids";
+  } else if (path == Path::kMoved) {
+    ASSERT_FALSE(MeasureOnOffsetGrids(a, b, options, &direct));
+    ASSERT_TRUE(MeasureOnMovedGrid(a, b, options, &direct)) << "not taken as a moved grid";
   } else {
     ASSERT_TRUE(MeasureOnSameGrid(a, b, options, &direct)) << "not taken as one grid";
   }
@@ -226,17 +231,17 @@ TEST(GridPairTest, OffsetLatticesWithHolesEqualTheGeneralPath) {
   const Surface b = Window(moved, 3, -2, 45, 28, Changed, HoleB);
   MeasureOptions options;
   options.keep_node_gaps = true;
-  ExpectSameMeasure(a, b, options, /*offset=*/true);
+  ExpectSameMeasure(a, b, options, Path::kOffset);
   options.detect_change = true;
   options.level_of_detection = 0.3;
-  ExpectSameMeasure(a, b, options, true);
-  ExpectSameMeasure(b, a, options, true);  // and the other way round
+  ExpectSameMeasure(a, b, options, Path::kOffset);
+  ExpectSameMeasure(b, a, options, Path::kOffset);  // and the other way round
   Lattice turned;  // a turned lattice of 2 by 3 m cells, rows going up
   turned.origin = {10.0, 20.0};
   turned.u = {2.0 * std::cos(0.5236), 2.0 * std::sin(0.5236)};
   turned.v = {-3.0 * std::sin(0.5236), 3.0 * std::cos(0.5236)};
   ExpectSameMeasure(Window(turned, 0, 0, 30, 25, Rough, HoleA),
-                    Window(OffsetBy(turned, 0.8, 0.25), 0, 0, 30, 25, Changed, HoleB), options, true);
+                    Window(OffsetBy(turned, 0.8, 0.25), 0, 0, 30, 25, Changed, HoleB), options, Path::kOffset);
 }
 
 TEST(GridPairTest, OffsetsOnALatticeLineAreLeftToTheGeneralPath) {
@@ -292,6 +297,89 @@ TEST(GridPairTest, NoOverlapAndNoCellsGiveTheGeneralPathsMessages) {
   EXPECT_EQ(Measure(a, apart, tile).rho_d, 0.0);
 }
 
+// `s` moved by a rigid motion about its first sample: turns about z, then
+// x and y (radians), a shift; each sample keeps its cell (still meshed on
+// its own cells), as a moved raster's tile is (terrain/tiled_motion.h).
+Surface Moved(const Surface& s, double yaw, double roll, double pitch, std::array<double, 3> shift) {
+  const double cz = std::cos(yaw), sz = std::sin(yaw), cx = std::cos(roll), sx = std::sin(roll),
+               cy = std::cos(pitch), sy = std::sin(pitch);
+  // R = Ry · Rx · Rz
+  const double rz[3][3] = {{cz, -sz, 0}, {sz, cz, 0}, {0, 0, 1}};
+  const double rx[3][3] = {{1, 0, 0}, {0, cx, -sx}, {0, sx, cx}};
+  const double ry[3][3] = {{cy, 0, sy}, {0, 1, 0}, {-sy, 0, cy}};
+  double rxz[3][3], r[3][3];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) rxz[i][j] = rx[i][0] * rz[0][j] + rx[i][1] * rz[1][j] + rx[i][2] * rz[2][j];
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) r[i][j] = ry[i][0] * rxz[0][j] + ry[i][1] * rxz[1][j] + ry[i][2] * rxz[2][j];
+  }
+  std::vector<std::array<double, 3>> points;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const double p[3] = {s.xy[i].x - s.xy[0].x, s.xy[i].y - s.xy[0].y, s.z[i] - s.z[0]};
+    std::array<double, 3> q;
+    for (int k = 0; k < 3; ++k) {
+      const double first[3] = {s.origin[0] + s.xy[0].x, s.origin[1] + s.xy[0].y, s.origin[2] + s.z[0]};
+      q[k] = first[k] + shift[k] + r[k][0] * p[0] + r[k][1] * p[1] + r[k][2] * p[2];
+    }
+    points.push_back(q);
+  }
+  Surface out = MakeSurface(points, {}, "moved", 1.0);
+  out.raster_cell = s.raster_cell;
+  return out;
+}
+
+TEST(GridPairTest, MovedRastersEqualTheGeneralPath) {
+  const Surface a = HoledA();
+  const Surface b = HoledB();
+  MeasureOptions options;
+  options.keep_node_gaps = true;
+  // Small turns and tilts (a co-registration's), and a large turn.
+  const double degree = std::acos(-1.0) / 180.0;
+  ExpectSameMeasure(a, Moved(b, 0.7 * degree, 0.3 * degree, -0.2 * degree, {3.1, -4.7, 0.4}), options,
+                    Path::kMoved);
+  options.detect_change = true;
+  options.level_of_detection = 0.3;
+  ExpectSameMeasure(a, Moved(b, 0.038 * degree, 0.01 * degree, 0.02 * degree, {23.7, -16.1, 0.35}), options,
+                    Path::kMoved);
+  ExpectSameMeasure(a, Moved(b, 37.0 * degree, 0.0, 0.0, {50.3, -30.8, 0.0}), options, Path::kMoved);
+  // Another spacing, turned, on small coordinates (no motion in z).
+  Lattice turned;
+  turned.origin = {10.0, 20.0};
+  turned.u = {2.0 * std::cos(0.5236), 2.0 * std::sin(0.5236)};
+  turned.v = {3.0 * std::sin(0.5236), -3.0 * std::cos(0.5236)};
+  Lattice finer = turned;
+  finer.u = {1.3 * std::cos(0.61), 1.3 * std::sin(0.61)};
+  finer.v = {1.7 * std::sin(0.61), -1.7 * std::cos(0.61)};
+  finer.origin = {12.3, 17.9};
+  ExpectSameMeasure(Window(turned, 0, 0, 30, 25, Rough, HoleA), Window(finer, 0, 0, 40, 35, Changed, HoleB),
+                    options, Path::kMoved);
+}
+
+TEST(GridPairTest, MovedRastersLeaveTiesAndOtherWeightsToTheGeneralPath) {
+  const Lattice g;
+  const Surface a = HoledA();
+  GridPairResult out;
+  // B's nodes on A's columns: an exact tie; the general path measures it.
+  const Surface on_line = Window(OffsetBy(g, 0.5, 0.0), 0, 0, 40, 30, Changed);
+  EXPECT_FALSE(MeasureOnMovedGrid(a, on_line, MeasureOptions(), &out));
+  EXPECT_GT(Measure(a, on_line).rho_d, 0.0);
+  const Surface b = Moved(HoledB(), 0.01, 0.002, 0.001, {1.0, 2.0, 0.0});
+  MeasureOptions mask;
+  mask.weight = WeightMode::kMask;
+  mask.mask = {{{500033.3, 3999987.1}, {500301.7, 3999903.3}, {500150.2, 3999731.9}}};
+  EXPECT_FALSE(MeasureOnMovedGrid(a, b, mask, &out));
+  MeasureOptions hull;
+  hull.domain.kind = DomainKind::kHull;
+  EXPECT_FALSE(MeasureOnMovedGrid(a, b, hull, &out));
+  // B's rows counted the other way: its cells turn clockwise.
+  Surface flipped = b;
+  for (RasterCell& cell : flipped.raster_cell) cell.row = 100 - cell.row;
+  EXPECT_FALSE(MeasureOnMovedGrid(a, flipped, MeasureOptions(), &out));
+  // A not on a lattice.
+  EXPECT_FALSE(MeasureOnMovedGrid(b, a, MeasureOptions(), &out));
+}
+
 TEST(GridPairTest, OneAndTwoThreadsGiveTheSameBits) {
   const Lattice g;
   const Surface a = Window(g, 0, 0, 40, 31, Rough, HoleA);
@@ -300,9 +388,10 @@ TEST(GridPairTest, OneAndTwoThreadsGiveTheSameBits) {
   serial.keep_node_gaps = true;
   MeasureOptions parallel = serial;
   parallel.threads = 2;
-  // One grid, and a grid offset by a fraction of a cell.
+  // One grid, a grid offset by a fraction of a cell, a moved grid.
   for (const Surface& b : {Window(g, 3, -2, 45, 28, Changed, HoleB),
-                           Window(OffsetBy(g, 0.37, -0.61), 3, -2, 45, 28, Changed, HoleB)}) {
+                           Window(OffsetBy(g, 0.37, -0.61), 3, -2, 45, 28, Changed, HoleB),
+                           Moved(Window(g, 3, -2, 45, 28, Changed, HoleB), 0.01, 0.002, 0.001, {1.0, 2.0, 0.0})}) {
     const MeasureSummary one = Measure(a, b, serial), two = Measure(a, b, parallel);
     EXPECT_EQ(one.rho_d, two.rho_d);
     EXPECT_EQ(one.rho_d_axial, two.rho_d_axial);

@@ -1,0 +1,344 @@
+// A raster against another raster's cells anywhere (grid_pair.h,
+// MeasureOnMovedGrid): A on a lattice, B meshed on its own cells by the one
+// rule but its samples anywhere — a raster moved by a rigid motion, turned,
+// or of another spacing. A's triangles are the regions of three families of
+// lines in A's index space (columns x = k, rows y = k, diagonals x − y = k),
+// so each B triangle, cut by the lines that cross it, falls into its
+// overlay cells with B ∩ A's triangle, without a walk or a search: the
+// general overlay's cells. Nodes are located with exact orientation tests;
+// a node on an edge of the other (an exact zero) leaves the pair to the
+// general path.
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <memory>
+
+#include "measure/convex_hull.h"
+#include "measure/grid_cells.h"
+#include "measure/grid_pair.h"
+#include "measure/predicates.h"
+#include "measure/tasks.h"
+#include "measure/volume.h"
+
+namespace surfreg {
+
+using namespace grid_cells;
+
+namespace {
+
+// A convex polygon in A's index space: a B triangle cut by lines (at most
+// 3 + one corner per line that cut it, and no more than 3 lines meet it
+// once each side: 12 is ample).
+struct Polygon {
+  int n = 0;
+  Point2 p[12];
+};
+
+// `in` split by the line f(p) = k, f = ax·x + ay·y: the part f <= k to
+// `low`, f >= k to `high` (Sutherland–Hodgman on one line, both sides).
+void Split(const Polygon& in, double ax, double ay, double k, Polygon* low, Polygon* high) {
+  low->n = high->n = 0;
+  for (int i = 0; i < in.n; ++i) {
+    const Point2& p = in.p[i];
+    const Point2& q = in.p[(i + 1) % in.n];
+    const double fp = ax * p.x + ay * p.y - k, fq = ax * q.x + ay * q.y - k;
+    if (fp <= 0.0) low->p[low->n++] = p;
+    if (fp >= 0.0) high->p[high->n++] = p;
+    if ((fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0)) {
+      const double t = fp / (fp - fq);
+      const Point2 x{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
+      low->p[low->n++] = x;
+      high->p[high->n++] = x;
+    }
+  }
+}
+
+// The three families of A's lines: columns, rows, diagonals (the rule's
+// diagonal from a cell's corner (0, 0) to (1, 1)).
+constexpr double kFamily[3][2] = {{1.0, 0.0}, {0.0, 1.0}, {1.0, -1.0}};
+
+// Cuts `poly` by every line of families [family, 3) that crosses its
+// interior and hands each piece to emit.
+template <typename Emit>
+void Cut(const Polygon& poly, int family, const Emit& emit) {
+  if (poly.n < 3) return;
+  if (family == 3) {
+    emit(poly);
+    return;
+  }
+  const double ax = kFamily[family][0], ay = kFamily[family][1];
+  double lo = ax * poly.p[0].x + ay * poly.p[0].y, hi = lo;
+  for (int i = 1; i < poly.n; ++i) {
+    const double f = ax * poly.p[i].x + ay * poly.p[i].y;
+    lo = std::min(lo, f), hi = std::max(hi, f);
+  }
+  Polygon rest = poly, low, high;
+  for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0) {
+    Split(rest, ax, ay, k, &low, &high);
+    Cut(low, family + 1, emit);
+    rest = high;
+  }
+  Cut(rest, family + 1, emit);
+}
+
+// Sums of one chunk of B's rows: the cells, A's nodes found in its
+// triangles, and B's nodes.
+struct MovedChunk {
+  ChunkSums a_side, b_side;
+};
+
+}  // namespace
+
+bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions& options,
+                        GridPairResult* out) {
+  if (!options.grid_shortcut || !a.raster_grid() || !b.raster_grid() || options.volume != VolumeMode::kOverlay ||
+      options.domain.kind != DomainKind::kData || options.weight != WeightMode::kUniform) {
+    return false;
+  }
+  GridSide sa, sb;
+  if (!IndexSides(a, b, &sa, &sb)) return false;
+  const Execution execution = ExecutionFor(options.threads);
+  const double magnitude = std::max(Magnitude(a, execution), Magnitude(b, execution));
+  GridAffine ga;
+  double tolerance = 0;
+  if (!FitAffine(a, magnitude, &ga, &tolerance, execution)) return false;
+  const double cross = ga.u.x * ga.v.y - ga.u.y * ga.v.x;
+  // B on a lattice whose lines run along A's (another spacing, an offset on
+  // a line): lines and nodes that coincide, where rounding would make
+  // slivers the exact overlay has not. The general path's.
+  GridAffine gb;
+  double tolerance_b = 0;
+  if (FitAffine(b, magnitude, &gb, &tolerance_b, execution)) {
+    const auto parallel = [](const Point2& p, const Point2& q) {
+      return std::fabs(p.x * q.y - p.y * q.x) <= 1e-9 * std::hypot(p.x, p.y) * std::hypot(q.x, q.y);
+    };
+    if ((parallel(ga.u, gb.u) && parallel(ga.v, gb.v)) || (parallel(ga.u, gb.v) && parallel(ga.v, gb.u))) {
+      return false;
+    }
+  }
+  const double sign = cross > 0.0 ? 1.0 : -1.0;
+  sa.cell_area = sb.cell_area = std::fabs(cross);
+  // B's rule triangles must turn as A's (a mirrored B is the general path's).
+  for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(sb.index.rows); ++r) {
+    const int32_t* here = sb.SampleRow(static_cast<int64_t>(r));
+    const int32_t* below = sb.SampleRow(static_cast<int64_t>(r) + 1);
+    bool found = false;
+    for (int64_t c = 0; c + 1 < sb.index.columns && !found; ++c) {
+      int32_t k[4];
+      GridSide::Corners(here, below, c, k);
+      if (k[0] < 0 || k[1] < 0 || k[2] < 0 || k[3] < 0) continue;
+      found = true;
+      if (!(Orient2D(sb.Xy(k[0]), sb.Xy(k[1]), sb.Xy(k[2])) * sign > 0.0)) return false;
+    }
+    if (found) break;
+  }
+  GridPairResult& result = *out;
+  result = GridPairResult();
+  if (!MarkBoth(&sa, &sb, sign, execution, &result.domain_area_a, &result.domain_area_b)) return false;
+
+  // A's index space: a point's (x, y) with A's sample (c, r) at (c, r).
+  const double x0 = static_cast<double>(ga.c0 - sa.index.c0), y0 = static_cast<double>(ga.r0 - sa.index.r0);
+  const auto to_index = [&](const Point2& p) {
+    const double ex = p.x - ga.origin.x, ey = p.y - ga.origin.y;
+    return Point2{x0 + (ex * ga.v.y - ey * ga.v.x) / cross, y0 + (ga.u.x * ey - ga.u.y * ex) / cross};
+  };
+  const auto a_complete = [&](int64_t c, int64_t r) {
+    const uint8_t* row = sa.CompleteRow(r);
+    return row != nullptr && c >= 0 && c < sa.index.columns && row[c] != 0;
+  };
+  // A's interpolant less `base` at index point (x, y) of complete cell (c, r).
+  const auto a_height = [&](int64_t c, int64_t r, int h, double x, double y, double base) {
+    int32_t k[4];
+    GridSide::Corners(sa.SampleRow(r), sa.SampleRow(r + 1), c, k);
+    const std::array<double, 3> w = RuleWeights(h, x - static_cast<double>(c), y - static_cast<double>(r));
+    return w[0] * (sa.Z(k[kRule[h][0]]) - base) + w[1] * (sa.Z(k[kRule[h][1]]) - base) +
+           w[2] * (sa.Z(k[kRule[h][2]]) - base);
+  };
+
+  const double lod = options.detect_change ? options.level_of_detection : -1.0;
+  const bool keep = options.keep_node_gaps;
+  const double area_scale = std::fabs(cross);
+  std::unique_ptr<std::atomic<uint8_t>[]> found(new std::atomic<uint8_t>[a.size()]);
+  for (std::size_t i = 0; i < a.size(); ++i) found[i].store(0, std::memory_order_relaxed);
+  std::atomic<bool> general{false};  // an exact tie or a fold: the general path's
+  if (keep) result.dz_a.assign(a.size(), std::nan("")), result.dz_b.assign(b.size(), std::nan(""));
+
+  // One B triangle (corners k, rule triangle h of its cell): A's nodes in
+  // it and its overlay cells.
+  const auto triangle = [&](const int32_t k[4], int h, const Point2 t[4], MovedChunk* sums) {
+    const int* rule = kRule[h];
+    const Point2 xy[3] = {sb.Xy(k[rule[0]]), sb.Xy(k[rule[1]]), sb.Xy(k[rule[2]])};
+    const double z[3] = {sb.Z(k[rule[0]]), sb.Z(k[rule[1]]), sb.Z(k[rule[2]])};
+    const Point2 ti[3] = {t[rule[0]], t[rule[1]], t[rule[2]]};
+    double lo_x = ti[0].x, hi_x = lo_x, lo_y = ti[0].y, hi_y = lo_y;
+    for (int m = 1; m < 3; ++m) {
+      lo_x = std::min(lo_x, ti[m].x), hi_x = std::max(hi_x, ti[m].x);
+      lo_y = std::min(lo_y, ti[m].y), hi_y = std::max(hi_y, ti[m].y);
+    }
+    // A's nodes: the lattice points of the box (widened past rounding),
+    // each decided exactly.
+    constexpr double kWiden = 1e-7;
+    const int64_t c_lo = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(lo_x - kWiden)));
+    const int64_t c_hi = std::min<int64_t>(sa.index.columns - 1, static_cast<int64_t>(std::floor(hi_x + kWiden)));
+    const int64_t r_lo = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(lo_y - kWiden)));
+    const int64_t r_hi = std::min<int64_t>(sa.index.rows - 1, static_cast<int64_t>(std::floor(hi_y + kWiden)));
+    for (int64_t r = r_lo; r <= r_hi; ++r) {
+      const int32_t* row = sa.SampleRow(r);
+      const uint8_t* above = sa.CompleteRow(r - 1);
+      const uint8_t* flags = sa.CompleteRow(r);
+      for (int64_t c = c_lo; c <= c_hi; ++c) {
+        const int32_t i = row[c];
+        if (i < 0 || !sa.DomainVertex(above, flags, c)) continue;
+        const Point2& p = a.xy[i];
+        const double o0 = Orient2D(xy[1], xy[2], p) * sign, o1 = Orient2D(xy[2], xy[0], p) * sign,
+                     o2 = Orient2D(xy[0], xy[1], p) * sign;
+        if (o0 < 0.0 || o1 < 0.0 || o2 < 0.0) continue;
+        if (o0 == 0.0 || o1 == 0.0 || o2 == 0.0 || found[i].exchange(1, std::memory_order_relaxed) != 0) {
+          general.store(true, std::memory_order_relaxed);
+          return;
+        }
+        const double zi = a.z[i];  // the gap from the corners' gaps: no cancellation of heights
+        const double d = (o0 * (z[0] - zi) + o1 * (z[1] - zi) + o2 * (z[2] - zi)) / (o0 + o1 + o2);
+        if (keep) result.dz_a[i] = d;
+        sums->a_side.gap_sum += std::fabs(d);
+        sums->a_side.node_weight += 1.0;
+        ++sums->a_side.nodes;
+      }
+    }
+    // B's height over index space: z = zb0 + gx (x − x_0) + gy (y − y_0).
+    const double ex1 = ti[1].x - ti[0].x, ey1 = ti[1].y - ti[0].y;
+    const double ex2 = ti[2].x - ti[0].x, ey2 = ti[2].y - ti[0].y;
+    const double det = ex1 * ey2 - ey1 * ex2;
+    if (det == 0.0) return;
+    const double dz1 = z[1] - z[0], dz2 = z[2] - z[0];
+    const double gx = (dz1 * ey2 - dz2 * ey1) / det, gy = (ex1 * dz2 - ex2 * dz1) / det;
+    Polygon poly;
+    poly.n = 3;
+    for (int m = 0; m < 3; ++m) poly.p[m] = ti[m];
+    Cut(poly, 0, [&](const Polygon& piece) {
+      double mx = 0.0, my = 0.0;
+      for (int m = 0; m < piece.n; ++m) mx += piece.p[m].x, my += piece.p[m].y;
+      mx /= piece.n, my /= piece.n;
+      const int64_t c = static_cast<int64_t>(std::floor(mx)), r = static_cast<int64_t>(std::floor(my));
+      if (!a_complete(c, r)) return;
+      const int ha = mx - static_cast<double>(c) > my - static_cast<double>(r) ? 0 : 1;
+      double d[12];
+      for (int m = 0; m < piece.n; ++m) {
+        const Point2& v = piece.p[m];
+        d[m] = gx * (v.x - ti[0].x) + gy * (v.y - ti[0].y) - a_height(c, r, ha, v.x, v.y, z[0]);
+      }
+      double twice[10], total = 0.0;
+      for (int m = 1; m + 1 < piece.n; ++m) {
+        const Point2& p0 = piece.p[0];
+        twice[m] = std::fabs((piece.p[m].x - p0.x) * (piece.p[m + 1].y - p0.y) -
+                             (piece.p[m].y - p0.y) * (piece.p[m + 1].x - p0.x));
+        total += twice[m];
+      }
+      // A sliver of rounding where a B corner lies on one of A's lines (B on
+      // a lattice of another spacing): no cell, as in the pattern of
+      // offset grids.
+      if (!(total > 2e-12)) return;
+      VolumeResult part;
+      for (int m = 1; m + 1 < piece.n; ++m) {
+        const double gaps[3] = {d[0], d[m], d[m + 1]};
+        IntegrateTriangleOfArea(0.5 * twice[m] * area_scale, gaps, lod, &part);
+      }
+      VolumeResult& v = sums->a_side.volume;
+      v.gap += part.gap;
+      v.change += part.change;
+      v.area += part.area;
+      ++v.cells;
+    });
+  };
+
+  // B's node j (a vertex of its domain): located in A's complete cells
+  // around its index point, exactly.
+  const auto b_node = [&](int32_t j, MovedChunk* sums) {
+    const Point2 p = sb.Xy(j);
+    const Point2 t = to_index(p);
+    const int64_t c0 = static_cast<int64_t>(std::floor(t.x)), r0 = static_cast<int64_t>(std::floor(t.y));
+    for (int64_t r = r0 - 1; r <= r0 + 1; ++r) {
+      for (int64_t c = c0 - 1; c <= c0 + 1; ++c) {
+        if (!a_complete(c, r)) continue;
+        int32_t k[4];
+        GridSide::Corners(sa.SampleRow(r), sa.SampleRow(r + 1), c, k);
+        for (int h = 0; h < 2; ++h) {
+          const int* rule = kRule[h];
+          const Point2& q0 = a.xy[k[rule[0]]];
+          const Point2& q1 = a.xy[k[rule[1]]];
+          const Point2& q2 = a.xy[k[rule[2]]];
+          const double o0 = Orient2D(q1, q2, p) * sign, o1 = Orient2D(q2, q0, p) * sign,
+                       o2 = Orient2D(q0, q1, p) * sign;
+          if (o0 < 0.0 || o1 < 0.0 || o2 < 0.0) continue;
+          if (o0 == 0.0 || o1 == 0.0 || o2 == 0.0) {
+            general.store(true, std::memory_order_relaxed);
+            return;
+          }
+          const double zj = sb.Z(j);
+          const double d = (o0 * (zj - a.z[k[rule[0]]]) + o1 * (zj - a.z[k[rule[1]]]) + o2 * (zj - a.z[k[rule[2]]])) /
+                           (o0 + o1 + o2);
+          if (keep) result.dz_b[j] = d;
+          sums->b_side.gap_sum += std::fabs(d);
+          sums->b_side.node_weight += 1.0;
+          ++sums->b_side.nodes;
+          return;
+        }
+      }
+    }
+  };
+
+  // By chunks of B's rows: each row's cells (both triangles) and nodes.
+  const int chunks = RowChunks(sb.index.rows);
+  std::vector<MovedChunk> parts(chunks);
+  ForEachChunk(execution, sb.index.rows, chunks, [&](int h, int64_t begin, int64_t end) {
+    MovedChunk& sums = parts[h];
+    for (int64_t r = begin; r < end && !general.load(std::memory_order_relaxed); ++r) {
+      const int32_t* here = sb.SampleRow(r);
+      const int32_t* below = sb.SampleRow(r + 1);
+      const uint8_t* above_flags = sb.CompleteRow(r - 1);
+      const uint8_t* flags = sb.CompleteRow(r);
+      for (int64_t c = 0; c < sb.index.columns; ++c) {
+        if (here[c] >= 0 && sb.DomainVertex(above_flags, flags, c)) b_node(here[c], &sums);
+        if (below == nullptr || !flags[c]) continue;
+        int32_t k[4];
+        GridSide::Corners(here, below, c, k);
+        Point2 t[4];
+        for (int m = 0; m < 4; ++m) t[m] = to_index(sb.Xy(k[m]));
+        triangle(k, 0, t, &sums);
+        triangle(k, 1, t, &sums);
+      }
+    }
+  });
+  if (general.load()) return false;
+
+  std::vector<ChunkSums> sums(chunks);
+  for (int h = 0; h < chunks; ++h) {  // B's nodes after A's, as the other grid paths sum them
+    sums[h] = parts[h].a_side;
+    sums[h].gap_sum += parts[h].b_side.gap_sum;
+    sums[h].node_weight += parts[h].b_side.node_weight;
+    sums[h].nodes += parts[h].b_side.nodes;
+  }
+  std::vector<uint8_t> omega_a(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) omega_a[i] = found[i].load(std::memory_order_relaxed);
+  FinishResult(sums, sa, sb, omega_a, keep, execution, &result);
+  // B's hull from its samples that may be on it: those missing one of
+  // their eight neighbours (one with all eight is inside the unfolded
+  // triangles around it, MarkBoth).
+  std::vector<Point2> rim;
+  for (int64_t r = 0; r < sb.index.rows; ++r) {
+    const int32_t* row = sb.SampleRow(r);
+    for (int64_t c = 0; c < sb.index.columns; ++c) {
+      if (row[c] < 0) continue;
+      bool inner = true;
+      for (int dr = -1; dr <= 1 && inner; ++dr) {
+        for (int dc = -1; dc <= 1 && inner; ++dc) inner = sb.index.At(sb.index.c0 + c + dc, sb.index.r0 + r + dr) >= 0;
+      }
+      if (!inner) rim.push_back(sb.Xy(row[c]));
+    }
+  }
+  result.hull_area_b = PolygonArea(ConvexHull(std::move(rim)));
+  return true;
+}
+
+}  // namespace surfreg
