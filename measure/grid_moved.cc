@@ -38,20 +38,68 @@ struct Polygon {
 // `in` split by the line f(p) = k, f = ax·x + ay·y: the part f <= k to
 // `low`, f >= k to `high` (Sutherland–Hodgman on one line, both sides).
 void Split(const Polygon& in, double ax, double ay, double k, Polygon* low, Polygon* high) {
+  double f[12];
+  for (int i = 0; i < in.n; ++i) f[i] = ax * in.p[i].x + ay * in.p[i].y - k;
   low->n = high->n = 0;
   for (int i = 0; i < in.n; ++i) {
+    const int j = i + 1 == in.n ? 0 : i + 1;
     const Point2& p = in.p[i];
-    const Point2& q = in.p[(i + 1) % in.n];
-    const double fp = ax * p.x + ay * p.y - k, fq = ax * q.x + ay * q.y - k;
+    const double fp = f[i], fq = f[j];
     if (fp <= 0.0) low->p[low->n++] = p;
     if (fp >= 0.0) high->p[high->n++] = p;
     if ((fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0)) {
+      const Point2& q = in.p[j];
       const double t = fp / (fp - fq);
       const Point2 x{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
       low->p[low->n++] = x;
       high->p[high->n++] = x;
     }
   }
+}
+
+// One overlay cell's integrals: a convex piece (index units of area
+// `area_scale`) with d at its corners. Where d keeps one side of 0 and of
+// ±lod at every corner (most pieces), the fan's means in closed form, as
+// IntegrateTriangleOfArea gives them; else its fan's triangles. False for
+// a sliver of rounding where a B corner lies on one of A's lines (no cell,
+// as in the offset grids' pattern).
+bool IntegratePiece(const Polygon& piece, const double d[], double area_scale, double lod,
+                    VolumeResult* v) {
+  double area[10], total = 0.0;
+  const Point2& p0 = piece.p[0];
+  for (int m = 1; m + 1 < piece.n; ++m) {
+    area[m] = std::fabs((piece.p[m].x - p0.x) * (piece.p[m + 1].y - p0.y) -
+                        (piece.p[m].y - p0.y) * (piece.p[m + 1].x - p0.x));
+    total += area[m];
+  }
+  if (!(total > 2e-12)) return false;
+  double d_min = d[0], d_max = d[0];
+  for (int m = 1; m < piece.n; ++m) d_min = std::min(d_min, d[m]), d_max = std::max(d_max, d[m]);
+  const bool positive = d_min >= 0.0, negative = d_max <= 0.0;
+  const bool above = d_min > lod, below = d_max < -lod, inside = -lod <= d_min && d_max <= lod;
+  for (int m = 1; m + 1 < piece.n; ++m) area[m] *= 0.5 * area_scale;
+  if ((positive || negative) && (lod < 0.0 || above || below || inside)) {
+    double integral = 0.0, whole = 0.0;
+    for (int m = 1; m + 1 < piece.n; ++m) {
+      if (!(area[m] > 0.0)) continue;
+      integral += area[m] / 3 * ((d[0] + d[m]) + d[m + 1]);
+      whole += area[m];
+    }
+    v->gap.weight += whole;
+    v->gap.signed_volume += integral;
+    v->gap.abs += std::fabs(integral);
+    (negative ? v->gap.below : v->gap.above) += std::fabs(integral);
+    v->area += whole;
+    if (lod >= 0.0 && above) v->change.fill += integral, v->change.fill_area += whole;
+    if (lod >= 0.0 && below) v->change.cut -= integral, v->change.cut_area += whole;
+  } else {
+    for (int m = 1; m + 1 < piece.n; ++m) {
+      const double gaps[3] = {d[0], d[m], d[m + 1]};
+      IntegrateTriangleOfArea(area[m], gaps, lod, v);
+    }
+  }
+  ++v->cells;
+  return true;
 }
 
 // The three families of A's lines: columns, rows, diagonals (the rule's
@@ -73,13 +121,17 @@ void Cut(const Polygon& poly, int family, const Emit& emit) {
     const double f = ax * poly.p[i].x + ay * poly.p[i].y;
     lo = std::min(lo, f), hi = std::max(hi, f);
   }
-  Polygon rest = poly, low, high;
+  // The part beyond each line goes on; two buffers in turn, no copies.
+  Polygon low, buffers[2];
+  const Polygon* rest = &poly;
+  int spare = 0;
   for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0) {
-    Split(rest, ax, ay, k, &low, &high);
+    Split(*rest, ax, ay, k, &low, &buffers[spare]);
     Cut(low, family + 1, emit);
-    rest = high;
+    rest = &buffers[spare];
+    spare ^= 1;
   }
-  Cut(rest, family + 1, emit);
+  Cut(*rest, family + 1, emit);
 }
 
 // Sums of one chunk of B's rows: the cells, A's nodes found in its
@@ -92,8 +144,9 @@ struct MovedChunk {
 
 bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions& options,
                         GridPairResult* out) {
-  if (!options.grid_shortcut || !a.raster_grid() || !b.raster_grid() || options.volume != VolumeMode::kOverlay ||
-      options.domain.kind != DomainKind::kData || options.weight != WeightMode::kUniform) {
+  if (!options.grid_shortcut || !a.raster_grid() || !b.raster_grid() ||
+      options.volume != VolumeMode::kOverlay || options.domain.kind != DomainKind::kData ||
+      options.weight != WeightMode::kUniform) {
     return false;
   }
   GridSide sa, sb;
@@ -113,7 +166,8 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
     const auto parallel = [](const Point2& p, const Point2& q) {
       return std::fabs(p.x * q.y - p.y * q.x) <= 1e-9 * std::hypot(p.x, p.y) * std::hypot(q.x, q.y);
     };
-    if ((parallel(ga.u, gb.u) && parallel(ga.v, gb.v)) || (parallel(ga.u, gb.v) && parallel(ga.v, gb.u))) {
+    if ((parallel(ga.u, gb.u) && parallel(ga.v, gb.v)) ||
+        (parallel(ga.u, gb.v) && parallel(ga.v, gb.u))) {
       return false;
     }
   }
@@ -135,25 +189,20 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
   }
   GridPairResult& result = *out;
   result = GridPairResult();
-  if (!MarkBoth(&sa, &sb, sign, execution, &result.domain_area_a, &result.domain_area_b)) return false;
+  if (!MarkBoth(&sa, &sb, sign, execution, &result.domain_area_a, &result.domain_area_b))
+    return false;
 
   // A's index space: a point's (x, y) with A's sample (c, r) at (c, r).
-  const double x0 = static_cast<double>(ga.c0 - sa.index.c0), y0 = static_cast<double>(ga.r0 - sa.index.r0);
+  const double x0 = static_cast<double>(ga.c0 - sa.index.c0),
+               y0 = static_cast<double>(ga.r0 - sa.index.r0);
   const auto to_index = [&](const Point2& p) {
     const double ex = p.x - ga.origin.x, ey = p.y - ga.origin.y;
-    return Point2{x0 + (ex * ga.v.y - ey * ga.v.x) / cross, y0 + (ga.u.x * ey - ga.u.y * ex) / cross};
+    return Point2{x0 + (ex * ga.v.y - ey * ga.v.x) / cross,
+                  y0 + (ga.u.x * ey - ga.u.y * ex) / cross};
   };
   const auto a_complete = [&](int64_t c, int64_t r) {
     const uint8_t* row = sa.CompleteRow(r);
     return row != nullptr && c >= 0 && c < sa.index.columns && row[c] != 0;
-  };
-  // A's interpolant less `base` at index point (x, y) of complete cell (c, r).
-  const auto a_height = [&](int64_t c, int64_t r, int h, double x, double y, double base) {
-    int32_t k[4];
-    GridSide::Corners(sa.SampleRow(r), sa.SampleRow(r + 1), c, k);
-    const std::array<double, 3> w = RuleWeights(h, x - static_cast<double>(c), y - static_cast<double>(r));
-    return w[0] * (sa.Z(k[kRule[h][0]]) - base) + w[1] * (sa.Z(k[kRule[h][1]]) - base) +
-           w[2] * (sa.Z(k[kRule[h][2]]) - base);
   };
 
   const double lod = options.detect_change ? options.level_of_detection : -1.0;
@@ -180,9 +229,11 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
     // each decided exactly.
     constexpr double kWiden = 1e-7;
     const int64_t c_lo = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(lo_x - kWiden)));
-    const int64_t c_hi = std::min<int64_t>(sa.index.columns - 1, static_cast<int64_t>(std::floor(hi_x + kWiden)));
+    const int64_t c_hi =
+        std::min<int64_t>(sa.index.columns - 1, static_cast<int64_t>(std::floor(hi_x + kWiden)));
     const int64_t r_lo = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(lo_y - kWiden)));
-    const int64_t r_hi = std::min<int64_t>(sa.index.rows - 1, static_cast<int64_t>(std::floor(hi_y + kWiden)));
+    const int64_t r_hi =
+        std::min<int64_t>(sa.index.rows - 1, static_cast<int64_t>(std::floor(hi_y + kWiden)));
     for (int64_t r = r_lo; r <= r_hi; ++r) {
       const int32_t* row = sa.SampleRow(r);
       const uint8_t* above = sa.CompleteRow(r - 1);
@@ -194,7 +245,8 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
         const double o0 = Orient2D(xy[1], xy[2], p) * sign, o1 = Orient2D(xy[2], xy[0], p) * sign,
                      o2 = Orient2D(xy[0], xy[1], p) * sign;
         if (o0 < 0.0 || o1 < 0.0 || o2 < 0.0) continue;
-        if (o0 == 0.0 || o1 == 0.0 || o2 == 0.0 || found[i].exchange(1, std::memory_order_relaxed) != 0) {
+        if (o0 == 0.0 || o1 == 0.0 || o2 == 0.0 ||
+            found[i].exchange(1, std::memory_order_relaxed) != 0) {
           general.store(true, std::memory_order_relaxed);
           return;
         }
@@ -217,38 +269,30 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
     poly.n = 3;
     for (int m = 0; m < 3; ++m) poly.p[m] = ti[m];
     Cut(poly, 0, [&](const Polygon& piece) {
-      double mx = 0.0, my = 0.0;
-      for (int m = 0; m < piece.n; ++m) mx += piece.p[m].x, my += piece.p[m].y;
-      mx /= piece.n, my /= piece.n;
-      const int64_t c = static_cast<int64_t>(std::floor(mx)), r = static_cast<int64_t>(std::floor(my));
+      // A point inside the piece (convex): its first three corners' mean.
+      const double mx = (piece.p[0].x + piece.p[1].x + piece.p[2].x) / 3.0;
+      const double my = (piece.p[0].y + piece.p[1].y + piece.p[2].y) / 3.0;
+      const int64_t c = static_cast<int64_t>(std::floor(mx)),
+                    r = static_cast<int64_t>(std::floor(my));
       if (!a_complete(c, r)) return;
-      const int ha = mx - static_cast<double>(c) > my - static_cast<double>(r) ? 0 : 1;
+      const double cx = static_cast<double>(c), cy = static_cast<double>(r);
+      const int ha = mx - cx > my - cy ? 0 : 1;
+      // d = F_B − F_A as one linear function of the index point: F_A from
+      // its triangle's corners (RuleWeights), both less B's first height.
+      int32_t ka[4];
+      GridSide::Corners(sa.SampleRow(r), sa.SampleRow(r + 1), c, ka);
+      const double base = z[0];
+      const double z0 = sa.Z(ka[0]) - base, zm = sa.Z(ka[ha == 0 ? 1 : 3]) - base,
+                   z2 = sa.Z(ka[2]) - base;
+      // F_A − base = z0 + ax (x − c) + ay (y − r)
+      const double ax = ha == 0 ? zm - z0 : z2 - zm, ay = ha == 0 ? z2 - zm : zm - z0;
       double d[12];
       for (int m = 0; m < piece.n; ++m) {
         const Point2& v = piece.p[m];
-        d[m] = gx * (v.x - ti[0].x) + gy * (v.y - ti[0].y) - a_height(c, r, ha, v.x, v.y, z[0]);
+        d[m] =
+            gx * (v.x - ti[0].x) + gy * (v.y - ti[0].y) - (z0 + ax * (v.x - cx) + ay * (v.y - cy));
       }
-      double twice[10], total = 0.0;
-      for (int m = 1; m + 1 < piece.n; ++m) {
-        const Point2& p0 = piece.p[0];
-        twice[m] = std::fabs((piece.p[m].x - p0.x) * (piece.p[m + 1].y - p0.y) -
-                             (piece.p[m].y - p0.y) * (piece.p[m + 1].x - p0.x));
-        total += twice[m];
-      }
-      // A sliver of rounding where a B corner lies on one of A's lines (B on
-      // a lattice of another spacing): no cell, as in the pattern of
-      // offset grids.
-      if (!(total > 2e-12)) return;
-      VolumeResult part;
-      for (int m = 1; m + 1 < piece.n; ++m) {
-        const double gaps[3] = {d[0], d[m], d[m + 1]};
-        IntegrateTriangleOfArea(0.5 * twice[m] * area_scale, gaps, lod, &part);
-      }
-      VolumeResult& v = sums->a_side.volume;
-      v.gap += part.gap;
-      v.change += part.change;
-      v.area += part.area;
-      ++v.cells;
+      IntegratePiece(piece, d, area_scale, lod, &sums->a_side.volume);
     });
   };
 
@@ -257,33 +301,38 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
   const auto b_node = [&](int32_t j, MovedChunk* sums) {
     const Point2 p = sb.Xy(j);
     const Point2 t = to_index(p);
-    const int64_t c0 = static_cast<int64_t>(std::floor(t.x)), r0 = static_cast<int64_t>(std::floor(t.y));
-    for (int64_t r = r0 - 1; r <= r0 + 1; ++r) {
-      for (int64_t c = c0 - 1; c <= c0 + 1; ++c) {
-        if (!a_complete(c, r)) continue;
-        int32_t k[4];
-        GridSide::Corners(sa.SampleRow(r), sa.SampleRow(r + 1), c, k);
-        for (int h = 0; h < 2; ++h) {
-          const int* rule = kRule[h];
-          const Point2& q0 = a.xy[k[rule[0]]];
-          const Point2& q1 = a.xy[k[rule[1]]];
-          const Point2& q2 = a.xy[k[rule[2]]];
-          const double o0 = Orient2D(q1, q2, p) * sign, o1 = Orient2D(q2, q0, p) * sign,
-                       o2 = Orient2D(q0, q1, p) * sign;
-          if (o0 < 0.0 || o1 < 0.0 || o2 < 0.0) continue;
-          if (o0 == 0.0 || o1 == 0.0 || o2 == 0.0) {
-            general.store(true, std::memory_order_relaxed);
-            return;
-          }
-          const double zj = sb.Z(j);
-          const double d = (o0 * (zj - a.z[k[rule[0]]]) + o1 * (zj - a.z[k[rule[1]]]) + o2 * (zj - a.z[k[rule[2]]])) /
-                           (o0 + o1 + o2);
-          if (keep) result.dz_b[j] = d;
-          sums->b_side.gap_sum += std::fabs(d);
-          sums->b_side.node_weight += 1.0;
-          ++sums->b_side.nodes;
+    const int64_t c0 = static_cast<int64_t>(std::floor(t.x)),
+                  r0 = static_cast<int64_t>(std::floor(t.y));
+    // The cell under the index point first; its neighbours when rounding
+    // put the point across a line.
+    static constexpr int kAround[9][2] = {{0, 0},   {-1, 0}, {1, 0},  {0, -1}, {0, 1},
+                                          {-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+    for (const auto& around : kAround) {
+      const int64_t c = c0 + around[0], r = r0 + around[1];
+      if (!a_complete(c, r)) continue;
+      int32_t k[4];
+      GridSide::Corners(sa.SampleRow(r), sa.SampleRow(r + 1), c, k);
+      for (int h = 0; h < 2; ++h) {
+        const int* rule = kRule[h];
+        const Point2& q0 = a.xy[k[rule[0]]];
+        const Point2& q1 = a.xy[k[rule[1]]];
+        const Point2& q2 = a.xy[k[rule[2]]];
+        const double o0 = Orient2D(q1, q2, p) * sign, o1 = Orient2D(q2, q0, p) * sign,
+                     o2 = Orient2D(q0, q1, p) * sign;
+        if (o0 < 0.0 || o1 < 0.0 || o2 < 0.0) continue;
+        if (o0 == 0.0 || o1 == 0.0 || o2 == 0.0) {
+          general.store(true, std::memory_order_relaxed);
           return;
         }
+        const double zj = sb.Z(j);
+        const double d = (o0 * (zj - a.z[k[rule[0]]]) + o1 * (zj - a.z[k[rule[1]]]) +
+                          o2 * (zj - a.z[k[rule[2]]])) /
+                         (o0 + o1 + o2);
+        if (keep) result.dz_b[j] = d;
+        sums->b_side.gap_sum += std::fabs(d);
+        sums->b_side.node_weight += 1.0;
+        ++sums->b_side.nodes;
+        return;
       }
     }
   };
@@ -292,7 +341,7 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
   const int chunks = RowChunks(sb.index.rows);
   std::vector<MovedChunk> parts(chunks);
   ForEachChunk(execution, sb.index.rows, chunks, [&](int h, int64_t begin, int64_t end) {
-    MovedChunk& sums = parts[h];
+    MovedChunk sums;  // on this thread's stack: no line shared with another chunk's
     for (int64_t r = begin; r < end && !general.load(std::memory_order_relaxed); ++r) {
       const int32_t* here = sb.SampleRow(r);
       const int32_t* below = sb.SampleRow(r + 1);
@@ -309,6 +358,7 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
         triangle(k, 1, t, &sums);
       }
     }
+    parts[h] = sums;
   });
   if (general.load()) return false;
 
@@ -332,7 +382,8 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
       if (row[c] < 0) continue;
       bool inner = true;
       for (int dr = -1; dr <= 1 && inner; ++dr) {
-        for (int dc = -1; dc <= 1 && inner; ++dc) inner = sb.index.At(sb.index.c0 + c + dc, sb.index.r0 + r + dr) >= 0;
+        for (int dc = -1; dc <= 1 && inner; ++dc)
+          inner = sb.index.At(sb.index.c0 + c + dc, sb.index.r0 + r + dr) >= 0;
       }
       if (!inner) rim.push_back(sb.Xy(row[c]));
     }
