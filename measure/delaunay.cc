@@ -1,7 +1,9 @@
 #include "measure/delaunay.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <memory>
 
 #include "measure/delaunay_internal.h"
 #include "measure/input_error.h"
@@ -16,7 +18,7 @@ namespace {
 // points outside the hull are inserted exactly like points inside.
 //
 // Edge i of triangle t is opposite its vertex i, from vertex i+1 to vertex
-// i+2 (mod 3). twin_[3t + i] names the same edge seen from the neighbouring
+// i+2 (mod 3). Its twin[i] names the same edge seen from the neighbouring
 // triangle u as the half-edge 4u + j (shifts, not divisions, to decode).
 // Vertices are positions in the insertion order.
 constexpr int32_t kInfinite = -1;
@@ -27,28 +29,90 @@ inline int32_t HalfEdge(int32_t t, int i) { return 4 * t + i; }
 inline int32_t TriangleOf(int32_t h) { return h >> 2; }
 inline int EdgeOf(int32_t h) { return h & 3; }
 
+// InCirclePerturbed(a, b, c, d) > 0, with a cheaper filter in front: the
+// error bound from the largest coordinate difference m instead of the
+// permanent (fewer operations per test, the build's most frequent). Rounding
+// is monotone, so the computed permanent is at most 12 m^4 (1 + 2^-52) and
+// |det| at most the permanent: with |det| above this bound and m^4 >= 2^-340,
+// InCircle's filter accepts the same det too (its bound is lower, its
+// permanent above 2^-400). Ties and doubtful cases go to InCirclePerturbed.
+inline bool InCircleFast(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  constexpr double kBound = 12.0 * predicates_internal::kInCircleBound * (1.0 + 0x1p-20);
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  // InCircle's expression, operation for operation.
+  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
+  const double cdxady = cdx * ady, adxcdy = adx * cdy;
+  const double adxbdy = adx * bdy, bdxady = bdx * ady;
+  const double alift = adx * adx + ady * ady;
+  const double blift = bdx * bdx + bdy * bdy;
+  const double clift = cdx * cdx + cdy * cdy;
+  const double det =
+      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+  const auto larger = [](double p, double q) { return p > q ? p : q; };
+  const double m =
+      larger(larger(larger(std::fabs(adx), std::fabs(ady)), larger(std::fabs(bdx), std::fabs(bdy))),
+             larger(std::fabs(cdx), std::fabs(cdy)));
+  const double mm = m * m;
+  const double m4 = mm * mm;
+  const double bound = kBound * m4;
+  // NaN fails every test and goes on.
+  if (m <= predicates_internal::kMaxDifference && m4 >= 0x1p-340 && std::fabs(det) > bound)
+    return det > 0.0;
+  return InCirclePerturbed(a, b, c, d) > 0;
+}
+
 struct CavityEdge {
   int32_t from, to;  // counter-clockwise around the cavity
   int32_t outer;     // half-edge of the surviving triangle across it
+};
+
+// A triangle's corners and, per edge, the twin half-edge: one record, so a
+// step of the walk or of the cavity search touches one cache line, not two.
+struct Slot {
+  int32_t v[3];
+  int32_t twin[3];
+};
+
+// A stack of plain values that keeps its storage: push is a store and a
+// compare; growing (rare: large cavities) is out of line.
+template <typename T>
+class Scratch {
+ public:
+  void clear() { size_ = 0; }
+  bool empty() const { return size_ == 0; }
+  std::size_t size() const { return size_; }
+  void push(const T& x) {
+    if (size_ == data_.size()) Grow();
+    data_[size_++] = x;
+  }
+  T pop() { return data_[--size_]; }
+  const T& operator[](std::size_t k) const { return data_[k]; }
+
+ private:
+  __attribute__((noinline)) void Grow() { data_.resize(2 * data_.size() + 64); }
+  std::vector<T> data_;
+  std::size_t size_ = 0;
 };
 
 class Builder {
  public:
   explicit Builder(std::vector<Point2> points) : p_(std::move(points)) {
     // With the infinite vertex, k vertices make 2k - 2 triangles at any
-    // time: the arrays never grow (no reallocation, no resize per triangle).
-    const std::size_t capacity = 3 * (2 * p_.size() + 2);
-    vertex_.resize(capacity);
-    twin_.resize(capacity);
+    // time: the array never grows (no reallocation, no resize per triangle).
+    // Uninitialized: every slot is written when it is first used.
+    capacity_ = 2 * p_.size() + 2;
+    slot_.reset(new Slot[capacity_]);
     duplicate_of_.assign(p_.size(), -1);
   }
 
   // Builds the first triangle from vertices a, b, c (counter-clockwise).
   void Start(int32_t a, int32_t b, int32_t c) {
-    AddTriangle(a, b, c);                 // t0
-    AddTriangle(c, b, kInfinite);         // t1, outside edge b->c
-    AddTriangle(a, c, kInfinite);         // t2, outside edge c->a
-    AddTriangle(b, a, kInfinite);         // t3, outside edge a->b
+    AddTriangle(a, b, c);                  // t0
+    AddTriangle(c, b, kInfinite);          // t1, outside edge b->c
+    AddTriangle(a, c, kInfinite);          // t2, outside edge c->a
+    AddTriangle(b, a, kInfinite);          // t3, outside edge a->b
     Link(HalfEdge(0, 0), HalfEdge(1, 2));  // b->c and c->b
     Link(HalfEdge(0, 1), HalfEdge(2, 2));  // c->a and a->c
     Link(HalfEdge(0, 2), HalfEdge(3, 2));  // a->b and b->a
@@ -65,7 +129,7 @@ class Builder {
     const int32_t t = Locate(p);
     if (!IsGhost(t)) {
       for (int i = 0; i < 3; ++i) {
-        const int32_t w = vertex_[3 * t + i];
+        const int32_t w = slot_[t].v[i];
         if (p_[w].x == p.x && p_[w].y == p.y) {
           duplicate_of_[v] = w;
           return false;
@@ -78,12 +142,12 @@ class Builder {
   }
 
   int32_t num_slots() const { return num_slots_; }
-  const std::vector<int32_t>& vertex() const { return vertex_; }
-  const std::vector<int32_t>& twin() const { return twin_; }
+  const Slot* slots() const { return slot_.get(); }
+  const Point2& point(int32_t v) const { return p_[v]; }
   const std::vector<int32_t>& duplicate_of() const { return duplicate_of_; }
   bool IsGhost(int32_t t) const {
-    return vertex_[3 * t] == kInfinite || vertex_[3 * t + 1] == kInfinite ||
-           vertex_[3 * t + 2] == kInfinite;
+    const int32_t* v = slot_[t].v;
+    return (v[0] | v[1] | v[2]) < 0;  // kInfinite is the only negative vertex
   }
 
  private:
@@ -93,13 +157,13 @@ class Builder {
     return t;
   }
   void SetTriangle(int32_t t, int32_t a, int32_t b, int32_t c) {
-    vertex_[3 * t] = a;
-    vertex_[3 * t + 1] = b;
-    vertex_[3 * t + 2] = c;
+    slot_[t].v[0] = a;
+    slot_[t].v[1] = b;
+    slot_[t].v[2] = c;
   }
   void Link(int32_t h, int32_t g) {
-    twin_[3 * TriangleOf(h) + EdgeOf(h)] = g;
-    twin_[3 * TriangleOf(g) + EdgeOf(g)] = h;
+    slot_[TriangleOf(h)].twin[EdgeOf(h)] = g;
+    slot_[TriangleOf(g)].twin[EdgeOf(g)] = h;
   }
 
   // Visibility walk from the last finite triangle: step across any edge that
@@ -111,13 +175,14 @@ class Builder {
     int entry = 0;  // edge we came in by; not tested again
     bool first = true;
     for (;;) {
+      const Slot& s = slot_[t];
       int i = first ? 0 : Next(entry);
       bool moved = false;
       for (int k = first ? 0 : 1; k < 3; ++k, i = Next(i)) {
-        const int32_t a = vertex_[3 * t + Next(i)];
-        const int32_t b = vertex_[3 * t + Prev(i)];
+        const int32_t a = s.v[Next(i)];
+        const int32_t b = s.v[Prev(i)];
         if (Orient2D(p_[a], p_[b], p) < 0.0) {
-          const int32_t h = twin_[3 * t + i];
+          const int32_t h = s.twin[i];
           t = TriangleOf(h);
           entry = EdgeOf(h);
           moved = true;
@@ -130,9 +195,9 @@ class Builder {
   }
 
   bool InConflict(int32_t t, const Point2& p) const {
-    const int32_t* v = &vertex_[3 * t];
-    if (v[0] != kInfinite && v[1] != kInfinite && v[2] != kInfinite) {
-      return InCirclePerturbed(p_[v[0]], p_[v[1]], p_[v[2]], p) > 0;
+    const int32_t* v = slot_[t].v;
+    if ((v[0] | v[1] | v[2]) >= 0) {
+      return InCircleFast(p_[v[0]], p_[v[1]], p_[v[2]], p);
     }
     // Ghost: the finite edge x->y has the outside on its left. It conflicts
     // with points strictly outside, and with points inside the edge itself.
@@ -154,57 +219,60 @@ class Builder {
     dead_.clear();
     boundary_.clear();
     stack_.clear();
-    dead_.push_back(t);
-    stack_.push_back(HalfEdge(t, 2));
-    stack_.push_back(HalfEdge(t, 1));
-    stack_.push_back(HalfEdge(t, 0));
+    dead_.push(t);
+    stack_.push(HalfEdge(t, 2));
+    stack_.push(HalfEdge(t, 1));
+    stack_.push(HalfEdge(t, 0));
     while (!stack_.empty()) {
-      const int32_t h = stack_.back();
-      stack_.pop_back();
-      const int32_t s = TriangleOf(h), i = EdgeOf(h);
-      const int32_t g = twin_[3 * s + i];
+      const int32_t h = stack_.pop();
+      const Slot& s = slot_[TriangleOf(h)];
+      const int i = EdgeOf(h);
+      const int32_t g = s.twin[i];
       const int32_t u = TriangleOf(g);
       if (InConflict(u, p)) {
-        dead_.push_back(u);
+        dead_.push(u);
         const int j = EdgeOf(g);
-        stack_.push_back(HalfEdge(u, Prev(j)));
-        stack_.push_back(HalfEdge(u, Next(j)));
+        stack_.push(HalfEdge(u, Prev(j)));
+        stack_.push(HalfEdge(u, Next(j)));
       } else {
-        boundary_.push_back({vertex_[3 * s + Next(i)], vertex_[3 * s + Prev(i)], g});
+        boundary_.push({s.v[Next(i)], s.v[Prev(i)], g});
       }
     }
   }
 
   // Replaces the cavity by the fan of triangles (from, to, v), reusing the
-  // dead triangles' slots first.
+  // dead triangles' slots first (the fan has two more triangles than the
+  // cavity had: those take new slots).
   void FillCavity(int32_t v) {
-    const std::size_t m = boundary_.size();
-    fan_.resize(m);
+    const std::size_t m = boundary_.size(), reused = dead_.size();
+    const int32_t fresh = num_slots_;
+    num_slots_ += static_cast<int32_t>(m - reused);
+    const auto fan = [&](std::size_t k) {
+      return k < reused ? dead_[k] : fresh + static_cast<int32_t>(k - reused);
+    };
+    int32_t next = fan(0);
     for (std::size_t k = 0; k < m; ++k) {
-      if (k < dead_.size()) {
-        fan_[k] = dead_[k];
-        SetTriangle(dead_[k], boundary_[k].from, boundary_[k].to, v);
-      } else {
-        fan_[k] = AddTriangle(boundary_[k].from, boundary_[k].to, v);
-      }
-    }
-    for (std::size_t k = 0; k < m; ++k) {
-      const int32_t t = fan_[k];
-      Link(HalfEdge(t, 2), boundary_[k].outer);
-      Link(HalfEdge(t, 0), HalfEdge(fan_[k + 1 == m ? 0 : k + 1], 1));
-      if (boundary_[k].from != kInfinite && boundary_[k].to != kInfinite) last_finite_ = t;
+      const int32_t t = next;
+      next = fan(k + 1 == m ? 0 : k + 1);
+      const CavityEdge& e = boundary_[k];
+      SetTriangle(t, e.from, e.to, v);
+      Link(HalfEdge(t, 2), e.outer);
+      // Edge 0 (to -> v) meets edge 1 (v -> from) of the next triangle.
+      slot_[t].twin[0] = HalfEdge(next, 1);
+      slot_[next].twin[1] = HalfEdge(t, 0);
+      if ((e.from | e.to) >= 0) last_finite_ = t;
     }
   }
 
   std::vector<Point2> p_;
-  std::vector<int32_t> vertex_;
-  std::vector<int32_t> twin_;
+  std::unique_ptr<Slot[]> slot_;
+  std::size_t capacity_ = 0;
   std::vector<int32_t> duplicate_of_;
   int32_t last_finite_ = 0;
   int32_t num_slots_ = 0;  // triangles in use, ghosts and reused slots included
   // Scratch reused by every insertion (no per-point allocation).
-  std::vector<int32_t> dead_, stack_, fan_;
-  std::vector<CavityEdge> boundary_;
+  Scratch<int32_t> dead_, stack_;
+  Scratch<CavityEdge> boundary_;
 };
 
 // Moves two points that span a proper triangle with order[0] to positions 1
@@ -228,13 +296,41 @@ void PutFirstTriangle(const std::vector<Point2>& points, std::vector<int32_t>& o
 
 namespace delaunay_internal {
 
-Triangulation TriangulateOneThread(const std::vector<Point2>& points, const DelaunayOptions& options) {
+// Skinny triangles (angle at a below ~1e-4 rad) are left to the stitch; for
+// the others the circle's centre and radius carry relative errors far below
+// the margin.
+bool CircleWithin(const Point2& a, const Point2& b, const Point2& c, double lo, double hi) {
+  const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
+  const double bb = bx * bx + by * by, cc = cx * cx + cy * cy;
+  const double d = 2.0 * (bx * cy - by * cx);
+  if (!(d * d >= 4e-8 * bb * cc)) return false;
+  const double inverse = 1.0 / d;
+  const double ux = (cy * bb - by * cc) * inverse, uy = (bx * cc - cx * bb) * inverse;
+  const double r = std::sqrt(ux * ux + uy * uy);
+  const double centre = a.x + ux;
+  const double margin = 1e-9 * r + 1e-14 * (std::abs(centre) + r);
+  return centre - r - margin > lo && centre + r + margin < hi;
+}
+
+namespace {
+
+// The incremental build, and each insertion position's vertex.
+struct Built {
+  std::vector<int32_t> order;  // insertion position -> input index
+  // Insertion position -> its vertex's input index (duplicates: the lowest).
+  std::vector<int32_t> label;
+  std::unique_ptr<Builder> builder;
+  int32_t num_duplicates = 0;
+};
+
+Built Build(const std::vector<Point2>& points, const DelaunayOptions& options) {
   const std::size_t n = points.size();
   if (n < 3) throw InputError("fewer than 3 points to triangulate");
   if (n > static_cast<std::size_t>(std::numeric_limits<int32_t>::max() / 8)) {
     throw InputError("too many points for 32-bit triangle indices");
   }
-  std::vector<int32_t> order;
+  Built built;
+  std::vector<int32_t>& order = built.order;
   if (options.spatial_sort) {
     order = SpatialOrder(points, /*brio=*/true, options.seed);
   } else {
@@ -247,7 +343,8 @@ Triangulation TriangulateOneThread(const std::vector<Point2>& points, const Dela
   // memory that was touched recently.
   std::vector<Point2> sorted(n);
   for (std::size_t k = 0; k < n; ++k) sorted[k] = points[order[k]];
-  Builder builder(std::move(sorted));
+  built.builder = std::make_unique<Builder>(std::move(sorted));
+  Builder& builder = *built.builder;
   if (Orient2D(points[order[0]], points[order[1]], points[order[2]]) > 0.0) {
     builder.Start(0, 1, 2);
   } else {
@@ -256,26 +353,47 @@ Triangulation TriangulateOneThread(const std::vector<Point2>& points, const Dela
   for (std::size_t k = 3; k < n; ++k) builder.Insert(static_cast<int32_t>(k));
 
   // Duplicates: the kept vertex takes the lowest input index of its group.
-  Triangulation result;
-  std::vector<int32_t> label(order.begin(), order.end());  // insertion position -> input index
+  built.label = order;
   const std::vector<int32_t>& duplicate_of = builder.duplicate_of();
   for (std::size_t k = 0; k < n; ++k) {
     if (duplicate_of[k] >= 0) {
-      label[duplicate_of[k]] = std::min(label[duplicate_of[k]], order[k]);
-      ++result.num_duplicates;
+      built.label[duplicate_of[k]] = std::min(built.label[duplicate_of[k]], order[k]);
+      ++built.num_duplicates;
     }
   }
-  result.vertex_of_input.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
+  return built;
+}
+
+// Per input index: the input index of its vertex.
+void VertexOfInput(const Built& built, std::vector<int32_t>* vertex_of_input) {
+  const std::vector<int32_t>& duplicate_of = built.builder->duplicate_of();
+  vertex_of_input->resize(built.order.size());
+  for (std::size_t k = 0; k < built.order.size(); ++k) {
     const int32_t kept = duplicate_of[k] >= 0 ? duplicate_of[k] : static_cast<int32_t>(k);
-    result.vertex_of_input[order[k]] = label[kept];
+    (*vertex_of_input)[built.order[k]] = built.label[kept];
   }
+}
+
+// How far ahead the passes over the slots fetch what a slot points to: slots
+// in creation order are only roughly local (a cache miss each, else).
+constexpr int32_t kAhead = 12;
+
+}  // namespace
+
+Triangulation TriangulateOneThread(const std::vector<Point2>& points,
+                                   const DelaunayOptions& options) {
+  const std::size_t n = points.size();
+  const Built built = Build(points, options);
+  const Builder& builder = *built.builder;
+  const std::vector<int32_t>& label = built.label;
+  Triangulation result;
+  result.num_duplicates = built.num_duplicates;
+  VertexOfInput(built, &result.vertex_of_input);
 
   // Compact: drop ghosts, hull neighbours become -1, and number triangles by
   // their lowest vertex (counting sort), so that spatially ordered input
   // gives a mesh whose triangles and vertices are near each other in memory.
-  const std::vector<int32_t>& vertex = builder.vertex();
-  const std::vector<int32_t>& twin = builder.twin();
+  const Slot* slot = builder.slots();
   const int32_t num_slots = builder.num_slots();
   std::vector<int32_t> new_index(num_slots, -1);
   int32_t num_finite = 0;
@@ -283,7 +401,8 @@ Triangulation TriangulateOneThread(const std::vector<Point2>& points, const Dela
     std::vector<int32_t> start(n + 1, 0);
     for (int32_t t = 0; t < num_slots; ++t) {
       if (builder.IsGhost(t)) continue;
-      new_index[t] = std::min({label[vertex[3 * t]], label[vertex[3 * t + 1]], label[vertex[3 * t + 2]]});
+      const int32_t* v = slot[t].v;
+      new_index[t] = std::min({label[v[0]], label[v[1]], label[v[2]]});
       ++start[new_index[t] + 1];
     }
     for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
@@ -299,13 +418,91 @@ Triangulation TriangulateOneThread(const std::vector<Point2>& points, const Dela
     const int32_t f = new_index[t];
     if (f < 0) continue;
     for (int i = 0; i < 3; ++i) {
-      const int32_t v = label[vertex[3 * t + i]];
+      const int32_t v = label[slot[t].v[i]];
       result.triangles[3 * f + i] = v;
-      result.neighbors[3 * f + i] = new_index[TriangleOf(twin[3 * t + i])];
+      result.neighbors[3 * f + i] = new_index[TriangleOf(slot[t].twin[i])];
       result.vertex_triangle[v] = f;
     }
   }
   return result;
+}
+
+void TriangulateSlab(const std::vector<Point2>& points, const std::vector<int32_t>& input,
+                     const DelaunayOptions& options, double lo, double hi, SlabPart* part) {
+  const std::size_t n = points.size();
+  const Built built = Build(points, options);
+  const Builder& builder = *built.builder;
+  const std::vector<int32_t>& label = built.label;
+  part->num_duplicates = built.num_duplicates;
+  if (built.num_duplicates > 0) {
+    VertexOfInput(built, &part->kept);
+    for (int32_t& k : part->kept) k = input[k];
+  }
+
+  // Per slot: ghost -2, non-final -1 (their corners, and the ghosts' ones:
+  // the hull's, go to the seam); a final triangle its lowest vertex, then
+  // its index among the final ones in TriangulateOneThread's order (a
+  // counting sort, as there).
+  const Slot* slot = builder.slots();
+  const int32_t num_slots = builder.num_slots();
+  const auto p = [&builder](int32_t v) -> const Point2& { return builder.point(v); };
+  std::vector<int32_t> id(num_slots);
+  std::vector<uint8_t> seam(n, 0);
+  std::vector<int32_t> start(n + 1, 0);
+  for (int32_t t = 0; t < num_slots; ++t) {
+    if (t + kAhead < num_slots) {
+      const int32_t* w = slot[t + kAhead].v;
+      if ((w[0] | w[1] | w[2]) >= 0) {
+        for (int i = 0; i < 3; ++i) __builtin_prefetch(&p(w[i]));
+      }
+    }
+    const int32_t* v = slot[t].v;
+    if ((v[0] | v[1] | v[2]) < 0) {
+      id[t] = -2;
+      for (int i = 0; i < 3; ++i) {
+        if (v[i] >= 0) seam[label[v[i]]] = 1;
+      }
+    } else if (CircleWithin(p(v[0]), p(v[1]), p(v[2]), lo, hi)) {
+      id[t] = std::min({label[v[0]], label[v[1]], label[v[2]]});
+      ++start[id[t] + 1];
+    } else {
+      id[t] = -1;
+      seam[label[v[0]]] = seam[label[v[1]]] = seam[label[v[2]]] = 1;
+    }
+  }
+  for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  const int32_t num_final = start[n];
+  part->num_final = num_final;
+  for (int32_t t = 0; t < num_slots; ++t) {
+    if (id[t] >= 0) id[t] = start[id[t]]++;
+  }
+  start = std::vector<int32_t>();
+
+  // The final triangles with their corners' input indices; the neighbours
+  // across the frontier are filled in by the stitch.
+  part->triangles.resize(3 * static_cast<std::size_t>(num_final));
+  part->neighbors.resize(3 * static_cast<std::size_t>(num_final));
+  part->first_final.assign(n, -1);
+  part->frontier.clear();
+  for (int32_t t = 0; t < num_slots; ++t) {
+    const int32_t f = id[t];
+    if (f < 0) continue;
+    const Slot& s = slot[t];
+    const int32_t v[3] = {label[s.v[0]], label[s.v[1]], label[s.v[2]]};
+    for (int i = 0; i < 3; ++i) {
+      part->triangles[3 * f + i] = input[v[i]];
+      const int32_t u = id[TriangleOf(s.twin[i])];
+      part->neighbors[3 * f + i] = u >= 0 ? u : -1;
+      if (u < 0) part->frontier.push_back({input[v[Next(i)]], input[v[Prev(i)]], f, i});
+      // The lowest final triangle of each vertex (unsigned: -1 is above all).
+      int32_t& first = part->first_final[v[i]];
+      if (static_cast<uint32_t>(f) < static_cast<uint32_t>(first)) first = f;
+    }
+  }
+  part->seam.clear();
+  for (std::size_t k = 0; k < n; ++k) {
+    if (seam[k]) part->seam.push_back(input[k]);
+  }
 }
 
 }  // namespace delaunay_internal

@@ -38,10 +38,8 @@ struct Slab {
   std::vector<int32_t> input;  // input indices, increasing
   std::vector<Point2> points;  // their points
   double min_x = 0.0, max_x = 0.0;
-  Triangulation mesh;             // over `input` (local indices)
-  std::vector<int32_t> final_id;  // per triangle: its index among all final ones, or -1
-  std::vector<int32_t> seam;      // input indices of the vertices the stitch needs, increasing
-  int32_t num_final = 0;
+  SlabPart part;
+  int32_t first = 0;  // index of its first final triangle in the whole
   bool failed = false;
 };
 
@@ -85,23 +83,6 @@ class FrontierIndex {
   std::size_t mask_ = 0;
 };
 
-// Whether the circle through a, b, c lies strictly between x = lo and x = hi,
-// decided conservatively (false when unsure). Skinny triangles (angle at a
-// below ~1e-4 rad) are left to the stitch; for the others the circle's
-// centre and radius carry relative errors far below the margin.
-bool CircleWithin(const Point2& a, const Point2& b, const Point2& c, double lo, double hi) {
-  const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
-  const double bb = bx * bx + by * by, cc = cx * cx + cy * cy;
-  const double d = 2.0 * (bx * cy - by * cx);
-  if (!(d * d >= 4e-8 * bb * cc)) return false;
-  const double inverse = 1.0 / d;
-  const double ux = (cy * bb - by * cc) * inverse, uy = (bx * cc - cx * bb) * inverse;
-  const double r = std::sqrt(ux * ux + uy * uy);
-  const double centre = a.x + ux;
-  const double margin = 1e-9 * r + 1e-14 * (std::abs(centre) + r);
-  return centre - r - margin > lo && centre + r + margin < hi;
-}
-
 // Cuts the input at quantiles of x (from a strided sample) into slabs with
 // no x shared between two (so duplicates stay together); each slab's list
 // keeps input order. False when fewer than two slabs come out.
@@ -124,7 +105,10 @@ bool CutIntoSlabs(const std::vector<Point2>& points, int wanted, const Execution
   std::vector<int64_t> fill(static_cast<std::size_t>(chunks) * count, 0);
   ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
     for (int64_t i = begin; i < end; ++i) {
-      const auto s = std::upper_bound(splits.begin(), splits.end(), points[i].x) - splits.begin();
+      // std::upper_bound's index without its unpredictable branches.
+      const double x = points[i].x;
+      int s = 0;
+      for (const double split : splits) s += !(x < split);
       slab_of[i] = static_cast<uint8_t>(s);
       ++fill[static_cast<std::size_t>(c) * count + s];
     }
@@ -161,37 +145,17 @@ bool CutIntoSlabs(const std::vector<Point2>& points, int wanted, const Execution
   return true;
 }
 
-// Triangulates slab s, marks its final triangles and collects its seam.
-void BuildSlab(const std::vector<Point2>& points, const DelaunayOptions& options, int s,
-               std::vector<Slab>* slabs) {
+// Triangulates slab s: its final triangles and its seam.
+void BuildSlab(const DelaunayOptions& options, int s, std::vector<Slab>* slabs) {
   Slab& slab = (*slabs)[s];
-  const std::vector<Point2>& local = slab.points;
-  try {
-    slab.mesh = TriangulateOneThread(local, options);
-  } catch (const InputError&) {
-    slab.failed = true;  // collinear or repeated: the whole is built on one thread
-    return;
-  }
   const double inf = std::numeric_limits<double>::infinity();
   const double lo = s > 0 ? (*slabs)[s - 1].max_x : -inf;
   const double hi = s + 1 < static_cast<int>(slabs->size()) ? (*slabs)[s + 1].min_x : inf;
-  const Triangulation& mesh = slab.mesh;
-  const int32_t triangles = mesh.num_triangles();
-  slab.final_id.assign(triangles, -1);
-  std::vector<uint8_t> seam(local.size(), 0);
-  for (int32_t t = 0; t < triangles; ++t) {
-    const int32_t* v = &mesh.triangles[3 * t];
-    if (CircleWithin(local[v[0]], local[v[1]], local[v[2]], lo, hi)) {
-      slab.final_id[t] = slab.num_final++;  // made global later
-    } else {
-      seam[v[0]] = seam[v[1]] = seam[v[2]] = 1;
-    }
-    for (int i = 0; i < 3; ++i) {
-      if (mesh.neighbors[3 * t + i] < 0) seam[v[Next(i)]] = seam[v[Prev(i)]] = 1;
-    }
-  }
-  for (std::size_t k = 0; k < seam.size(); ++k) {
-    if (seam[k]) slab.seam.push_back(slab.input[k]);
+  try {
+    TriangulateSlab(slab.points, slab.input, options, lo, hi, &slab.part);
+  } catch (const InputError&) {
+    slab.failed = true;  // collinear or repeated: the whole is built on one thread
+    return;
   }
   slab.points = std::vector<Point2>();  // no longer needed
 }
@@ -211,41 +175,33 @@ bool TriangulateInSlabs(const std::vector<Point2>& points, const DelaunayOptions
   DelaunayOptions one = options;
   one.execution = Execution{1};
   ForEachChunk(execution, count, count,
-               [&](int s, int64_t, int64_t) { BuildSlab(points, one, s, &slabs); });
+               [&](int s, int64_t, int64_t) { BuildSlab(one, s, &slabs); });
   int32_t num_final = 0;
-  std::vector<int32_t> seam;
+  std::size_t frontier_size = 0, seam_size = 0;
   for (Slab& slab : slabs) {
     if (slab.failed) return false;
-    for (int32_t& f : slab.final_id) {
-      if (f >= 0) f += num_final;
-    }
-    num_final += slab.num_final;
-    seam.insert(seam.end(), slab.seam.begin(), slab.seam.end());
+    slab.first = num_final;
+    num_final += slab.part.num_final;
+    frontier_size += slab.part.frontier.size();
+    seam_size += slab.part.seam.size();
   }
   // No final triangle (e.g. cocircular points): the seam is everything.
   if (num_final == 0) return false;
+  std::vector<int32_t> seam;
+  seam.reserve(seam_size);
+  for (const Slab& slab : slabs)
+    seam.insert(seam.end(), slab.part.seam.begin(), slab.part.seam.end());
   std::sort(seam.begin(), seam.end());
 
   // The final triangles' outer edges, by the key the seam's triangulation
   // sees them by (slab after slab: the order does not matter).
-  std::vector<std::vector<Frontier>> slab_frontier(count);
-  ForEachChunk(execution, count, count, [&](int s, int64_t, int64_t) {
-    const Slab& slab = slabs[s];
-    const Triangulation& mesh = slab.mesh;
-    for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
-      if (slab.final_id[t] < 0) continue;
-      for (int i = 0; i < 3; ++i) {
-        const int32_t u = mesh.neighbors[3 * t + i];
-        if (u >= 0 && slab.final_id[u] >= 0) continue;
-        const int32_t from = slab.input[mesh.triangles[3 * t + Next(i)]];
-        const int32_t to = slab.input[mesh.triangles[3 * t + Prev(i)]];
-        slab_frontier[s].push_back({EdgeKey(to, from), slab.final_id[t], i});
-      }
-    }
-  });
   std::vector<Frontier> frontier;
-  for (const std::vector<Frontier>& f : slab_frontier)
-    frontier.insert(frontier.end(), f.begin(), f.end());
+  frontier.reserve(frontier_size);
+  for (const Slab& slab : slabs) {
+    for (const SlabPart::Edge& e : slab.part.frontier) {
+      frontier.push_back({EdgeKey(e.to, e.from), slab.first + e.triangle, e.edge});
+    }
+  }
   const FrontierIndex frontier_index(frontier);
 
   // The seam's triangulation; the triangles the final ones leave are those
@@ -303,23 +259,22 @@ bool TriangulateInSlabs(const std::vector<Point2>& points, const DelaunayOptions
   std::atomic<bool> consistent{true};
   ForEachChunk(execution, count, count, [&](int s, int64_t, int64_t) {
     const Slab& slab = slabs[s];
-    const Triangulation& mesh = slab.mesh;
-    std::vector<int32_t> first_final(slab.input.size(), -1);
-    for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
-      const int32_t f = slab.final_id[t];
-      if (f < 0) continue;
-      for (int i = 0; i < 3; ++i) {
-        const int32_t v = mesh.triangles[3 * t + i];
-        result.triangles[3 * f + i] = slab.input[v];
-        if (first_final[v] < 0) first_final[v] = f;
-        const int32_t u = mesh.neighbors[3 * t + i];
-        result.neighbors[3 * f + i] = u >= 0 ? slab.final_id[u] : -1;  // frontier: below
-      }
+    const SlabPart& part = slab.part;
+    const int32_t first = slab.first;
+    std::copy(part.triangles.begin(), part.triangles.end(),
+              result.triangles.begin() + 3 * static_cast<int64_t>(first));
+    int32_t* neighbors = result.neighbors.data() + 3 * static_cast<int64_t>(first);
+    for (std::size_t k = 0; k < part.neighbors.size(); ++k) {
+      const int32_t u = part.neighbors[k];
+      neighbors[k] = u >= 0 ? u + first : -1;  // frontier: below
     }
-    for (std::size_t k = 0; k < slab.input.size(); ++k) result.vertex_triangle[slab.input[k]] = first_final[k];
-    if (mesh.num_duplicates == 0) return;  // each its own vertex: below
     for (std::size_t k = 0; k < slab.input.size(); ++k) {
-      result.vertex_of_input[slab.input[k]] = slab.input[mesh.vertex_of_input[k]];
+      const int32_t f = part.first_final[k];
+      result.vertex_triangle[slab.input[k]] = f >= 0 ? f + first : -1;
+    }
+    if (part.num_duplicates == 0) return;  // each its own vertex: below
+    for (std::size_t k = 0; k < slab.input.size(); ++k) {
+      result.vertex_of_input[slab.input[k]] = part.kept[k];
     }
   });
   for (const Frontier& f : frontier) {
@@ -348,7 +303,7 @@ bool TriangulateInSlabs(const std::vector<Point2>& points, const DelaunayOptions
   }
   // Every distinct point a vertex: V vertices with H on the hull make
   // 2V - 2 - H triangles.
-  for (const Slab& slab : slabs) result.num_duplicates += slab.mesh.num_duplicates;
+  for (const Slab& slab : slabs) result.num_duplicates += slab.part.num_duplicates;
   int64_t hull_edges = 0;
   for (int32_t u : result.neighbors) hull_edges += u < 0;
   if (!consistent || total != 2 * (n - result.num_duplicates) - 2 - hull_edges) return false;

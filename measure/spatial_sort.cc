@@ -17,14 +17,22 @@ uint64_t SplitMix64(uint64_t& state) {
 }
 
 // Sorts `items` by their upper 32 bits (the key), stable, least significant
-// digit first, 8 bits a pass.
+// digit first: three passes of 11 bits (counts fit the L1 cache), all three
+// histograms from one read.
 void RadixSortByUpperHalf(std::vector<uint64_t>& items) {
+  constexpr int kBits = 11, kBuckets = 1 << kBits, kPasses = 3;
+  std::vector<std::size_t> count(kPasses * (kBuckets + 1), 0);
+  for (uint64_t item : items) {
+    for (int pass = 0; pass < kPasses; ++pass) {
+      ++count[pass * (kBuckets + 1) + ((item >> (32 + kBits * pass)) & (kBuckets - 1)) + 1];
+    }
+  }
   std::vector<uint64_t> buffer(items.size());
-  for (int shift = 32; shift < 64; shift += 8) {
-    std::size_t count[257] = {0};
-    for (uint64_t item : items) ++count[((item >> shift) & 0xFF) + 1];
-    for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
-    for (uint64_t item : items) buffer[count[(item >> shift) & 0xFF]++] = item;
+  for (int pass = 0; pass < kPasses; ++pass) {
+    std::size_t* c = &count[pass * (kBuckets + 1)];
+    for (int b = 0; b < kBuckets; ++b) c[b + 1] += c[b];
+    const int shift = 32 + kBits * pass;
+    for (uint64_t item : items) buffer[c[(item >> shift) & (kBuckets - 1)]++] = item;
     items.swap(buffer);
   }
 }
@@ -85,7 +93,8 @@ uint32_t HilbertIndex(uint32_t x, uint32_t y, int order) {
   uint32_t state = 0;
   for (int shift = 16 - kTableLevels; shift >= 0; shift -= kTableLevels) {
     const uint32_t xs = (x >> shift) & 0xF, ys = (y >> shift) & 0xF;
-    const uint32_t e = kHilbertTable.entry[(state << (2 * kTableLevels)) | (xs << kTableLevels) | ys];
+    const uint32_t e =
+        kHilbertTable.entry[(state << (2 * kTableLevels)) | (xs << kTableLevels) | ys];
     index = (index << (2 * kTableLevels)) | (e & 0xFF);
     state = e >> (2 * kTableLevels);
   }
