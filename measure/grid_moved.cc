@@ -35,11 +35,22 @@ struct Polygon {
   Point2 p[12];
 };
 
-// `in` split by the line f(p) = k, f = ax·x + ay·y: the part f <= k to
-// `low`, f >= k to `high` (Sutherland–Hodgman on one line, both sides).
-void Split(const Polygon& in, double ax, double ay, double k, Polygon* low, Polygon* high) {
+// The three families of A's lines in its index space: columns x = k,
+// rows y = k, diagonals x − y = k (the rule's diagonal from a cell's
+// corner (0, 0) to (1, 1)); f(p) of each.
+template <int Family>
+double LineValue(const Point2& p) {
+  if (Family == 0) return p.x;
+  if (Family == 1) return p.y;
+  return p.x - p.y;
+}
+
+// `in` split by the line f(p) = k of a family: the part f <= k to `low`,
+// f >= k to `high` (Sutherland–Hodgman on one line, both sides).
+template <int Family>
+void Split(const Polygon& in, double k, Polygon* low, Polygon* high) {
   double f[12];
-  for (int i = 0; i < in.n; ++i) f[i] = ax * in.p[i].x + ay * in.p[i].y - k;
+  for (int i = 0; i < in.n; ++i) f[i] = LineValue<Family>(in.p[i]) - k;
   low->n = high->n = 0;
   for (int i = 0; i < in.n; ++i) {
     const int j = i + 1 == in.n ? 0 : i + 1;
@@ -102,36 +113,31 @@ bool IntegratePiece(const Polygon& piece, const double d[], double area_scale, d
   return true;
 }
 
-// The three families of A's lines: columns, rows, diagonals (the rule's
-// diagonal from a cell's corner (0, 0) to (1, 1)).
-constexpr double kFamily[3][2] = {{1.0, 0.0}, {0.0, 1.0}, {1.0, -1.0}};
-
-// Cuts `poly` by every line of families [family, 3) that crosses its
-// interior and hands each piece to emit.
-template <typename Emit>
-void Cut(const Polygon& poly, int family, const Emit& emit) {
+// Cuts `poly` by every line of the families from `Family` on that crosses
+// its interior and hands each piece to emit.
+template <int Family, typename Emit>
+void Cut(const Polygon& poly, const Emit& emit) {
   if (poly.n < 3) return;
-  if (family == 3) {
+  if constexpr (Family == 3) {
     emit(poly);
-    return;
+  } else {
+    double lo = LineValue<Family>(poly.p[0]), hi = lo;
+    for (int i = 1; i < poly.n; ++i) {
+      const double f = LineValue<Family>(poly.p[i]);
+      lo = std::min(lo, f), hi = std::max(hi, f);
+    }
+    // The part beyond each line goes on; two buffers in turn, no copies.
+    Polygon low, buffers[2];
+    const Polygon* rest = &poly;
+    int spare = 0;
+    for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0) {
+      Split<Family>(*rest, k, &low, &buffers[spare]);
+      Cut<Family + 1>(low, emit);
+      rest = &buffers[spare];
+      spare ^= 1;
+    }
+    Cut<Family + 1>(*rest, emit);
   }
-  const double ax = kFamily[family][0], ay = kFamily[family][1];
-  double lo = ax * poly.p[0].x + ay * poly.p[0].y, hi = lo;
-  for (int i = 1; i < poly.n; ++i) {
-    const double f = ax * poly.p[i].x + ay * poly.p[i].y;
-    lo = std::min(lo, f), hi = std::max(hi, f);
-  }
-  // The part beyond each line goes on; two buffers in turn, no copies.
-  Polygon low, buffers[2];
-  const Polygon* rest = &poly;
-  int spare = 0;
-  for (double k = std::floor(lo) + 1.0; k < hi; k += 1.0) {
-    Split(*rest, ax, ay, k, &low, &buffers[spare]);
-    Cut(low, family + 1, emit);
-    rest = &buffers[spare];
-    spare ^= 1;
-  }
-  Cut(*rest, family + 1, emit);
 }
 
 // Sums of one chunk of B's rows: the cells, A's nodes found in its
@@ -242,9 +248,13 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
         const int32_t i = row[c];
         if (i < 0 || !sa.DomainVertex(above, flags, c)) continue;
         const Point2& p = a.xy[i];
-        const double o0 = Orient2D(xy[1], xy[2], p) * sign, o1 = Orient2D(xy[2], xy[0], p) * sign,
-                     o2 = Orient2D(xy[0], xy[1], p) * sign;
-        if (o0 < 0.0 || o1 < 0.0 || o2 < 0.0) continue;
+        // Most points of the box are outside: each test as soon as made.
+        const double o0 = Orient2D(xy[1], xy[2], p) * sign;
+        if (o0 < 0.0) continue;
+        const double o1 = Orient2D(xy[2], xy[0], p) * sign;
+        if (o1 < 0.0) continue;
+        const double o2 = Orient2D(xy[0], xy[1], p) * sign;
+        if (o2 < 0.0) continue;
         if (o0 == 0.0 || o1 == 0.0 || o2 == 0.0 ||
             found[i].exchange(1, std::memory_order_relaxed) != 0) {
           general.store(true, std::memory_order_relaxed);
@@ -268,7 +278,7 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
     Polygon poly;
     poly.n = 3;
     for (int m = 0; m < 3; ++m) poly.p[m] = ti[m];
-    Cut(poly, 0, [&](const Polygon& piece) {
+    Cut<0>(poly, [&](const Polygon& piece) {
       // A point inside the piece (convex): its first three corners' mean.
       const double mx = (piece.p[0].x + piece.p[1].x + piece.p[2].x) / 3.0;
       const double my = (piece.p[0].y + piece.p[1].y + piece.p[2].y) / 3.0;
