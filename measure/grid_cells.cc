@@ -42,6 +42,62 @@ bool BuildIndex(const std::vector<RasterCell>& cells, GridIndex* index) {
   return true;
 }
 
+std::vector<Point2> HullCandidates(const Surface& s, const GridIndex& index) {
+  const auto at = [&](int64_t c, int64_t r) {  // index coordinates; -1 outside
+    if (c < 0 || r < 0 || c >= index.columns || r >= index.rows) return -1;
+    return index.sample[static_cast<std::size_t>(r * index.columns + c)];
+  };
+  // L: the mean step to the next column and row, through the samples' mean.
+  Point2 u{0, 0}, v{0, 0}, mean{0, 0};
+  double nu = 0, nv = 0, mc = 0, mr = 0;
+  for (int64_t r = 0; r < index.rows; ++r) {
+    for (int64_t c = 0; c < index.columns; ++c) {
+      const int32_t i = at(c, r);
+      if (i < 0) continue;
+      mean.x += s.xy[i].x, mean.y += s.xy[i].y, mc += static_cast<double>(c), mr += static_cast<double>(r);
+      const int32_t right = at(c + 1, r), down = at(c, r + 1);
+      if (right >= 0) u.x += s.xy[right].x - s.xy[i].x, u.y += s.xy[right].y - s.xy[i].y, ++nu;
+      if (down >= 0) v.x += s.xy[down].x - s.xy[i].x, v.y += s.xy[down].y - s.xy[i].y, ++nv;
+    }
+  }
+  const double n = static_cast<double>(s.size());
+  bool rim_only = nu > 0 && nv > 0 && n > 0;
+  if (rim_only) {
+    u.x /= nu, u.y /= nu, v.x /= nv, v.y /= nv;
+    mean.x /= n, mean.y /= n, mc /= n, mr /= n;
+    const double cross = std::fabs(u.x * v.y - u.y * v.x);
+    const double inradius = std::min(cross / std::hypot(u.x, u.y), cross / std::hypot(v.x, v.y));
+    double e2 = 0;  // the largest squared distance from L
+    for (int64_t r = 0; r < index.rows; ++r) {
+      for (int64_t c = 0; c < index.columns; ++c) {
+        const int32_t i = at(c, r);
+        if (i < 0) continue;
+        const double dc = static_cast<double>(c) - mc, dr = static_cast<double>(r) - mr;
+        const double ex = s.xy[i].x - (mean.x + dc * u.x + dr * v.x);
+        const double ey = s.xy[i].y - (mean.y + dc * u.y + dr * v.y);
+        e2 = std::max(e2, ex * ex + ey * ey);
+      }
+    }
+    // The sample off L by E and its neighbours' hull shrunk by E at most:
+    // inside while 2E is below the block's inradius (a quarter: margin).
+    rim_only = std::isfinite(e2) && 2.0 * std::sqrt(e2) < 0.25 * inradius;
+  }
+  if (!rim_only) return s.xy;
+  std::vector<Point2> rim;
+  for (int64_t r = 0; r < index.rows; ++r) {
+    for (int64_t c = 0; c < index.columns; ++c) {
+      const int32_t i = at(c, r);
+      if (i < 0) continue;
+      bool inner = true;
+      for (int dr = -1; dr <= 1 && inner; ++dr) {
+        for (int dc = -1; dc <= 1 && inner; ++dc) inner = at(c + dc, r + dr) >= 0;
+      }
+      if (!inner) rim.push_back(s.xy[i]);
+    }
+  }
+  return rim;
+}
+
 bool Near(const Point2& p, const Point2& q, double tolerance) {
   return std::fabs(p.x - q.x) <= tolerance && std::fabs(p.y - q.y) <= tolerance;
 }

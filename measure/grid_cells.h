@@ -60,6 +60,14 @@ double HullArea(const GridIndex& index, double cell_area);
 // integer cell coordinates (a row with one sample: one end).
 double HullAreaOfRowEnds(std::vector<std::array<int64_t, 2>> ends, double cell_area);
 
+// The samples of a raster surface (indexed by `index`, its own cells) that
+// may be corners of its convex hull, for a raster whose samples need not
+// lie on a lattice (moved by a rigid motion: each off a lattice L by up to
+// E, measured here): when 2E is well inside the inradius of a sample's
+// 3 × 3 block of cells, a sample with all eight neighbours lies inside
+// their hull, so only the others are returned; otherwise every sample.
+std::vector<Point2> HullCandidates(const Surface& s, const GridIndex& index);
+
 // One surface on the grid: its index, positions in A's frame and heights.
 struct GridSide {
   const Surface* surface = nullptr;

@@ -382,23 +382,8 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
   std::vector<uint8_t> omega_a(a.size());
   for (std::size_t i = 0; i < a.size(); ++i) omega_a[i] = found[i].load(std::memory_order_relaxed);
   FinishResult(sums, sa, sb, omega_a, keep, execution, &result);
-  // B's hull from its samples that may be on it: those missing one of
-  // their eight neighbours (one with all eight is inside the unfolded
-  // triangles around it, MarkBoth).
-  std::vector<Point2> rim;
-  for (int64_t r = 0; r < sb.index.rows; ++r) {
-    const int32_t* row = sb.SampleRow(r);
-    for (int64_t c = 0; c < sb.index.columns; ++c) {
-      if (row[c] < 0) continue;
-      bool inner = true;
-      for (int dr = -1; dr <= 1 && inner; ++dr) {
-        for (int dc = -1; dc <= 1 && inner; ++dc)
-          inner = sb.index.At(sb.index.c0 + c + dc, sb.index.r0 + r + dr) >= 0;
-      }
-      if (!inner) rim.push_back(sb.Xy(row[c]));
-    }
-  }
-  result.hull_area_b = PolygonArea(ConvexHull(std::move(rim)));
+  // B's hull from its samples that may be on it.
+  result.hull_area_b = PolygonArea(ConvexHull(HullCandidates(b, sb.index)));
   return true;
 }
 

@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <vector>
 
 #include <Eigen/Geometry>
 
+#include "measure/tasks.h"
 #include "measure/weights.h"
 
 namespace surfreg {
@@ -246,19 +250,28 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   NodeContext ctx(state, settings, jacobians, out);
   ctx.node_weight.assign(na + nb, 0.0);
   ctx.d_weight.assign(jacobians ? na + nb : 0, std::array<double, 6>{});
-  int64_t overlap = 0;
-  for (std::size_t i = 0; i < (settings.reference_nodes ? na : 0); ++i) {
-    // Nodes of either surface's junk (measure/domain.h) are not in Ω.
-    if (!ctx.a.domain_vertex[i] || !state.OnMovingSurface(state.a_in_b()[i])) continue;
-    ++overlap;
-    ctx.ReferenceNode(i);
-  }
-  for (std::size_t j = 0; j < (settings.moving_nodes ? nb : 0); ++j) {
-    if (!state.moving_node_active(j) || !state.OnReferenceSurface(state.b_in_a()[j])) continue;
-    ++overlap;
-    ctx.MovingNode(j);
-  }
-  out->overlap_count = overlap;
+  // Each node writes only its own entries: chunks of nodes side by side.
+  const int64_t n_a = settings.reference_nodes ? static_cast<int64_t>(na) : 0;
+  const int64_t n_b = settings.moving_nodes ? static_cast<int64_t>(nb) : 0;
+  const int chunks = ChunksFor(n_a + n_b, 8192);
+  std::vector<int64_t> overlap(chunks, 0);
+  ForEachChunk(state.execution(), n_a + n_b, chunks, [&](int c, int64_t begin, int64_t end) {
+    for (int64_t k = begin; k < end; ++k) {
+      if (k < n_a) {
+        const std::size_t i = static_cast<std::size_t>(k);
+        // Nodes of either surface's junk (measure/domain.h) are not in Ω.
+        if (!ctx.a.domain_vertex[i] || !state.OnMovingSurface(state.a_in_b()[i])) continue;
+        ++overlap[c];
+        ctx.ReferenceNode(i);
+      } else {
+        const std::size_t j = static_cast<std::size_t>(k - n_a);
+        if (!state.moving_node_active(j) || !state.OnReferenceSurface(state.b_in_a()[j])) continue;
+        ++overlap[c];
+        ctx.MovingNode(j);
+      }
+    }
+  });
+  out->overlap_count = std::accumulate(overlap.begin(), overlap.end(), int64_t{0});
   Trim(settings, jacobians, out);
   Normalize(settings, ctx, out);
 }

@@ -130,6 +130,7 @@ class PairState {
   void MoveTo(const std::array<double, 6>& theta);
   // Threads for locating A in B and B in A side by side (large clouds only).
   void set_execution(const Execution& execution) { execution_ = execution; }
+  const Execution& execution() const { return execution_; }
 
   const ReferenceSide& reference() const { return reference_; }
   const MovingSide& moving() const { return moving_; }

@@ -22,12 +22,16 @@ namespace {
 // The convex hull of a tile's samples. On an affine grid (to rounding) each
 // row's samples lie on one line, so the row's two ends stand for it: no
 // orientation test on a whole row of collinear points (each would need the
-// exact stage). Otherwise (a grid turned into another frame) all samples.
+// exact stage). A moved raster's: the samples on its rim when it is near
+// a lattice (grid_cells::HullCandidates); otherwise all samples.
 std::vector<Point2> TileHull(const Surface& s) {
   grid_cells::GridAffine fit;
   double tolerance = 0.0;
-  if (!s.raster_grid() || !grid_cells::FitAffine(s, grid_cells::Magnitude(s), &fit, &tolerance)) {
-    return ConvexHull(s.xy);
+  if (!s.raster_grid()) return ConvexHull(s.xy);
+  if (!grid_cells::FitAffine(s, grid_cells::Magnitude(s), &fit, &tolerance)) {
+    grid_cells::GridIndex index;  // a moved raster: its rim (HullCandidates)
+    if (!grid_cells::BuildIndex(s.raster_cell, &index)) return ConvexHull(s.xy);
+    return ConvexHull(grid_cells::HullCandidates(s, index));
   }
   std::vector<Point2> ends;
   for (std::size_t i = 0; i < s.size();) {  // runs of one row (the reader's row-major order)

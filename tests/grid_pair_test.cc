@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include "measure/convex_hull.h"
+#include "measure/grid_cells.h"
 #include "measure/grid_pair.h"
 #include "measure/input_error.h"
 #include "measure/measures.h"
@@ -378,6 +380,27 @@ TEST(GridPairTest, MovedRastersLeaveTiesAndOtherWeightsToTheGeneralPath) {
   EXPECT_FALSE(MeasureOnMovedGrid(a, flipped, MeasureOptions(), &out));
   // A not on a lattice.
   EXPECT_FALSE(MeasureOnMovedGrid(b, a, MeasureOptions(), &out));
+}
+
+TEST(GridPairTest, AMovedRastersHullFromItsRimEqualsTheHullOfAllSamples) {
+  for (const Surface& b : {Moved(HoledB(), 0.3, 0.002, -0.003, {1.0, 2.0, 0.0}),
+                           Moved(Window(Lattice(), 0, 0, 40, 30, Changed, HoleA), 1.1, 0.0, 0.004, {0.0, 0.0, 5.0})}) {
+    grid_cells::GridIndex index;
+    ASSERT_TRUE(grid_cells::BuildIndex(b.raster_cell, &index));
+    const std::vector<Point2> rim = grid_cells::HullCandidates(b, index);
+    EXPECT_LT(rim.size(), b.size() / 2);
+    EXPECT_EQ(PolygonArea(ConvexHull(rim)), PolygonArea(ConvexHull(b.xy)));
+  }
+  // Samples jittered by up to 0.3 cells: too far off a lattice for the
+  // rim to be sure; every sample is a candidate.
+  Surface jittered = HoledB();
+  for (std::size_t i = 0; i < jittered.size(); ++i) {
+    jittered.xy[i].x += 3.0 * std::sin(1.7 * static_cast<double>(i));
+    jittered.xy[i].y += 3.0 * std::cos(2.3 * static_cast<double>(i));
+  }
+  grid_cells::GridIndex index;
+  ASSERT_TRUE(grid_cells::BuildIndex(jittered.raster_cell, &index));
+  EXPECT_EQ(grid_cells::HullCandidates(jittered, index).size(), jittered.size());
 }
 
 TEST(GridPairTest, OneAndTwoThreadsGiveTheSameBits) {
