@@ -42,59 +42,84 @@ bool BuildIndex(const std::vector<RasterCell>& cells, GridIndex* index) {
   return true;
 }
 
-std::vector<Point2> HullCandidates(const Surface& s, const GridIndex& index) {
+std::vector<Point2> HullCandidates(const Surface& s, const GridIndex& index, const Execution& execution) {
   const auto at = [&](int64_t c, int64_t r) {  // index coordinates; -1 outside
     if (c < 0 || r < 0 || c >= index.columns || r >= index.rows) return -1;
     return index.sample[static_cast<std::size_t>(r * index.columns + c)];
   };
+  // By chunks of rows, summed in chunk order: the same on any thread count.
+  const int chunks = RowChunks(index.rows);
+  struct Sums {
+    Point2 u{0, 0}, v{0, 0}, mean{0, 0};
+    double nu = 0, nv = 0, mc = 0, mr = 0, n = 0, e2 = 0;
+  };
+  std::vector<Sums> parts(chunks);
   // L: the mean step to the next column and row, through the samples' mean.
-  Point2 u{0, 0}, v{0, 0}, mean{0, 0};
-  double nu = 0, nv = 0, mc = 0, mr = 0;
-  for (int64_t r = 0; r < index.rows; ++r) {
-    for (int64_t c = 0; c < index.columns; ++c) {
-      const int32_t i = at(c, r);
-      if (i < 0) continue;
-      mean.x += s.xy[i].x, mean.y += s.xy[i].y, mc += static_cast<double>(c), mr += static_cast<double>(r);
-      const int32_t right = at(c + 1, r), down = at(c, r + 1);
-      if (right >= 0) u.x += s.xy[right].x - s.xy[i].x, u.y += s.xy[right].y - s.xy[i].y, ++nu;
-      if (down >= 0) v.x += s.xy[down].x - s.xy[i].x, v.y += s.xy[down].y - s.xy[i].y, ++nv;
-    }
-  }
-  const double n = static_cast<double>(s.size());
-  bool rim_only = nu > 0 && nv > 0 && n > 0;
-  if (rim_only) {
-    u.x /= nu, u.y /= nu, v.x /= nv, v.y /= nv;
-    mean.x /= n, mean.y /= n, mc /= n, mr /= n;
-    const double cross = std::fabs(u.x * v.y - u.y * v.x);
-    const double inradius = std::min(cross / std::hypot(u.x, u.y), cross / std::hypot(v.x, v.y));
-    double e2 = 0;  // the largest squared distance from L
-    for (int64_t r = 0; r < index.rows; ++r) {
+  ForEachChunk(execution, index.rows, chunks, [&](int h, int64_t begin, int64_t end) {
+    Sums p;
+    for (int64_t r = begin; r < end; ++r) {
       for (int64_t c = 0; c < index.columns; ++c) {
         const int32_t i = at(c, r);
         if (i < 0) continue;
-        const double dc = static_cast<double>(c) - mc, dr = static_cast<double>(r) - mr;
-        const double ex = s.xy[i].x - (mean.x + dc * u.x + dr * v.x);
-        const double ey = s.xy[i].y - (mean.y + dc * u.y + dr * v.y);
-        e2 = std::max(e2, ex * ex + ey * ey);
+        p.mean.x += s.xy[i].x, p.mean.y += s.xy[i].y, ++p.n;
+        p.mc += static_cast<double>(c), p.mr += static_cast<double>(r);
+        const int32_t right = at(c + 1, r), down = at(c, r + 1);
+        if (right >= 0) p.u.x += s.xy[right].x - s.xy[i].x, p.u.y += s.xy[right].y - s.xy[i].y, ++p.nu;
+        if (down >= 0) p.v.x += s.xy[down].x - s.xy[i].x, p.v.y += s.xy[down].y - s.xy[i].y, ++p.nv;
       }
     }
+    parts[h] = p;
+  });
+  Sums t;
+  for (const Sums& p : parts) {
+    t.u.x += p.u.x, t.u.y += p.u.y, t.v.x += p.v.x, t.v.y += p.v.y, t.mean.x += p.mean.x, t.mean.y += p.mean.y;
+    t.nu += p.nu, t.nv += p.nv, t.mc += p.mc, t.mr += p.mr, t.n += p.n;
+  }
+  bool rim_only = t.nu > 0 && t.nv > 0 && t.n > 0;
+  if (rim_only) {
+    const Point2 u{t.u.x / t.nu, t.u.y / t.nu}, v{t.v.x / t.nv, t.v.y / t.nv};
+    const Point2 mean{t.mean.x / t.n, t.mean.y / t.n};
+    const double mc = t.mc / t.n, mr = t.mr / t.n;
+    const double cross = std::fabs(u.x * v.y - u.y * v.x);
+    const double inradius = std::min(cross / std::hypot(u.x, u.y), cross / std::hypot(v.x, v.y));
+    // The largest squared distance from L.
+    ForEachChunk(execution, index.rows, chunks, [&](int h, int64_t begin, int64_t end) {
+      double e2 = 0;
+      for (int64_t r = begin; r < end; ++r) {
+        for (int64_t c = 0; c < index.columns; ++c) {
+          const int32_t i = at(c, r);
+          if (i < 0) continue;
+          const double dc = static_cast<double>(c) - mc, dr = static_cast<double>(r) - mr;
+          const double ex = s.xy[i].x - (mean.x + dc * u.x + dr * v.x);
+          const double ey = s.xy[i].y - (mean.y + dc * u.y + dr * v.y);
+          e2 = std::max(e2, ex * ex + ey * ey);
+        }
+      }
+      parts[h].e2 = e2;
+    });
+    double e2 = 0;
+    for (const Sums& p : parts) e2 = std::max(e2, p.e2);
     // The sample off L by E and its neighbours' hull shrunk by E at most:
     // inside while 2E is below the block's inradius (a quarter: margin).
     rim_only = std::isfinite(e2) && 2.0 * std::sqrt(e2) < 0.25 * inradius;
   }
   if (!rim_only) return s.xy;
-  std::vector<Point2> rim;
-  for (int64_t r = 0; r < index.rows; ++r) {
-    for (int64_t c = 0; c < index.columns; ++c) {
-      const int32_t i = at(c, r);
-      if (i < 0) continue;
-      bool inner = true;
-      for (int dr = -1; dr <= 1 && inner; ++dr) {
-        for (int dc = -1; dc <= 1 && inner; ++dc) inner = at(c + dc, r + dr) >= 0;
+  std::vector<std::vector<Point2>> rims(chunks);
+  ForEachChunk(execution, index.rows, chunks, [&](int h, int64_t begin, int64_t end) {
+    for (int64_t r = begin; r < end; ++r) {
+      for (int64_t c = 0; c < index.columns; ++c) {
+        const int32_t i = at(c, r);
+        if (i < 0) continue;
+        bool inner = true;
+        for (int dr = -1; dr <= 1 && inner; ++dr) {
+          for (int dc = -1; dc <= 1 && inner; ++dc) inner = at(c + dc, r + dr) >= 0;
+        }
+        if (!inner) rims[h].push_back(s.xy[i]);
       }
-      if (!inner) rim.push_back(s.xy[i]);
     }
-  }
+  });
+  std::vector<Point2> rim;
+  for (const std::vector<Point2>& part : rims) rim.insert(rim.end(), part.begin(), part.end());
   return rim;
 }
 

@@ -66,7 +66,8 @@ double HullAreaOfRowEnds(std::vector<std::array<int64_t, 2>> ends, double cell_a
 // E, measured here): when 2E is well inside the inradius of a sample's
 // 3 × 3 block of cells, a sample with all eight neighbours lies inside
 // their hull, so only the others are returned; otherwise every sample.
-std::vector<Point2> HullCandidates(const Surface& s, const GridIndex& index);
+std::vector<Point2> HullCandidates(const Surface& s, const GridIndex& index,
+                                   const Execution& execution = Execution{1});
 
 // One surface on the grid: its index, positions in A's frame and heights.
 struct GridSide {

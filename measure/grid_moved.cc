@@ -383,7 +383,7 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
   for (std::size_t i = 0; i < a.size(); ++i) omega_a[i] = found[i].load(std::memory_order_relaxed);
   FinishResult(sums, sa, sb, omega_a, keep, execution, &result);
   // B's hull from its samples that may be on it.
-  result.hull_area_b = PolygonArea(ConvexHull(HullCandidates(b, sb.index)));
+  result.hull_area_b = PolygonArea(ConvexHull(HullCandidates(b, sb.index, execution)));
   return true;
 }
 

@@ -24,14 +24,14 @@ namespace {
 // orientation test on a whole row of collinear points (each would need the
 // exact stage). A moved raster's: the samples on its rim when it is near
 // a lattice (grid_cells::HullCandidates); otherwise all samples.
-std::vector<Point2> TileHull(const Surface& s) {
+std::vector<Point2> TileHull(const Surface& s, const Execution& execution) {
   grid_cells::GridAffine fit;
   double tolerance = 0.0;
   if (!s.raster_grid()) return ConvexHull(s.xy);
   if (!grid_cells::FitAffine(s, grid_cells::Magnitude(s), &fit, &tolerance)) {
     grid_cells::GridIndex index;  // a moved raster: its rim (HullCandidates)
     if (!grid_cells::BuildIndex(s.raster_cell, &index)) return ConvexHull(s.xy);
-    return ConvexHull(grid_cells::HullCandidates(s, index));
+    return ConvexHull(grid_cells::HullCandidates(s, index, execution));
   }
   std::vector<Point2> ends;
   for (std::size_t i = 0; i < s.size();) {  // runs of one row (the reader's row-major order)
@@ -163,7 +163,7 @@ void MovingPass(const TiledRasterSource& moving, const TiledMeasureOptions& opti
           ++totals->sum.n_points_b;
         }
       }
-      MergeHull(TileHull(b), &totals->hull_b);
+      MergeHull(TileHull(b, ExecutionFor(options.measure.threads)), &totals->hull_b);
       ++progress->done;
       if (options.on_progress) options.on_progress(*progress);
     }
@@ -368,7 +368,7 @@ struct PartRun {
     int64_t cells = 0;
     totals.domain_area_a += CompleteCellArea(a, index, c0, c1, r0, r1, &cells);
     totals.complete_cells_a += cells;
-    MergeHull(TileHull(a), &totals.hull_a);
+    MergeHull(TileHull(a, ExecutionFor(options.measure.threads)), &totals.hull_a);
     // The tile's own DoD: dz and its part of each node's area.
     const std::size_t n = static_cast<std::size_t>(window.columns) * window.rows;
     std::vector<double> dz(n, kNaN), area(n, 0.0);
