@@ -27,19 +27,24 @@ using namespace grid_cells;
 
 namespace {
 
-// A convex polygon in A's index space: a B triangle cut by lines (at most
-// 3 + one corner per line that cut it, and no more than 3 lines meet it
-// once each side: 12 is ample).
+// A convex polygon in A's index space: a B triangle cut by lines. Each cut
+// of a convex polygon adds at most one corner to a side; the capacity
+// leaves room for the rounding of slivers (a split of a polygon past half
+// of it is not made: see Split).
+constexpr int kCapacity = 24;
+struct Corner {  // no initializers: a polygon's unused room is never written
+  double x, y;
+};
 struct Polygon {
   int n = 0;
-  Point2 p[12];
+  Corner p[kCapacity];
 };
 
 // The three families of A's lines in its index space: columns x = k,
 // rows y = k, diagonals x − y = k (the rule's diagonal from a cell's
 // corner (0, 0) to (1, 1)); f(p) of each.
 template <int Family>
-double LineValue(const Point2& p) {
+double LineValue(const Corner& p) {
   if (Family == 0) return p.x;
   if (Family == 1) return p.y;
   return p.x - p.y;
@@ -49,64 +54,126 @@ double LineValue(const Point2& p) {
 // f >= k to `high` (Sutherland–Hodgman on one line, both sides).
 template <int Family>
 void Split(const Polygon& in, double k, Polygon* low, Polygon* high) {
-  double f[12];
+  if (2 * in.n > kCapacity) {  // only a sliver of rounding gets here: kept whole
+    *low = in;
+    high->n = 0;
+    return;
+  }
+  double f[kCapacity];
   for (int i = 0; i < in.n; ++i) f[i] = LineValue<Family>(in.p[i]) - k;
   low->n = high->n = 0;
   for (int i = 0; i < in.n; ++i) {
     const int j = i + 1 == in.n ? 0 : i + 1;
-    const Point2& p = in.p[i];
+    const Corner& p = in.p[i];
     const double fp = f[i], fq = f[j];
     if (fp <= 0.0) low->p[low->n++] = p;
     if (fp >= 0.0) high->p[high->n++] = p;
     if ((fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0)) {
-      const Point2& q = in.p[j];
+      const Corner& q = in.p[j];
       const double t = fp / (fp - fq);
-      const Point2 x{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
+      const Corner x{p.x + t * (q.x - p.x), p.y + t * (q.y - p.y)};
       low->p[low->n++] = x;
       high->p[high->n++] = x;
     }
   }
 }
 
-// One overlay cell's integrals: a convex piece (index units of area
-// `area_scale`) with d at its corners. Where d keeps one side of 0 and of
-// ±lod at every corner (most pieces), the fan's means in closed form, as
-// IntegrateTriangleOfArea gives them; else its fan's triangles. False for
-// a sliver of rounding where a B corner lies on one of A's lines (no cell,
-// as in the offset grids' pattern).
+// The integrals of a convex polygon (index units of area `area_scale`) on
+// which d, linear, keeps one side of 0 and of ±lod (lod < 0: of 0 only):
+// the fan's means in closed form, as IntegrateTriangleOfArea gives them.
+// False if d does not.
+bool IntegrateOneSide(const Polygon& poly, const double d[], double area_scale, double lod,
+                      VolumeResult* v) {
+  double d_min = d[0], d_max = d[0];
+  for (int m = 1; m < poly.n; ++m) d_min = std::min(d_min, d[m]), d_max = std::max(d_max, d[m]);
+  const bool positive = d_min >= 0.0, negative = d_max <= 0.0;
+  // Beyond ±lod where d is (a polygon cut at d = lod has corners at lod).
+  const bool above = d_min >= lod && d_max > lod, below = d_max <= -lod && d_min < -lod;
+  const bool inside = -lod <= d_min && d_max <= lod;
+  if (!(positive || negative) || !(lod < 0.0 || above || below || inside)) return false;
+  double integral = 0.0, whole = 0.0;
+  const Corner& p0 = poly.p[0];
+  for (int m = 1; m + 1 < poly.n; ++m) {
+    const double area = 0.5 * area_scale *
+                        std::fabs((poly.p[m].x - p0.x) * (poly.p[m + 1].y - p0.y) -
+                                  (poly.p[m].y - p0.y) * (poly.p[m + 1].x - p0.x));
+    if (!(area > 0.0)) continue;
+    integral += area / 3 * ((d[0] + d[m]) + d[m + 1]);
+    whole += area;
+  }
+  v->gap.weight += whole;
+  v->gap.signed_volume += integral;
+  v->gap.abs += std::fabs(integral);
+  (negative ? v->gap.below : v->gap.above) += std::fabs(integral);
+  v->area += whole;
+  if (lod >= 0.0 && above) v->change.fill += integral, v->change.fill_area += whole;
+  if (lod >= 0.0 && below) v->change.cut -= integral, v->change.cut_area += whole;
+  return true;
+}
+
+// `in` (d at its corners) split where d = level: d <= level to `low`,
+// d >= level to `high`; new corners get d = level exactly.
+void SplitAtLevel(const Polygon& in, const double d[], double level, Polygon* low, double* d_low,
+                  Polygon* high, double* d_high) {
+  low->n = high->n = 0;
+  for (int i = 0; i < in.n; ++i) {
+    const int j = i + 1 == in.n ? 0 : i + 1;
+    const double fp = d[i] - level, fq = d[j] - level;
+    if (fp <= 0.0) d_low[low->n] = d[i], low->p[low->n++] = in.p[i];
+    if (fp >= 0.0) d_high[high->n] = d[i], high->p[high->n++] = in.p[i];
+    if ((fp < 0.0 && fq > 0.0) || (fp > 0.0 && fq < 0.0)) {
+      const double t = fp / (fp - fq);
+      const Corner x{in.p[i].x + t * (in.p[j].x - in.p[i].x),
+                     in.p[i].y + t * (in.p[j].y - in.p[i].y)};
+      d_low[low->n] = level, low->p[low->n++] = x;
+      d_high[high->n] = level, high->p[high->n++] = x;
+    }
+  }
+}
+
+// The polygon cut at the levels [k, 3) of `levels` (ascending), each part
+// then on one side of all of them.
+void IntegrateByLevels(const Polygon& poly, const double d[], const double levels[3], int k,
+                       int count, double area_scale, double lod, VolumeResult* v) {
+  if (poly.n < 3) return;
+  if (IntegrateOneSide(poly, d, area_scale, lod, v)) return;
+  if (k == count || 2 * poly.n > kCapacity) {  // rounding only: the fan's triangles
+    for (int m = 1; m + 1 < poly.n; ++m) {
+      const Corner& p0 = poly.p[0];
+      const double area = 0.5 * area_scale *
+                          std::fabs((poly.p[m].x - p0.x) * (poly.p[m + 1].y - p0.y) -
+                                    (poly.p[m].y - p0.y) * (poly.p[m + 1].x - p0.x));
+      const double gaps[3] = {d[0], d[m], d[m + 1]};
+      IntegrateTriangleOfArea(area, gaps, lod, v);
+    }
+    return;
+  }
+  Polygon low, high;
+  double d_low[kCapacity], d_high[kCapacity];
+  SplitAtLevel(poly, d, levels[k], &low, d_low, &high, d_high);
+  IntegrateByLevels(low, d_low, levels, k + 1, count, area_scale, lod, v);
+  IntegrateByLevels(high, d_high, levels, k + 1, count, area_scale, lod, v);
+}
+
+// One overlay cell's integrals: a convex piece with d at its corners, in
+// closed form on each part of it between the levels −lod, 0, lod (most
+// pieces are one part). False for a sliver of rounding where a B corner
+// lies on one of A's lines (no cell, as in the offset grids' pattern).
 bool IntegratePiece(const Polygon& piece, const double d[], double area_scale, double lod,
                     VolumeResult* v) {
-  double area[10], total = 0.0;
-  const Point2& p0 = piece.p[0];
+  double total = 0.0;
+  const Corner& p0 = piece.p[0];
   for (int m = 1; m + 1 < piece.n; ++m) {
-    area[m] = std::fabs((piece.p[m].x - p0.x) * (piece.p[m + 1].y - p0.y) -
-                        (piece.p[m].y - p0.y) * (piece.p[m + 1].x - p0.x));
-    total += area[m];
+    total += std::fabs((piece.p[m].x - p0.x) * (piece.p[m + 1].y - p0.y) -
+                       (piece.p[m].y - p0.y) * (piece.p[m + 1].x - p0.x));
   }
   if (!(total > 2e-12)) return false;
-  double d_min = d[0], d_max = d[0];
-  for (int m = 1; m < piece.n; ++m) d_min = std::min(d_min, d[m]), d_max = std::max(d_max, d[m]);
-  const bool positive = d_min >= 0.0, negative = d_max <= 0.0;
-  const bool above = d_min > lod, below = d_max < -lod, inside = -lod <= d_min && d_max <= lod;
-  for (int m = 1; m + 1 < piece.n; ++m) area[m] *= 0.5 * area_scale;
-  if ((positive || negative) && (lod < 0.0 || above || below || inside)) {
-    double integral = 0.0, whole = 0.0;
-    for (int m = 1; m + 1 < piece.n; ++m) {
-      if (!(area[m] > 0.0)) continue;
-      integral += area[m] / 3 * ((d[0] + d[m]) + d[m + 1]);
-      whole += area[m];
-    }
-    v->gap.weight += whole;
-    v->gap.signed_volume += integral;
-    v->gap.abs += std::fabs(integral);
-    (negative ? v->gap.below : v->gap.above) += std::fabs(integral);
-    v->area += whole;
-    if (lod >= 0.0 && above) v->change.fill += integral, v->change.fill_area += whole;
-    if (lod >= 0.0 && below) v->change.cut -= integral, v->change.cut_area += whole;
-  } else {
-    for (int m = 1; m + 1 < piece.n; ++m) {
-      const double gaps[3] = {d[0], d[m], d[m + 1]};
-      IntegrateTriangleOfArea(area[m], gaps, lod, v);
+  if (!IntegrateOneSide(piece, d, area_scale, lod, v)) {
+    const double levels[3] = {-lod, 0.0, lod};
+    if (lod > 0.0) {
+      IntegrateByLevels(piece, d, levels, 0, 3, area_scale, lod, v);
+    } else {
+      IntegrateByLevels(piece, d, levels + 1, 0, 1, area_scale, lod, v);
     }
   }
   ++v->cells;
@@ -277,7 +344,7 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
     const double gx = (dz1 * ey2 - dz2 * ey1) / det, gy = (ex1 * dz2 - ex2 * dz1) / det;
     Polygon poly;
     poly.n = 3;
-    for (int m = 0; m < 3; ++m) poly.p[m] = ti[m];
+    for (int m = 0; m < 3; ++m) poly.p[m] = {ti[m].x, ti[m].y};
     Cut<0>(poly, [&](const Polygon& piece) {
       // A point inside the piece (convex): its first three corners' mean.
       const double mx = (piece.p[0].x + piece.p[1].x + piece.p[2].x) / 3.0;
@@ -296,9 +363,9 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
                    z2 = sa.Z(ka[2]) - base;
       // F_A − base = z0 + ax (x − c) + ay (y − r)
       const double ax = ha == 0 ? zm - z0 : z2 - zm, ay = ha == 0 ? z2 - zm : zm - z0;
-      double d[12];
+      double d[kCapacity];
       for (int m = 0; m < piece.n; ++m) {
-        const Point2& v = piece.p[m];
+        const Corner& v = piece.p[m];
         d[m] =
             gx * (v.x - ti[0].x) + gy * (v.y - ti[0].y) - (z0 + ax * (v.x - cx) + ay * (v.y - cy));
       }
