@@ -38,28 +38,15 @@ inline int EdgeOf(int32_t h) { return h & 3; }
 // permanent above 2^-400). Ties and doubtful cases go to InCirclePerturbed.
 inline bool InCircleFast(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
   constexpr double kBound = 12.0 * predicates_internal::kInCircleBound * (1.0 + 0x1p-20);
-  const double adx = a.x - d.x, ady = a.y - d.y;
-  const double bdx = b.x - d.x, bdy = b.y - d.y;
-  const double cdx = c.x - d.x, cdy = c.y - d.y;
-  // InCircle's expression, operation for operation.
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double alift = adx * adx + ady * ady;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det =
-      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-  const auto larger = [](double p, double q) { return p > q ? p : q; };
-  const double m =
-      larger(larger(larger(std::fabs(adx), std::fabs(ady)), larger(std::fabs(bdx), std::fabs(bdy))),
-             larger(std::fabs(cdx), std::fabs(cdy)));
+  // InCircle's own det (InCircleTermsOf).
+  const predicates_internal::InCircleTerms t = predicates_internal::InCircleTermsOf(a, b, c, d);
+  const double m = t.Largest();
   const double mm = m * m;
   const double m4 = mm * mm;
   const double bound = kBound * m4;
   // NaN fails every test and goes on.
-  if (m <= predicates_internal::kMaxDifference && m4 >= 0x1p-340 && std::fabs(det) > bound)
-    return det > 0.0;
+  if (m <= predicates_internal::kMaxDifference && m4 >= 0x1p-340 && std::fabs(t.det) > bound)
+    return t.det > 0.0;
   return InCirclePerturbed(a, b, c, d) > 0;
 }
 

@@ -134,32 +134,52 @@ inline double Orient2DAccurate(const Point2& a, const Point2& b, const Point2& c
   return Orient2DClear(a, b, c, &det) ? det : predicates_internal::Orient2DExact(a, b, c);
 }
 
+namespace predicates_internal {
+
+// The in-circle determinant's terms in floating point (d's differences,
+// their cross products and lifts): one expression for InCircle's filter
+// and for any other filter that must see the same det.
+struct InCircleTerms {
+  double adx, ady, bdx, bdy, cdx, cdy;
+  double bdxcdy, cdxbdy, cdxady, adxcdy, adxbdy, bdxady;
+  double alift, blift, clift, det;
+  // The largest |coordinate difference|.
+  double Largest() const {
+    const auto larger = [](double p, double q) { return p > q ? p : q; };  // not std::fmax: a call
+    return larger(larger(larger(std::fabs(adx), std::fabs(ady)), larger(std::fabs(bdx), std::fabs(bdy))),
+                  larger(std::fabs(cdx), std::fabs(cdy)));
+  }
+};
+
+inline InCircleTerms InCircleTermsOf(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  InCircleTerms t;
+  t.adx = a.x - d.x, t.ady = a.y - d.y;
+  t.bdx = b.x - d.x, t.bdy = b.y - d.y;
+  t.cdx = c.x - d.x, t.cdy = c.y - d.y;
+  t.bdxcdy = t.bdx * t.cdy, t.cdxbdy = t.cdx * t.bdy;
+  t.cdxady = t.cdx * t.ady, t.adxcdy = t.adx * t.cdy;
+  t.adxbdy = t.adx * t.bdy, t.bdxady = t.bdx * t.ady;
+  t.alift = t.adx * t.adx + t.ady * t.ady;
+  t.blift = t.bdx * t.bdx + t.bdy * t.bdy;
+  t.clift = t.cdx * t.cdx + t.cdy * t.cdy;
+  t.det = t.alift * (t.bdxcdy - t.cdxbdy) + t.blift * (t.cdxady - t.adxcdy) + t.clift * (t.adxbdy - t.bdxady);
+  return t;
+}
+
+}  // namespace predicates_internal
+
 // > 0 if d lies inside the circle through a, b, c (given counter-clockwise),
 // < 0 outside, 0 on it. Sign flips if a, b, c are clockwise.
 inline double InCircle(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
-  const double adx = a.x - d.x, ady = a.y - d.y;
-  const double bdx = b.x - d.x, bdy = b.y - d.y;
-  const double cdx = c.x - d.x, cdy = c.y - d.y;
-  const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy;
-  const double cdxady = cdx * ady, adxcdy = adx * cdy;
-  const double adxbdy = adx * bdy, bdxady = bdx * ady;
-  const double alift = adx * adx + ady * ady;
-  const double blift = bdx * bdx + bdy * bdy;
-  const double clift = cdx * cdx + cdy * cdy;
-  const double det =
-      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
-  const double permanent = (std::fabs(bdxcdy) + std::fabs(cdxbdy)) * alift +
-                           (std::fabs(cdxady) + std::fabs(adxcdy)) * blift +
-                           (std::fabs(adxbdy) + std::fabs(bdxady)) * clift;
+  const predicates_internal::InCircleTerms t = predicates_internal::InCircleTermsOf(a, b, c, d);
+  const double permanent = (std::fabs(t.bdxcdy) + std::fabs(t.cdxbdy)) * t.alift +
+                           (std::fabs(t.cdxady) + std::fabs(t.adxcdy)) * t.blift +
+                           (std::fabs(t.adxbdy) + std::fabs(t.bdxady)) * t.clift;
   const double bound = predicates_internal::kInCircleBound * permanent;
-  // maxsd, not std::fmax (a library call): a NaN difference already makes det
-  // NaN, which fails the first test.
-  const auto larger = [](double p, double q) { return p > q ? p : q; };
-  const double largest = larger(larger(larger(std::fabs(adx), std::fabs(ady)), larger(std::fabs(bdx), std::fabs(bdy))),
-                                larger(std::fabs(cdx), std::fabs(cdy)));
-  if (std::fabs(det) > bound && permanent >= predicates_internal::kInCircleMinScale &&
-      largest <= predicates_internal::kMaxDifference) {
-    return det;
+  // A NaN difference already makes det NaN, which fails the first test.
+  if (std::fabs(t.det) > bound && permanent >= predicates_internal::kInCircleMinScale &&
+      t.Largest() <= predicates_internal::kMaxDifference) {
+    return t.det;
   }
   return predicates_internal::InCircleExact(a, b, c, d);
 }
