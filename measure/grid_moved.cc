@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "measure/convex_hull.h"
 #include "measure/grid_cells.h"
@@ -246,22 +247,10 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
   }
   const double sign = cross > 0.0 ? 1.0 : -1.0;
   sa.cell_area = sb.cell_area = std::fabs(cross);
-  // B's rule triangles must turn as A's (a mirrored B is the general path's).
-  for (std::size_t r = 0; r + 1 < static_cast<std::size_t>(sb.index.rows); ++r) {
-    const int32_t* here = sb.SampleRow(static_cast<int64_t>(r));
-    const int32_t* below = sb.SampleRow(static_cast<int64_t>(r) + 1);
-    bool found = false;
-    for (int64_t c = 0; c + 1 < sb.index.columns && !found; ++c) {
-      int32_t k[4];
-      GridSide::Corners(here, below, c, k);
-      if (k[0] < 0 || k[1] < 0 || k[2] < 0 || k[3] < 0) continue;
-      found = true;
-      if (!(Orient2D(sb.Xy(k[0]), sb.Xy(k[1]), sb.Xy(k[2])) * sign > 0.0)) return false;
-    }
-    if (found) break;
-  }
   GridPairResult& result = *out;
   result = GridPairResult();
+  // MarkBoth also refuses a B whose cells turn against A's (a mirrored B is
+  // the general path's).
   if (!MarkBoth(&sa, &sb, sign, execution, &result.domain_area_a, &result.domain_area_b))
     return false;
 
@@ -373,11 +362,10 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
     });
   };
 
-  // B's node j (a vertex of its domain): located in A's complete cells
-  // around its index point, exactly.
-  const auto b_node = [&](int32_t j, MovedChunk* sums) {
+  // B's node j (a vertex of its domain, t its point in A's index space):
+  // located in A's complete cells around t, exactly.
+  const auto b_node = [&](int32_t j, const Point2& t, MovedChunk* sums) {
     const Point2 p = sb.Xy(j);
-    const Point2 t = to_index(p);
     const int64_t c0 = static_cast<int64_t>(std::floor(t.x)),
                   r0 = static_cast<int64_t>(std::floor(t.y));
     // The cell under the index point first; its neighbours when rounding
@@ -419,21 +407,32 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
   std::vector<MovedChunk> parts(chunks);
   ForEachChunk(execution, sb.index.rows, chunks, [&](int h, int64_t begin, int64_t end) {
     MovedChunk sums;  // on this thread's stack: no line shared with another chunk's
+    // B's samples of two rows in A's index space: each moved once, not once
+    // per cell it is a corner of.
+    std::vector<Point2> t_here(static_cast<std::size_t>(sb.index.columns)),
+        t_below(t_here.size());
+    const auto to_index_row = [&](const int32_t* row, std::vector<Point2>* t) {
+      for (int64_t c = 0; c < sb.index.columns; ++c)
+        if (row[c] >= 0) (*t)[static_cast<std::size_t>(c)] = to_index(sb.Xy(row[c]));
+    };
+    to_index_row(sb.SampleRow(begin), &t_here);
     for (int64_t r = begin; r < end && !general.load(std::memory_order_relaxed); ++r) {
       const int32_t* here = sb.SampleRow(r);
       const int32_t* below = sb.SampleRow(r + 1);
       const uint8_t* above_flags = sb.CompleteRow(r - 1);
       const uint8_t* flags = sb.CompleteRow(r);
+      if (below != nullptr) to_index_row(below, &t_below);
       for (int64_t c = 0; c < sb.index.columns; ++c) {
-        if (here[c] >= 0 && sb.DomainVertex(above_flags, flags, c)) b_node(here[c], &sums);
+        if (here[c] >= 0 && sb.DomainVertex(above_flags, flags, c)) b_node(here[c], t_here[static_cast<std::size_t>(c)], &sums);
         if (below == nullptr || !flags[c]) continue;
         int32_t k[4];
         GridSide::Corners(here, below, c, k);
-        Point2 t[4];
-        for (int m = 0; m < 4; ++m) t[m] = to_index(sb.Xy(k[m]));
+        const std::size_t u = static_cast<std::size_t>(c);
+        const Point2 t[4] = {t_here[u], t_here[u + 1], t_below[u + 1], t_below[u]};
         triangle(k, 0, t, &sums);
         triangle(k, 1, t, &sums);
       }
+      t_here.swap(t_below);
     }
     parts[h] = sums;
   });
