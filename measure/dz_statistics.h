@@ -25,8 +25,8 @@ struct DzStatistics {
 // Statistics of the finite values of dz for which `keep` is true (`keep`
 // empty: all). NaN and infinite values are skipped (e.g. outside the
 // overlap). With no value, count = 0 and every statistic is NaN.
-// The LE90's selection runs beside the median's and the NMAD's when
-// `execution` allows two threads (the same numbers either way).
+// Runs by chunks on `execution`'s threads (the quantiles by an exact
+// parallel selection): the same numbers for any thread count.
 DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vector<bool>& keep = {},
                                  const Execution& execution = Execution{1});
 

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -274,6 +275,61 @@ TEST(DzStatistics, QuantilesEqualThoseOfTheSortedValues) {
     EXPECT_EQ(s.le90, quantile(magnitude, 0.9)) << n;
     EXPECT_EQ(s.min, *std::min_element(kept.begin(), kept.end())) << n;
     EXPECT_EQ(s.max, *std::max_element(kept.begin(), kept.end())) << n;
+  }
+}
+
+
+// The parallel selection (rounds of binned counts) against a full sort, on
+// inputs large enough for several rounds: a heavy tail that puts nearly
+// every value into one bin, few distinct levels (ties across bins), values
+// near the largest double, and one value
+// repeated. The same bits on 1, 2 and 8 threads; the moments merged by
+// chunks equal a plain sum to rounding.
+TEST(DzStatistics, LargeInputsSelectExactlyOnAnyThreadCount) {
+  std::mt19937_64 random(11);
+  std::cauchy_distribution<double> cauchy(0.0, 1e-3);
+  std::uniform_int_distribution<int> level(-3, 3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const int n = 300001;
+  std::vector<std::vector<double>> inputs(4, std::vector<double>(n));
+  for (int i = 0; i < n; ++i) {
+    inputs[0][i] = i % 1000 == 0 ? 1e12 * unit(random) : cauchy(random);
+    inputs[1][i] = 0.5 * level(random);
+    inputs[2][i] = 8e307 * unit(random);
+    inputs[3][i] = 2.5;
+  }
+  inputs[0][17] = std::nan("");
+  const auto quantile = [](std::vector<double> v, double q) {
+    std::sort(v.begin(), v.end());
+    const double position = q * static_cast<double>(v.size() - 1);
+    const std::size_t below = static_cast<std::size_t>(std::floor(position));
+    const std::size_t above = std::min(below + 1, v.size() - 1);
+    return v[below] + (position - static_cast<double>(below)) * (v[above] - v[below]);
+  };
+  for (std::size_t k = 0; k < inputs.size(); ++k) {
+    std::vector<double> kept;
+    for (const double v : inputs[k]) {
+      if (std::isfinite(v)) kept.push_back(v);
+    }
+    const double median = quantile(kept, 0.5);
+    std::vector<double> deviation, magnitude;
+    long double sum = 0;
+    for (const double v : kept) {
+      deviation.push_back(std::fabs(v - median)), magnitude.push_back(std::fabs(v));
+      sum += v;
+    }
+    const DzStatistics one = ComputeDzStatistics(inputs[k], {}, Execution{1});
+    EXPECT_EQ(one.count, static_cast<int64_t>(kept.size())) << k;
+    EXPECT_EQ(one.median, median) << k;
+    EXPECT_EQ(one.nmad, 1.4826 * quantile(deviation, 0.5)) << k;
+    EXPECT_EQ(one.le90, quantile(magnitude, 0.9)) << k;
+    if (k != 2) {  // the mean of values near the largest double: rounding at that scale
+      EXPECT_NEAR(one.mean, static_cast<double>(sum / kept.size()), 1e-12 * (1 + std::fabs(one.mean))) << k;
+    }
+    for (const int threads : {2, 8}) {
+      const DzStatistics many = ComputeDzStatistics(inputs[k], {}, Execution{threads});
+      EXPECT_EQ(std::memcmp(&one, &many, sizeof one), 0) << k << " on " << threads << " threads";
+    }
   }
 }
 
