@@ -75,12 +75,15 @@ void MergeDuplicateHeights(Prepared& s) {
 }
 
 // Returns the order: sorted index k holds input index order[k].
-std::vector<int32_t> SortSpatially(Prepared& s) {
-  std::vector<int32_t> order = SpatialOrder(s.xy, /*brio=*/false, 0);
-  auto permute = [&order](auto& values) {
+std::vector<int32_t> SortSpatially(Prepared& s, const Execution& execution) {
+  std::vector<int32_t> order = SpatialOrder(s.xy, /*brio=*/false, 0, execution);
+  const int64_t n = static_cast<int64_t>(order.size());
+  auto permute = [&](auto& values) {
     if (values.empty()) return;
     auto sorted = values;
-    for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = values[order[k]];
+    ForEachChunk(execution, n, ChunksFor(n, 1 << 16), [&](int, int64_t first, int64_t last) {
+      for (int64_t k = first; k < last; ++k) sorted[k] = values[order[k]];
+    });
     values.swap(sorted);
   };
   permute(s.xy);
@@ -146,7 +149,7 @@ void PrepareSide(const Surface& s, const double shift[3], DomainRule rule, const
     for (Point2& q : p->xy) q = {q.x + shift[0], q.y + shift[1]};
     for (double& z : p->z) z += shift[2];
   }
-  *order = SortSpatially(*p);
+  *order = SortSpatially(*p, execution);
   progress("triangulating", 0.05);
   Clock::time_point stage = Clock::now();
   MeshOf(s, *order, execution, *p);
@@ -227,7 +230,7 @@ struct NodeStage {
 
 NodeStage GapsAtNodes(const Prepared& pa, const Prepared& pb, const std::vector<Location>& a_in_b,
                       const std::vector<Location>& b_in_a, const WeightField& mu, bool keep_node_gaps,
-                      MeasureSummary* out) {
+                      const Execution& execution, MeasureSummary* out) {
   MeasureSummary& summary = *out;
   NodeStage stage_out;
   NodeGaps& gaps = stage_out.gaps;
@@ -240,19 +243,28 @@ NodeStage GapsAtNodes(const Prepared& pa, const Prepared& pb, const std::vector<
   // other's (closed) domain.
   omega_a.assign(pa.xy.size(), 0);
   omega_b.assign(pb.xy.size(), 0);
-  for (std::size_t i = 0; i < pa.xy.size(); ++i) {
-    omega_a[i] = a_in_b[i].found() && pa.domain.vertices[pa.mesh.vertex_of_input[i]] &&
-                 pb.domain.Contains(pb.mesh, a_in_b[i]);
-  }
-  for (std::size_t j = 0; j < pb.xy.size(); ++j) {
-    omega_b[j] = b_in_a[j].found() && pb.domain.vertices[pb.mesh.vertex_of_input[j]] &&
-                 pa.domain.Contains(pa.mesh, b_in_a[j]);
-  }
+  // Ω and the gaps node by node in chunks; the sums below in node order
+  // (the same bits on any thread count).
+  const auto each_node = [&](std::size_t n, const auto& body) {
+    const int64_t count = static_cast<int64_t>(n);
+    ForEachChunk(execution, count, ChunksFor(count, 8192), [&](int, int64_t first, int64_t last) {
+      for (int64_t k = first; k < last; ++k) body(static_cast<std::size_t>(k));
+    });
+  };
+  each_node(pa.xy.size(), [&](std::size_t i) {
+    if (!a_in_b[i].found()) return;
+    omega_a[i] = pa.domain.vertices[pa.mesh.vertex_of_input[i]] && pb.domain.Contains(pb.mesh, a_in_b[i]);
+    gaps.a[i] = InterpolateCanonical(pb.xy, pb.mesh, pb.z, a_in_b[i], pa.xy[i]) - pa.z[i];
+  });
+  each_node(pb.xy.size(), [&](std::size_t j) {
+    if (!b_in_a[j].found()) return;
+    omega_b[j] = pb.domain.vertices[pb.mesh.vertex_of_input[j]] && pa.domain.Contains(pa.mesh, b_in_a[j]);
+    gaps.b[j] = pb.z[j] - InterpolateCanonical(pa.xy, pa.mesh, pa.z, b_in_a[j], pb.xy[j]);
+  });
   double gap_sum = 0.0, node_weight = 0.0;
   if (keep_node_gaps) counted_b.assign(pb.xy.size(), 0);
   for (std::size_t i = 0; i < pa.xy.size(); ++i) {
     if (!a_in_b[i].found()) continue;
-    gaps.a[i] = InterpolateCanonical(pb.xy, pb.mesh, pb.z, a_in_b[i], pa.xy[i]) - pa.z[i];
     if (!omega_a[i] || pa.mesh.vertex_of_input[i] != static_cast<int32_t>(i)) continue;
     const double w = mu.AtNodeA(i);
     gap_sum += w * std::fabs(gaps.a[i]);
@@ -261,7 +273,6 @@ NodeStage GapsAtNodes(const Prepared& pa, const Prepared& pb, const std::vector<
   }
   for (std::size_t j = 0; j < pb.xy.size(); ++j) {
     if (!b_in_a[j].found()) continue;
-    gaps.b[j] = pb.z[j] - InterpolateCanonical(pa.xy, pa.mesh, pa.z, b_in_a[j], pb.xy[j]);
     if (!omega_b[j] || pb.mesh.vertex_of_input[j] != static_cast<int32_t>(j)) continue;
     if (b_in_a[j].where == Where::kOnVertex) continue;  // the same node of G1 ∪ G2 as A's
     if (!counted_b.empty()) counted_b[j] = 1;
@@ -475,7 +486,7 @@ MeasureSummary MeasureWith(const Surface& a, const Surface& b, const MeasureOpti
   stage = Clock::now();
   const WeightField mu = MakeWeightField(options, a, pa.xy, pa.mesh, pa.weight, pb.xy, pb.mesh,
                                          pb.weight, a_in_b, b_in_a);
-  const NodeStage nodes = GapsAtNodes(pa, pb, a_in_b, b_in_a, mu, options.keep_node_gaps, &summary);
+  const NodeStage nodes = GapsAtNodes(pa, pb, a_in_b, b_in_a, mu, options.keep_node_gaps, execution, &summary);
   const NodeGaps& gaps = nodes.gaps;
   const std::vector<uint8_t>& omega_a = nodes.omega_a;
   const std::vector<uint8_t>& omega_b = nodes.omega_b;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace surfreg {
 namespace {
@@ -17,22 +18,35 @@ uint64_t SplitMix64(uint64_t& state) {
 }
 
 // Sorts `items` by their upper 32 bits (the key), stable, least significant
-// digit first: three passes of 11 bits (counts fit the L1 cache), all three
-// histograms from one read.
-void RadixSortByUpperHalf(std::vector<uint64_t>& items) {
+// digit first: three passes of 11 bits (counts fit the L1 cache). Each pass
+// counts by chunks and scatters each chunk after the chunks before it in
+// every bucket: stable, so the order is the same for any thread count.
+void RadixSortByUpperHalf(std::vector<uint64_t>& items, const Execution& execution) {
   constexpr int kBits = 11, kBuckets = 1 << kBits, kPasses = 3;
-  std::vector<std::size_t> count(kPasses * (kBuckets + 1), 0);
-  for (uint64_t item : items) {
-    for (int pass = 0; pass < kPasses; ++pass) {
-      ++count[pass * (kBuckets + 1) + ((item >> (32 + kBits * pass)) & (kBuckets - 1)) + 1];
-    }
-  }
+  const int64_t n = static_cast<int64_t>(items.size());
+  const int chunks = ChunksFor(n, int64_t{1} << 16);
+  std::vector<std::size_t> count(static_cast<std::size_t>(chunks) * kBuckets);
   std::vector<uint64_t> buffer(items.size());
   for (int pass = 0; pass < kPasses; ++pass) {
-    std::size_t* c = &count[pass * (kBuckets + 1)];
-    for (int b = 0; b < kBuckets; ++b) c[b + 1] += c[b];
     const int shift = 32 + kBits * pass;
-    for (uint64_t item : items) buffer[c[(item >> shift) & (kBuckets - 1)]++] = item;
+    std::fill(count.begin(), count.end(), 0);
+    ForEachChunk(execution, n, chunks, [&](int c, int64_t first, int64_t last) {
+      std::size_t* chunk_count = &count[static_cast<std::size_t>(c) * kBuckets];
+      for (int64_t i = first; i < last; ++i) ++chunk_count[(items[i] >> shift) & (kBuckets - 1)];
+    });
+    std::size_t next = 0;  // bucket-major, chunk-minor: each chunk's start in the bucket
+    for (int b = 0; b < kBuckets; ++b) {
+      for (int c = 0; c < chunks; ++c) {
+        std::size_t& slot = count[static_cast<std::size_t>(c) * kBuckets + b];
+        const std::size_t here = slot;
+        slot = next;
+        next += here;
+      }
+    }
+    ForEachChunk(execution, n, chunks, [&](int c, int64_t first, int64_t last) {
+      std::size_t* start = &count[static_cast<std::size_t>(c) * kBuckets];
+      for (int64_t i = first; i < last; ++i) buffer[start[(items[i] >> shift) & (kBuckets - 1)]++] = items[i];
+    });
     items.swap(buffer);
   }
 }
@@ -101,17 +115,31 @@ uint32_t HilbertIndex(uint32_t x, uint32_t y, int order) {
   return index >> (2 * pad);
 }
 
-std::vector<int32_t> SpatialOrder(const std::vector<Point2>& points, bool brio, uint64_t seed) {
+std::vector<int32_t> SpatialOrder(const std::vector<Point2>& points, bool brio, uint64_t seed,
+                                  const Execution& execution) {
   const std::size_t n = points.size();
-  double min_x = INFINITY, min_y = INFINITY, max_x = -INFINITY, max_y = -INFINITY;
-  for (const Point2& p : points) {
-    min_x = std::min(min_x, p.x);
-    max_x = std::max(max_x, p.x);
-    min_y = std::min(min_y, p.y);
-    max_y = std::max(max_y, p.y);
+  const int64_t count = static_cast<int64_t>(n);
+  const int chunks = ChunksFor(count, int64_t{1} << 16);
+  struct Box {
+    double min_x = INFINITY, min_y = INFINITY, max_x = -INFINITY, max_y = -INFINITY;
+  };
+  std::vector<Box> boxes(chunks);
+  ForEachChunk(execution, count, chunks, [&](int c, int64_t first, int64_t last) {
+    Box& box = boxes[c];
+    for (int64_t i = first; i < last; ++i) {
+      const Point2& p = points[i];
+      box.min_x = std::min(box.min_x, p.x), box.max_x = std::max(box.max_x, p.x);
+      box.min_y = std::min(box.min_y, p.y), box.max_y = std::max(box.max_y, p.y);
+    }
+  });
+  Box all;
+  for (const Box& box : boxes) {
+    all.min_x = std::min(all.min_x, box.min_x), all.max_x = std::max(all.max_x, box.max_x);
+    all.min_y = std::min(all.min_y, box.min_y), all.max_y = std::max(all.max_y, box.max_y);
   }
+  const double min_x = all.min_x, min_y = all.min_y;
   const double cells = static_cast<double>((1u << kCurveOrder) - 1);
-  const double extent = std::max(max_x - min_x, max_y - min_y);
+  const double extent = std::max(all.max_x - min_x, all.max_y - min_y);
   const double scale = extent > 0.0 ? cells / extent : 0.0;
 
   // Rounds: last round ~n/2 points, the one before ~n/4, ..., first ~64.
@@ -119,22 +147,27 @@ std::vector<int32_t> SpatialOrder(const std::vector<Point2>& points, bool brio, 
   if (brio) {
     while (rounds + 1 < (1 << kRoundBits) && (n >> (rounds + 1)) >= 64) ++rounds;
   }
-  uint64_t state = seed;
   std::vector<uint64_t> items(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto qx = static_cast<uint32_t>((points[i].x - min_x) * scale);
-    const auto qy = static_cast<uint32_t>((points[i].y - min_y) * scale);
-    uint32_t key = HilbertIndex(qx, qy, kCurveOrder);
-    if (rounds > 0) {
-      const uint64_t r = SplitMix64(state) | (1ULL << rounds);
-      const auto round = static_cast<uint32_t>(rounds - __builtin_ctzll(r));
-      key |= round << (2 * kCurveOrder);
+  ForEachChunk(execution, count, chunks, [&](int, int64_t first, int64_t last) {
+    for (int64_t i = first; i < last; ++i) {
+      const auto qx = static_cast<uint32_t>((points[i].x - min_x) * scale);
+      const auto qy = static_cast<uint32_t>((points[i].y - min_y) * scale);
+      uint32_t key = HilbertIndex(qx, qy, kCurveOrder);
+      if (rounds > 0) {
+        // SplitMix64 is a counter: point i's draw is the (i + 1)-th.
+        uint64_t state = seed + static_cast<uint64_t>(i) * 0x9E3779B97F4A7C15ULL;
+        const uint64_t r = SplitMix64(state) | (1ULL << rounds);
+        const auto round = static_cast<uint32_t>(rounds - __builtin_ctzll(r));
+        key |= round << (2 * kCurveOrder);
+      }
+      items[i] = (static_cast<uint64_t>(key) << 32) | static_cast<uint32_t>(i);
     }
-    items[i] = (static_cast<uint64_t>(key) << 32) | static_cast<uint32_t>(i);
-  }
-  RadixSortByUpperHalf(items);
+  });
+  RadixSortByUpperHalf(items, execution);
   std::vector<int32_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<int32_t>(items[i] & 0xFFFFFFFFu);
+  ForEachChunk(execution, count, chunks, [&](int, int64_t first, int64_t last) {
+    for (int64_t i = first; i < last; ++i) order[i] = static_cast<int32_t>(items[i] & 0xFFFFFFFFu);
+  });
   return order;
 }
 

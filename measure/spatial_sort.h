@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "measure/surface.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 
@@ -14,7 +15,9 @@ namespace surfreg {
 uint32_t HilbertIndex(uint32_t x, uint32_t y, int order);
 
 // Indices 0..n-1 of `points` in Hilbert order over their bounding box. With
-// `brio`, in BRIO rounds drawn with `seed`. Deterministic for a given input.
-std::vector<int32_t> SpatialOrder(const std::vector<Point2>& points, bool brio, uint64_t seed);
+// `brio`, in BRIO rounds drawn with `seed`. Deterministic for a given input:
+// the same order on any number of `execution`'s threads.
+std::vector<int32_t> SpatialOrder(const std::vector<Point2>& points, bool brio, uint64_t seed,
+                                  const Execution& execution = Execution{1});
 
 }  // namespace surfreg

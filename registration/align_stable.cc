@@ -9,6 +9,7 @@
 #include "measure/input_error.h"
 #include "measure/mask_region.h"
 #include "measure/measures.h"
+#include "measure/tasks.h"
 #include "registration/align.h"  // Align, TransformSurface: each round is a whole alignment
 #include "registration/rigid_consensus.h"
 
@@ -87,26 +88,36 @@ GapField GapsAt(const MeasureReference& prepared, const Surface& moving, const E
   gaps.partner_sum.assign(n, 0.0);
   gaps.partner_count.assign(n, 0);
   const double shift_x = moved.origin[0] - reference.origin[0], shift_y = moved.origin[1] - reference.origin[1];
-  for (std::size_t j = 0; j < moved.size(); ++j) {
-    if (!std::isfinite(summary.dz_b[j])) continue;
-    const double x = moved.xy[j].x + shift_x, y = moved.xy[j].y + shift_y;
-    int c, r;
-    cell_of(x, y, &c, &r);
-    int32_t nearest = -1;
-    double best = HUGE_VAL;
-    for (int ring = 1; ring <= 3 && nearest < 0; ++ring) {
-      for (int rr = std::max(0, r - ring); rr <= std::min(rows - 1, r + ring); ++rr) {
-        for (int cc = std::max(0, c - ring); cc <= std::min(columns - 1, c + ring); ++cc) {
-          const std::size_t b = static_cast<std::size_t>(rr) * columns + cc;
-          for (int32_t k = start[b]; k < start[b + 1]; ++k) {
-            const int32_t i = order[k];
-            const double d = (reference.xy[i].x - x) * (reference.xy[i].x - x) +
-                             (reference.xy[i].y - y) * (reference.xy[i].y - y);
-            if (d < best) best = d, nearest = i;
+  // Each moving sample's nearest reference sample by chunks, then the sums
+  // in the samples' order (the same bits on any thread count).
+  std::vector<int32_t> nearest_of(moved.size(), -1);
+  const int64_t m = static_cast<int64_t>(moved.size());
+  ForEachChunk(ExecutionFor(options.num_threads), m, ChunksFor(m, 4096), [&](int, int64_t first, int64_t last) {
+    for (int64_t j = first; j < last; ++j) {
+      if (!std::isfinite(summary.dz_b[j])) continue;
+      const double x = moved.xy[j].x + shift_x, y = moved.xy[j].y + shift_y;
+      int c, r;
+      cell_of(x, y, &c, &r);
+      int32_t nearest = -1;
+      double best = HUGE_VAL;
+      for (int ring = 1; ring <= 3 && nearest < 0; ++ring) {
+        for (int rr = std::max(0, r - ring); rr <= std::min(rows - 1, r + ring); ++rr) {
+          for (int cc = std::max(0, c - ring); cc <= std::min(columns - 1, c + ring); ++cc) {
+            const std::size_t b = static_cast<std::size_t>(rr) * columns + cc;
+            for (int32_t k = start[b]; k < start[b + 1]; ++k) {
+              const int32_t i = order[k];
+              const double d = (reference.xy[i].x - x) * (reference.xy[i].x - x) +
+                               (reference.xy[i].y - y) * (reference.xy[i].y - y);
+              if (d < best) best = d, nearest = i;
+            }
           }
         }
       }
+      nearest_of[j] = nearest;
     }
+  });
+  for (std::size_t j = 0; j < moved.size(); ++j) {
+    const int32_t nearest = nearest_of[j];
     if (nearest < 0 || !std::isfinite(gaps.dz[nearest])) continue;
     gaps.partner_sum[nearest] += summary.dz_b[j];
     ++gaps.partner_count[nearest];

@@ -52,7 +52,7 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
     throw InputError(surface.source + ": too few points left after subsampling by " +
                      std::to_string(keep_fraction));
   }
-  const std::vector<int32_t> order = SpatialOrder(all.xy, /*brio=*/false, 0);
+  const std::vector<int32_t> order = SpatialOrder(all.xy, /*brio=*/false, 0, execution);
   Cloud sorted;
   sorted.xy.reserve(order.size());
   sorted.z.reserve(order.size());

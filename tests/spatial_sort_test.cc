@@ -265,5 +265,27 @@ TEST(SpatialOrderTest, BrioStartsWithASpreadSample) {
   EXPECT_EQ(plain.quadrants, 1);
 }
 
+// The chunked key computation and radix sort: the order one thread gives
+// (checked above against the curve and the rounds) on 2 and 8 threads, for
+// an input of several chunks, with and without BRIO rounds.
+TEST(SpatialOrderTest, SameOrderOnAnyThreadCount) {
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Point2> points(300000);
+  for (Point2& p : points) p = {1e3 * unit(random), 1e3 * unit(random)};
+  for (int i = 0; i < 1000; ++i) points[i * 7] = points[i];  // duplicates: equal keys stay in input order
+  for (const bool brio : {false, true}) {
+    const std::vector<int32_t> one = SpatialOrder(points, brio, 9, Execution{1});
+    ASSERT_TRUE(IsPermutation(one, points.size()));
+    for (std::size_t k = 1; k < one.size() && !brio; ++k) {
+      if (points[one[k]].x == points[one[k - 1]].x && points[one[k]].y == points[one[k - 1]].y) {
+        EXPECT_LT(one[k - 1], one[k]);
+      }
+    }
+    EXPECT_EQ(SpatialOrder(points, brio, 9, Execution{2}), one) << brio;
+    EXPECT_EQ(SpatialOrder(points, brio, 9, Execution{8}), one) << brio;
+  }
+}
+
 }  // namespace
 }  // namespace surfreg

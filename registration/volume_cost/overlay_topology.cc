@@ -267,7 +267,10 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
 }
 
 void OverlayTopology::Compact() {
-  std::vector<TopologyCell> packed;
+  // Into the spare buffer and swapped: the two buffers keep their room, so
+  // a long solve stops allocating (fresh pages fault in, one by one).
+  std::vector<TopologyCell>& packed = spare_;
+  packed.clear();
   packed.reserve(static_cast<std::size_t>(live_ + live_ / 2));
   for (std::size_t t = 0; t < begin_.size(); ++t) {
     const int64_t first = static_cast<int64_t>(packed.size());

@@ -130,6 +130,7 @@ class OverlayTopology {
 
   std::unique_ptr<Searcher> searcher_[2];
   std::vector<TopologyCell> cells_;
+  std::vector<TopologyCell> spare_;  // Compact's target: its room kept between calls
   std::vector<int64_t> begin_;  // per A triangle
   std::vector<int32_t> count_;  // per A triangle
   int64_t live_ = 0;
