@@ -2,6 +2,7 @@
 // gdal_module.h). GDAL's C API for rasters, so that every handle has one
 // obvious owner (a unique_ptr below); OGRSpatialReference for CRSs.
 #include "io/gdal_module.h"
+#include "io/gdal_module_internal.h"
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -24,166 +25,15 @@ namespace surfreg {
 // Vector masks: gdal_module_vector.cc.
 bool ReadVectorRings(const std::string& path, const std::string& layer, VectorRings* out,
                      std::string* error);
+// Rasters: gdal_module_raster.cc.
+bool ReadRasterEntry(const std::string& path, const RasterReadOptions& options, Raster* raster,
+                     std::string* error);
+bool ReadRasterHeaderEntry(const std::string& path, const RasterReadOptions& options, Raster* raster,
+                           std::string* error);
+bool ReadRasterRowsEntry(const std::string& path, const RasterReadOptions& options, int first_row,
+                         int rows, double* values, int64_t* non_finite_cells, std::string* error);
 
 namespace {
-
-void RegisterGdalOnce() {
-  static std::once_flag once;
-  std::call_once(once, [] { GDALAllRegister(); });
-}
-
-// While alive, GDAL errors and warnings on this thread go here instead of
-// stderr (GDAL's handler stack is per thread); the last failure's text is
-// kept for our own one-line message.
-class QuietGdal {
- public:
-  QuietGdal() { CPLPushErrorHandlerEx(&Handler, this); }
-  ~QuietGdal() { CPLPopErrorHandler(); }
-  QuietGdal(const QuietGdal&) = delete;
-  QuietGdal& operator=(const QuietGdal&) = delete;
-
-  bool failed() const { return failed_; }
-  // " (GDAL: <last failure>)", or "" when GDAL reported none.
-  std::string Detail() const { return last_.empty() ? "" : " (GDAL: " + last_ + ")"; }
-  // " (<last failure>)", for CRS messages (PROJ's text names itself).
-  std::string Plain() const { return last_.empty() ? "" : " (" + last_ + ")"; }
-
- private:
-  static void CPL_STDCALL Handler(CPLErr level, CPLErrorNum, const char* message) {
-    auto* self = static_cast<QuietGdal*>(CPLGetErrorHandlerUserData());
-    if (self == nullptr || level < CE_Failure) return;
-    self->failed_ = true;
-    self->last_ = message == nullptr ? "" : message;
-    for (char& c : self->last_) {
-      if (c == '\n' || c == '\r') c = ' ';  // our messages are one line
-    }
-  }
-
-  bool failed_ = false;
-  std::string last_;
-};
-
-struct DatasetCloser {
-  void operator()(void* dataset) const { GDALClose(static_cast<GDALDatasetH>(dataset)); }
-};
-using Dataset = std::unique_ptr<void, DatasetCloser>;
-
-// Thrown inside the module only; the entry points below turn it into their
-// error text.
-struct ModuleError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-[[noreturn]] void Fail(const std::string& where, const std::string& what) {
-  throw ModuleError(where + ": " + what);
-}
-
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.17g", value);
-  return text;
-}
-
-// The window with sizes resolved, after checking it lies inside the raster.
-RasterWindow ResolveWindow(const RasterWindow& w, int width, int height, const std::string& path) {
-  RasterWindow r = w;
-  if (r.columns == 0) r.columns = width - r.column;
-  if (r.rows == 0) r.rows = height - r.row;
-  const bool inside = w.column >= 0 && w.row >= 0 && w.columns >= 0 && w.rows >= 0 &&
-                      w.column < width && w.row < height && r.columns <= width - r.column &&
-                      r.rows <= height - r.row;
-  if (!inside) {
-    Fail(path, "window at column " + std::to_string(w.column) + ", row " + std::to_string(w.row) +
-                   " of " + std::to_string(w.columns) + " x " + std::to_string(w.rows) +
-                   " cells is outside the raster (" + std::to_string(width) + " x " +
-                   std::to_string(height) + " cells)");
-  }
-  return r;
-}
-
-// Sets to NaN every cell that the band's mask marks invalid, when the mask
-// says more than the nodata value does (per-dataset mask, alpha band).
-void ApplyMask(GDALRasterBandH band, const RasterWindow& w, Raster* raster,
-               const QuietGdal& quiet) {
-  const int flags = GDALGetMaskFlags(band);
-  if ((flags & GMF_ALL_VALID) != 0 || (flags & GMF_NODATA) != 0) return;
-  GDALRasterBandH mask = GDALGetMaskBand(band);
-  if (mask == nullptr) return;
-  std::vector<unsigned char> valid(raster->values.size());
-  if (GDALRasterIO(mask, GF_Read, w.column, w.row, w.columns, w.rows, valid.data(), w.columns,
-                   w.rows, GDT_Byte, 0, 0) != CE_None) {
-    Fail(raster->source, "cannot read the mask of the band" + quiet.Detail());
-  }
-  for (std::size_t i = 0; i < valid.size(); ++i) {
-    if (valid[i] == 0) raster->values[i] = std::numeric_limits<double>::quiet_NaN();
-  }
-}
-
-// NaN for the nodata value, infinities, and what the band's mask excludes.
-void MarkNodata(GDALRasterBandH band, const RasterWindow& w, Raster* raster,
-                const QuietGdal& quiet) {
-  int has_nodata = 0;
-  const double nodata = GDALGetRasterNoDataValue(band, &has_nodata);
-  // A Float32 band holds the nodata value rounded to float, which differs
-  // from the double GDAL reports when that is not representable (-9999.1).
-  double nodata_as_stored = nodata;
-  if (GDALGetRasterDataType(band) == GDT_Float32 && std::fabs(nodata) <= 3.4028234663852886e38) {
-    nodata_as_stored = static_cast<float>(nodata);
-  }
-  for (double& v : raster->values) {
-    const bool is_nodata = has_nodata != 0 && (v == nodata || v == nodata_as_stored);
-    if (!is_nodata && !std::isfinite(v)) ++raster->non_finite_cells;
-    if (is_nodata || !std::isfinite(v)) v = std::numeric_limits<double>::quiet_NaN();
-  }
-  ApplyMask(band, w, raster, quiet);
-}
-
-Raster ReadRasterOrThrow(const std::string& path, const RasterReadOptions& options) {
-  RegisterGdalOnce();
-  QuietGdal quiet;
-  Dataset dataset(GDALOpenEx(path.c_str(),
-                             GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR, nullptr,
-                             nullptr, nullptr));
-  if (!dataset) Fail(path, "cannot open as a raster" + quiet.Detail());
-  GDALDatasetH ds = dataset.get();
-  const int bands = GDALGetRasterCount(ds);
-  if (options.band < 1 || options.band > bands) {
-    Fail(path, "band " + std::to_string(options.band) + " of " + std::to_string(bands));
-  }
-  const RasterWindow w =
-      ResolveWindow(options.window, GDALGetRasterXSize(ds), GDALGetRasterYSize(ds), path);
-
-  Raster raster;
-  raster.source = path;
-  raster.columns = w.columns;
-  raster.rows = w.rows;
-  double gt[6] = {0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
-  if (GDALGetGeoTransform(ds, gt) != CE_None) {
-    gt[0] = 0.0, gt[1] = 1.0, gt[2] = 0.0, gt[3] = 0.0, gt[4] = 0.0, gt[5] = 1.0;
-  }
-  if (gt[2] != 0.0 || gt[4] != 0.0) {
-    Fail(path, "rotated or sheared geotransform (row/column terms " + Number(gt[2]) + ", " +
-                   Number(gt[4]) + ") is not supported; warp it to a north-up grid first");
-  }
-  if (!(gt[1] != 0.0 && gt[5] != 0.0 && std::isfinite(gt[1]) && std::isfinite(gt[5]))) {
-    Fail(path, "cell size " + Number(gt[1]) + " x " + Number(gt[5]) + " is not usable");
-  }
-  // The window's outer corner becomes the origin of its own geotransform.
-  gt[0] += w.column * gt[1];
-  gt[3] += w.row * gt[5];
-  for (int k = 0; k < 6; ++k) raster.geotransform[k] = gt[k];
-  const char* wkt = GDALGetProjectionRef(ds);
-  raster.crs_wkt = wkt == nullptr ? "" : wkt;
-
-  GDALRasterBandH band = GDALGetRasterBand(ds, options.band);
-  raster.values.resize(static_cast<std::size_t>(w.columns) * static_cast<std::size_t>(w.rows));
-  if (GDALRasterIO(band, GF_Read, w.column, w.row, w.columns, w.rows, raster.values.data(),
-                   w.columns, w.rows, GDT_Float64, 0, 0) != CE_None) {
-    Fail(path, "cannot read band " + std::to_string(options.band) + quiet.Detail());
-  }
-  MarkNodata(band, w, &raster, quiet);
-  return raster;
-}
 
 // True if some finite value, rounded to Float32, equals `candidate`.
 bool IsUsed(const std::vector<double>& values, float candidate) {
@@ -471,27 +321,6 @@ bool TransformPoints(const std::string& from_wkt, const std::string& to_wkt,
 
 // --- the entry points ---------------------------------------------------
 
-// Runs `body`, turning what it throws into `*error`.
-template <typename Body>
-bool Guarded(std::string* error, const std::string& where, Body body) {
-  try {
-    body();
-    return true;
-  } catch (const ModuleError& e) {
-    *error = e.what();
-  } catch (const std::bad_alloc&) {
-    *error = where + ": out of memory";
-  } catch (const std::exception& e) {
-    *error = where + ": " + e.what();
-  }
-  return false;
-}
-
-bool ReadRasterEntry(const std::string& path, const RasterReadOptions& options, Raster* raster,
-                     std::string* error) {
-  return Guarded(error, path, [&] { *raster = ReadRasterOrThrow(path, options); });
-}
-
 bool WriteGeoTiffEntry(const std::string& file, const Raster& raster, const std::string& where, int threads,
                        std::string* error) {
   return Guarded(error, where, [&] {
@@ -575,10 +404,11 @@ bool CloseGeoTiffEntry(void* writer, std::string* error) {
   });
 }
 
-const GdalModule kModule = {kGdalModuleVersion, &ReadRasterEntry, &WriteGeoTiffEntry, &ParseCrs,
-                            &IdentifyCrs,       &IdentifyUtm,     &DatumOf,
-                            &SameCrs,           &ProjectedToLonLat, &TransformPoints,
-                            &ReadVectorRings,   &OpenGeoTiffEntry,  &WriteGeoTiffWindowEntry,
+const GdalModule kModule = {kGdalModuleVersion,    &ReadRasterEntry,    &ReadRasterHeaderEntry,
+                            &ReadRasterRowsEntry,  &WriteGeoTiffEntry,  &ParseCrs,
+                            &IdentifyCrs,          &IdentifyUtm,        &DatumOf,
+                            &SameCrs,              &ProjectedToLonLat,  &TransformPoints,
+                            &ReadVectorRings,      &OpenGeoTiffEntry,   &WriteGeoTiffWindowEntry,
                             &CloseGeoTiffEntry};
 
 }  // namespace

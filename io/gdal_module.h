@@ -12,6 +12,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,14 @@ struct GdalModule {
   // starts with the path.
   bool (*read_raster)(const std::string& path, const RasterReadOptions& options, Raster* raster,
                       std::string* error);
+  // The same without the values: size, geotransform and CRS of the window.
+  bool (*read_raster_header)(const std::string& path, const RasterReadOptions& options, Raster* raster,
+                             std::string* error);
+  // Rows [first_row, first_row + rows) of the window into `values`
+  // (columns × rows, nodata as NaN; *non_finite_cells as Raster's), on a
+  // handle of the call's own: calls may run on several threads at once.
+  bool (*read_raster_rows)(const std::string& path, const RasterReadOptions& options, int first_row,
+                           int rows, double* values, int64_t* non_finite_cells, std::string* error);
   // Creates and fills the GeoTIFF `file` (no side file), compressing on
   // `threads` threads; `where` starts the error. The caller chose `file` (a
   // temporary name) and renames it.
@@ -95,7 +104,7 @@ struct GdalModule {
   bool (*close_geotiff)(void* writer, std::string* error);
 };
 
-constexpr int kGdalModuleVersion = 5;
+constexpr int kGdalModuleVersion = 6;
 
 // The loaded module. The first call looks for libsurfreg_gdal.so in: the
 // file named by the environment variable SURFREG_GDAL_MODULE; next to the

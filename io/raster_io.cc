@@ -14,10 +14,13 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include <glog/logging.h>
 
 #include "measure/input_error.h"
+#include "measure/tasks.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "io/gdal_module.h"
@@ -42,7 +45,31 @@ Raster ReadRaster(const std::string& path, const RasterReadOptions& options) {
   const GdalModule& gdal = Gdal(path);
   Raster raster;
   std::string error;
-  if (!gdal.read_raster(path, options, &raster, &error)) throw InputError(error);
+  // Bands of rows of about a million cells (their number a function of the
+  // size only), each read on a handle of its own; a small window at once.
+  if (!gdal.read_raster_header(path, options, &raster, &error)) throw InputError(error);
+  const int64_t columns = std::max(raster.columns, 1);
+  const int chunks = ChunksFor(raster.rows, std::max<int64_t>(1, (int64_t{1} << 20) / columns));
+  if (chunks == 1) {
+    if (!gdal.read_raster(path, options, &raster, &error)) throw InputError(error);
+  } else {
+    const Execution execution = ExecutionFor(options.threads);
+    raster.values.resize(static_cast<std::size_t>(raster.columns) * static_cast<std::size_t>(raster.rows));
+    std::vector<int64_t> non_finite(chunks, 0);
+    std::vector<std::string> errors(chunks);
+    ForEachChunk(execution, raster.rows, chunks, [&](int c, int64_t first, int64_t last) {
+      double* values = raster.values.data() + first * raster.columns;
+      if (!gdal.read_raster_rows(path, options, static_cast<int>(first), static_cast<int>(last - first), values,
+                                 &non_finite[c], &errors[c]) &&
+          errors[c].empty()) {
+        errors[c] = path + ": cannot read rows " + std::to_string(first) + " to " + std::to_string(last);
+      }
+    });
+    for (int c = 0; c < chunks; ++c) {
+      if (!errors[c].empty()) throw InputError(errors[c]);
+      raster.non_finite_cells += non_finite[c];
+    }
+  }
   if (raster.non_finite_cells > 0) {
     LOG(WARNING) << path << ": " << raster.non_finite_cells << " of "
                  << static_cast<int64_t>(raster.columns) * raster.rows

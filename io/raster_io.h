@@ -37,6 +37,9 @@ struct RasterWindow {
 struct RasterReadOptions {
   int band = 1;         // 1-based, as in GDAL
   RasterWindow window;  // default: the whole raster
+  // Threads (0: every core) reading a large window by bands of rows, each on
+  // a GDAL handle of its own: the same values for any number.
+  int threads = 1;
 };
 
 struct Raster {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace surfreg {
@@ -72,16 +73,15 @@ double KthSmallest(const double* data, int64_t n, int64_t k, double lo, double h
 
 // The q-quantile (0..1) of the values, linear between order statistics (as
 // of the sorted values); lo and hi their minimum and maximum.
-double Quantile(const std::vector<double>& values, double q, double lo, double hi,
+double Quantile(const double* values, int64_t n, double q, double lo, double hi,
                 const Execution& execution) {
-  const int64_t n = static_cast<int64_t>(values.size());
   const double position = q * static_cast<double>(n - 1);
   const int64_t below = static_cast<int64_t>(std::floor(position));
   const int64_t above = std::min(below + 1, n - 1);
   const double t = position - static_cast<double>(below);
-  const double low = KthSmallest(values.data(), n, below, lo, hi, execution);
+  const double low = KthSmallest(values, n, below, lo, hi, execution);
   if (t == 0.0 || above == below) return low;
-  const double high = KthSmallest(values.data(), n, above, lo, hi, execution);
+  const double high = KthSmallest(values, n, above, lo, hi, execution);
   return low + t * (high - low);
 }
 
@@ -129,9 +129,12 @@ DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vecto
       if (used(i)) moments[c].Add(dz[i]);
   });
   for (int c = 0; c < chunks; ++c) offset[c + 1] = offset[c] + moments[c].count;
-  std::vector<double> values(static_cast<std::size_t>(offset[chunks]));
+  // Buffers left uninitialized: each chunk's pages are first touched by the
+  // chunk (a zero-fill would fault them all in on one thread).
+  const int64_t used_count = offset[chunks];
+  std::unique_ptr<double[]> values(new double[static_cast<std::size_t>(used_count)]);
   ForEachChunk(execution, size, chunks, [&](int c, int64_t begin, int64_t end) {
-    double* out = values.data() + offset[c];
+    double* out = values.get() + offset[c];
     for (int64_t i = begin; i < end; ++i)
       if (used(i)) *out++ = dz[i];
   });
@@ -140,7 +143,7 @@ DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vecto
 
   DzStatistics s;
   s.count = all.count;
-  if (values.empty()) {
+  if (used_count == 0) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     s.mean = s.median = s.nmad = s.stddev = s.rmse = s.le90 = s.min = s.max = nan;
     return s;
@@ -151,10 +154,10 @@ DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vecto
   s.rmse = std::sqrt(all.squares / count);
   s.min = all.min;
   s.max = all.max;
-  s.median = Quantile(values, 0.5, s.min, s.max, execution);
+  s.median = Quantile(values.get(), used_count, 0.5, s.min, s.max, execution);
   // |dz|, then the deviations |dz − median|, into one buffer by chunks,
   // with their range.
-  std::vector<double> derived(values.size());
+  std::unique_ptr<double[]> derived(new double[static_cast<std::size_t>(used_count)]);
   const int value_chunks = ChunksFor(all.count, kChunkItems);
   const auto quantile_of = [&](const auto& f, double q) {
     std::vector<double> low(value_chunks), high(value_chunks);
@@ -166,7 +169,7 @@ DzStatistics ComputeDzStatistics(const std::vector<double>& dz, const std::vecto
       }
       low[c] = lo, high[c] = hi;
     });
-    return Quantile(derived, q, *std::min_element(low.begin(), low.end()),
+    return Quantile(derived.get(), used_count, q, *std::min_element(low.begin(), low.end()),
                     *std::max_element(high.begin(), high.end()), execution);
   };
   const double median = s.median;

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <vector>
 
 namespace surfreg {
 namespace {
@@ -63,6 +65,75 @@ int32_t Find(std::vector<int32_t>& up, int32_t x) {
   return x;
 }
 
+// Which sorted edges may be in the tree, found in parallel (empty: all).
+// The vertices are cut into ranges (a Hilbert-sorted surface's are
+// spatially compact); each range's own edges go through Kruskal on their
+// own, and an edge it rejects closes a cycle of edges earlier in the sorted
+// order (length, then position), so it is that cycle's last and no minimum
+// spanning tree's edge. Kruskal over the ranges' forests and the edges
+// between ranges, in the same order, then makes the very tree (and sums)
+// that Kruskal over all edges makes. Leaves `up` and `size` as they were.
+std::vector<uint8_t> SlabForestEdges(const std::vector<Edge>& edges, int32_t n, const Execution& execution,
+                                     std::vector<int32_t>* up, std::vector<int32_t>* size) {
+  const int ranges = ChunksFor(n, 1 << 16);
+  if (ranges == 1) return {};
+  const auto range_of = [&](int32_t v) {
+    return static_cast<int>((static_cast<int64_t>(v + 1) * ranges - 1) / n);
+  };
+  const int64_t m = static_cast<int64_t>(edges.size());
+  std::vector<uint8_t> candidate(edges.size(), 0);
+  // Each range's edges, in sorted order: counted and scattered by chunks of
+  // the sorted list (a range's chunks in chunk order).
+  const int chunks = ChunksFor(m, 1 << 16);
+  std::vector<int64_t> count(static_cast<std::size_t>(chunks) * ranges, 0);
+  ForEachChunk(execution, m, chunks, [&](int c, int64_t begin, int64_t end) {
+    int64_t* here = &count[static_cast<std::size_t>(c) * ranges];
+    for (int64_t k = begin; k < end; ++k) {
+      const int ru = range_of(edges[k].u), rv = range_of(edges[k].v);
+      if (ru == rv) {
+        ++here[ru];
+      } else {
+        candidate[k] = 1;  // between ranges: for the last pass
+      }
+    }
+  });
+  std::vector<int64_t> range_start(static_cast<std::size_t>(ranges) + 1, 0);
+  for (int r = 0; r < ranges; ++r) {
+    int64_t next = range_start[r];
+    for (int c = 0; c < chunks; ++c) {
+      int64_t& slot = count[static_cast<std::size_t>(c) * ranges + r];
+      const int64_t here = slot;
+      slot = next;
+      next += here;
+    }
+    range_start[r + 1] = next;
+  }
+  std::vector<int64_t> position(static_cast<std::size_t>(range_start[ranges]));
+  ForEachChunk(execution, m, chunks, [&](int c, int64_t begin, int64_t end) {
+    int64_t* next = &count[static_cast<std::size_t>(c) * ranges];
+    for (int64_t k = begin; k < end; ++k) {
+      const int ru = range_of(edges[k].u);
+      if (ru == range_of(edges[k].v)) position[next[ru]++] = k;
+    }
+  });
+  // Each range's Kruskal on its own vertices' entries of `up` and `size`.
+  ForEachChunk(execution, ranges, ranges, [&](int r, int64_t, int64_t) {
+    for (int64_t i = range_start[r]; i < range_start[r + 1]; ++i) {
+      const Edge& e = edges[position[i]];
+      int32_t a = Find(*up, e.u), b = Find(*up, e.v);
+      if (a == b) continue;
+      if ((*size)[a] < (*size)[b]) std::swap(a, b);
+      (*up)[b] = a;
+      (*size)[a] += (*size)[b];
+      candidate[position[i]] = 1;
+    }
+    for (int64_t v = ChunkBegin(n, ranges, r); v < ChunkBegin(n, ranges, r + 1); ++v) {
+      (*up)[v] = static_cast<int32_t>(v), (*size)[v] = 1;
+    }
+  });
+  return candidate;
+}
+
 }  // namespace
 
 SpanningTree EuclideanMst(const std::vector<Point2>& points, const Triangulation& mesh,
@@ -106,11 +177,14 @@ SpanningTree EuclideanMst(const std::vector<Point2>& points, const Triangulation
   SpanningTree tree;
   std::vector<int32_t> up(n), size(n, 1);
   for (int32_t i = 0; i < n; ++i) up[i] = i;
+  const std::vector<uint8_t> candidate = SlabForestEdges(edges, n, execution, &up, &size);
   // Tree adjacency as a compressed list: count, then fill.
   std::vector<int32_t> degree(n + 1, 0), chosen_u, chosen_v;
   chosen_u.reserve(n);
   chosen_v.reserve(n);
-  for (const Edge& e : edges) {
+  for (std::size_t k = 0; k < edges.size(); ++k) {
+    if (!candidate.empty() && !candidate[k]) continue;
+    const Edge& e = edges[k];
     int32_t a = Find(up, e.u), b = Find(up, e.v);
     if (a == b) continue;
     if (size[a] < size[b]) std::swap(a, b);

@@ -244,7 +244,7 @@ TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* giv
     std::optional<Raster>& read = key == "reference" ? read_reference : read_moving;
     if (read.has_value()) return std::move(*read);
     try {
-      return ReadInputRaster(config, key);
+      return ReadInputRaster(config, key, execution.threads);
     } catch (const InputError& e) {
       throw InputError(config.Where(key) + ": " + e.what());  // as ReadOne names it
     }

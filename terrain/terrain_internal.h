@@ -13,8 +13,9 @@
 namespace surfreg {
 namespace terrain_internal {
 
-// The raster of input `key` (its band and window); errors without the key.
-Raster ReadInputRaster(const TerrainRequest& config, const std::string& key);
+// The raster of input `key` (its band and window), read on `threads`
+// (raster_io.h); errors without the key.
+Raster ReadInputRaster(const TerrainRequest& config, const std::string& key, int threads = 1);
 
 // The mean of a surface's samples in input coordinates.
 std::array<double, 3> CentroidInput(const Surface& s);

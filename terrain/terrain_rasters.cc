@@ -19,7 +19,7 @@ constexpr double kDegrees = 180.0 / 3.14159265358979323846;
 
 }  // namespace
 
-Raster ReadInputRaster(const TerrainRequest& config, const std::string& key) {
+Raster ReadInputRaster(const TerrainRequest& config, const std::string& key, int threads) {
   const std::string& path = InputPath(config, key);
   // A raster has no classes or columns to pick.
   io_internal::CheckOptionsFit(InputReadOptions(config, key), io_internal::OptionFit::kOther,
@@ -28,6 +28,7 @@ Raster ReadInputRaster(const TerrainRequest& config, const std::string& key) {
   options.band = config.terrain.band;
   const auto& w = config.terrain.window;
   options.window = {w[0], w[1], w[2], w[3]};
+  options.threads = threads;
   return ReadRaster(path, options);
 }
 
@@ -60,7 +61,7 @@ bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution
   const char* const keys[2] = {"reference", "moving"};
   const auto read = [&](int k) {
     try {
-      grids[k] = ReadInputRaster(config, keys[k]);
+      grids[k] = ReadInputRaster(config, keys[k], execution.threads);
     } catch (const InputError& e) {
       errors[k] = std::make_exception_ptr(InputError(config.Where(keys[k]) + ": " + e.what()));
     } catch (...) {

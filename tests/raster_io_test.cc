@@ -13,11 +13,13 @@
 #include <stdlib.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <string>
@@ -279,6 +281,54 @@ TEST_F(RasterIoTest, BandSelection) {
   EXPECT_EQ(ErrorOf([&] { ReadRaster(path, options); }), path + ": band 3 of 2");
   options.band = 0;
   EXPECT_EQ(ErrorOf([&] { ReadRaster(path, options); }), path + ": band 0 of 2");
+}
+
+// A window of several bands of rows (each read on its own GDAL handle):
+// every cell as written, nodata, NaN and masked cells in each band, the
+// non-finite count summed, on 1, 2 and 8 threads.
+TEST_F(RasterIoTest, LargeWindowsReadByBandsOfRowsOnAnyThreadCount) {
+  const int columns = 200, rows = 16000;  // 3 bands of rows of about 2^20 cells
+  const double gt[6] = {0, 1, 0, 0, 0, -1};
+  const int special_rows[3] = {10, 8000, 15990};  // one in each band
+  const std::string path = MakeTiff(Path("big.tif"), columns, rows, 1, gt, [&](GDALDatasetH ds) {
+    GDALRasterBandH band = GDALGetRasterBand(ds, 1);
+    GDALSetRasterNoDataValue(band, 100.0 + 2 * columns + 5);  // row 2, column 5
+    std::vector<unsigned char> mask(static_cast<std::size_t>(columns) * rows, 255);
+    for (const int r : special_rows) {
+      const double nan = kNaN;
+      ASSERT_EQ(GDALRasterIO(band, GF_Write, 7, r, 1, 1, const_cast<double*>(&nan), 1, 1, GDT_Float64, 0, 0),
+                CE_None);
+      mask[static_cast<std::size_t>(r) * columns + 9] = 0;
+    }
+    ASSERT_EQ(GDALCreateDatasetMaskBand(ds, GMF_PER_DATASET), CE_None);
+    ASSERT_EQ(GDALRasterIO(GDALGetMaskBand(band), GF_Write, 0, 0, columns, rows, mask.data(), columns, rows,
+                           GDT_Byte, 0, 0),
+              CE_None);
+  });
+  for (const int threads : {1, 2, 8}) {
+    RasterReadOptions options;
+    options.threads = threads;
+    options.window = {3, 2, 0, 0};  // the bands of rows start at the window's row 2
+    const Raster r = ReadRaster(path, options);
+    ASSERT_EQ(r.columns, columns - 3);
+    ASSERT_EQ(r.rows, rows - 2);
+    EXPECT_EQ(r.non_finite_cells, 3) << threads;
+    int64_t wrong = 0, missing = 0;
+    for (int row = 0; row < r.rows; ++row) {
+      for (int column = 0; column < r.columns; ++column) {
+        const int fr = row + 2, fc = column + 3;
+        const double v = r.values[static_cast<std::size_t>(row) * r.columns + column];
+        const bool special = std::count(std::begin(special_rows), std::end(special_rows), fr) > 0;
+        if ((special && (fc == 7 || fc == 9)) || (fr == 2 && fc == 5)) {
+          missing += std::isnan(v) ? 0 : 1;
+        } else if (v != 100.0 + static_cast<double>(static_cast<int64_t>(fr) * columns + fc)) {
+          ++wrong;
+        }
+      }
+    }
+    EXPECT_EQ(wrong, 0) << threads;
+    EXPECT_EQ(missing, 0) << threads;
+  }
 }
 
 TEST_F(RasterIoTest, WindowReadsASubBlockWithItsOwnGeotransform) {

@@ -2,7 +2,9 @@
 // definition of the EMST), and the structure of the traversal order.
 #include "measure/spanning_tree.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -83,6 +85,51 @@ TEST(SpanningTreeTest, SameTreeOnAnyNumberOfThreads) {
       EXPECT_EQ(many.parent, one.parent) << threads << " threads";
       EXPECT_EQ(many.total_length, one.total_length) << threads << " threads";
     }
+  }
+}
+
+// Large enough for the vertex ranges' own forests first: the tree meets the
+// cycle property on every Delaunay edge (no edge outside the tree is
+// shorter than the longest tree edge on the path between its ends), which
+// makes it a minimum spanning tree of the triangulation and so the EMST.
+// Squared lengths compared exactly; grid points tie everywhere.
+TEST(SpanningTreeTest, LargeInputsMeetTheCyclePropertyOnEveryEdge) {
+  for (const std::vector<Point2>& points :
+       {testing::UniformPoints(150000, 6), testing::ClusteredPoints(150000, 20, 0.01, 7),
+        testing::GridPoints(400, 400)}) {
+    const Triangulation mesh = Triangulate(points);
+    const SpanningTree tree = EuclideanMst(points, mesh, Execution{2});
+    const std::size_t n = points.size();
+    ASSERT_EQ(tree.order.size(), n);
+    const auto length2 = [&](int32_t u, int32_t v) {
+      const double dx = points[u].x - points[v].x, dy = points[u].y - points[v].y;
+      return dx * dx + dy * dy;
+    };
+    std::vector<int32_t> depth(n, 0);
+    int roots = 0;
+    for (const int32_t v : tree.order) {  // parents come first
+      if (tree.parent[v] < 0) {
+        ++roots;
+      } else {
+        depth[v] = depth[tree.parent[v]] + 1;
+      }
+    }
+    ASSERT_EQ(roots, 1);
+    int64_t violations = 0;
+    for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
+      for (int i = 0; i < 3; ++i) {
+        int32_t u = mesh.triangles[3 * t + (i + 1) % 3], v = mesh.triangles[3 * t + (i + 2) % 3];
+        const double edge = length2(u, v);
+        double longest = 0.0;  // on the tree path from u to v
+        while (u != v) {
+          if (depth[u] < depth[v]) std::swap(u, v);
+          longest = std::max(longest, length2(u, tree.parent[u]));
+          u = tree.parent[u];
+        }
+        violations += edge < longest;
+      }
+    }
+    EXPECT_EQ(violations, 0) << n;
   }
 }
 
