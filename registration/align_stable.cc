@@ -192,7 +192,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   plain.weight.clear();
   const MeasureReference prepared(plain, GapMeasureOptions(options));
   GapField gaps = GapsAt(prepared, moving, result.matrix, options);
-  const ConsensusFit consensus = RigidConsensus(reference, adjacency, gaps.dz, eligible);
+  const ConsensusFit consensus = RigidConsensus(reference, adjacency, gaps.dz, eligible, ExecutionFor(options.num_threads));
   std::vector<double> correction(reference.size(), 0.0);
   for (std::size_t i = 0; i < correction.size(); ++i) {
     if (std::isfinite(consensus.residual[i])) correction[i] = gaps.dz[i] - consensus.residual[i];

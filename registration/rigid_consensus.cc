@@ -8,6 +8,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "measure/tasks.h"
+
 namespace surfreg {
 namespace {
 
@@ -51,7 +53,8 @@ Vector6 Solve(const Normal& normal) {
 }  // namespace
 
 ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adjacency,
-                            const std::vector<double>& dz, const std::vector<uint8_t>& eligible) {
+                            const std::vector<double>& dz, const std::vector<uint8_t>& eligible,
+                            const Execution& execution) {
   const std::size_t n = dz.size();
   ConsensusFit out;
   out.residual.assign(n, std::nan(""));
@@ -107,10 +110,13 @@ ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adj
   for (int32_t i : usable) {
     const int tx = std::min(kTilesPerSide - 1, static_cast<int>((reference.xy[i].x - lo_x) / wx * kTilesPerSide));
     const int ty = std::min(kTilesPerSide - 1, static_cast<int>((reference.xy[i].y - lo_y) / wy * kTilesPerSide));
-    const double w = scale[i] > 0 ? 1.0 / (scale[i] * scale[i]) : 1.0;
-    tiles[ty * kTilesPerSide + tx].Add(jacobian(i), dz[i], w);
     members[ty * kTilesPerSide + tx].push_back(i);
   }
+  // Each tile's sums in its samples' order, tiles side by side.
+  const int64_t num_tiles = static_cast<int64_t>(tiles.size());
+  ForEachChunk(execution, num_tiles, static_cast<int>(num_tiles), [&](int t, int64_t, int64_t) {
+    for (int32_t i : members[t]) tiles[t].Add(jacobian(i), dz[i], scale[i] > 0 ? 1.0 / (scale[i] * scale[i]) : 1.0);
+  });
   std::vector<int> full;
   struct Scored {
     std::vector<int32_t> samples;
@@ -118,11 +124,15 @@ ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adj
     double weight = 0;        // the tile's samples, all of them
     double median_scale = 0;  // of its median residual
   };
-  std::vector<Scored> scored;
   for (int t = 0; t < static_cast<int>(tiles.size()); ++t) {
-    if (tiles[t].samples < kMinTileSamples) continue;
-    full.push_back(t);
-    Scored tile;
+    if (tiles[t].samples >= kMinTileSamples) full.push_back(t);
+  }
+  std::vector<Scored> scored(full.size());
+  ForEachChunk(execution, static_cast<int64_t>(full.size()), static_cast<int>(std::max<std::size_t>(1, full.size())),
+               [&](int f, int64_t first, int64_t last) {
+    if (first == last) return;
+    const int t = full[f];
+    Scored& tile = scored[f];
     const std::size_t step = std::max<std::size_t>(1, members[t].size() / kScoredPerTile);
     for (std::size_t k = 0; k < members[t].size(); k += step) {
       tile.samples.push_back(members[t][k]);
@@ -143,16 +153,15 @@ ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adj
     }
     const double sigma = 1.4826 * Median(tile_differences) / std::sqrt(2.0);
     tile.median_scale = 1.253 * sigma * std::sqrt(kSamplesPerIndependent / tile.weight);
-    scored.push_back(std::move(tile));
-  }
+  });
   // MSAC over tiles: each tile's median residual in its own scale, squares
   // truncated at kInlierSigmas², weighted by the tile's samples. Per tile,
   // not per sample: a hypothesis that fits a flat changed part (a lake)
   // leaves every sample of rough stable terrain within its own large scale,
   // but shifts the tiles' medians there far beyond theirs.
-  std::vector<double> residuals;
   auto tile_z = [&](const Scored& tile, const Vector6& beta) {
-    residuals.clear();
+    std::vector<double> residuals;
+    residuals.reserve(tile.samples.size());
     for (std::size_t k = 0; k < tile.samples.size(); ++k) {
       residuals.push_back(dz[tile.samples[k]] - tile.jacobians[k].dot(beta));
     }
@@ -169,12 +178,14 @@ ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adj
     return sum;
   };
 
-  Vector6 best = Vector6::Zero();
-  double best_score = score(best);
+  // The trials' draws in turn (one random stream), their scores side by
+  // side, the best the first of the lowest: as trials run one by one.
+  const int pick = std::min<int>(kTilesPerTrial, static_cast<int>(full.size()));
+  const int trials = pick > 0 ? kTrials : 0;
+  std::vector<Vector6> hypothesis(trials + 1, Vector6::Zero());  // [0]: no correction
   std::mt19937_64 random(0x57AB1EULL);
   std::vector<int> draw = full;
-  const int pick = std::min<int>(kTilesPerTrial, static_cast<int>(full.size()));
-  for (int trial = 0; trial < kTrials && pick > 0; ++trial) {
+  for (int trial = 0; trial < trials; ++trial) {
     Normal sum;
     for (int k = 0; k < pick; ++k) {  // a partial Fisher–Yates draw of distinct tiles
       const std::size_t j = k + random() % (draw.size() - k);
@@ -182,9 +193,17 @@ ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adj
       sum.ata += tiles[draw[k]].ata;
       sum.atb += tiles[draw[k]].atb;
     }
-    const Vector6 beta = Solve(sum);
-    const double s = score(beta);
-    if (s < best_score) best_score = s, best = beta;
+    hypothesis[trial + 1] = Solve(sum);
+  }
+  std::vector<double> trial_score(hypothesis.size());
+  ForEachChunk(execution, static_cast<int64_t>(hypothesis.size()), ChunksFor(static_cast<int64_t>(hypothesis.size()), 8),
+               [&](int, int64_t first, int64_t last) {
+                 for (int64_t k = first; k < last; ++k) trial_score[k] = score(hypothesis[k]);
+               });
+  Vector6 best = hypothesis[0];
+  double best_score = trial_score[0];
+  for (std::size_t k = 1; k < hypothesis.size(); ++k) {
+    if (trial_score[k] < best_score) best_score = trial_score[k], best = hypothesis[k];
   }
   // Refined on the inliers: least squares over the samples of the tiles
   // within kInlierSigmas, each within kInlierSigmas of its own scale.

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "measure/surface.h"
+#include "measure/tasks.h"
 #include "registration/stable_terrain.h"
 
 namespace surfreg {
@@ -29,8 +30,10 @@ struct ConsensusFit {
 };
 
 // `dz`: the gaps at the reference's samples (NaN outside the overlap);
-// `eligible[i] == 0` leaves sample i out (empty: all eligible).
+// `eligible[i] == 0` leaves sample i out (empty: all eligible). Tiles and
+// trials run on `execution`'s threads: the same fit for any number.
 ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adjacency,
-                            const std::vector<double>& dz, const std::vector<uint8_t>& eligible);
+                            const std::vector<double>& dz, const std::vector<uint8_t>& eligible,
+                            const Execution& execution = Execution{1});
 
 }  // namespace surfreg
