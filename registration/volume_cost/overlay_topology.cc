@@ -150,6 +150,8 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
     for (const auto& p : list) ++begin_[p.first + 1];
   }
   for (int32_t t = 0; t < na; ++t) begin_[t + 1] += begin_[t];
+  // Room for the repairs' appends until the first compaction (Compact).
+  cells_.reserve(static_cast<std::size_t>(begin_[na] * 5 / 2 + 8192));
   cells_.assign(begin_[na], TopologyCell());
   for (const auto& list : pairs) {
     for (const auto& p : list) cells_[begin_[p.first] + count_[p.first]++].triangle_b = p.second;
@@ -271,7 +273,9 @@ void OverlayTopology::Compact() {
   // a long solve stops allocating (fresh pages fault in, one by one).
   std::vector<TopologyCell>& packed = spare_;
   packed.clear();
-  packed.reserve(static_cast<std::size_t>(live_ + live_ / 2));
+  // Room for the appends until the next compaction (at 2 live + 4096 and
+  // one repair's cells more): no reallocation, and so no copy, between.
+  packed.reserve(static_cast<std::size_t>(live_ * 5 / 2 + 8192));
   for (std::size_t t = 0; t < begin_.size(); ++t) {
     const int64_t first = static_cast<int64_t>(packed.size());
     packed.insert(packed.end(), cells_.begin() + begin_[t], cells_.begin() + begin_[t] + count_[t]);
