@@ -246,6 +246,15 @@ TEST(DzStatistics, NmadOfGaussianSamplesIsSigma) {
   EXPECT_GT(s.stddev, 0.1);
 }
 
+// The q-quantile of the sorted values, linear between order statistics.
+double SortedQuantile(std::vector<double> v, double q) {
+  std::sort(v.begin(), v.end());
+  const double position = q * static_cast<double>(v.size() - 1);
+  const std::size_t below = static_cast<std::size_t>(std::floor(position));
+  const std::size_t above = std::min(below + 1, v.size() - 1);
+  return v[below] + (position - static_cast<double>(below)) * (v[above] - v[below]);
+}
+
 // Selection (nth_element) against a full sort: the same order statistics,
 // for odd and even counts, ties and a mask.
 TEST(DzStatistics, QuantilesEqualThoseOfTheSortedValues) {
@@ -259,20 +268,13 @@ TEST(DzStatistics, QuantilesEqualThoseOfTheSortedValues) {
     for (int i = 0; i < n; ++i) {
       if (keep[i]) kept.push_back(dz[i]);
     }
-    const auto quantile = [](std::vector<double> v, double q) {
-      std::sort(v.begin(), v.end());
-      const double position = q * static_cast<double>(v.size() - 1);
-      const std::size_t below = static_cast<std::size_t>(std::floor(position));
-      const std::size_t above = std::min(below + 1, v.size() - 1);
-      return v[below] + (position - static_cast<double>(below)) * (v[above] - v[below]);
-    };
-    const double median = quantile(kept, 0.5);
+    const double median = SortedQuantile(kept, 0.5);
     std::vector<double> deviation, magnitude;
     for (const double v : kept) deviation.push_back(std::fabs(v - median)), magnitude.push_back(std::fabs(v));
     const DzStatistics s = ComputeDzStatistics(dz, keep);
     EXPECT_EQ(s.median, median) << n;
-    EXPECT_EQ(s.nmad, 1.4826 * quantile(deviation, 0.5)) << n;
-    EXPECT_EQ(s.le90, quantile(magnitude, 0.9)) << n;
+    EXPECT_EQ(s.nmad, 1.4826 * SortedQuantile(deviation, 0.5)) << n;
+    EXPECT_EQ(s.le90, SortedQuantile(magnitude, 0.9)) << n;
     EXPECT_EQ(s.min, *std::min_element(kept.begin(), kept.end())) << n;
     EXPECT_EQ(s.max, *std::max_element(kept.begin(), kept.end())) << n;
   }
@@ -299,19 +301,12 @@ TEST(DzStatistics, LargeInputsSelectExactlyOnAnyThreadCount) {
     inputs[3][i] = 2.5;
   }
   inputs[0][17] = std::nan("");
-  const auto quantile = [](std::vector<double> v, double q) {
-    std::sort(v.begin(), v.end());
-    const double position = q * static_cast<double>(v.size() - 1);
-    const std::size_t below = static_cast<std::size_t>(std::floor(position));
-    const std::size_t above = std::min(below + 1, v.size() - 1);
-    return v[below] + (position - static_cast<double>(below)) * (v[above] - v[below]);
-  };
   for (std::size_t k = 0; k < inputs.size(); ++k) {
     std::vector<double> kept;
     for (const double v : inputs[k]) {
       if (std::isfinite(v)) kept.push_back(v);
     }
-    const double median = quantile(kept, 0.5);
+    const double median = SortedQuantile(kept, 0.5);
     std::vector<double> deviation, magnitude;
     long double sum = 0;
     for (const double v : kept) {
@@ -321,8 +316,8 @@ TEST(DzStatistics, LargeInputsSelectExactlyOnAnyThreadCount) {
     const DzStatistics one = ComputeDzStatistics(inputs[k], {}, Execution{1});
     EXPECT_EQ(one.count, static_cast<int64_t>(kept.size())) << k;
     EXPECT_EQ(one.median, median) << k;
-    EXPECT_EQ(one.nmad, 1.4826 * quantile(deviation, 0.5)) << k;
-    EXPECT_EQ(one.le90, quantile(magnitude, 0.9)) << k;
+    EXPECT_EQ(one.nmad, 1.4826 * SortedQuantile(deviation, 0.5)) << k;
+    EXPECT_EQ(one.le90, SortedQuantile(magnitude, 0.9)) << k;
     if (k != 2) {  // the mean of values near the largest double: rounding at that scale
       EXPECT_NEAR(one.mean, static_cast<double>(sum / kept.size()), 1e-12 * (1 + std::fabs(one.mean))) << k;
     }
