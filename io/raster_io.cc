@@ -46,10 +46,15 @@ Raster ReadRaster(const std::string& path, const RasterReadOptions& options) {
   Raster raster;
   std::string error;
   // Bands of rows of about a million cells (their number a function of the
-  // size only), each read on a handle of its own; a small window at once.
-  if (!gdal.read_raster_header(path, options, &raster, &error)) throw InputError(error);
-  const int64_t columns = std::max(raster.columns, 1);
-  const int chunks = ChunksFor(raster.rows, std::max<int64_t>(1, (int64_t{1} << 20) / columns));
+  // size only), each read on a handle of its own; a small window at once
+  // (a window given whole needs no look at the file first).
+  const auto chunks_for = [](int64_t columns, int64_t rows) {
+    return ChunksFor(rows, std::max<int64_t>(1, (int64_t{1} << 20) / std::max<int64_t>(columns, 1)));
+  };
+  const RasterWindow& w = options.window;
+  const bool small_window = w.columns > 0 && w.rows > 0 && chunks_for(w.columns, w.rows) == 1;
+  if (!small_window && !gdal.read_raster_header(path, options, &raster, &error)) throw InputError(error);
+  const int chunks = small_window ? 1 : chunks_for(raster.columns, raster.rows);
   if (chunks == 1) {
     if (!gdal.read_raster(path, options, &raster, &error)) throw InputError(error);
   } else {
