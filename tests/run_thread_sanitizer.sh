@@ -2,8 +2,10 @@
 # The tests of the parallel stages under ThreadSanitizer (GCC), in their own
 # build directory (part of .ci/run): the overlay in chunks, the volume
 # cost's cache and Hessian, the location of both clouds side by side, the
-# sandwich's tile sums, the grid paths' row chunks, the task primitives and
-# the thread-count determinism tests (1 to 8 threads). The chunks run on
+# sandwich's tile sums, the grid paths' row chunks, the spanning tree's
+# range forests, the Hilbert order's radix passes, the dz statistics'
+# selection, a raster read by bands of rows, the task primitives and the
+# thread-count determinism tests (1 to 8 threads). The chunks run on
 # plain std::threads here (SURFREG_TASKS_STD_THREADS): ThreadSanitizer cannot
 # see the synchronization inside the uninstrumented libtbb, and would report
 # its hand-overs as races. Only these test programs are built, so the step
@@ -20,9 +22,10 @@ build_dir="${SURFREG_TSAN_BUILD_DIR:-build-tsan}"
 jobs="$(nproc 2>/dev/null || echo 2)"
 targets=(thread_determinism_test overlay_test overlay_topology_test volume_hessian_test pair_state_test
          measures_test grid_pair_test raster_pair_test domain_test stable_terrain_test tasks_test
-         delaunay_slabs_test spanning_tree_test locator_test surface_reader_test)
+         delaunay_slabs_test spanning_tree_test locator_test surface_reader_test spatial_sort_test change_test
+         raster_io_test)
 # Of long programs, only the tests of their parallel stages.
-declare -A filter=([stable_terrain_test]="SampleAdjacency.*" [delaunay_slabs_test]="*:-*LargeInput*" [spanning_tree_test]="*SameTree*" [locator_test]="*InChunks*" [surface_reader_test]="XyzChunks.*")
+declare -A filter=([stable_terrain_test]="SampleAdjacency.*" [delaunay_slabs_test]="*:-*LargeInput*" [spanning_tree_test]="*SameTree*:*CycleProperty*" [locator_test]="*InChunks*" [surface_reader_test]="XyzChunks.*" [spatial_sort_test]="*SameOrder*" [change_test]="DzStatistics.*" [raster_io_test]="*ByBandsOfRows*")
 sanitize="-fsanitize=thread -fno-omit-frame-pointer"
 echo "== configuring the ThreadSanitizer build (GCC, -O1 -g1) in $build_dir"
 cmake -S . -B "$build_dir" \
@@ -35,7 +38,7 @@ cmake -S . -B "$build_dir" \
   -DSURFREG_BUILD_BENCHMARKS=OFF -DSURFREG_FUZZ=OFF -DSURFREG_PYTHON=OFF >/dev/null
 echo "== building ${targets[*]}"
 cmake --build "$build_dir" -j "$jobs" --target "${targets[@]}"
-export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tsan_suppressions.txt"
 status=0
 for t in "${targets[@]}"; do
   echo "== $t under ThreadSanitizer"
