@@ -81,7 +81,27 @@ double Quantile(const double* values, int64_t n, double q, double lo, double hi,
   const double t = position - static_cast<double>(below);
   const double low = KthSmallest(values, n, below, lo, hi, execution);
   if (t == 0.0 || above == below) return low;
-  const double high = KthSmallest(values, n, above, lo, hi, execution);
+  // The next rank's value is `low` again if more than `above` values are at
+  // most `low`, else the least value above it: one pass, not a selection.
+  const int chunks = ChunksFor(n, kChunkItems);
+  std::vector<int64_t> at_most(chunks, 0);
+  std::vector<double> least_above(chunks, std::numeric_limits<double>::infinity());
+  ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
+    int64_t count = 0;
+    double least = std::numeric_limits<double>::infinity();
+    for (int64_t i = begin; i < end; ++i) {
+      if (values[i] <= low) {
+        ++count;
+      } else {
+        least = std::min(least, values[i]);
+      }
+    }
+    at_most[c] = count, least_above[c] = least;
+  });
+  int64_t total = 0;
+  for (int64_t count : at_most) total += count;
+  const double high =
+      total > above ? low : *std::min_element(least_above.begin(), least_above.end());
   return low + t * (high - low);
 }
 

@@ -6,6 +6,8 @@
 #include <cstring>
 #include <vector>
 
+#include "measure/bucket_scatter.h"
+
 namespace surfreg {
 namespace {
 
@@ -27,32 +29,14 @@ void RadixSortEdges(std::vector<Edge>& edges, const Execution& execution) {
                      [](const Edge& a, const Edge& b) { return a.key < b.key; });
     return;
   }
-  constexpr std::size_t kBuckets = 65536;
   const int64_t n = static_cast<int64_t>(edges.size());
-  const int chunks = ChunksFor(n, 1 << 18);
+  BucketSlots slots(ChunksFor(n, 1 << 18), 65536);
   std::vector<Edge> buffer(edges.size());
-  std::vector<int64_t> count(kBuckets * chunks);  // count[c * kBuckets + b]
   for (int shift = 0; shift < 64; shift += 16) {
-    ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
-      int64_t* own = &count[c * kBuckets];
-      std::fill(own, own + kBuckets, 0);
-      for (int64_t k = begin; k < end; ++k) ++own[(edges[k].key >> shift) & 0xFFFF];
-    });
-    int64_t in_zero = 0;
-    for (int c = 0; c < chunks; ++c) in_zero += count[c * kBuckets];
-    if (in_zero == n) continue;  // all in bucket 0: pass changes nothing
-    int64_t at = 0;
-    for (std::size_t b = 0; b < kBuckets; ++b) {
-      for (int c = 0; c < chunks; ++c) {
-        const int64_t k = count[c * kBuckets + b];
-        count[c * kBuckets + b] = at;
-        at += k;
-      }
-    }
-    ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
-      int64_t* next = &count[c * kBuckets];
-      for (int64_t k = begin; k < end; ++k) buffer[next[(edges[k].key >> shift) & 0xFFFF]++] = edges[k];
-    });
+    const auto digit = [&](int64_t k) { return static_cast<int>((edges[k].key >> shift) & 0xFFFF); };
+    CountIntoBuckets(execution, n, slots, digit);
+    if (slots.start[1] == n) continue;  // all in bucket 0: the pass changes nothing
+    ScatterIntoBuckets(execution, n, slots, digit, [&](int64_t k, int64_t at) { buffer[at] = edges[k]; });
     edges.swap(buffer);
   }
 }
@@ -82,40 +66,21 @@ std::vector<uint8_t> SlabForestEdges(const std::vector<Edge>& edges, int32_t n, 
   };
   const int64_t m = static_cast<int64_t>(edges.size());
   std::vector<uint8_t> candidate(edges.size(), 0);
-  // Each range's edges, in sorted order: counted and scattered by chunks of
-  // the sorted list (a range's chunks in chunk order).
-  const int chunks = ChunksFor(m, 1 << 16);
-  std::vector<int64_t> count(static_cast<std::size_t>(chunks) * ranges, 0);
-  ForEachChunk(execution, m, chunks, [&](int c, int64_t begin, int64_t end) {
-    int64_t* here = &count[static_cast<std::size_t>(c) * ranges];
-    for (int64_t k = begin; k < end; ++k) {
-      const int ru = range_of(edges[k].u), rv = range_of(edges[k].v);
-      if (ru == rv) {
-        ++here[ru];
-      } else {
-        candidate[k] = 1;  // between ranges: for the last pass
-      }
-    }
+  // Each range's edges, in sorted order (a stable scatter by range); the
+  // edges between ranges are candidates for the last pass.
+  BucketSlots slots(ChunksFor(m, 1 << 16), ranges);
+  const auto range_within = [&](int64_t k) {
+    const int ru = range_of(edges[k].u);
+    return ru == range_of(edges[k].v) ? ru : -1;
+  };
+  CountIntoBuckets(execution, m, slots, [&](int64_t k) {
+    const int r = range_within(k);
+    if (r < 0) candidate[k] = 1;
+    return r;
   });
-  std::vector<int64_t> range_start(static_cast<std::size_t>(ranges) + 1, 0);
-  for (int r = 0; r < ranges; ++r) {
-    int64_t next = range_start[r];
-    for (int c = 0; c < chunks; ++c) {
-      int64_t& slot = count[static_cast<std::size_t>(c) * ranges + r];
-      const int64_t here = slot;
-      slot = next;
-      next += here;
-    }
-    range_start[r + 1] = next;
-  }
+  const std::vector<int64_t>& range_start = slots.start;
   std::vector<int64_t> position(static_cast<std::size_t>(range_start[ranges]));
-  ForEachChunk(execution, m, chunks, [&](int c, int64_t begin, int64_t end) {
-    int64_t* next = &count[static_cast<std::size_t>(c) * ranges];
-    for (int64_t k = begin; k < end; ++k) {
-      const int ru = range_of(edges[k].u);
-      if (ru == range_of(edges[k].v)) position[next[ru]++] = k;
-    }
-  });
+  ScatterIntoBuckets(execution, m, slots, range_within, [&](int64_t k, int64_t at) { position[at] = k; });
   // Each range's Kruskal on its own vertices' entries of `up` and `size`.
   ForEachChunk(execution, ranges, ranges, [&](int r, int64_t, int64_t) {
     for (int64_t i = range_start[r]; i < range_start[r + 1]; ++i) {

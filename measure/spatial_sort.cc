@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "measure/bucket_scatter.h"
+
 namespace surfreg {
 namespace {
 
@@ -18,35 +20,18 @@ uint64_t SplitMix64(uint64_t& state) {
 }
 
 // Sorts `items` by their upper 32 bits (the key), stable, least significant
-// digit first: three passes of 11 bits (counts fit the L1 cache). Each pass
-// counts by chunks and scatters each chunk after the chunks before it in
-// every bucket: stable, so the order is the same for any thread count.
+// digit first: three passes of 11 bits (counts fit the L1 cache), each a
+// chunked stable scatter, so the order is the same for any thread count.
 void RadixSortByUpperHalf(std::vector<uint64_t>& items, const Execution& execution) {
   constexpr int kBits = 11, kBuckets = 1 << kBits, kPasses = 3;
   const int64_t n = static_cast<int64_t>(items.size());
-  const int chunks = ChunksFor(n, int64_t{1} << 16);
-  std::vector<std::size_t> count(static_cast<std::size_t>(chunks) * kBuckets);
+  BucketSlots slots(ChunksFor(n, int64_t{1} << 16), kBuckets);
   std::vector<uint64_t> buffer(items.size());
   for (int pass = 0; pass < kPasses; ++pass) {
     const int shift = 32 + kBits * pass;
-    std::fill(count.begin(), count.end(), 0);
-    ForEachChunk(execution, n, chunks, [&](int c, int64_t first, int64_t last) {
-      std::size_t* chunk_count = &count[static_cast<std::size_t>(c) * kBuckets];
-      for (int64_t i = first; i < last; ++i) ++chunk_count[(items[i] >> shift) & (kBuckets - 1)];
-    });
-    std::size_t next = 0;  // bucket-major, chunk-minor: each chunk's start in the bucket
-    for (int b = 0; b < kBuckets; ++b) {
-      for (int c = 0; c < chunks; ++c) {
-        std::size_t& slot = count[static_cast<std::size_t>(c) * kBuckets + b];
-        const std::size_t here = slot;
-        slot = next;
-        next += here;
-      }
-    }
-    ForEachChunk(execution, n, chunks, [&](int c, int64_t first, int64_t last) {
-      std::size_t* start = &count[static_cast<std::size_t>(c) * kBuckets];
-      for (int64_t i = first; i < last; ++i) buffer[start[(items[i] >> shift) & (kBuckets - 1)]++] = items[i];
-    });
+    const auto digit = [&](int64_t i) { return static_cast<int>((items[i] >> shift) & (kBuckets - 1)); };
+    CountIntoBuckets(execution, n, slots, digit);
+    ScatterIntoBuckets(execution, n, slots, digit, [&](int64_t i, int64_t at) { buffer[at] = items[i]; });
     items.swap(buffer);
   }
 }

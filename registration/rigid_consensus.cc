@@ -24,7 +24,8 @@ constexpr double kInlierSigmas = 3.0;
 constexpr std::size_t kScoredPerTile = 64;
 constexpr double kSamplesPerIndependent = 4.0;
 
-double Median(std::vector<double> v) {
+// The upper median; reorders v.
+double Median(std::vector<double>& v) {
   if (v.empty()) return 0;
   const std::size_t half = v.size() / 2;
   std::nth_element(v.begin(), v.begin() + half, v.end());
@@ -159,20 +160,20 @@ ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adj
   // not per sample: a hypothesis that fits a flat changed part (a lake)
   // leaves every sample of rough stable terrain within its own large scale,
   // but shifts the tiles' medians there far beyond theirs.
-  auto tile_z = [&](const Scored& tile, const Vector6& beta) {
-    std::vector<double> residuals;
-    residuals.reserve(tile.samples.size());
+  // `residuals` is the caller's buffer (one per chunk of trials).
+  auto tile_z = [&](const Scored& tile, const Vector6& beta, std::vector<double>& residuals) {
+    residuals.clear();
     for (std::size_t k = 0; k < tile.samples.size(); ++k) {
       residuals.push_back(dz[tile.samples[k]] - tile.jacobians[k].dot(beta));
     }
     const double m = Median(residuals);
     return tile.median_scale > 0 ? m / tile.median_scale : (m == 0 ? 0.0 : HUGE_VAL);
   };
-  auto score = [&](const Vector6& beta) {
+  auto score = [&](const Vector6& beta, std::vector<double>& residuals) {
     double sum = 0;
     const double cap = kInlierSigmas * kInlierSigmas;
     for (const Scored& tile : scored) {
-      const double z = tile_z(tile, beta);
+      const double z = tile_z(tile, beta, residuals);
       sum += tile.weight * std::min(z * z, cap);
     }
     return sum;
@@ -198,7 +199,8 @@ ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adj
   std::vector<double> trial_score(hypothesis.size());
   ForEachChunk(execution, static_cast<int64_t>(hypothesis.size()), ChunksFor(static_cast<int64_t>(hypothesis.size()), 8),
                [&](int, int64_t first, int64_t last) {
-                 for (int64_t k = first; k < last; ++k) trial_score[k] = score(hypothesis[k]);
+                 std::vector<double> residuals;
+                 for (int64_t k = first; k < last; ++k) trial_score[k] = score(hypothesis[k], residuals);
                });
   Vector6 best = hypothesis[0];
   double best_score = trial_score[0];
@@ -208,10 +210,11 @@ ConsensusFit RigidConsensus(const Surface& reference, const SampleAdjacency& adj
   // Refined on the inliers: least squares over the samples of the tiles
   // within kInlierSigmas, each within kInlierSigmas of its own scale.
   std::vector<uint8_t> in_tile(n, 0);
+  std::vector<double> residuals;
   auto mark_tiles = [&](const Vector6& beta) {
     std::fill(in_tile.begin(), in_tile.end(), 0);
     for (std::size_t t = 0; t < scored.size(); ++t) {
-      if (std::abs(tile_z(scored[t], beta)) > kInlierSigmas) continue;
+      if (std::abs(tile_z(scored[t], beta, residuals)) > kInlierSigmas) continue;
       for (int32_t i : members[full[t]]) in_tile[i] = 1;
     }
   };
