@@ -26,6 +26,7 @@ DEFINE_string(pairs, "",
 DEFINE_string(min_overlap, "",
               "series: the smaller footprint's share two epochs must share to be a pair [0.3]");
 DEFINE_string(aligned_dir, "", "series: a folder for the epochs moved into the reference's frame");
+DEFINE_string(dod_dir, "", "series: a folder for the DoD of each consecutive pair of raster epochs");
 DEFINE_string(dates, "", "series: each surface's date, YYYY-MM-DD, e.g. 2020-05-01,2021-05-01 (change per year)");
 
 namespace surfreg {

@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "io/atomic_file.h"
+#include "io/raster_io.h"
 #include "io/surface_writer.h"
 #include "measure/input_error.h"
 #include "registration/align_keys.h"
@@ -116,6 +117,11 @@ const config_table::Table<SeriesConfig>& Table() {
         ".ply)"},
        [](const Value& v, C* c) { c->aligned_dir = cv::Path(v, false); },
        [](const C& c) { return c.aligned_dir; }},
+      {{"dod_dir", "a folder, or nothing",
+        "the DoD of each consecutive pair of raster epochs on the earlier one's grid "
+        "(EARLIER_to_LATER.tif: the later minus the earlier once aligned)"},
+       [](const Value& v, C* c) { c->dod_dir = cv::Path(v, false); },
+       [](const C& c) { return c.dod_dir; }},
       {{"progress", "true or false", "a line per stage on stderr"},
        [](const Value& v, C* c) { c->progress = cv::Boolean(v); },
        [](const C& c) { return cv::Text(c.progress); }},
@@ -238,6 +244,45 @@ std::string AlignedEpochPath(const SeriesConfig& config, int k) {
   return (fs::path(config.aligned_dir) / name).string();
 }
 
+std::string DodPath(const SeriesConfig& config, int k) {
+  if (config.dod_dir.empty()) return "";
+  namespace fs = std::filesystem;
+  const std::string name = fs::path(config.surfaces[k]).stem().string() + "_to_" +
+                           fs::path(config.surfaces[k + 1]).stem().string() + ".tif";
+  return (fs::path(config.dod_dir) / name).string();
+}
+
+namespace {
+
+// dod_dir: a folder; every epoch but the last a raster (each DoD is on the
+// earlier epoch's grid); no DoD over an input, nor two DoDs on one name.
+void CheckDodDir(const SeriesConfig& config) {
+  const std::string where = config.Where("dod_dir");
+  std::error_code error;
+  if (!std::filesystem::is_directory(config.dod_dir, error))
+    throw InputError(where + ": no such folder '" + config.dod_dir + "'");
+  std::vector<std::string> written;
+  for (std::size_t k = 0; k + 1 < config.surfaces.size(); ++k) {
+    if (!IsRasterPath(config.surfaces[k])) {
+      throw InputError(where + ": epoch " + std::to_string(k) + " (" + config.surfaces[k] +
+                       ") is not a raster; the DoD of " + std::to_string(k) + "-" +
+                       std::to_string(k + 1) + " is drawn on the earlier epoch's grid");
+    }
+    const std::string path = DodPath(config, static_cast<int>(k));
+    for (const std::string& file : config.surfaces) {
+      if (SameFile(path, file))
+        throw InputError(where + ": the DoD " + path + " would be written over an epoch");
+    }
+    if (std::find(written.begin(), written.end(), path) != written.end()) {
+      throw InputError(where + ": two consecutive pairs' DoDs would both be " + path +
+                       " (epochs of one file name)");
+    }
+    written.push_back(path);
+  }
+}
+
+}  // namespace
+
 void FinishSeriesConfig(SeriesConfig* config) {
   const std::string where = config->Where("surfaces");
   if (config->surfaces.size() < 2) {
@@ -283,6 +328,7 @@ void FinishSeriesConfig(SeriesConfig* config) {
       }
     }
   }
+  if (!config->dod_dir.empty()) CheckDodDir(*config);
   std::string message;
   if (!config->options.align.IsValid(&message)) throw InputError("series settings: " + message);
 }

@@ -17,6 +17,9 @@
 //   output        the series JSON                            [none]
 //   aligned_dir   a folder: each epoch moved into the reference's frame,
 //                 named as its file (.ply unless .xyz/.txt/.ply) [none]
+//   dod_dir       a folder: the DoD of each consecutive pair (every epoch
+//                 but the last a raster) on the earlier epoch's grid, named
+//                 EARLIER_to_LATER.tif                         [none]
 //   progress      a line per stage on stderr                 [false]
 //   cost, levels, stable, threads, ...: the alignment keys of `align` that
 //                 apply to each pair (not its inputs, outputs, starts or masks)
@@ -42,7 +45,7 @@ struct SeriesConfig {
   SeriesOptions options;  // options.reference set by FinishSeriesConfig
   std::vector<int> classes;
   std::vector<std::string> columns;
-  std::string output, aligned_dir;
+  std::string output, aligned_dir, dod_dir;
   bool progress = false;
   std::string config_file;
   std::map<std::string, std::string> origin;  // key -> where it was last set
@@ -71,5 +74,8 @@ void FinishSeriesConfig(SeriesConfig* config);
 
 // The file aligned_dir gives epoch `k` ("" without aligned_dir).
 std::string AlignedEpochPath(const SeriesConfig& config, int k);
+
+// The DoD file dod_dir gives the consecutive pair k, k + 1 ("" without dod_dir).
+std::string DodPath(const SeriesConfig& config, int k);
 
 }  // namespace surfreg

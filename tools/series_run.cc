@@ -1,15 +1,18 @@
 #include "tools/series_run.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "io/atomic_file.h"
+#include "io/raster_io.h"
 #include "io/surface_reader.h"
 #include "io/surface_writer.h"
 #include "measure/input_error.h"
+#include "measure/tasks.h"
 #include "registration/align.h"
 #include "terrain/geo_frame.h"
 #include "tools/json_writer.h"
@@ -55,11 +58,34 @@ std::vector<Surface> ReadEpochs(const SeriesConfig& config, std::string* units) 
   return epochs;
 }
 
-// Each epoch after the next in time, both moved into the reference's frame.
-std::vector<ConsecutiveChange> Consecutive(const std::vector<Surface>& epochs,
-                                           const SeriesResult& result,
-                                           const SeriesOptions& options) {
+// The DoD of epochs k, k + 1 on epoch k's grid: dz (later − earlier) at
+// its valid cells, which are its samples in row-major order (as
+// RasterToSurface makes them), nodata elsewhere and outside the overlap.
+void WriteDod(const SeriesConfig& config, int k, const std::vector<double>& dz, const std::string& path) {
+  const int threads = config.options.align.num_threads;
+  RasterReadOptions read;
+  read.threads = threads;
+  Raster grid = ReadRaster(config.surfaces[k], read);
+  std::size_t sample = 0;
+  for (double& value : grid.values) {
+    if (!std::isfinite(value)) continue;
+    value = sample < dz.size() ? dz[sample] : std::nan("");
+    ++sample;
+  }
+  if (sample != dz.size()) {
+    throw InputError(config.surfaces[k] + ": changed while the series ran (" + std::to_string(sample) +
+                     " valid cells, " + std::to_string(dz.size()) + " samples read before)");
+  }
+  WriteGeoTiff(path, grid, config.Where("dod_dir"), std::max(1, threads));
+}
+
+// Each epoch against the one before it, the later brought onto the earlier
+// by the joint relative motion (as `align` would): dz at the earlier
+// epoch's samples, in its frame, so that its DoD lies on its own grid.
+std::vector<ConsecutiveChange> Consecutive(const SeriesConfig& config, const std::vector<Surface>& epochs,
+                                           const SeriesResult& result) {
   std::vector<ConsecutiveChange> changes;
+  const SeriesOptions& options = config.options;
   MeasureOptions measure;
   measure.domain = options.align.domain;
   measure.threads = options.align.num_threads;
@@ -69,10 +95,11 @@ std::vector<ConsecutiveChange> Consecutive(const std::vector<Surface>& epochs,
     ConsecutiveChange change;
     change.from = static_cast<int>(k);
     change.to = static_cast<int>(k + 1);
-    const Surface from = TransformSurface(epochs[k], result.epochs[k].matrix);
-    const Surface to = TransformSurface(epochs[k + 1], result.epochs[k + 1].matrix);
-    change.measure = Measure(from, to, measure);
-    change.dz = ComputeDzStatistics(change.measure.dz_a);
+    const Eigen::Matrix4d onto_from = result.epochs[k].matrix.inverse() * result.epochs[k + 1].matrix;
+    change.measure = Measure(epochs[k], TransformSurface(epochs[k + 1], onto_from), measure);
+    change.dz = ComputeDzStatistics(change.measure.dz_a, {}, ExecutionFor(measure.threads));
+    change.dod = DodPath(config, static_cast<int>(k));
+    if (!change.dod.empty()) WriteDod(config, static_cast<int>(k), change.measure.dz_a, change.dod);
     change.measure.dz_a.clear();
     change.measure.dz_b.clear();
     change.measure.node_area_a.clear();
@@ -143,6 +170,7 @@ std::string SeriesJson(const SeriesRun& run) {
         .Number("fill_volume", c.measure.volume_above)
         .Number("cut_volume", c.measure.volume_below)
         .Object("dz", DzStatisticsJson(c.dz));
+    if (!c.dod.empty()) o.String("dod", c.dod);
     if (!run.config.days.empty()) {
       const double years = (run.config.days[c.to] - run.config.days[c.from]) / 365.25;
       o.String("from_date", run.config.dates[c.from])
@@ -179,7 +207,7 @@ SeriesRun AlignSeriesFiles(SeriesConfig config, std::optional<std::vector<Surfac
   options.on_stage = on_stage;
   run.result = AlignSeries(run.epochs, options);
   if (on_stage) on_stage("measuring consecutive epochs");
-  run.consecutive = Consecutive(run.epochs, run.result, options);
+  run.consecutive = Consecutive(run.config, run.epochs, run.result);
   for (std::size_t k = 0; k < run.epochs.size(); ++k) {
     const std::string path = AlignedEpochPath(run.config, static_cast<int>(k));
     if (path.empty()) continue;
@@ -230,6 +258,7 @@ std::string SeriesSummary(const SeriesRun& run) {
     std::snprintf(line, sizeof line, "change %d-%d:  %s, net volume %.4g\n", c.from, c.to,
                   DzStatisticsLine(c.dz, run.units).c_str(), c.measure.signed_volume);
     text += line;
+    if (!c.dod.empty()) text += "             DoD " + c.dod + "\n";
     if (run.config.days.empty()) continue;
     const double years = (run.config.days[c.to] - run.config.days[c.from]) / 365.25;
     std::snprintf(line, sizeof line, "             over %.3f years: median dz %.4g %s/year, net volume %.4g/year\n",

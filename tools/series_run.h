@@ -16,13 +16,14 @@
 
 namespace surfreg {
 
-// Epoch `from` against epoch `to`, both in the reference's frame: the
+// Epoch `to` brought onto epoch `from` by the joint relative motion: the
 // measures of `to` against `from` (mean |dz|, net volume) and the dz
-// statistics at `from`'s samples in the overlap.
+// statistics at `from`'s samples in the overlap, in `from`'s frame.
 struct ConsecutiveChange {
   int from = 0, to = 0;
   MeasureSummary measure;  // without the node gaps
   DzStatistics dz;
+  std::string dod;  // the DoD GeoTIFF written (dod_dir), or ""
 };
 
 struct SeriesRun {

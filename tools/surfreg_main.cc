@@ -93,7 +93,7 @@ const Command kCommands[] = {
      "config json manifest shard quiet", IsAlignKey},
     {"series", RunSeries,
      "(--config FILE.yaml | E0 E1 ...) [--reference=K] [--pairs=0-1,...] [--min_overlap=F] [--output=S.json] "
-     "[--aligned_dir=DIR] [--KEY=VALUE for align's alignment keys] [--json] [--quiet]",
+     "[--aligned_dir=DIR] [--dod_dir=DIR] [--KEY=VALUE for align's alignment keys] [--json] [--quiet]",
      "align a series of surveys jointly: one motion per epoch into the reference epoch's frame, "
      "over every pair that overlaps",
      "config json quiet", IsSeriesKey},
