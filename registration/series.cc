@@ -266,12 +266,19 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
   Eigen::MatrixXd separate = Eigen::MatrixXd::Zero(shared.rows(), shared.cols());
   for (std::size_t k = 0; k < edges.size(); ++k)
     separate.block<6, 6>(6 * k, 6 * k) = edges[k].covariance;
+  // The share is poorly determined by few loops' residuals: each epoch's σ
+  // is the largest the chosen motions have under any of the shares.
+  const double kShares[] = {0.0, 0.5, 0.75, 0.88, 0.94};
+  std::vector<Eigen::MatrixXd> share_covariances;
+  for (const double correlated : kShares)
+    share_covariances.push_back(correlated * shared + (1 - correlated) * separate);
   series_internal::JointSolution solution;
   double best = std::numeric_limits<double>::infinity();
-  for (const double correlated : {0.0, 0.5, 0.75, 0.88, 0.94}) {
+  for (std::size_t s = 0; s < share_covariances.size(); ++s) {
+    const double correlated = kShares[s];
     series_internal::JointSolution candidate = series_internal::SolveJoint(
-        edges, correlated * shared + (1 - correlated) * separate, centroid, theta,
-        options.reference, options.align.free, ExecutionFor(options.align.num_threads).threads);
+        edges, share_covariances[s], centroid, theta, options.reference, options.align.free,
+        ExecutionFor(options.align.num_threads).threads, share_covariances);
     if (candidate.dof <= 0) {  // a tree: every share gives the same motions
       solution = std::move(candidate);
       break;

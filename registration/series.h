@@ -20,9 +20,11 @@
 //    the shared share is the one whose residuals fit it. Every overlap
 //    counts, so epochs that do not overlap the reference are aligned
 //    through the others.
-// 4. The joint covariance (the inverse of the summed information), its
-//    block per epoch; each pair's measures at the joint motion and its
-//    misclosure (the joint relative motion against the pair's own).
+// 4. The joint covariance, its block per epoch: the largest of the joint
+//    motions' covariance under each of the shares (a sandwich), since the
+//    residuals tell the shares apart poorly; each pair's measures at the
+//    joint motion and its misclosure (the joint relative motion against the
+//    pair's own).
 #include <Eigen/Core>
 #include <array>
 #include <functional>

@@ -67,11 +67,14 @@ struct JointSolution {
 // reference's held at 0, locked parameters at their start), δ the edges'
 // differences between the relative motion the epochs' motions imply and the
 // pair's own, C = EdgeCovariance: one Ceres problem. The covariance is
-// (Jᵀ C⁺ J)⁻¹ at the solution.
+// (Jᵀ C⁺ J)⁻¹ at the solution; given `alternatives` (other covariances the
+// pairs' errors may have), each epoch's block is the largest of the
+// estimate's covariance under each and under C (a sandwich).
 JointSolution SolveJoint(const std::vector<Edge>& edges, const Eigen::MatrixXd& edge_covariance,
                          const std::vector<Eigen::Vector3d>& centroids,
                          std::vector<std::array<double, 6>> start, int reference,
-                         const std::array<bool, 6>& free, int threads);
+                         const std::array<bool, 6>& free, int threads,
+                         const std::vector<Eigen::MatrixXd>& alternatives = {});
 
 // W with WᵀW = Σ⁺ on the free parameters (Jacobi-scaled: radians and data
 // units differ by orders of magnitude); false when Σ is not finite there.

@@ -144,10 +144,15 @@ Eigen::MatrixXd InverseRoot(const Eigen::MatrixXd& c) {
 
 // (Jᵀ J)⁻¹ over the free parameters of every epoch but the reference, J the
 // whitened residuals' Jacobian; per epoch its block (NaN where a null
-// direction of the information moves the epoch).
+// direction of the information moves the epoch). With `alternatives`
+// (other covariances the pairs' errors may have), each epoch's block is the
+// largest of the estimate's covariance under each, P Jᵀ W C Wᵀ J P with
+// P = (Jᵀ J)⁻¹ (a sandwich): the block whose variances exceed the model's
+// most, summed relative to the model's.
 std::vector<Matrix6d> JointCovariance(const StackedCost& cost,
                                       const std::vector<std::array<double, 6>>& theta,
-                                      int reference, const std::array<bool, 6>& free) {
+                                      int reference, const std::array<bool, 6>& free,
+                                      const std::vector<Eigen::MatrixXd>& alternatives) {
   const int n = static_cast<int>(theta.size());
   std::vector<int> column(6 * n, -1);
   int size = 0;
@@ -196,15 +201,35 @@ std::vector<Matrix6d> JointCovariance(const StackedCost& cost,
   }
   const Eigen::MatrixXd joint = scale.asDiagonal() * eigen.eigenvectors() * inverse.asDiagonal() *
                                 eigen.eigenvectors().transpose() * scale.asDiagonal();
+  std::vector<Eigen::MatrixXd> candidates;
+  if (!alternatives.empty()) {
+    const Eigen::MatrixXd lever = cost.whitening().transpose() * j * joint;  // Wᵀ J P
+    for (const Eigen::MatrixXd& c : alternatives) candidates.push_back(lever.transpose() * c * lever);
+  }
+  const auto block_of = [&](const Eigen::MatrixXd& full, int e) {
+    Matrix6d block = Matrix6d::Zero();
+    for (int i = 0; i < 6; ++i) {
+      for (int k = 0; k < 6; ++k) {
+        if (column[6 * e + i] >= 0 && column[6 * e + k] >= 0)
+          block(i, k) = full(column[6 * e + i], column[6 * e + k]);
+      }
+    }
+    return block;
+  };
   for (int e = 0; e < n; ++e) {
     bool unknown = false;
     for (int i = 0; i < 6; ++i) {
-      const int row = column[6 * e + i];
-      if (row < 0) continue;
-      unknown = unknown || undetermined[row];
+      if (column[6 * e + i] >= 0) unknown = unknown || undetermined[column[6 * e + i]];
+    }
+    covariance[e] = block_of(joint, e);
+    double most = 0;
+    for (const Eigen::MatrixXd& candidate : candidates) {
+      const Matrix6d block = block_of(candidate, e);
+      double excess = 0;
       for (int k = 0; k < 6; ++k) {
-        if (column[6 * e + k] >= 0) covariance[e](i, k) = joint(row, column[6 * e + k]);
+        if (covariance[e](k, k) > 0) excess += block(k, k) / covariance[e](k, k) - 1;
       }
+      if (excess > most) most = excess, covariance[e] = block;
     }
     if (unknown) covariance[e].setConstant(std::numeric_limits<double>::quiet_NaN());
   }
@@ -255,7 +280,8 @@ Eigen::MatrixXd EdgeCovariance(const std::vector<Edge>& edges,
 JointSolution SolveJoint(const std::vector<Edge>& edges, const Eigen::MatrixXd& edge_covariance,
                          const std::vector<Eigen::Vector3d>& centroids,
                          std::vector<std::array<double, 6>> start, int reference,
-                         const std::array<bool, 6>& free, int threads) {
+                         const std::array<bool, 6>& free, int threads,
+                         const std::vector<Eigen::MatrixXd>& alternatives) {
   JointSolution solution;
   solution.theta = std::move(start);
   const int n = static_cast<int>(centroids.size());
@@ -295,7 +321,7 @@ JointSolution SolveJoint(const std::vector<Edge>& edges, const Eigen::MatrixXd& 
   for (int e = 0; e < n; ++e)
     parameters += e == reference ? 0 : 6 - static_cast<int>(locked.size());
   solution.dof = rank - parameters;
-  solution.covariance = JointCovariance(*cost, solution.theta, reference, free);
+  solution.covariance = JointCovariance(*cost, solution.theta, reference, free, alternatives);
   return solution;
 }
 

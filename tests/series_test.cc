@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -99,6 +100,67 @@ TEST(EdgeCovarianceTest, AnEpochsShareCorrelatesItsPairsByRoleAndSharedArea) {
   c = series_internal::EdgeCovariance({edge(0, 1), edge(0, 2)}, centroids, footprints, 1.0);
   EXPECT_TRUE(block(c, 0, 1).isApprox(0.5 * (2 / std::sqrt(4.0 * 2.0)) * sigma, 1e-12))
       << block(c, 0, 1);
+}
+
+// The joint covariance under another covariance of the pairs' errors (a
+// sandwich) against brute force: the spread of the joint motions when the
+// pairs' errors are drawn from it. Three epochs in a loop; the model takes
+// the pairs as independent, the truth correlates them and is larger.
+TEST(SolveJointTest, CovarianceUnderAnAlternativeIsTheSpreadOfTheEstimates) {
+  using series_internal::Edge;
+  const std::vector<Eigen::Vector3d> centroids = {{0, 0, 0}, {10, 0, 1}, {5, 8, -1}};
+  const std::vector<std::pair<int, int>> graph = {{0, 1}, {1, 2}, {0, 2}};
+  Eigen::Matrix<double, 6, 6> sigma = Eigen::Matrix<double, 6, 6>::Zero();
+  sigma.diagonal() << 1e-6, 1e-6, 2e-6, 1e-4, 1e-4, 4e-4;
+  Eigen::MatrixXd model = Eigen::MatrixXd::Zero(18, 18);
+  for (int k = 0; k < 3; ++k) model.block(6 * k, 6 * k, 6, 6) = sigma;
+  // The truth: each pair's own error doubled, the first two pairs' errors
+  // correlated by −0.6 (a chain's links) and the last two by 0.4.
+  Eigen::MatrixXd truth = 2 * model;
+  truth.block(0, 6, 6, 6) = truth.block(6, 0, 6, 6) = -0.6 * 2 * sigma;
+  truth.block(6, 12, 6, 6) = truth.block(12, 6, 6, 6) = 0.4 * 2 * sigma;
+  const Eigen::MatrixXd root = truth.llt().matrixL();
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> normal;
+  const std::array<bool, 6> free = {true, true, true, true, true, true};
+  const auto solve = [&](const Eigen::VectorXd& error, const std::vector<Eigen::MatrixXd>& alternatives) {
+    std::vector<Edge> edges;
+    for (int k = 0; k < 3; ++k) {
+      Edge& e = edges.emplace_back();
+      e.reference = graph[k].first, e.moving = graph[k].second;
+      e.centre = centroids[e.moving];
+      const Eigen::Vector3d w = error.segment<3>(6 * k);
+      e.rotation = w.norm() > 0 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
+                                : Eigen::Matrix3d::Identity();
+      e.shift = error.segment<3>(6 * k + 3);
+      e.covariance = sigma;
+    }
+    std::vector<std::array<double, 6>> start(3, std::array<double, 6>{});
+    return series_internal::SolveJoint(edges, model, centroids, start, 0, free, 1, alternatives);
+  };
+  const series_internal::JointSolution reported = solve(Eigen::VectorXd::Zero(18), {truth});
+  const series_internal::JointSolution as_modelled = solve(Eigen::VectorXd::Zero(18), {});
+  constexpr int kDraws = 600;
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(12, 12);
+  for (int draw = 0; draw < kDraws; ++draw) {
+    Eigen::VectorXd z(18);
+    for (int k = 0; k < 18; ++k) z[k] = normal(random);
+    const series_internal::JointSolution s = solve(root * z, {});
+    Eigen::VectorXd theta(12);
+    for (int k = 0; k < 6; ++k) theta[k] = s.theta[1][k], theta[6 + k] = s.theta[2][k];
+    sum += theta * theta.transpose();
+  }
+  const Eigen::MatrixXd spread = sum / kDraws;
+  for (int e = 1; e <= 2; ++e) {
+    for (int k = 0; k < 6; ++k) {
+      const double measured = spread(6 * (e - 1) + k, 6 * (e - 1) + k);
+      // 600 draws: a variance within about ±6% (1σ) of the truth's.
+      EXPECT_NEAR(reported.covariance[e](k, k) / measured, 1.0, 0.2) << "epoch " << e << " parameter " << k;
+      // The model alone would claim less than the truth gives.
+      EXPECT_LT(as_modelled.covariance[e](k, k), 0.8 * measured) << "epoch " << e << " parameter " << k;
+    }
+  }
+  EXPECT_TRUE(reported.covariance[0].isZero());  // the reference
 }
 
 TEST(GraphPiecesTest, PiecesInOrderOfTheirFirstEpoch) {
