@@ -83,7 +83,9 @@ void WriteGeoTiffFile(const std::string& temporary, const Raster& raster, const 
   const bool tiled = raster.columns > 512 || raster.rows > 512;
   // GDAL's worker threads compress the blocks (the same bytes as one thread).
   const std::string num_threads = "NUM_THREADS=" + std::to_string(std::max(threads, 1));
-  const char* options[] = {"COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", num_threads.c_str(),
+  // The floating-point predictor and the fastest level: a smaller file than
+  // level 6 without it, in about half the compression time.
+  const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=3", "ZLEVEL=1", "BIGTIFF=IF_SAFER", num_threads.c_str(),
                            tiled ? "TILED=YES" : nullptr, "BLOCKXSIZE=256", "BLOCKYSIZE=256", nullptr};
   Dataset dataset(GDALCreate(driver, temporary.c_str(), raster.columns, raster.rows, 1, GDT_Float32,
                              const_cast<char**>(options)));
@@ -352,7 +354,7 @@ void* OpenGeoTiffEntry(const std::string& file, int columns, int rows,
     QuietGdal quiet;
     GDALDriverH driver = GDALGetDriverByName("GTiff");
     if (driver == nullptr) Fail(where, "GDAL has no GTiff driver");
-    const char* options[] = {"COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", "TILED=YES",
+    const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=3", "ZLEVEL=1", "BIGTIFF=IF_SAFER", "TILED=YES",
                              "BLOCKXSIZE=256",   "BLOCKYSIZE=256",   nullptr};
     stream->dataset.reset(GDALCreate(driver, file.c_str(), columns, rows, 1, GDT_Float32,
                                      const_cast<char**>(options)));

@@ -78,7 +78,8 @@ Raster ReadRaster(const std::string& path, const RasterReadOptions& options = {}
 Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_sample,
                         double origin_step = 1.0);
 
-// Writes `raster` as a one-band Float32 GeoTIFF, DEFLATE-compressed (tiled
+// Writes `raster` as a one-band Float32 GeoTIFF, DEFLATE-compressed with
+// the floating-point predictor (tiled
 // 256 x 256 when a side exceeds 512 cells), with its geotransform and CRS.
 // NaN cells are written as a nodata value, which is set as the band's
 // nodata: -9999, or when some finite value equals that (as Float32) the
@@ -92,7 +93,7 @@ Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_samp
 void WriteGeoTiff(const std::string& path, const Raster& raster, const std::string& label, int threads = 1);
 
 // A one-band Float32 GeoTIFF written window by window, never held whole
-// (tiled 256 x 256, DEFLATE, nodata -9999; NaN is written as nodata): into a
+// (tiled 256 x 256, DEFLATE + predictor, nodata -9999; NaN is written as nodata): into a
 // temporary file next to `path`, renamed over it by Finish(). Destroyed
 // unfinished (an error, an interrupt) it leaves no file. Errors throw
 // InputError starting with "<label>: '<path>'".
