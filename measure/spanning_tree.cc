@@ -1,9 +1,11 @@
 #include "measure/spanning_tree.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "measure/bucket_scatter.h"
@@ -23,20 +25,20 @@ struct Edge {
 // outright (found by fuzz_measure: 0.4 ms of a 0.45 ms measure of two
 // 25-point clouds), so small inputs take a stable comparison sort: the same
 // order exactly.
-void RadixSortEdges(std::vector<Edge>& edges, const Execution& execution) {
-  if (edges.size() < 4096) {
-    std::stable_sort(edges.begin(), edges.end(),
-                     [](const Edge& a, const Edge& b) { return a.key < b.key; });
+void RadixSortEdges(std::unique_ptr<Edge[]>& edges, int64_t n, const Execution& execution) {
+  if (n < 4096) {
+    std::stable_sort(edges.get(), edges.get() + n, [](const Edge& a, const Edge& b) { return a.key < b.key; });
     return;
   }
-  const int64_t n = static_cast<int64_t>(edges.size());
   BucketSlots slots(ChunksFor(n, 1 << 18), 65536);
-  std::vector<Edge> buffer(edges.size());
+  std::unique_ptr<Edge[]> buffer(new Edge[static_cast<std::size_t>(n)]);  // first touched by the scatter
   for (int shift = 0; shift < 64; shift += 16) {
-    const auto digit = [&](int64_t k) { return static_cast<int>((edges[k].key >> shift) & 0xFFFF); };
+    const Edge* from = edges.get();
+    Edge* to = buffer.get();
+    const auto digit = [from, shift](int64_t k) { return static_cast<int>((from[k].key >> shift) & 0xFFFF); };
     CountIntoBuckets(execution, n, slots, digit);
     if (slots.start[1] == n) continue;  // all in bucket 0: the pass changes nothing
-    ScatterIntoBuckets(execution, n, slots, digit, [&](int64_t k, int64_t at) { buffer[at] = edges[k]; });
+    ScatterIntoBuckets(execution, n, slots, digit, [from, to](int64_t k, int64_t at) { to[at] = from[k]; });
     edges.swap(buffer);
   }
 }
@@ -57,15 +59,14 @@ int32_t Find(std::vector<int32_t>& up, int32_t x) {
 // spanning tree's edge. Kruskal over the ranges' forests and the edges
 // between ranges, in the same order, then makes the very tree (and sums)
 // that Kruskal over all edges makes. Leaves `up` and `size` as they were.
-std::vector<uint8_t> SlabForestEdges(const std::vector<Edge>& edges, int32_t n, const Execution& execution,
+std::vector<uint8_t> SlabForestEdges(const Edge* edges, int64_t m, int32_t n, const Execution& execution,
                                      std::vector<int32_t>* up, std::vector<int32_t>* size) {
   const int ranges = ChunksFor(n, 1 << 16);
   if (ranges == 1) return {};
   const auto range_of = [&](int32_t v) {
     return static_cast<int>((static_cast<int64_t>(v + 1) * ranges - 1) / n);
   };
-  const int64_t m = static_cast<int64_t>(edges.size());
-  std::vector<uint8_t> candidate(edges.size(), 0);
+  std::vector<uint8_t> candidate(static_cast<std::size_t>(m), 0);
   // Each range's edges, in sorted order (a stable scatter by range); the
   // edges between ranges are candidates for the last pass.
   BucketSlots slots(ChunksFor(m, 1 << 16), ranges);
@@ -121,7 +122,8 @@ SpanningTree EuclideanMst(const std::vector<Point2>& points, const Triangulation
     chunk_start[c + 1] = k;
   });
   for (int c = 0; c < chunks; ++c) chunk_start[c + 1] += chunk_start[c];
-  std::vector<Edge> edges(chunk_start[chunks]);
+  const int64_t m = chunk_start[chunks];
+  std::unique_ptr<Edge[]> edges(new Edge[static_cast<std::size_t>(m)]);  // each chunk fills its own part
   ForEachChunk(execution, num_triangles, chunks, [&](int c, int64_t begin, int64_t end) {
     int64_t k = chunk_start[c];
     for (int64_t t = begin; t < end; ++t) {
@@ -137,31 +139,61 @@ SpanningTree EuclideanMst(const std::vector<Point2>& points, const Triangulation
       }
     }
   });
-  RadixSortEdges(edges, execution);
+  RadixSortEdges(edges, m, execution);
 
   SpanningTree tree;
   std::vector<int32_t> up(n), size(n, 1);
   for (int32_t i = 0; i < n; ++i) up[i] = i;
-  const std::vector<uint8_t> candidate = SlabForestEdges(edges, n, execution, &up, &size);
+  const std::vector<uint8_t> candidate = SlabForestEdges(edges.get(), m, n, execution, &up, &size);
+  // The candidates' ends, gathered in order by chunks, for the last
+  // Kruskal's tight loop (a third of the edges, or all without ranges).
+  int64_t count = m;
+  std::unique_ptr<std::array<int32_t, 2>[]> ends;
+  if (!candidate.empty()) {
+    BucketSlots slots(ChunksFor(m, 1 << 16), 1);
+    const auto kept = [&](int64_t k) { return candidate[k] ? 0 : -1; };
+    CountIntoBuckets(execution, m, slots, kept);
+    count = slots.start[1];
+    ends.reset(new std::array<int32_t, 2>[static_cast<std::size_t>(count)]);
+    ScatterIntoBuckets(execution, m, slots, kept, [&](int64_t k, int64_t at) {
+      ends[at] = {edges[k].u, edges[k].v};
+    });
+  } else {
+    ends.reset(new std::array<int32_t, 2>[static_cast<std::size_t>(m)]);
+    for (int64_t k = 0; k < m; ++k) ends[k] = {edges[k].u, edges[k].v};
+  }
+  edges.reset();
   // Tree adjacency as a compressed list: count, then fill.
   std::vector<int32_t> degree(n + 1, 0), chosen_u, chosen_v;
   chosen_u.reserve(n);
   chosen_v.reserve(n);
-  for (std::size_t k = 0; k < edges.size(); ++k) {
-    if (!candidate.empty() && !candidate[k]) continue;
-    const Edge& e = edges[k];
-    int32_t a = Find(up, e.u), b = Find(up, e.v);
+  for (int64_t k = 0; k < count; ++k) {
+    const int32_t u = ends[k][0], v = ends[k][1];
+    int32_t a = Find(up, u), b = Find(up, v);
     if (a == b) continue;
     if (size[a] < size[b]) std::swap(a, b);
     up[b] = a;
     size[a] += size[b];
-    chosen_u.push_back(e.u);
-    chosen_v.push_back(e.v);
-    ++degree[e.u + 1];
-    ++degree[e.v + 1];
-    const double dx = points[e.u].x - points[e.v].x, dy = points[e.u].y - points[e.v].y;
-    tree.total_length += std::sqrt(dx * dx + dy * dy);
+    chosen_u.push_back(u);
+    chosen_v.push_back(v);
+    ++degree[u + 1];
+    ++degree[v + 1];
   }
+  ends.reset();
+  // The length: the chosen edges' by chunks, added in chunk order.
+  const int64_t chosen = static_cast<int64_t>(chosen_u.size());
+  const int length_chunks = ChunksFor(chosen, 1 << 16);
+  std::vector<double> length(length_chunks, 0.0);
+  ForEachChunk(execution, chosen, length_chunks, [&](int c, int64_t begin, int64_t end) {
+    double sum = 0;
+    for (int64_t k = begin; k < end; ++k) {
+      const double dx = points[chosen_u[k]].x - points[chosen_v[k]].x;
+      const double dy = points[chosen_u[k]].y - points[chosen_v[k]].y;
+      sum += std::sqrt(dx * dx + dy * dy);
+    }
+    length[c] = sum;
+  });
+  for (double l : length) tree.total_length += l;
   for (int32_t i = 0; i < n; ++i) degree[i + 1] += degree[i];
   std::vector<int32_t> adjacency(degree[n]), fill(degree.begin(), degree.end() - 1);
   for (std::size_t k = 0; k < chosen_u.size(); ++k) {
