@@ -6,6 +6,7 @@
 #include <mutex>
 #include <utility>
 
+#include "measure/bucket_scatter.h"
 #include "measure/overlay_clip.h"
 #include "measure/predicates.h"
 #include "measure/tasks.h"
@@ -291,22 +292,40 @@ OverlayStats ForEachOverlayCellInChunks(const std::vector<Point2>& points_a, con
     while (c > 0 && ChunkBegin(n, chunks, c) > ta) --c;
     return c;
   };
-  // Each chunk's seeds, in the order one search over all would take them.
-  std::vector<std::vector<std::pair<int32_t, int32_t>>> seeds(chunks);
+  // Each chunk's seeds, in the order one search over all would take them
+  // (A's vertices, then B's), gathered by a stable scatter in chunks:
+  // chunk c's are seeds[seed_start[c], seed_start[c + 1]).
+  std::vector<std::pair<int32_t, int32_t>> seeds;
+  std::vector<int64_t> seed_start(static_cast<std::size_t>(chunks) + 1, 0);
   const auto found = [](const Location& l) { return l.found(); };
   if (std::none_of(a_in_b.begin(), a_in_b.end(), found) && std::none_of(b_in_a.begin(), b_in_a.end(), found)) {
     const auto [ta, tb] = HullCrossing(points_a, mesh_a, points_b, mesh_b);
-    if (ta >= 0 && tb >= 0) seeds[chunk_of(ta)].push_back({ta, tb});
+    if (ta >= 0 && tb >= 0) {
+      seeds.push_back({ta, tb});
+      for (int c = chunk_of(ta) + 1; c <= chunks; ++c) seed_start[c] = 1;
+    }
   } else {
-    for (std::size_t v = 0; v < a_in_b.size(); ++v) {
-      const int32_t ta = mesh_a.vertex_triangle[v];
-      if (a_in_b[v].found() && ta >= 0) seeds[chunk_of(ta)].push_back({ta, a_in_b[v].triangle});
-    }
-    for (std::size_t u = 0; u < b_in_a.size(); ++u) {
-      if (b_in_a[u].found() && mesh_b.vertex_triangle[u] >= 0) {
-        seeds[chunk_of(b_in_a[u].triangle)].push_back({b_in_a[u].triangle, mesh_b.vertex_triangle[u]});
+    const int64_t na = static_cast<int64_t>(a_in_b.size());
+    const int64_t items = na + static_cast<int64_t>(b_in_a.size());
+    const auto seed_of = [&](int64_t i) -> std::pair<int32_t, int32_t> {
+      if (i < na) {
+        const int32_t ta = mesh_a.vertex_triangle[i];
+        if (a_in_b[i].found() && ta >= 0) return {ta, a_in_b[i].triangle};
+      } else {
+        const int64_t u = i - na;
+        if (b_in_a[u].found() && mesh_b.vertex_triangle[u] >= 0) return {b_in_a[u].triangle, mesh_b.vertex_triangle[u]};
       }
-    }
+      return {-1, -1};
+    };
+    const auto bucket = [&](int64_t i) {
+      const int32_t ta = seed_of(i).first;
+      return ta >= 0 ? chunk_of(ta) : -1;
+    };
+    BucketSlots slots(ChunksFor(items, 1 << 15), chunks);
+    CountIntoBuckets(execution, items, slots, bucket);
+    seeds.resize(static_cast<std::size_t>(slots.start[chunks]));
+    ScatterIntoBuckets(execution, items, slots, bucket, [&](int64_t i, int64_t at) { seeds[at] = seed_of(i); });
+    seed_start = slots.start;
   }
   // Builders' arrays are as large as the meshes: one per running thread,
   // reused by the chunks it takes (their caches are stamped by T_A, and
@@ -326,7 +345,7 @@ OverlayStats ForEachOverlayCellInChunks(const std::vector<Point2>& points_a, con
   ForEachChunk(execution, n, chunks, [&](int c, int64_t lo, int64_t hi) {
     std::unique_ptr<OverlayBuilder> builder = take();
     builder->Begin(static_cast<int32_t>(lo), static_cast<int32_t>(hi));
-    for (const auto& [ta, tb] : seeds[c]) builder->Seed(ta, tb);
+    for (int64_t k = seed_start[c]; k < seed_start[c + 1]; ++k) builder->Seed(seeds[k].first, seeds[k].second);
     stats[c] = builder->Run([&](const OverlayCell& cell) { visit(c, cell); });
     handoffs[c] = builder->End();
     std::lock_guard<std::mutex> lock(pool_mutex);

@@ -235,15 +235,17 @@ namespace {
 // B's points moved by θ (q = R(ω)(p − c), xy and z of q + c + t); z and q
 // only where wanted.
 void MovePoints(const MovingSide& moving, const Eigen::Matrix3d& rotation, const std::array<double, 6>& theta,
-                Point2* xy, double* z, Eigen::Vector3d* q) {
+                const Execution& execution, Point2* xy, double* z, Eigen::Vector3d* q) {
   const Eigen::Vector3d offset = moving.centroid + Eigen::Vector3d(theta[3], theta[4], theta[5]);
-  const std::size_t n = moving.points.size();
-  for (std::size_t j = 0; j < n; ++j) {
-    const Eigen::Vector3d moved = rotation * (moving.points[j] - moving.centroid);
-    if (q != nullptr) q[j] = moved;
-    xy[j] = {moved.x() + offset.x(), moved.y() + offset.y()};
-    if (z != nullptr) z[j] = moved.z() + offset.z();
-  }
+  const int64_t n = static_cast<int64_t>(moving.points.size());
+  ForEachChunk(execution, n, ChunksFor(n, 1 << 14), [&](int, int64_t begin, int64_t end) {
+    for (int64_t j = begin; j < end; ++j) {
+      const Eigen::Vector3d moved = rotation * (moving.points[j] - moving.centroid);
+      if (q != nullptr) q[j] = moved;
+      xy[j] = {moved.x() + offset.x(), moved.y() + offset.y()};
+      if (z != nullptr) z[j] = moved.z() + offset.z();
+    }
+  });
 }
 
 struct MeshFolds {
@@ -292,7 +294,7 @@ bool ReportFolds(const MeshFolds& folds, double area3d, double max_fold_fraction
 void PairState::MoveTo(const std::array<double, 6>& theta) {
   theta_ = theta;
   derivative_ = DifferentiateMotion({theta[0], theta[1], theta[2]});
-  MovePoints(moving_, derivative_.rotation, theta, moved_xy_.data(), moved_z_.data(), moved_q_.data());
+  MovePoints(moving_, derivative_.rotation, theta, execution_, moved_xy_.data(), moved_z_.data(), moved_q_.data());
 }
 
 bool PairState::CountFolds(UpdateStats* stats, int32_t* active_folded) {
@@ -305,8 +307,8 @@ bool PairState::CountFolds(UpdateStats* stats, int32_t* active_folded) {
 bool OwnMeshFolds(const MovingSide& moving, const std::array<double, 6>& theta, double max_fold_fraction,
                   UpdateStats* stats) {
   std::vector<Point2> xy(moving.points.size());
-  MovePoints(moving, DifferentiateMotion({theta[0], theta[1], theta[2]}).rotation, theta, xy.data(), nullptr,
-             nullptr);
+  MovePoints(moving, DifferentiateMotion({theta[0], theta[1], theta[2]}).rotation, theta, Execution{1}, xy.data(),
+             nullptr, nullptr);
   const MeshFolds folds = CountMeshFolds(moving.mesh, xy, moving.domain, moving.points, Execution{1});
   return ReportFolds(folds, SurfaceArea(moving.points, moving.mesh), max_fold_fraction, stats);
 }
@@ -412,34 +414,47 @@ bool PairState::RemeshAndLocate(bool keep, UpdateStats* stats) {
 
 void PairState::IndexKept() {
   const int32_t n = static_cast<int32_t>(moved_xy_.size());
+  const int64_t count = static_cast<int64_t>(kept_triangles_.size() / 3);
+  // Each triangle's corners sorted, and the key (per chunk's hash, chained
+  // in chunk order), by chunks; then indexed by the least corner.
+  std::vector<std::array<int32_t, 3>> sorted(static_cast<std::size_t>(count));
+  const int chunks = ChunksFor(count, 1 << 14);
+  std::vector<uint64_t> part_key(chunks);
+  ForEachChunk(execution_, count, chunks, [&](int c, int64_t begin, int64_t end) {
+    uint64_t key = static_cast<uint64_t>(end - begin);
+    for (int64_t k = begin; k < end; ++k) {
+      std::array<int32_t, 3> v = {kept_triangles_[3 * k], kept_triangles_[3 * k + 1], kept_triangles_[3 * k + 2]};
+      for (int32_t corner : v) key = Mix(key ^ static_cast<uint64_t>(corner));
+      std::sort(v.begin(), v.end());
+      sorted[k] = v;
+    }
+    part_key[c] = key;
+  });
+  surface_key_ = static_cast<uint64_t>(count);
+  for (uint64_t key : part_key) surface_key_ = Mix(surface_key_ ^ key);
   kept_begin_.assign(n + 1, 0);
-  const std::size_t count = kept_triangles_.size() / 3;
-  auto sorted = [&](std::size_t k) {
-    std::array<int32_t, 3> v = {kept_triangles_[3 * k], kept_triangles_[3 * k + 1],
-                                kept_triangles_[3 * k + 2]};
-    std::sort(v.begin(), v.end());
-    return v;
-  };
-  for (std::size_t k = 0; k < count; ++k) ++kept_begin_[sorted(k)[0] + 1];
+  for (const auto& v : sorted) ++kept_begin_[v[0] + 1];
   for (int32_t v = 0; v < n; ++v) kept_begin_[v + 1] += kept_begin_[v];
-  kept_rest_.resize(count);
+  kept_rest_.resize(static_cast<std::size_t>(count));
   std::vector<int32_t> fill(kept_begin_.begin(), kept_begin_.end() - 1);
-  for (std::size_t k = 0; k < count; ++k) {
-    const auto v = sorted(k);
-    kept_rest_[fill[v[0]]++] = {v[1], v[2]};
-  }
+  for (const auto& v : sorted) kept_rest_[fill[v[0]]++] = {v[1], v[2]};
 }
 
 void PairState::SetActiveFlags() {
-  active_.assign(mesh_.num_triangles(), 0);
-  for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
-    std::array<int32_t, 3> v = {mesh_.triangles[3 * t], mesh_.triangles[3 * t + 1],
-                                mesh_.triangles[3 * t + 2]};
-    std::sort(v.begin(), v.end());
-    for (int32_t k = kept_begin_[v[0]]; k < kept_begin_[v[0] + 1]; ++k) {
-      if (kept_rest_[k][0] == v[1] && kept_rest_[k][1] == v[2]) active_[t] = 1;
+  const int32_t count = mesh_.num_triangles();
+  active_.resize(static_cast<std::size_t>(count));
+  ForEachChunk(execution_, count, ChunksFor(count, 1 << 14), [&](int, int64_t begin, int64_t end) {
+    for (int64_t t = begin; t < end; ++t) {
+      std::array<int32_t, 3> v = {mesh_.triangles[3 * t], mesh_.triangles[3 * t + 1],
+                                  mesh_.triangles[3 * t + 2]};
+      std::sort(v.begin(), v.end());
+      uint8_t kept = 0;
+      for (int32_t k = kept_begin_[v[0]]; k < kept_begin_[v[0] + 1]; ++k) {
+        if (kept_rest_[k][0] == v[1] && kept_rest_[k][1] == v[2]) kept = 1;
+      }
+      active_[t] = kept;
     }
-  }
+  });
   active_vertex_ = DomainVertices(mesh_, moved_xy_.size(), active_);
   interior_vertex_ = InteriorVertices(mesh_, moved_xy_.size(), active_);
 }
@@ -456,19 +471,23 @@ int PairState::FixSurface(double max_slope_deg) {
   const Triangulation& own = moving_.mesh;
   std::vector<uint8_t> near_steep(moved_xy_.size(), 0);
   std::vector<uint8_t> steep(own.num_triangles(), 0);
+  ForEachChunk(execution_, own.num_triangles(), ChunksFor(own.num_triangles(), 1 << 14),
+               [&](int, int64_t begin, int64_t end) {
+                 for (int64_t t = begin; t < end; ++t) {
+                   if (!moving_.domain[t]) continue;
+                   const int32_t* v = &own.triangles[3 * t];
+                   const Eigen::Vector3d p0(moved_xy_[v[0]].x, moved_xy_[v[0]].y, moved_z_[v[0]]);
+                   const Eigen::Vector3d p1(moved_xy_[v[1]].x, moved_xy_[v[1]].y, moved_z_[v[1]]);
+                   const Eigen::Vector3d p2(moved_xy_[v[2]].x, moved_xy_[v[2]].y, moved_z_[v[2]]);
+                   const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);
+                   steep[t] = !(normal.z() > min_cos * normal.norm());
+                 }
+               });
   int num_steep = 0;
   for (int32_t t = 0; t < own.num_triangles(); ++t) {
-    if (!moving_.domain[t]) continue;
-    const int32_t* v = &own.triangles[3 * t];
-    const Eigen::Vector3d p0(moved_xy_[v[0]].x, moved_xy_[v[0]].y, moved_z_[v[0]]);
-    const Eigen::Vector3d p1(moved_xy_[v[1]].x, moved_xy_[v[1]].y, moved_z_[v[1]]);
-    const Eigen::Vector3d p2(moved_xy_[v[2]].x, moved_xy_[v[2]].y, moved_z_[v[2]]);
-    const Eigen::Vector3d normal = (p1 - p0).cross(p2 - p0);
-    if (!(normal.z() > min_cos * normal.norm())) {
-      steep[t] = 1;
-      ++num_steep;
-      for (int k = 0; k < 3; ++k) near_steep[v[k]] = 1;
-    }
+    if (!steep[t]) continue;
+    ++num_steep;
+    for (int k = 0; k < 3; ++k) near_steep[own.triangles[3 * t + k]] = 1;
   }
   std::vector<int32_t> previous;
   previous.swap(kept_triangles_);
@@ -503,12 +522,6 @@ int PairState::FixSurface(double max_slope_deg) {
     SetActiveFlags();
   }
   return steep_count;
-}
-
-uint64_t PairState::surface_key() const {
-  uint64_t key = kept_triangles_.size();
-  for (int32_t v : kept_triangles_) key = Mix(key ^ static_cast<uint64_t>(v));
-  return key;
 }
 
 bool PairState::OnMovingSurface(const Location& l) const {

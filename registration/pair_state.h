@@ -153,7 +153,7 @@ class PairState {
   void ReleaseSurface() { fixed_ = false; }
   // Which triangles FixSurface kept (a hash of their vertex triples): the
   // same value means the same surface.
-  uint64_t surface_key() const;
+  uint64_t surface_key() const { return surface_key_; }
   bool surface_fixed() const { return fixed_; }
 
   // B's current mesh: its own, or its re-triangulation after a fold.
@@ -199,7 +199,7 @@ class PairState {
   template <typename AInB, typename BInA>
   void BothWays(AInB&& a_in_b, BInA&& b_in_a) const;
   void SetActiveFlags();  // active_ for mesh_ from the kept triangles
-  void IndexKept();       // kept_begin_ and kept_rest_ from kept_triangles_
+  void IndexKept();       // kept_begin_, kept_rest_ and surface_key_ from kept_triangles_
   // Both ways from scratch, in spanning-tree order.
   void LocateEverything(UpdateStats* stats);
 
@@ -231,6 +231,7 @@ class PairState {
   std::vector<int32_t> kept_begin_;
   std::vector<std::array<int32_t, 2>> kept_rest_;
   std::vector<int32_t> kept_triangles_;  // 3 per active triangle, for EnforceTriangles
+  uint64_t surface_key_ = 0;             // a hash of kept_triangles_
 };
 
 // The folds of B's own mesh (its domain triangles active) at θ, into

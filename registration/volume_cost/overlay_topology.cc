@@ -152,7 +152,9 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
   for (int32_t t = 0; t < na; ++t) begin_[t + 1] += begin_[t];
   // Room for the repairs' appends until the first compaction (Compact).
   cells_.reserve(static_cast<std::size_t>(begin_[na] * 5 / 2 + 8192));
-  cells_.assign(begin_[na], TopologyCell());
+  // Only triangle_b is read before labelling writes each kept cell whole:
+  // no need to clear what a previous build left.
+  cells_.resize(static_cast<std::size_t>(begin_[na]));
   for (const auto& list : pairs) {
     for (const auto& p : list) cells_[begin_[p.first] + count_[p.first]++].triangle_b = p.second;
   }

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "measure/bucket_scatter.h"
 #include "measure/gap_volume.h"
 #include "measure/overlay.h"
 #include "measure/volume.h"
@@ -89,20 +90,29 @@ void VolumeCostCache::Impl::BindWeights() {
 // pairs meet and which edges cross). A B vertex moves straight in A's fixed
 // frame: the triangles it left and entered (with the edge or vertex it was
 // on), and, if those are not neighbours, everything around both.
-void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
+void VolumeCostCache::Impl::MarkDirty(const PairState& s, const Execution& execution) {
   const Triangulation& mesh_a = reference->mesh;
   mark.assign(mesh_a.num_triangles(), 0);
   seeds.clear();
   auto mark_star = [&](int32_t v) {
     for (int32_t k = star_begin[v]; k < star_begin[v + 1]; ++k) mark[star[k]] = 1;
   };
+  // The vertices whose location changed, found by chunks (most did not),
+  // in order; then marked around, one after another.
+  const auto changed = [&](int64_t n, const auto& moved, std::vector<int32_t>* out) {
+    BucketSlots slots(ChunksFor(n, 1 << 14), 1);
+    const auto bucket = [&](int64_t v) { return moved(v) ? 0 : -1; };
+    CountIntoBuckets(execution, n, slots, bucket);
+    out->resize(static_cast<std::size_t>(slots.start[1]));
+    ScatterIntoBuckets(execution, n, slots, bucket,
+                       [out](int64_t v, int64_t at) { (*out)[at] = static_cast<int32_t>(v); });
+  };
   const auto& a_in_b = s.a_in_b();
-  for (std::size_t v = 0; v < a_in_b.size(); ++v) {
+  changed(static_cast<int64_t>(a_in_b.size()), [&](int64_t v) {
     const PackedLocation now = Pack(a_in_b[v]);
-    if (now != last_a[v] && (now.where != Where::kOutside || last_a[v].where != Where::kOutside)) {
-      mark_star(static_cast<int32_t>(v));
-    }
-  }
+    return now != last_a[v] && (now.where != Where::kOutside || last_a[v].where != Where::kOutside);
+  }, &changed_a);
+  for (int32_t v : changed_a) mark_star(v);
   const auto& b_in_a = s.b_in_a();
   auto mark_location = [&](const PackedLocation& l) {
     if (l.triangle < 0) return;
@@ -114,12 +124,16 @@ void VolumeCostCache::Impl::MarkDirty(const PairState& s) {
       mark_star(mesh_a.triangles[3 * l.triangle + l.index]);
     }
   };
-  for (std::size_t u = 0; u < b_in_a.size(); ++u) {
+  // Outside A's hull before and after: where the walk left the mesh
+  // changes, the overlay does not.
+  changed(static_cast<int64_t>(b_in_a.size()), [&](int64_t u) {
     const PackedLocation now = Pack(b_in_a[u]);
     const PackedLocation before = last_b[u];
-    // Outside A's hull before and after: where the walk left the mesh
-    // changes, the overlay does not.
-    if (!(now != before) || (now.where == Where::kOutside && before.where == Where::kOutside)) continue;
+    return now != before && !(now.where == Where::kOutside && before.where == Where::kOutside);
+  }, &changed_b);
+  for (int32_t u : changed_b) {
+    const PackedLocation now = Pack(b_in_a[u]);
+    const PackedLocation before = last_b[u];
     mark_location(before);
     mark_location(now);
     if (now.triangle >= 0 && before.triangle >= 0 && now.triangle != before.triangle) {
@@ -189,7 +203,7 @@ bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, const Execution& 
   const Triangulation& mesh_b = s.moving_mesh();
   bool build = !built || remeshes != s.surface_version();
   if (!build) {
-    MarkDirty(s);
+    MarkDirty(s, execution);
     build = dirty.size() > max_dirty_fraction * mesh_a.num_triangles();
     if (build && !binning && (!fell_back || s.theta() == fallback_theta)) {
       // Far from the topology's pose: Build + labelling would cost more
@@ -214,10 +228,15 @@ bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, const Execution& 
                                             seeds, execution, reference->domain.data(), s.active_b().data());
     stats.triangles_searched += t.triangles_searched;
   }
-  last_a.resize(s.a_in_b().size());
-  last_b.resize(s.b_in_a().size());
-  for (std::size_t v = 0; v < last_a.size(); ++v) last_a[v] = Pack(s.a_in_b()[v]);
-  for (std::size_t u = 0; u < last_b.size(); ++u) last_b[u] = Pack(s.b_in_a()[u]);
+  const auto pack_all = [&](const auto& locations, std::vector<PackedLocation>* packed) {
+    const int64_t n = static_cast<int64_t>(locations.size());
+    packed->resize(locations.size());
+    ForEachChunk(execution, n, ChunksFor(n, 1 << 14), [&](int, int64_t begin, int64_t end) {
+      for (int64_t k = begin; k < end; ++k) (*packed)[k] = Pack(locations[k]);
+    });
+  };
+  pack_all(s.a_in_b(), &last_a);
+  pack_all(s.b_in_a(), &last_b);
   return true;
 }
 

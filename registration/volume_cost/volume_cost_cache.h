@@ -151,7 +151,7 @@ struct VolumeCostCache::Impl {
   std::vector<volume_internal::TriangleExtra> extra_a, extra_b;
   std::vector<volume_internal::WeightPlane> weight_a;  // μ per A triangle; empty: no weights
   std::vector<uint8_t> mark;
-  std::vector<int32_t> dirty;
+  std::vector<int32_t> dirty, changed_a, changed_b;  // changed: MarkDirty's vertices that moved
   std::vector<std::pair<int32_t, int32_t>> seeds;
   // Per thread and B triangle: Σ s|P| and Σ s|P|(c − p0) over the sign parts
   // P of its cells (s = sign of d on P, c its centroid, p0 T_B's corner 0):
@@ -168,7 +168,7 @@ struct VolumeCostCache::Impl {
 
   void Bind(const PairState& s);
   void BindWeights();
-  void MarkDirty(const PairState& s);
+  void MarkDirty(const PairState& s, const Execution& execution);
   bool UpdateTopology(const PairState& s, const Execution& execution);
   void RecordMovedTriangles(const PairState& s, const Execution& execution, const GradientBins* bins);
   void AddInteriorGradient(const PairState& s, const Execution& execution, GradientBins* bins, VolumeCostValue* total);
