@@ -164,6 +164,16 @@ TEST_F(SeriesDodTest, RefusalsNameTheKey) {
     EXPECT_EQ(std::string(e.what()), "flag '--dod_dir': epoch 1 (" + Path("c.xyz") +
                                          ") is not a raster; the DoD of 1-2 is drawn on the earlier epoch's grid");
   }
+  // Surfaces given instead of files: no rasters to draw the DoDs on.
+  try {
+    SeriesConfig given = Config();
+    FinishSeriesConfig(&given);
+    AlignSeriesFiles(given, std::vector<Surface>(3), nullptr);
+    FAIL() << "surfaces given with dod_dir";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "test: the DoDs are drawn on the epochs' raster files; give the files, not surfaces");
+  }
   // A DoD over an input is refused.
   SeriesConfig over;
   std::filesystem::copy_file(Path("e0.tif"), Path("dod/a.tif"));

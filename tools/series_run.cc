@@ -202,6 +202,10 @@ SeriesRun AlignSeriesFiles(SeriesConfig config, std::optional<std::vector<Surfac
   SeriesRun run;
   run.config = std::move(config);
   if (on_stage) on_stage("reading " + std::to_string(run.config.surfaces.size()) + " epochs");
+  if (epochs && !run.config.dod_dir.empty()) {
+    throw InputError(run.config.Where("dod_dir") +
+                     ": the DoDs are drawn on the epochs' raster files; give the files, not surfaces");
+  }
   run.epochs = epochs ? std::move(*epochs) : ReadEpochs(run.config, &run.units);
   SeriesOptions options = run.config.options;
   options.on_stage = on_stage;

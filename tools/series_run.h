@@ -37,7 +37,7 @@ struct SeriesRun {
 
 // Aligns config.surfaces jointly (config through FinishSeriesConfig, or
 // `epochs` given instead of reading them: config.surfaces then only names
-// them). Writes the files config names atomically. `on_stage` (may be
+// them, and dod_dir is refused). Writes the files config names atomically. `on_stage` (may be
 // empty) sees each stage's text. Bad input throws InputError.
 SeriesRun AlignSeriesFiles(SeriesConfig config, std::optional<std::vector<Surface>> epochs,
                            const std::function<void(const std::string&)>& on_stage);
