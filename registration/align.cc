@@ -72,6 +72,7 @@ MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
   m.mask_mode = options.mask_mode;
   m.domain = options.domain;
   m.threads = options.num_threads;
+  m.keep_node_gaps = options.keep_node_gaps;
   return m;
 }
 

@@ -155,6 +155,10 @@ struct AlignOptions {
   // subsample). The axial cost weights node k's squared residual by μ_k
   // (B's nodes by μ where they land), the volume cost is ∫μ|d| / ∫μ.
   WeightMode weight = WeightMode::kUniform;
+  // AlignResult::before and ::after keep the node gaps
+  // (MeasureOptions::keep_node_gaps: d at every sample of each surface, and
+  // the reference's node areas), e.g. for a DoD on the reference's nodes.
+  bool keep_node_gaps = false;
   std::vector<MaskRing> mask;
   MaskMode mask_mode = MaskMode::kInclude;
   // Stable terrain (registration/stable_terrain.h): with kAuto (the

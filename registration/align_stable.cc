@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <memory>
 #include <cstdio>
 
 #include "measure/input_error.h"
@@ -49,13 +50,11 @@ MeasureOptions GapMeasureOptions(const AlignOptions& options) {
   return m;
 }
 
-// `prepared`: the reference without its weights, prepared once for every
-// round (MeasureReference: the same summary as measuring it afresh).
-GapField GapsAt(const MeasureReference& prepared, const Surface& moving, const Eigen::Matrix4d& matrix,
-                const AlignOptions& options) {
-  const Surface& reference = prepared.surface();
+// The gaps from `summary`, a measure of `moving` at `matrix` with
+// GapMeasureOptions (or one equal to it: uniform weights, the node gaps kept).
+GapField GapsOf(const Surface& reference, const Surface& moving, const Eigen::Matrix4d& matrix,
+                MeasureSummary summary, const AlignOptions& options) {
   const Surface moved = TransformSurface(moving, matrix);
-  MeasureSummary summary = Measure(prepared, moved, GapMeasureOptions(options));
   GapField gaps;
   gaps.dz = std::move(summary.dz_a);
   gaps.area = std::move(summary.node_area_a);
@@ -125,6 +124,21 @@ GapField GapsAt(const MeasureReference& prepared, const Surface& moving, const E
   return gaps;
 }
 
+// `prepared`: the reference without its weights, prepared once for every
+// round (MeasureReference: the same summary as measuring it afresh).
+GapField GapsAt(const MeasureReference& prepared, const Surface& moving, const Eigen::Matrix4d& matrix,
+                const AlignOptions& options) {
+  MeasureSummary summary = Measure(prepared, TransformSurface(moving, matrix), GapMeasureOptions(options));
+  return GapsOf(prepared.surface(), moving, matrix, std::move(summary), options);
+}
+
+// The node gaps of a measure are many: kept in the result only if asked for.
+void DropNodeGaps(MeasureSummary* summary) {
+  summary->dz_a = {};
+  summary->dz_b = {};
+  summary->node_area_a = {};
+}
+
 Surface Weighted(const Surface& reference, const std::vector<double>& user, const StableTerrain& stable) {
   Surface out = reference;
   out.weight.resize(reference.size());
@@ -168,13 +182,21 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   if (!options.IsValid(&error)) throw InputError("align options: " + error);
   AlignOptions first = options;
   first.stable.mode = StableOptions::Mode::kAll;
+  // Under uniform weights the first fit's measure after it is the gaps'
+  // measure (GapMeasureOptions) at its motion: kept, not measured again.
+  const bool gaps_from_first = options.weight == WeightMode::kUniform;
+  first.keep_node_gaps = options.keep_node_gaps || gaps_from_first;
   // The reference's neighbours and curvature do not depend on the motion:
   // built beside the first fit.
   std::future<SampleAdjacency> adjacency_later =
       std::async(options.num_threads > 1 ? std::launch::async : std::launch::deferred,
                  [&reference, &options] { return MakeSampleAdjacency(reference, ExecutionFor(options.num_threads)); });
   AlignResult result = Align(reference, moving, first);
-  if (result.verdict == Verdict::kFailed) return result;  // nothing to classify on
+  // Nothing to classify on:
+  if (result.verdict == Verdict::kFailed) {
+    if (!options.keep_node_gaps) DropNodeGaps(&result.before), DropNodeGaps(&result.after);
+    return result;
+  }
 
   const std::vector<double> user = UserWeights(reference, options);
   std::vector<uint8_t> eligible(reference.size());
@@ -188,10 +210,22 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   // what changed, which would blur the change in its gaps.
   const bool sparser = result.solve_cost != "volume" && options.cost == CostKind::kAuto;
   AlignResult last = result;
-  Surface plain = reference;
-  plain.weight.clear();
-  const MeasureReference prepared(plain, GapMeasureOptions(options));
-  GapField gaps = GapsAt(prepared, moving, result.matrix, options);
+  // The reference without its weights, prepared for the rounds' measures
+  // when the first is needed.
+  // (MeasureReference refers to its surface: `plain` outlives it).
+  Surface plain;
+  std::unique_ptr<MeasureReference> prepared;
+  const auto gaps_at = [&](const Eigen::Matrix4d& matrix) {
+    if (!prepared) {
+      plain = reference;
+      plain.weight.clear();
+      prepared = std::make_unique<MeasureReference>(plain, GapMeasureOptions(options));
+    }
+    return GapsAt(*prepared, moving, matrix, options);
+  };
+  const bool have_gaps = gaps_from_first && result.after.dz_a.size() == reference.size();
+  GapField gaps = have_gaps ? GapsOf(reference, moving, result.matrix, result.after, options) : gaps_at(result.matrix);
+  if (!options.keep_node_gaps) DropNodeGaps(&result.before), DropNodeGaps(&result.after);
   const ConsensusFit consensus = RigidConsensus(reference, adjacency, gaps.dz, eligible, ExecutionFor(options.num_threads));
   std::vector<double> correction(reference.size(), 0.0);
   for (std::size_t i = 0; i < correction.size(); ++i) {
@@ -217,7 +251,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
     AlignResult next = AlignMotionOnly(Weighted(reference, user, stable), moving, round);
     if (next.verdict == Verdict::kFailed) break;
     last = std::move(next);
-    gaps = GapsAt(prepared, moving, last.matrix, options);
+    gaps = gaps_at(last.matrix);
     StableTerrain again = ClassifyStable(adjacency, gaps, eligible, stable.flag, rule);
     again.rounds = stable.rounds + 1;
     const int64_t moved = Reclassified(stable, again);

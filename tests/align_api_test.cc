@@ -8,9 +8,11 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#include <utility>
 
 #include <gtest/gtest.h>
 
+#include "measure/measures.h"
 #include "registration/align.h"
 #include "testing/surface_pairs.h"
 
@@ -158,6 +160,47 @@ TEST(AlignApiTest, CeresOptionsAreUsedAndChecked) {
   bad.axial_solver.linear_solver_type = ceres::CGNR;
   bad.axial_solver.trust_region_strategy_type = ceres::DOGLEG;
   EXPECT_FALSE(bad.IsValid(&error));
+}
+
+// keep_node_gaps: the measures before and after keep d at every sample of
+// each surface, equal to measuring afresh at the initial and final motion;
+// without it they keep none (a changed pair too, whose stable terrain is
+// found from the first fit's own gaps).
+TEST(AlignApiTest, NodeGapsAreKeptOnlyWhenAsked) {
+  const Family family = MakeFamily(0);
+  const Surface a = MakeSurface(family.a, {}, "a");
+  std::vector<std::array<double, 3>> changed = family.b;
+  for (auto& p : changed) p[2] += 4.0 * std::exp(-((p[0] - 30) * (p[0] - 30) + (p[1] - 60) * (p[1] - 60)) / 60.0);
+  for (const auto& points : {family.b, changed}) {
+    const Surface b = MakeSurface(
+        testing::MoveByInverse(points, testing::TrueMotion({0, 1, 0}, 0.5, {0.3, 0, 0.2}, testing::Centroid(points))),
+        {}, "b");
+    const AlignResult plain = Align(a, b);
+    EXPECT_TRUE(plain.after.dz_a.empty() && plain.after.dz_b.empty() && plain.before.dz_a.empty());
+    AlignOptions options;
+    options.keep_node_gaps = true;
+    const AlignResult kept = Align(a, b, options);
+    ASSERT_EQ(kept.verdict, Verdict::kConvergedImproved) << kept.verdict_reason;
+    EXPECT_EQ(kept.matrix, plain.matrix);
+    MeasureOptions measure;
+    measure.keep_node_gaps = true;
+    const MeasureSummary before = Measure(a, b, measure);
+    const MeasureSummary after = Measure(a, TransformSurface(b, kept.matrix), measure);
+    for (const auto& [got, want] : {std::pair{&kept.before, &before}, std::pair{&kept.after, &after}}) {
+      ASSERT_EQ(got->dz_a.size(), a.size());
+      ASSERT_EQ(got->dz_b.size(), b.size());
+      ASSERT_EQ(got->node_area_a.size(), a.size());
+      int finite = 0;
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(std::isfinite(got->dz_a[i]), std::isfinite(want->dz_a[i])) << i;
+        if (!std::isfinite(want->dz_a[i])) continue;
+        ++finite;
+        EXPECT_NEAR(got->dz_a[i], want->dz_a[i], 1e-9) << i;
+        EXPECT_NEAR(got->node_area_a[i], want->node_area_a[i], 1e-9) << i;
+      }
+      EXPECT_GT(finite, static_cast<int>(a.size()) / 2);
+    }
+  }
 }
 
 // FullReport: the CLI's summary lines in order, each ending in a newline;
