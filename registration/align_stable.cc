@@ -189,7 +189,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   // The reference's neighbours and curvature do not depend on the motion:
   // built beside the first fit.
   std::future<SampleAdjacency> adjacency_later =
-      std::async(options.num_threads > 1 ? std::launch::async : std::launch::deferred,
+      std::async(ExecutionFor(options.num_threads).parallel() ? std::launch::async : std::launch::deferred,
                  [&reference, &options] { return MakeSampleAdjacency(reference, ExecutionFor(options.num_threads)); });
   AlignResult result = Align(reference, moving, first);
   // Nothing to classify on:
