@@ -230,6 +230,7 @@ class PairState {
   // smallest vertex (CSR): to find them again in a new mesh.
   std::vector<int32_t> kept_begin_;
   std::vector<std::array<int32_t, 2>> kept_rest_;
+  std::vector<int64_t> walk_steps_;  // Update's, per chunk of its walks
   std::vector<int32_t> kept_triangles_;  // 3 per active triangle, for EnforceTriangles
   uint64_t surface_key_ = 0;             // a hash of kept_triangles_
 };
