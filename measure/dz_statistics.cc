@@ -56,11 +56,13 @@ double KthSmallest(const double* data, int64_t n, int64_t k, double lo, double h
     std::vector<double> low(chunks, hi), high(chunks, lo);
     ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
       double* out = next.data() + offset[c];
+      double least = hi, most = lo;  // locals: the chunks' slots share cache lines
       for (int64_t i = begin; i < end; ++i) {
         if (bin_of(data[i]) != bin) continue;
         *out++ = data[i];
-        low[c] = std::min(low[c], data[i]), high[c] = std::max(high[c], data[i]);
+        least = std::min(least, data[i]), most = std::max(most, data[i]);
       }
+      low[c] = least, high[c] = most;
     });
     lo = *std::min_element(low.begin(), low.end());
     hi = *std::max_element(high.begin(), high.end());

@@ -173,7 +173,8 @@ void IntegrateConvex(const Point2* polygon, int n, const Plane& d, const WeightF
 namespace {
 
 // Integrates overlay cells as they come; one per thread.
-class CellIntegrator {
+// A cache line of its own: each chunk's writes its sums cell by cell.
+class alignas(64) CellIntegrator {
  public:
   CellIntegrator(const std::vector<Point2>& xy_a, const Triangulation& mesh_a,
                  const std::vector<double>& z_a, const std::vector<Point2>& xy_b,

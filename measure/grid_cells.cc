@@ -177,9 +177,11 @@ bool FitAffine(const Surface& s, double magnitude, GridAffine* fit, double* tole
   const int chunks = ChunksFor(static_cast<int64_t>(cells.size()), 1 << 16);
   std::vector<uint8_t> near(chunks, 1);
   ForEachChunk(execution, static_cast<int64_t>(cells.size()), chunks, [&](int c, int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end && near[c]; ++i) {
-      near[c] = Near(fit->At(cells[i].column, cells[i].row), s.xy[i], *tolerance);
+    bool all_near = true;  // a local: the chunks' slots share cache lines
+    for (int64_t i = begin; i < end && all_near; ++i) {
+      all_near = Near(fit->At(cells[i].column, cells[i].row), s.xy[i], *tolerance);
     }
+    near[c] = all_near;
   });
   return std::all_of(near.begin(), near.end(), [](uint8_t v) { return v != 0; });
 }
@@ -188,7 +190,9 @@ double Magnitude(const Surface& s, const Execution& execution) {
   const int chunks = ChunksFor(static_cast<int64_t>(s.xy.size()), 1 << 16);
   std::vector<double> most(chunks, 0.0);
   ForEachChunk(execution, static_cast<int64_t>(s.xy.size()), chunks, [&](int c, int64_t begin, int64_t end) {
-    for (int64_t i = begin; i < end; ++i) most[c] = std::max({most[c], std::fabs(s.xy[i].x), std::fabs(s.xy[i].y)});
+    double largest = 0.0;
+    for (int64_t i = begin; i < end; ++i) largest = std::max({largest, std::fabs(s.xy[i].x), std::fabs(s.xy[i].y)});
+    most[c] = largest;
   });
   return *std::max_element(most.begin(), most.end()) + std::max(std::fabs(s.origin[0]), std::fabs(s.origin[1]));
 }

@@ -133,7 +133,8 @@ void IntegrateTriangle(const Point2 p[3], const double d[3], double lod, VolumeR
 void IntegrateTriangleOfArea(double area, const double d[3], double lod, VolumeResult* result);
 
 // One chunk of rows' sums.
-struct ChunkSums {
+// A cache line of its own: each chunk adds to its sums cell by cell.
+struct alignas(64) ChunkSums {
   VolumeResult volume;
   double gap_sum = 0, node_weight = 0;
   int64_t nodes = 0;

@@ -255,21 +255,24 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   const int64_t n_b = settings.moving_nodes ? static_cast<int64_t>(nb) : 0;
   const int chunks = ChunksFor(n_a + n_b, 8192);
   std::vector<int64_t> overlap(chunks, 0);
+  // (Counted in a local: the chunks' slots share cache lines.)
   ForEachChunk(state.execution(), n_a + n_b, chunks, [&](int c, int64_t begin, int64_t end) {
+    int64_t count = 0;
     for (int64_t k = begin; k < end; ++k) {
       if (k < n_a) {
         const std::size_t i = static_cast<std::size_t>(k);
         // Nodes of either surface's junk (measure/domain.h) are not in Ω.
         if (!ctx.a.domain_vertex[i] || !state.OnMovingSurface(state.a_in_b()[i])) continue;
-        ++overlap[c];
+        ++count;
         ctx.ReferenceNode(i);
       } else {
         const std::size_t j = static_cast<std::size_t>(k - n_a);
         if (!state.moving_node_active(j) || !state.OnReferenceSurface(state.b_in_a()[j])) continue;
-        ++overlap[c];
+        ++count;
         ctx.MovingNode(j);
       }
     }
+    overlap[c] = count;
   });
   out->overlap_count = std::accumulate(overlap.begin(), overlap.end(), int64_t{0});
   Trim(settings, jacobians, out);

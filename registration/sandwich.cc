@@ -64,7 +64,7 @@ GradientBins BinsOver(const std::vector<Point2>& xy) {
 }
 
 // Bins the cells an accumulator takes into fine tiles by their centroid.
-struct TileBinner {
+struct alignas(64) TileBinner {  // a cache line of its own (one per chunk)
   TileBinner(const PairState& state, const MaskRegion* mask, const FineGrid& fine_grid)
       : accumulator(state, /*gradient=*/true, mask), grid(fine_grid), tiles(kFineTiles * kFineTiles) {}
   void operator()(const OverlayCell& cell) {

@@ -169,7 +169,8 @@ inline void ReferenceTriangle(const ReferenceSide& a, const std::vector<double>*
   }
 }
 
-class VolumeAccumulator {
+// A cache line of its own: one per chunk, each adding to its sums cell by cell.
+class alignas(64) VolumeAccumulator {
  public:
   VolumeAccumulator(const PairState& state, bool gradient,
               const MaskRegion* mask)

@@ -16,7 +16,7 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
 
 // Sums the line term over the cells it is given (one per thread).
-class ZeroLineSum {
+class alignas(64) ZeroLineSum {  // a cache line of its own (one per chunk)
  public:
   ZeroLineSum(const PairState& state, const MaskRegion* mask)
       : state_(state), mask_(mask),
