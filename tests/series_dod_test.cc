@@ -22,6 +22,17 @@
 namespace surfreg {
 namespace {
 
+// `call` throws an InputError whose message is `message`.
+template <typename Call>
+void ExpectInputError(Call&& call, const std::string& message) {
+  try {
+    call();
+    ADD_FAILURE() << "no error; expected: " << message;
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), message);
+  }
+}
+
 constexpr double kMound = 3.0, kMoundX = 48, kMoundY = 40, kMoundRadius = 6;
 
 bool InMound(double x, double y, double margin) {
@@ -141,12 +152,7 @@ TEST_F(SeriesDodTest, EachConsecutivePairsDodLiesOnTheEarlierGridAndShowsTheChan
 TEST_F(SeriesDodTest, RefusalsNameTheKey) {
   SeriesConfig config = Config();
   ApplySeriesSetting("dod_dir", dir_ + "/missing", "flag '--dod_dir'", &config);
-  try {
-    FinishSeriesConfig(&config);
-    FAIL() << "a missing folder";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "flag '--dod_dir': no such folder '" + dir_ + "/missing'");
-  }
+  ExpectInputError([&] { FinishSeriesConfig(&config); }, "flag '--dod_dir': no such folder '" + dir_ + "/missing'");
   // A cloud before the last epoch: its DoD has no grid.
   {
     FILE* f = std::fopen(Path("c.xyz").c_str(), "w");
@@ -157,36 +163,25 @@ TEST_F(SeriesDodTest, RefusalsNameTheKey) {
   SeriesConfig cloud;
   ApplySeriesArguments({Path("e0.tif"), Path("c.xyz"), Path("e2.tif")}, &cloud);
   ApplySeriesSetting("dod_dir", dir_ + "/dod", "flag '--dod_dir'", &cloud);
-  try {
-    FinishSeriesConfig(&cloud);
-    FAIL() << "a cloud epoch";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "flag '--dod_dir': epoch 1 (" + Path("c.xyz") +
-                                         ") is not a raster; the DoD of 1-2 is drawn on the earlier epoch's grid");
-  }
+  ExpectInputError([&] { FinishSeriesConfig(&cloud); },
+                   "flag '--dod_dir': epoch 1 (" + Path("c.xyz") +
+                       ") is not a raster; the DoD of 1-2 is drawn on the earlier epoch's grid");
   // Surfaces given instead of files: no rasters to draw the DoDs on.
-  try {
-    SeriesConfig given = Config();
-    FinishSeriesConfig(&given);
-    AlignSeriesFiles(given, std::vector<Surface>(3), nullptr);
-    FAIL() << "surfaces given with dod_dir";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "test: the DoDs are drawn on the epochs' raster files; give the files, not surfaces");
-  }
+  ExpectInputError(
+      [&] {
+        SeriesConfig given = Config();
+        FinishSeriesConfig(&given);
+        AlignSeriesFiles(given, std::vector<Surface>(3), nullptr);
+      },
+      "test: the DoDs are drawn on the epochs' raster files; give the files, not surfaces");
   // A DoD over an input is refused.
   SeriesConfig over;
   std::filesystem::copy_file(Path("e0.tif"), Path("dod/a.tif"));
   std::filesystem::copy_file(Path("e2.tif"), Path("dod/a_to_e1.tif"));
   ApplySeriesArguments({Path("dod/a.tif"), Path("e1.tif"), Path("dod/a_to_e1.tif")}, &over);
   ApplySeriesSetting("dod_dir", dir_ + "/dod", "flag '--dod_dir'", &over);
-  try {
-    FinishSeriesConfig(&over);
-    FAIL() << "a DoD over an epoch";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              "flag '--dod_dir': the DoD " + Path("dod/a_to_e1.tif") + " would be written over an epoch");
-  }
+  ExpectInputError([&] { FinishSeriesConfig(&over); },
+                   "flag '--dod_dir': the DoD " + Path("dod/a_to_e1.tif") + " would be written over an epoch");
 }
 
 }  // namespace
