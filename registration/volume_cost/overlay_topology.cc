@@ -29,10 +29,8 @@ struct OverlayTopology::Searcher {
   std::vector<int32_t> side_stamp;  // per B vertex: the search its `sides` are for
   std::vector<std::array<int8_t, 3>> sides;
   std::vector<int32_t> queue;
-  std::vector<TopologyCell> fresh;                 // cells found by Repair
-  std::vector<std::array<int64_t, 3>> fresh_runs;  // (T_A, first, count) in `fresh`
   int32_t stamp = 0;
-  TopologyStats stats;
+  TopologyStats stats;  // of the chunk it searches for
   // Current A triangle.
   const std::vector<Point2>* pb = nullptr;
   const Triangulation* mb = nullptr;
@@ -121,21 +119,36 @@ struct OverlayTopology::Searcher {
 OverlayTopology::OverlayTopology() = default;
 OverlayTopology::~OverlayTopology() = default;
 
-void OverlayTopology::SizeSearchers(const Triangulation& mesh_a, const Triangulation& mesh_b,
-                                    int64_t num_b) {
-  (void)mesh_a;
-  for (auto& s : searcher_) {
-    if (!s) s = std::make_unique<Searcher>();
-    s->Size(mesh_b.num_triangles(), num_b);
+// A searcher is scratch only (what a chunk finds does not depend on which
+// one it used): lent to one chunk at a time, as many made as ran at once.
+std::unique_ptr<OverlayTopology::Searcher> OverlayTopology::Lend(int32_t num_b_triangles, int64_t num_b_points) {
+  std::unique_ptr<Searcher> s;
+  {
+    std::lock_guard<std::mutex> lock(pool_mutex_);
+    if (!pool_.empty()) {
+      s = std::move(pool_.back());
+      pool_.pop_back();
+    }
   }
+  if (!s) s = std::make_unique<Searcher>();
+  s->Size(num_b_triangles, num_b_points);
+  return s;
 }
+
+void OverlayTopology::Return(std::unique_ptr<Searcher> s) {
+  std::lock_guard<std::mutex> lock(pool_mutex_);
+  pool_.push_back(std::move(s));
+}
+
+// Chunks of A triangles: the cells do not depend on them (each T_A's are
+// found on their own, and kept in T_A order).
+int OverlayTopology::Chunks(int32_t num_a_triangles) { return ChunksFor(num_a_triangles, 4096); }
 
 TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                                      const std::vector<Location>& a_in_b,
                                      const std::vector<Point2>& points_b, const Triangulation& mesh_b,
                                      const std::vector<Location>& b_in_a, const Execution& execution,
                                      const uint8_t* keep_a, const uint8_t* keep_b) {
-  SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
   const int32_t na = mesh_a.num_triangles();
   // The pairs that make cells, from the full overlay, by T_A.
   // The same lists on any number of threads (overlay.h): the cells' order,
@@ -188,8 +201,10 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
       count_[ta] = kept;
     }
   };
-  ForEachChunk(execution, na, 2, [&](int c, int64_t lo, int64_t hi) {
-    label(*searcher_[c], static_cast<int32_t>(lo), static_cast<int32_t>(hi));
+  ForEachChunk(execution, na, Chunks(na), [&](int, int64_t lo, int64_t hi) {
+    std::unique_ptr<Searcher> searcher = Lend(mesh_b.num_triangles(), static_cast<int64_t>(points_b.size()));
+    label(*searcher, static_cast<int32_t>(lo), static_cast<int32_t>(hi));
+    Return(std::move(searcher));
   });
   live_ = 0;
   for (int32_t t = 0; t < na; ++t) live_ += count_[t];
@@ -208,21 +223,22 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
                                       const std::vector<std::pair<int32_t, int32_t>>& seeds,
                                       const Execution& execution, const uint8_t* keep_a,
                                       const uint8_t* keep_b) {
-  SizeSearchers(mesh_a, mesh_b, static_cast<int64_t>(points_b.size()));
   const int32_t na = mesh_a.num_triangles();
-  // Reads only the old topology; writes only its own searcher.
-  auto repair = [&](Searcher& s, int32_t lo, int32_t hi) {
+  const int chunks = Chunks(na);
+  if (static_cast<int>(fresh_.size()) < chunks) fresh_.resize(static_cast<std::size_t>(chunks));
+  // Reads only the old topology; writes only its own searcher and chunk.
+  auto repair = [&](Searcher& s, Fresh& out, int32_t lo, int32_t hi) {
     s.pb = &points_b;
     s.mb = &mesh_b;
     s.keep_b = keep_b;
-    s.fresh.clear();
-    s.fresh_runs.clear();
+    out.cells.clear();
+    out.runs.clear();
     auto d = std::lower_bound(dirty.begin(), dirty.end(), lo);
     auto e = std::lower_bound(seeds.begin(), seeds.end(), std::make_pair(lo, -1));
     for (; d != dirty.end() && *d < hi; ++d) {
       const int32_t ta = *d;
       if (keep_a != nullptr && !keep_a[ta]) {  // junk: no cells, never searched
-        s.fresh_runs.push_back({ta, static_cast<int64_t>(s.fresh.size()), 0});
+        out.runs.push_back({ta, static_cast<int64_t>(out.cells.size()), 0});
         continue;
       }
       const int32_t* va = &mesh_a.triangles[3 * ta];
@@ -234,8 +250,8 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
       }
       while (e != seeds.end() && e->first < ta) ++e;
       for (; e != seeds.end() && e->first == ta; ++e) s.Push(e->second);
-      const int64_t first = static_cast<int64_t>(s.fresh.size());
-      if (!s.Run(&s.fresh)) {
+      const int64_t first = static_cast<int64_t>(out.cells.size());
+      if (!s.Run(&out.cells)) {
         // Nothing met from there: perhaps T_A only now reaches into B
         // across its hull; start from its neighbours' cells.
         for (int i = 0; i < 3; ++i) {
@@ -243,27 +259,39 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
           if (next < 0) continue;
           for (int32_t k = 0; k < count_[next]; ++k) s.Push(cells_of(next)[k].triangle_b);
         }
-        s.Run(&s.fresh);
+        s.Run(&out.cells);
       }
-      s.fresh_runs.push_back({ta, first, static_cast<int64_t>(s.fresh.size()) - first});
+      out.runs.push_back({ta, first, static_cast<int64_t>(out.cells.size()) - first});
     }
   };
-  // Two halves, on one thread or two: the fresh cells come in T_A order
-  // either way.
-  ForEachChunk(execution, na, 2, [&](int c, int64_t lo, int64_t hi) {
-    repair(*searcher_[c], static_cast<int32_t>(lo), static_cast<int32_t>(hi));
+  // The fresh cells come in T_A order, chunk after chunk, on any number of
+  // threads. A chunk with no dirty triangle needs no searcher.
+  ForEachChunk(execution, na, chunks, [&](int c, int64_t lo, int64_t hi) {
+    Fresh& out = fresh_[c];
+    out.stats = TopologyStats();
+    const auto d = std::lower_bound(dirty.begin(), dirty.end(), static_cast<int32_t>(lo));
+    if (d == dirty.end() || *d >= hi) {
+      out.cells.clear();
+      out.runs.clear();
+      return;
+    }
+    std::unique_ptr<Searcher> searcher = Lend(mesh_b.num_triangles(), static_cast<int64_t>(points_b.size()));
+    repair(*searcher, out, static_cast<int32_t>(lo), static_cast<int32_t>(hi));
+    out.stats = searcher->stats;
+    Return(std::move(searcher));
   });
   TopologyStats stats;
-  for (auto& s : searcher_) {
+  for (int c = 0; c < chunks; ++c) {
+    const Fresh& out = fresh_[c];
     const int64_t base = static_cast<int64_t>(cells_.size());
-    cells_.insert(cells_.end(), s->fresh.begin(), s->fresh.end());
-    for (const auto& run : s->fresh_runs) {
+    cells_.insert(cells_.end(), out.cells.begin(), out.cells.end());
+    for (const auto& run : out.runs) {
       live_ += run[2] - count_[run[0]];
       begin_[run[0]] = base + run[1];
       count_[run[0]] = static_cast<int32_t>(run[2]);
     }
-    stats.triangles_searched += s->stats.triangles_searched;
-    stats.pairs_tested += s->stats.pairs_tested;
+    stats.triangles_searched += out.stats.triangles_searched;
+    stats.pairs_tested += out.stats.pairs_tested;
   }
   if (static_cast<int64_t>(cells_.size()) > 2 * live_ + 4096) Compact();
   stats.cells = live_;

@@ -19,6 +19,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <utility>
 #include <vector>
 
@@ -124,11 +125,20 @@ class OverlayTopology {
   OverlayTopology& operator=(const OverlayTopology&) = delete;
 
  private:
-  struct Searcher;  // per-thread search buffers
+  struct Searcher;  // a search's buffers, one per chunk running
+  struct Fresh {    // a chunk's repaired cells
+    std::vector<TopologyCell> cells;
+    std::vector<std::array<int64_t, 3>> runs;  // (T_A, first, count) in `cells`
+    TopologyStats stats;
+  };
   void Compact();
-  void SizeSearchers(const Triangulation& mesh_a, const Triangulation& mesh_b, int64_t num_b);
+  static int Chunks(int32_t num_a_triangles);
+  std::unique_ptr<Searcher> Lend(int32_t num_b_triangles, int64_t num_b_points);
+  void Return(std::unique_ptr<Searcher> searcher);
 
-  std::unique_ptr<Searcher> searcher_[2];
+  std::mutex pool_mutex_;
+  std::vector<std::unique_ptr<Searcher>> pool_;  // searchers not lent
+  std::vector<Fresh> fresh_;                     // per chunk of Repair
   std::vector<TopologyCell> cells_;
   std::vector<TopologyCell> spare_;  // Compact's target: its room kept between calls
   std::vector<int64_t> begin_;  // per A triangle
