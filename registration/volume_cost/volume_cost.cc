@@ -252,8 +252,9 @@ void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execu
   }
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
-  Split(nb, execution, [&](int32_t lo, int32_t hi, int) {
-    for (int32_t t = lo; t < hi; ++t) {
+  // Each triangle's record on its own: any chunks.
+  ForEachChunk(execution, nb, ChunksFor(nb, 1 << 14), [&](int, int64_t lo, int64_t hi) {
+    for (int32_t t = static_cast<int32_t>(lo); t < hi; ++t) {
       const int32_t* v = &mesh_b.triangles[3 * t];
       const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
       // An edge of B's surface: the boundary term's cells (the moving part of ∂Ω).
