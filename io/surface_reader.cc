@@ -228,15 +228,22 @@ void CheckPointCount(uint64_t points, const std::string& name, const ReadOptions
            Size(static_cast<double>(limit)) + " available");
 }
 
-Surface ReadSurface(const std::string& path, const ReadOptions& options, std::string* crs) {
+Surface ReadSurface(const std::string& path, const ReadOptions& options, std::string* crs, Raster* grid) {
   using io_internal::OptionFit;
   if (crs != nullptr) crs->clear();
   const std::string ext = io_internal::Extension(path);
   if (IsRasterPath(path)) {
     io_internal::CheckOptionsFit(options, OptionFit::kOther, ext, path);
-    const Raster raster = ReadRaster(path);
+    RasterReadOptions read;
+    read.threads = options.threads;
+    Raster raster = ReadRaster(path, read);
     if (crs != nullptr) *crs = raster.crs_wkt;
-    return RasterToSurface(raster, nullptr, options.origin_step);
+    Surface surface = RasterToSurface(raster, nullptr, options.origin_step);
+    if (grid != nullptr) {
+      raster.values = {};
+      *grid = std::move(raster);
+    }
+    return surface;
   }
   if (ext == ".laz") {
     Fail(path, 0,

@@ -91,9 +91,13 @@ void CheckPointCount(uint64_t points, const std::string& name, const ReadOptions
 // used as the name in messages and as Surface::source. A non-null `crs` is
 // set to the file's CRS as text ParseCrs (terrain/geo_frame.h) reads: a LAS
 // file's WKT or "EPSG:n", a raster's WKT; "" when the file has none (the
-// other point formats never have one).
+// other point formats never have one). A raster is read on
+// options.threads threads (io/raster_io.h); a non-null `grid` then receives
+// its size, geotransform and CRS (values empty: the samples are the valid
+// cells, Surface::raster_cell), and is left untouched for other formats.
+struct Raster;
 Surface ReadSurface(const std::string& path, const ReadOptions& options = {},
-                    std::string* crs = nullptr);
+                    std::string* crs = nullptr, Raster* grid = nullptr);
 
 // One reader per format, reading `in` to its end. `name` is used in messages
 // and as Surface::source. Binary PLY needs a stream opened in binary mode.

@@ -501,6 +501,41 @@ TEST_F(RasterIoTest, ReadSurfaceReadsRastersByExtension) {
   EXPECT_EQ(ReadSurface(Path("a.TIF"), options).origin[0], 1000.0);
 }
 
+// The grid ReadSurface gives back: the raster's size, georeferencing and
+// CRS without its values, its samples' cells on it; on two threads the same
+// samples. A point file leaves it as it was.
+TEST_F(RasterIoTest, ReadSurfaceGivesTheRastersGrid) {
+  const Raster written = SampleRaster();
+  WriteGeoTiff(Path("g.tif"), written, "test");
+  const Raster read = ReadRaster(Path("g.tif"));
+  Raster grid;
+  std::string crs;
+  ReadOptions two;
+  two.threads = 2;
+  const Surface s = ReadSurface(Path("g.tif"), two, &crs, &grid);
+  EXPECT_EQ(grid.columns, read.columns);
+  EXPECT_EQ(grid.rows, read.rows);
+  EXPECT_EQ(grid.geotransform, read.geotransform);
+  EXPECT_EQ(grid.crs_wkt, read.crs_wkt);
+  EXPECT_EQ(crs, read.crs_wkt);
+  EXPECT_TRUE(grid.values.empty());
+  const Surface plain = ReadSurface(Path("g.tif"));
+  ASSERT_EQ(s.size(), plain.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    EXPECT_EQ(s.z[i], plain.z[i]);
+    const RasterCell cell = s.raster_cell[i];
+    EXPECT_EQ(s.z[i] + s.origin[2], read.values[static_cast<std::size_t>(cell.row) * read.columns + cell.column]);
+  }
+  {
+    std::ofstream out(Path("p.xyz"));
+    out << "0 0 1\n1 0 2\n0 1 3\n";
+  }
+  Raster untouched;
+  untouched.columns = 7;
+  ReadSurface(Path("p.xyz"), {}, nullptr, &untouched);
+  EXPECT_EQ(untouched.columns, 7);
+}
+
 TEST(IsRasterPathTest, Extensions) {
   for (const char* yes : {"a.tif", "b/c.TIFF", "x.vrt", "x.asc", "x.img", "x.bil", "x.hgt",
                           "N36E174.HGT", "x.dem", "x.nc", "x.gpkg", "x.flt", "a.b/c.Tif"}) {

@@ -25,18 +25,20 @@ namespace {
 // Every epoch read as `align` reads a point file or raster; their CRSs must
 // be one projected CRS (or none): the series is solved in the files' own
 // coordinates.
-std::vector<Surface> ReadEpochs(const SeriesConfig& config, std::string* units) {
+// `grids`: each raster epoch's grid (values empty), for its DoD.
+std::vector<Surface> ReadEpochs(const SeriesConfig& config, std::string* units, std::vector<Raster>* grids) {
   ReadOptions read;
   read.classes = config.classes;
   read.columns = config.columns;
   read.threads = config.options.align.num_threads;
   std::vector<Surface> epochs;
+  grids->assign(config.surfaces.size(), Raster());
   std::string first_crs_name;
   int first_crs = -1;
   for (std::size_t k = 0; k < config.surfaces.size(); ++k) {
     const std::string& path = config.surfaces[k];
     std::string crs_text;
-    epochs.push_back(ReadSurface(path, read, &crs_text));
+    epochs.push_back(ReadSurface(path, read, &crs_text, &(*grids)[k]));
     const Crs crs = ParseCrs(crs_text, path);
     if (crs.kind == CrsKind::kGeographic) {
       throw InputError(path + ": coordinates in longitude and latitude (" + crs.name +
@@ -59,31 +61,26 @@ std::vector<Surface> ReadEpochs(const SeriesConfig& config, std::string* units) 
 }
 
 // The DoD of epochs k, k + 1 on epoch k's grid: dz (later − earlier) at
-// its valid cells, which are its samples in row-major order (as
-// RasterToSurface makes them), nodata elsewhere and outside the overlap.
-void WriteDod(const SeriesConfig& config, int k, const std::vector<double>& dz, const std::string& path) {
-  const int threads = config.options.align.num_threads;
-  RasterReadOptions read;
-  read.threads = threads;
-  Raster grid = ReadRaster(config.surfaces[k], read);
-  std::size_t sample = 0;
-  for (double& value : grid.values) {
-    if (!std::isfinite(value)) continue;
-    value = sample < dz.size() ? dz[sample] : std::nan("");
-    ++sample;
+// its valid cells, which are its samples (Surface::raster_cell), nodata
+// elsewhere and outside the overlap.
+void WriteDod(const SeriesConfig& config, const Surface& earlier, Raster grid, const std::vector<double>& dz,
+              const std::string& path) {
+  if (earlier.raster_cell.empty() || grid.columns <= 0) {
+    throw InputError(config.Where("dod_dir") + ": " + earlier.source + " was not read as a raster");
   }
-  if (sample != dz.size()) {
-    throw InputError(config.surfaces[k] + ": changed while the series ran (" + std::to_string(sample) +
-                     " valid cells, " + std::to_string(dz.size()) + " samples read before)");
+  grid.values.assign(static_cast<std::size_t>(grid.columns) * static_cast<std::size_t>(grid.rows), std::nan(""));
+  for (std::size_t i = 0; i < earlier.raster_cell.size() && i < dz.size(); ++i) {
+    const RasterCell& cell = earlier.raster_cell[i];
+    grid.values[static_cast<std::size_t>(cell.row) * static_cast<std::size_t>(grid.columns) + cell.column] = dz[i];
   }
-  WriteGeoTiff(path, grid, config.Where("dod_dir"), std::max(1, threads));
+  WriteGeoTiff(path, grid, config.Where("dod_dir"), std::max(1, config.options.align.num_threads));
 }
 
 // Each epoch against the one before it, the later brought onto the earlier
 // by the joint relative motion (as `align` would): dz at the earlier
 // epoch's samples, in its frame, so that its DoD lies on its own grid.
 std::vector<ConsecutiveChange> Consecutive(const SeriesConfig& config, const std::vector<Surface>& epochs,
-                                           const SeriesResult& result) {
+                                           const std::vector<Raster>& grids, const SeriesResult& result) {
   std::vector<ConsecutiveChange> changes;
   const SeriesOptions& options = config.options;
   MeasureOptions measure;
@@ -99,7 +96,7 @@ std::vector<ConsecutiveChange> Consecutive(const SeriesConfig& config, const std
     change.measure = Measure(epochs[k], TransformSurface(epochs[k + 1], onto_from), measure);
     change.dz = ComputeDzStatistics(change.measure.dz_a, {}, ExecutionFor(measure.threads));
     change.dod = DodPath(config, static_cast<int>(k));
-    if (!change.dod.empty()) WriteDod(config, static_cast<int>(k), change.measure.dz_a, change.dod);
+    if (!change.dod.empty()) WriteDod(config, epochs[k], grids[k], change.measure.dz_a, change.dod);
     change.measure.dz_a.clear();
     change.measure.dz_b.clear();
     change.measure.node_area_a.clear();
@@ -206,12 +203,13 @@ SeriesRun AlignSeriesFiles(SeriesConfig config, std::optional<std::vector<Surfac
     throw InputError(run.config.Where("dod_dir") +
                      ": the DoDs are drawn on the epochs' raster files; give the files, not surfaces");
   }
-  run.epochs = epochs ? std::move(*epochs) : ReadEpochs(run.config, &run.units);
+  std::vector<Raster> grids(run.config.surfaces.size());  // none for surfaces given (no DoDs then)
+  run.epochs = epochs ? std::move(*epochs) : ReadEpochs(run.config, &run.units, &grids);
   SeriesOptions options = run.config.options;
   options.on_stage = on_stage;
   run.result = AlignSeries(run.epochs, options);
   if (on_stage) on_stage("measuring consecutive epochs");
-  run.consecutive = Consecutive(run.config, run.epochs, run.result);
+  run.consecutive = Consecutive(run.config, run.epochs, grids, run.result);
   for (std::size_t k = 0; k < run.epochs.size(); ++k) {
     const std::string path = AlignedEpochPath(run.config, static_cast<int>(k));
     if (path.empty()) continue;
