@@ -2,6 +2,7 @@
 // registration/volume_cost/volume_hessian.h over the overlay the cache keeps, cell by
 // cell as the scalar kernel walks them (volume_cost_integrate.cc).
 #include <cmath>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -197,19 +198,20 @@ Matrix6 VolumeCostCache::InteriorHessian(const PairState& s, const Execution& ex
   }
   const int32_t na = m.reference->mesh.num_triangles();
   const bool weighted = !m.weight_a.empty();
-  Matrix6 parts[2] = {Matrix6::Zero(), Matrix6::Zero()};
-  auto run = [&](int32_t lo, int32_t hi, int part) {
+  // Chunks of A's triangles (bounds from its size only), summed in order:
+  // the same sum on any number of threads.
+  const int chunks = ChunksFor(na, 4096);
+  std::vector<Matrix6> parts(static_cast<std::size_t>(chunks), Matrix6::Zero());
+  ForEachChunk(execution, na, chunks, [&](int part, int64_t lo, int64_t hi) {
     if (weighted) {
-      m.Curvature<true>(s, lo, hi, &parts[part]);
+      m.Curvature<true>(s, static_cast<int32_t>(lo), static_cast<int32_t>(hi), &parts[part]);
     } else {
-      m.Curvature<false>(s, lo, hi, &parts[part]);
+      m.Curvature<false>(s, static_cast<int32_t>(lo), static_cast<int32_t>(hi), &parts[part]);
     }
-  };
-  // The same halves on one thread: the sum does not depend on the thread count.
-  ForEachChunk(execution, na, 2, [&](int part, int64_t lo, int64_t hi) {
-    run(static_cast<int32_t>(lo), static_cast<int32_t>(hi), part);
   });
-  return parts[0] + parts[1];
+  Matrix6 total = parts[0];
+  for (int c = 1; c < chunks; ++c) total += parts[c];
+  return total;
 }
 
 }  // namespace surfreg
