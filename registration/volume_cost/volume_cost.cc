@@ -179,6 +179,10 @@ void Split(int32_t n, const Execution& execution, F&& f) {
   });
 }
 
+// The interior gradient's chunks of B triangles (bounds from their count
+// only: the same sum on any number of threads).
+int GradientChunks(int32_t num_b_triangles) { return ChunksFor(num_b_triangles, 4096); }
+
 void AddInto(const VolumeCostValue& v, VolumeCostValue* total) {
   total->abs += v.abs;
   total->area += v.area;
@@ -248,6 +252,7 @@ void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execu
   extra_b.resize(nb);
   if (binning) {
     bin_of_b.resize(nb);
+    part_bins.resize(static_cast<std::size_t>(std::max(2, GradientChunks(nb))));
     for (PartBins& part : part_bins) part.Reset(bins->n * bins->n);
   }
   const auto& xy = s.moved_xy();
@@ -278,10 +283,12 @@ void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, const Execut
   const auto& xy = s.moved_xy();
   const auto& q = s.moved_q();
   const Eigen::Matrix3d mt = s.derivative().m.transpose();
-  Eigen::Vector3d rotation[2], translation[2];
-  Split(mesh_b.num_triangles(), execution, [&](int32_t lo, int32_t hi, int part) {
+  const int32_t nb = mesh_b.num_triangles();
+  const int chunks = GradientChunks(nb);
+  gradient_parts.resize(static_cast<std::size_t>(chunks));
+  ForEachChunk(execution, nb, chunks, [&](int part, int64_t lo, int64_t hi) {
     Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
-    for (int32_t t = lo; t < hi; ++t) {
+    for (int32_t t = static_cast<int32_t>(lo); t < hi; ++t) {
       Moment& m0 = moments[0][t];
       double w = m0.w, cx = m0.x, cy = m0.y;
       m0 = {0.0, 0.0, 0.0};
@@ -304,8 +311,7 @@ void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, const Execut
         part_bins[part].used[b] = 1;
       }
     }
-    rotation[part] = r;
-    translation[part] = tr;
+    gradient_parts[part] = {r, tr};
   });
   if (binning) {
     for (const PartBins& part : part_bins) {
@@ -317,8 +323,10 @@ void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, const Execut
       }
     }
   }
-  total->d_abs.head<3>() -= mt * (rotation[0] + rotation[1]);
-  total->d_abs.tail<3>() += translation[0] + translation[1];
+  Eigen::Vector3d rotation = gradient_parts[0].first, translation = gradient_parts[0].second;
+  for (int c = 1; c < chunks; ++c) rotation += gradient_parts[c].first, translation += gradient_parts[c].second;
+  total->d_abs.head<3>() -= mt * rotation;
+  total->d_abs.tail<3>() += translation;
 }
 
 VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, const Execution& execution,

@@ -157,10 +157,12 @@ struct VolumeCostCache::Impl {
   // P of its cells (s = sign of d on P, c its centroid, p0 T_B's corner 0):
   // all the gradient needs of the interior, as ∂_θF̂_B' is affine on T_B.
   std::vector<volume_internal::Moment> moments[2];
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> gradient_parts;  // AddInteriorGradient's per chunk
   volume_internal::CellKernel cell_kernel = volume_internal::CellKernel::kScalar;
   // With GradientBins: each moved B triangle's bin, and each thread's shares.
   std::vector<int32_t> bin_of_b;
-  volume_internal::PartBins part_bins[2];
+  // (Parts 0 and 1: the integration's halves, then AddInteriorGradient's chunks.)
+  std::vector<volume_internal::PartBins> part_bins;
   bool binning = false;
   volume_internal::HullSink SinkFor(volume_internal::VolumeAccumulator* boundary, int part) {
     return {boundary, bin_of_b.data(), binning ? &part_bins[part] : nullptr};
