@@ -168,20 +168,9 @@ const VolumeCostCacheStats& VolumeCostCache::stats() const { return impl_->stats
 
 namespace {
 
-// Runs f(lo, hi, part) over the two halves of [0, n), side by side or one
-// after the other: the same split either way, so sums made per part and
-// added in order do not depend on the thread count. Two parts, not more:
-// each keeps a moment per B triangle (moments[part]).
-template <class F>
-void Split(int32_t n, const Execution& execution, F&& f) {
-  ForEachChunk(execution, n, 2, [&](int part, int64_t lo, int64_t hi) {
-    f(static_cast<int32_t>(lo), static_cast<int32_t>(hi), part);
-  });
-}
-
-// The interior gradient's chunks of B triangles (bounds from their count
-// only: the same sum on any number of threads).
-int GradientChunks(int32_t num_b_triangles) { return ChunksFor(num_b_triangles, 4096); }
+// The integration's chunks of A's triangles (bounds from their count only:
+// the same sums on any number of threads).
+int IntegrationChunks(int32_t num_a_triangles) { return ChunksFor(num_a_triangles, 4096); }
 
 void AddInto(const VolumeCostValue& v, VolumeCostValue* total) {
   total->abs += v.abs;
@@ -244,19 +233,23 @@ bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, const Execution& 
   return true;
 }
 
-// ∇F̂_B' and the hull bit on each moved B triangle (and its bin).
-void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execution& execution, const GradientBins* bins) {
+// ∇F̂_B' and the hull bit on each moved B triangle (and its bin), and with
+// `gradient` its InteriorRow; `chunks` bins' shares with bins.
+void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execution& execution, bool gradient,
+                                                 int chunks, const GradientBins* bins) {
   const Triangulation& mesh_b = s.moving_mesh();
   const int32_t nb = mesh_b.num_triangles();
   record_b.resize(nb);
   extra_b.resize(nb);
+  if (gradient) interior_b.resize(nb);
   if (binning) {
     bin_of_b.resize(nb);
-    part_bins.resize(static_cast<std::size_t>(std::max(2, GradientChunks(nb))));
+    part_bins.resize(static_cast<std::size_t>(chunks));
     for (PartBins& part : part_bins) part.Reset(bins->n * bins->n);
   }
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
+  const auto& q = s.moved_q();
   // Each triangle's record on its own: any chunks.
   ForEachChunk(execution, nb, ChunksFor(nb, 1 << 14), [&](int, int64_t lo, int64_t hi) {
     for (int32_t t = static_cast<int32_t>(lo); t < hi; ++t) {
@@ -270,63 +263,38 @@ void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execu
         bin_of_b[t] = bins->Index((xy[v[0]].x + xy[v[1]].x + xy[v[2]].x) / 3,
                                   (xy[v[0]].y + xy[v[1]].y + xy[v[2]].y) / 3);
       }
+      if (!gradient) continue;
+      // q = q0 + v x' + z y' on T_B ((x', y') from its corner 0): from the
+      // inverse of its edge matrix. A flat triangle has no cells of area.
+      const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
+      const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
+      const double det = ax * by - ay * bx;
+      const Eigen::Vector3d q1 = q[v[1]] - q[v[0]], q2 = q[v[2]] - q[v[0]];
+      const Eigen::Vector3d dx = det != 0 ? Eigen::Vector3d((by * q1 - ay * q2) / det) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d dy = det != 0 ? Eigen::Vector3d((ax * q2 - bx * q1) / det) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d normal(-g.gx, -g.gy, 1.0);
+      InteriorRow& row = interior_b[t];
+      Eigen::Map<Eigen::Vector3d>(row.q0) = normal.cross(q[v[0]]);
+      Eigen::Map<Eigen::Vector3d>(row.v) = normal.cross(dx);
+      Eigen::Map<Eigen::Vector3d>(row.z) = normal.cross(dy);
     }
   });
 }
 
-// The interior gradient from each B triangle's moments (zeroed for the next
-// call): with q affine on T_B, Σ s|P| q(c) = W q0 + Q C; rows as
-// VolumeAccumulator::AddPart. Each triangle's share also to its bin.
-void VolumeCostCache::Impl::AddInteriorGradient(const PairState& s, const Execution& execution, GradientBins* bins,
-                                                VolumeCostValue* total) {
-  const Triangulation& mesh_b = s.moving_mesh();
-  const auto& xy = s.moved_xy();
-  const auto& q = s.moved_q();
-  const Eigen::Matrix3d mt = s.derivative().m.transpose();
-  const int32_t nb = mesh_b.num_triangles();
-  const int chunks = GradientChunks(nb);
-  gradient_parts.resize(static_cast<std::size_t>(chunks));
-  ForEachChunk(execution, nb, chunks, [&](int part, int64_t lo, int64_t hi) {
-    Eigen::Vector3d r = Eigen::Vector3d::Zero(), tr = Eigen::Vector3d::Zero();
-    for (int32_t t = static_cast<int32_t>(lo); t < hi; ++t) {
-      Moment& m0 = moments[0][t];
-      double w = m0.w, cx = m0.x, cy = m0.y;
-      m0 = {0.0, 0.0, 0.0};
-      Moment& m1 = moments[1][t];
-      w += m1.w, cx += m1.x, cy += m1.y;
-      m1 = {0.0, 0.0, 0.0};
-      if (w == 0 && cx == 0 && cy == 0) continue;
-      const int32_t* v = &mesh_b.triangles[3 * t];
-      const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
-      const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
-      const double det = ax * by - ay * bx;
-      const double l1 = (by * cx - bx * cy) / det, l2 = (ax * cy - ay * cx) / det;
-      const Eigen::Vector3d sum = w * q[v[0]] + l1 * (q[v[1]] - q[v[0]]) + l2 * (q[v[2]] - q[v[0]]);
-      const Eigen::Vector3d normal(-record_b[t].gx, -record_b[t].gy, 1.0);
-      r += normal.cross(sum);
-      tr += w * normal;
-      if (binning) {
-        const int32_t b = bin_of_b[t];
-        part_bins[part].d_abs[b] += (Vector6() << -mt * normal.cross(sum), w * normal).finished();
-        part_bins[part].used[b] = 1;
-      }
-    }
-    gradient_parts[part] = {r, tr};
-  });
-  if (binning) {
-    for (const PartBins& part : part_bins) {
-      for (std::size_t b = 0; b < part.used.size(); ++b) {
-        if (!part.used[b]) continue;
-        bins->d_abs[b] += part.d_abs[b];
-        bins->d_area[b] += part.d_area[b];
-        bins->used[b] = 1;
-      }
+// Each chunk's bins into `bins`: the boundary term's shares, and the
+// interior sums under the motion's −Mᵀ (rows as VolumeAccumulator::AddPart).
+void VolumeCostCache::Impl::MergeBins(const Eigen::Matrix3d& mt, GradientBins* bins) const {
+  for (const PartBins& part : part_bins) {
+    for (std::size_t b = 0; b < part.used.size(); ++b) {
+      if (!part.used[b]) continue;
+      const double* sums = &part.interior[6 * b];
+      Vector6 interior;
+      interior << -mt * Eigen::Vector3d(sums[0], sums[1], sums[2]), sums[3], sums[4], sums[5];
+      bins->d_abs[b] += part.d_abs[b] + interior;
+      bins->d_area[b] += part.d_area[b];
+      bins->used[b] = 1;
     }
   }
-  Eigen::Vector3d rotation = gradient_parts[0].first, translation = gradient_parts[0].second;
-  for (int c = 1; c < chunks; ++c) rotation += gradient_parts[c].first, translation += gradient_parts[c].second;
-  total->d_abs.head<3>() -= mt * rotation;
-  total->d_abs.tail<3>() += translation;
 }
 
 VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, const Execution& execution,
@@ -349,36 +317,56 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, con
     m.stats.cells += plain.cells;
     return plain;
   }
-  VolumeCostValue parts[2];
+  const int chunks = IntegrationChunks(na);
+  m.chunk_values.resize(static_cast<std::size_t>(chunks));
+  // Per chunk, then added in chunk order: the same on any number of threads.
+  const auto sum_chunks = [&m, chunks](volume_internal::InteriorSums* interior) {
+    VolumeCostValue total = m.chunk_values[0].value;
+    for (int c = 1; c < chunks; ++c) AddInto(m.chunk_values[c].value, &total);
+    if (interior == nullptr) return total;
+    *interior = m.chunk_values[0].interior;
+    for (int c = 1; c < chunks; ++c) {
+      for (int k = 0; k < 3; ++k) {
+        interior->rotation[k] += m.chunk_values[c].interior.rotation[k];
+        interior->translation[k] += m.chunk_values[c].interior.translation[k];
+      }
+    }
+    return total;
+  };
   if (mask != nullptr) {
-    Split(na, execution, [&](int32_t lo, int32_t hi, int part) {
-      m.Generic(s, gradient, mask, lo, hi, &parts[part]);
+    ForEachChunk(execution, na, chunks, [&](int part, int64_t lo, int64_t hi) {
+      m.Generic(s, gradient, mask, static_cast<int32_t>(lo), static_cast<int32_t>(hi), &m.chunk_values[part].value);
     });
-    AddInto(parts[1], &parts[0]);
-    m.stats.cells += parts[0].cells;
-    return parts[0];
+    const VolumeCostValue total = sum_chunks(nullptr);
+    m.stats.cells += total.cells;
+    return total;
   }
   const bool weighted = !m.reference->weight.empty();
   const CellKernel kernel = m.cell_kernel;  // a vector kernel where the CPU has one (weighted or not)
   // Weights added or dropped since Bind: their planes again.
   if (m.weight_a.size() != (weighted ? static_cast<std::size_t>(na) : 0u)) m.BindWeights();
-  m.RecordMovedTriangles(s, execution, bins);
-  if (gradient) {
-    for (auto& moment : m.moments) moment.resize(s.moving_mesh().num_triangles(), Moment{0.0, 0.0, 0.0});
-  }
-  Split(na, execution, [&](int32_t lo, int32_t hi, int part) {
+  m.RecordMovedTriangles(s, execution, gradient, chunks, bins);
+  ForEachChunk(execution, na, chunks, [&](int part, int64_t begin, int64_t end) {
+    const int32_t lo = static_cast<int32_t>(begin), hi = static_cast<int32_t>(end);
+    ChunkValue* out = &m.chunk_values[part];
     if (kernel != CellKernel::kScalar) {
-      m.IntegrateSimd(kernel, s, gradient, lo, hi, part, &parts[part]);
+      m.IntegrateSimd(kernel, s, gradient, lo, hi, part, out);
     } else if (weighted) {
-      m.Integrate<true>(s, gradient, lo, hi, part, &parts[part]);
+      m.Integrate<true>(s, gradient, lo, hi, part, out);
     } else {
-      m.Integrate<false>(s, gradient, lo, hi, part, &parts[part]);
+      m.Integrate<false>(s, gradient, lo, hi, part, out);
     }
   });
-  AddInto(parts[1], &parts[0]);
-  VolumeCostValue total = parts[0];
+  volume_internal::InteriorSums interior;
+  VolumeCostValue total = sum_chunks(gradient ? &interior : nullptr);
   m.stats.cells += total.cells;
-  if (gradient) m.AddInteriorGradient(s, execution, bins, &total);
+  if (gradient) {
+    // ∂/∂θ of the interior: −Mᵀ (n × Σ s∫μq) for the rotation, Σ s∫μ n for the translation.
+    const Eigen::Matrix3d mt = s.derivative().m.transpose();
+    total.d_abs.head<3>() -= mt * Eigen::Vector3d(interior.rotation[0], interior.rotation[1], interior.rotation[2]);
+    total.d_abs.tail<3>() += Eigen::Vector3d(interior.translation[0], interior.translation[1], interior.translation[2]);
+    if (m.binning) m.MergeBins(mt, bins);
+  }
   return total;
 }
 

@@ -90,8 +90,9 @@ struct VolumeCostCacheStats {
 // EvaluateVolumeCost's (never slower than it) and the overlay is kept for
 // the pose it was made at (a solver often returns near it); when the next
 // call is at another pose and again too far, it is built whole. Same value
-// and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); in
-// two fixed halves on one thread or more, so the same bits on any number. Unmasked
+// and gradient as EvaluateVolumeCost up to rounding (≈1e-13 relative); by
+// fixed chunks of A's triangles added in order, so the same bits on any
+// number of threads. Unmasked
 // cells are integrated by a vector kernel on CPUs with AVX-512 or AVX2 +
 // FMA (run-time check), or the one `kernel` names, for comparison and tests
 // (one the CPU cannot run: a warning and the best it can).

@@ -34,15 +34,34 @@ inline PackedLocation Pack(const Location& l) { return {l.triangle, l.where, l.i
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 
-// One thread's gradient shares per bin (GradientBins), merged at the end.
+// One chunk's gradient shares per bin (GradientBins), merged at the end:
+// the boundary term's, and the interior sums (6 per bin, as InteriorSums).
 struct PartBins {
   std::vector<Vector6> d_abs, d_area;
+  std::vector<double> interior;
   std::vector<uint8_t> used;
   void Reset(int n) {
     d_abs.assign(n, Vector6::Zero());
     d_area.assign(n, Vector6::Zero());
+    interior.assign(6 * static_cast<std::size_t>(n), 0.0);
     used.assign(n, 0);
   }
+};
+
+// One cell's interior share (InteriorRow) into 6 sums (as InteriorSums): its
+// sign parts' W = Σ s∫μ, (X, Y) = Σ s∫μ(x − p0), on a B triangle with ∇F̂ g.
+inline void AddInteriorShare(const InteriorRow& row, double gx, double gy, double w, double x, double y,
+                             double* rotation, double* translation) {
+  for (int k = 0; k < 3; ++k) rotation[k] += (w * row.q0[k] + x * row.v[k]) + y * row.z[k];
+  translation[0] -= w * gx;
+  translation[1] -= w * gy;
+  translation[2] += w;
+}
+
+// A chunk's integrals (its own cache line: chunks run side by side).
+struct alignas(64) ChunkValue {
+  VolumeCostValue value;
+  InteriorSums interior;
 };
 
 // Where a hull B triangle's cells put their boundary term: the accumulator,
@@ -153,15 +172,14 @@ struct VolumeCostCache::Impl {
   std::vector<uint8_t> mark;
   std::vector<int32_t> dirty, changed_a, changed_b;  // changed: MarkDirty's vertices that moved
   std::vector<std::pair<int32_t, int32_t>> seeds;
-  // Per thread and B triangle: Σ s|P| and Σ s|P|(c − p0) over the sign parts
-  // P of its cells (s = sign of d on P, c its centroid, p0 T_B's corner 0):
-  // all the gradient needs of the interior, as ∂_θF̂_B' is affine on T_B.
-  std::vector<volume_internal::Moment> moments[2];
-  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> gradient_parts;  // AddInteriorGradient's per chunk
+  // Per moved B triangle, what its cells' interior gradient shares are made
+  // of (InteriorRow: ∂_θF̂_B' is affine on T_B); with `gradient` only.
+  std::vector<volume_internal::InteriorRow> interior_b;
+  // The integration's per chunk of A's triangles, added in chunk order.
+  std::vector<volume_internal::ChunkValue> chunk_values;
   volume_internal::CellKernel cell_kernel = volume_internal::CellKernel::kScalar;
-  // With GradientBins: each moved B triangle's bin, and each thread's shares.
+  // With GradientBins: each moved B triangle's bin, and each chunk's shares.
   std::vector<int32_t> bin_of_b;
-  // (Parts 0 and 1: the integration's halves, then AddInteriorGradient's chunks.)
   std::vector<volume_internal::PartBins> part_bins;
   bool binning = false;
   volume_internal::HullSink SinkFor(volume_internal::VolumeAccumulator* boundary, int part) {
@@ -172,16 +190,17 @@ struct VolumeCostCache::Impl {
   void BindWeights();
   void MarkDirty(const PairState& s, const Execution& execution);
   bool UpdateTopology(const PairState& s, const Execution& execution);
-  void RecordMovedTriangles(const PairState& s, const Execution& execution, const GradientBins* bins);
-  void AddInteriorGradient(const PairState& s, const Execution& execution, GradientBins* bins, VolumeCostValue* total);
+  void RecordMovedTriangles(const PairState& s, const Execution& execution, bool gradient, int chunks,
+                            const GradientBins* bins);
+  void MergeBins(const Eigen::Matrix3d& mt, GradientBins* bins) const;
   // Calls visit(const PosedCell&) for every cell of A's triangles [lo, hi).
   template <bool kWeighted, class Visit>
   void ForEachPosedCell(const PairState& s, int32_t lo, int32_t hi, Visit&& visit) const;
   template <bool kWeighted>
   void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
-                 VolumeCostValue* out);
+                 volume_internal::ChunkValue* out);
   void IntegrateSimd(volume_internal::CellKernel kernel, const PairState& s, bool gradient, int32_t lo, int32_t hi,
-                     int part, VolumeCostValue* out);
+                     int part, volume_internal::ChunkValue* out);
   void Generic(const PairState& s, bool gradient, const MaskRegion* mask,
                int32_t lo, int32_t hi, VolumeCostValue* out);
   template <bool kWeighted>
@@ -252,7 +271,8 @@ using volume_internal::CellKernel;
 using volume_internal::ForEachCellOfState;
 using volume_internal::StateChunks;
 using volume_internal::Gradient2;
-using volume_internal::Moment;
+using volume_internal::ChunkValue;
+using volume_internal::InteriorRow;
 using volume_internal::TriangleExtra;
 using volume_internal::TriangleRecord;
 

@@ -10,17 +10,24 @@ namespace surfreg {
 
 using volume_internal::HullSink;
 
+namespace {
+// A cell's Σ s∫_P μ and Σ s∫_P μ(x − p0) over its sign parts P.
+struct CellMoment {
+  double w = 0, x = 0, y = 0;
+};
+}  // namespace
+
 // One cell's integrals from its n corners (relative to T_B's corner 0, d
 // and μ there; d within [d_lo, d_hi]): the whole cell when d keeps one sign
 // on it, else its parts where d ≥ 0 and d ≤ 0. Adds ∫μ|d| and ∫μ, and with
-// `gradient` the cell's Moment to T_B's.
+// `gradient` its CellMoment to `moment`.
 template <bool kWeighted>
 inline void AddCell(const double* x, const double* y, const double* d, const double* m, int n, double d_lo,
-                    double d_hi, bool gradient, double* abs, double* area_sum, Moment* moment) {
+                    double d_hi, bool gradient, double* abs, double* area_sum, CellMoment* moment) {
   auto add = [&](const FanSums& f, double sign) {
     *abs += std::max(0.0, sign * f.wd);  // ∫_P μ|d|
     if (!gradient) return;
-    Moment& m3 = *moment;
+    CellMoment& m3 = *moment;
     m3.w += sign * f.w;
     m3.x += sign * f.wx;
     m3.y += sign * f.wy;
@@ -69,41 +76,56 @@ inline void AddCell(const double* x, const double* y, const double* d, const dou
 }
 
 // The unmasked cost over the cells of A's triangles [lo, hi): as
-// VolumeAccumulator, but the interior gradient is left in `moments`.
+// VolumeAccumulator, but the interior gradient as InteriorSums (each cell's
+// share from its B triangle's InteriorRow).
 // d = F̂_B' − F_A is linear on a cell, and so is μ (fixed with A's triangle);
 // most cells lie on one side of d = 0, so that case takes one pass over the
 // corners; only the cells d = 0 crosses are split into their two sign parts.
 template <bool kWeighted>
 void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi,
-                                      int part, VolumeCostValue* out) {
+                                      int part, ChunkValue* out) {
   const TriangleExtra* extras_b = extra_b.data();
-  Moment* moment = moments[part].data();
   VolumeAccumulator boundary(s, gradient, nullptr);
   HullSink sink = SinkFor(&boundary, part);
+  volume_internal::PartBins* bins = binning ? &part_bins[part] : nullptr;
+  volume_internal::InteriorSums interior;
   OverlayCell cell;
   double abs = 0, area_sum = 0;
   int64_t cells = 0;
   ForEachPosedCell<kWeighted>(s, lo, hi, [&](const PosedCell& c) {
     ++cells;
-    AddCell<kWeighted>(c.x, c.y, c.d, c.m, c.n, c.d_lo, c.d_hi, gradient, &abs, &area_sum, &moment[c.tb]);
-    if (gradient && (extras_b[c.tb].bits & volume_internal::kHullBit) != 0) {
+    CellMoment moment;
+    AddCell<kWeighted>(c.x, c.y, c.d, c.m, c.n, c.d_lo, c.d_hi, gradient, &abs, &area_sum, &moment);
+    if (!gradient) return;
+    const InteriorRow& row = interior_b[c.tb];
+    const double gx = record_b[c.tb].gx, gy = record_b[c.tb].gy;
+    volume_internal::AddInteriorShare(row, gx, gy, moment.w, moment.x, moment.y, interior.rotation,
+                                      interior.translation);
+    if (bins != nullptr) {
+      const int32_t b = bin_of_b[c.tb];
+      double* sums = &bins->interior[6 * static_cast<std::size_t>(b)];
+      volume_internal::AddInteriorShare(row, gx, gy, moment.w, moment.x, moment.y, sums, sums + 3);
+      bins->used[b] = 1;
+    }
+    if ((extras_b[c.tb].bits & volume_internal::kHullBit) != 0) {
       cell.triangle_a = c.ta;
       cell.triangle_b = c.tb;
       cell.num_vertices = c.n;
       sink.Add(cell);
     }
   });
-  out->abs = abs;
-  out->area = area_sum;
-  out->cells = cells;
-  out->d_abs = boundary.value.d_abs;
-  out->d_area = boundary.value.d_area;
+  out->value.abs = abs;
+  out->value.area = area_sum;
+  out->value.cells = cells;
+  out->value.d_abs = boundary.value.d_abs;
+  out->value.d_area = boundary.value.d_area;
+  out->interior = interior;
 }
 
 // As Integrate<kWeighted>, vectorized across cells by `kernel`
 // (volume_kernel_simd.h); the hull cells' boundary term stays scalar.
 void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s, bool gradient,
-                                          int32_t lo, int32_t hi, int part, VolumeCostValue* out) {
+                                          int32_t lo, int32_t hi, int part, ChunkValue* out) {
   VolumeAccumulator boundary(s, gradient, nullptr);
   HullSink sink = SinkFor(&boundary, part);
   volume_internal::CellKernelInput in;
@@ -113,6 +135,11 @@ void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s,
   in.record_a = record_a.data(), in.extra_a = extra_a.data();
   in.weight_a = weight_a.empty() ? nullptr : weight_a.data();
   in.record_b = record_b.data(), in.extra_b = extra_b.data();
+  in.interior_b = interior_b.data();
+  if (binning) {
+    volume_internal::PartBins& bins = part_bins[part];
+    in.bins = {bin_of_b.data(), bins.interior.data(), bins.used.data()};
+  }
   in.context = &sink;
   in.on_hull = [](void* context, int32_t ta, int32_t tb, int n) {
     OverlayCell cell;  // rare: a hull B triangle's cells only
@@ -122,13 +149,13 @@ void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s,
     static_cast<HullSink*>(context)->Add(cell);
   };
   volume_internal::CellKernelOutput result;
-  volume_internal::IntegrateCellsSimd(kernel, in, lo, hi, gradient,
-                                      gradient ? moments[part].data() : nullptr, &result);
-  out->abs = result.abs;
-  out->area = result.area;
-  out->cells = result.cells;
-  out->d_abs = boundary.value.d_abs;
-  out->d_area = boundary.value.d_area;
+  volume_internal::IntegrateCellsSimd(kernel, in, lo, hi, gradient, &result);
+  out->value.abs = result.abs;
+  out->value.area = result.area;
+  out->value.cells = result.cells;
+  out->value.d_abs = boundary.value.d_abs;
+  out->value.d_area = boundary.value.d_area;
+  out->interior = result.interior;
 }
 
 // A mask: every cell through the full path's accumulator (which also takes weights).
@@ -164,8 +191,8 @@ void VolumeCostCache::Impl::Generic(const PairState& s, bool gradient,
 }
 
 template void VolumeCostCache::Impl::Integrate<true>(const PairState&, bool, int32_t, int32_t, int,
-                                                     VolumeCostValue*);
+                                                     ChunkValue*);
 template void VolumeCostCache::Impl::Integrate<false>(const PairState&, bool, int32_t, int32_t, int,
-                                                      VolumeCostValue*);
+                                                      ChunkValue*);
 
 }  // namespace surfreg

@@ -102,8 +102,8 @@ namespace surfreg {
 namespace volume_internal {
 
 void IntegrateCellsAvx512(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
-                          Moment* moment, CellKernelOutput* out) {
-  IntegrateCells<Avx512>(in, lo, hi, gradient, moment, out);
+                          CellKernelOutput* out) {
+  IntegrateCells<Avx512>(in, lo, hi, gradient, out);
 }
 
 }  // namespace volume_internal

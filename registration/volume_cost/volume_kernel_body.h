@@ -297,31 +297,57 @@ inline void Crossing(const BatchEdges<V>& e, typename V::M i1, typename V::M i2,
   *cy = ry + t * (sy - ry);
 }
 
-// A batch's sums into the totals and its cells' moments into their B
-// triangles'; the hull cells' boundary term.
+// Run's sums over its batches: ∫μ|d| and ∫μ per lane, and the interior
+// sums (InteriorSums): Σw, Σw∇F̂_B' per lane, the rotation's in lane order.
+template <class V>
+struct RunSums {
+  typename V::D abs, area, w, w_gx, w_gy;
+  double rotation[3];
+};
+
+// A batch's sums into Run's and its cells' interior shares (InteriorRow)
+// into the rotation's sum (and their bins'); the hull cells' boundary term.
 template <class V, bool kGradient, bool kWeighted>
 inline void AddBatch(const CellKernelInput& in, const Gathered<V>& g, const Batch<V>& batch, const CellSums<V>& c,
-                     typename V::D* total_abs, typename V::D* total_area, Moment* moment) {
+                     RunSums<V>* sums) {
   using D = typename V::D;
   using M = typename V::M;
   const D zero = V::Zero(), half = V::Set(0.5);
   const M active = V::FirstLanes(batch.size);
-  // As the scalar kernel: every cell's area (∫μ); ∫μ|d| and the moments of
-  // the cells of positive area only.
+  // As the scalar kernel: every cell's area (∫μ); ∫μ|d| and the interior
+  // shares of the cells of positive area only.
   const M valid = V::And(V::Gt(c.twice, zero), active);
-  *total_abs = V::Blend(valid, *total_abs, *total_abs + V::Max(c.abs, zero));
-  *total_area = V::Blend(active, *total_area, *total_area + (kWeighted ? c.mu : c.twice * half));
+  sums->abs = V::Blend(valid, sums->abs, sums->abs + V::Max(c.abs, zero));
+  sums->area = V::Blend(active, sums->area, sums->area + (kWeighted ? c.mu : c.twice * half));
   if (kGradient) {
-    alignas(64) double w[V::kLanes], mx[V::kLanes], my[V::kLanes];
-    V::Store(w, V::MaskZ(valid, c.w));
+    const D w = V::MaskZ(valid, c.w);
+    sums->w = sums->w + w;
+    sums->w_gx = sums->w_gx + w * g.fb_x;
+    sums->w_gy = sums->w_gy + w * g.fb_y;
+    alignas(64) double wl[V::kLanes], mx[V::kLanes], my[V::kLanes];
+    V::Store(wl, w);
     V::Store(mx, V::MaskZ(valid, c.mx));
     V::Store(my, V::MaskZ(valid, c.my));
-    // Scalar scatter: lanes may share a B triangle.
     for (int l = 0; l < batch.size; ++l) {
-      Moment& sums = moment[batch.tb[l]];
-      sums.w += w[l];
-      sums.x += mx[l];
-      sums.y += my[l];
+      const InteriorRow& row = in.interior_b[batch.tb[l]];
+      for (int k = 0; k < 3; ++k) {
+        sums->rotation[k] += (wl[l] * row.q0[k] + mx[l] * row.v[k]) + my[l] * row.z[k];
+      }
+    }
+    if (in.bins.sums != nullptr) {  // rare: the sandwich's σ
+      alignas(64) double gx[V::kLanes], gy[V::kLanes];
+      V::Store(gx, g.fb_x);
+      V::Store(gy, g.fb_y);
+      for (int l = 0; l < batch.size; ++l) {
+        const InteriorRow& row = in.interior_b[batch.tb[l]];
+        const int32_t b = in.bins.bin_of_b[batch.tb[l]];
+        double* bin = in.bins.sums + 6 * static_cast<int64_t>(b);
+        for (int k = 0; k < 3; ++k) bin[k] += (wl[l] * row.q0[k] + mx[l] * row.v[k]) + my[l] * row.z[k];
+        bin[3] -= wl[l] * gx[l];
+        bin[4] -= wl[l] * gy[l];
+        bin[5] += wl[l];
+        in.bins.used[b] = 1;
+      }
     }
     // The hull cells' boundary term (scalar, rare).
     for (unsigned hull = V::Bits(V::And(g.hull, active)); hull != 0; hull &= hull - 1) {
@@ -336,8 +362,7 @@ inline void AddBatch(const CellKernelInput& in, const Gathered<V>& g, const Batc
 // every cell), then the fan integrals. kSlots: the corner count of every
 // lane, or 0 for the batch's largest (shorter lanes padded).
 template <class V, bool kGradient, bool kWeighted, int kSlots>
-inline void RunBatch(const CellKernelInput& in, const Gathered<V>& g, const Batch<V>& batch,
-                     typename V::D* total_abs, typename V::D* total_area, Moment* moment) {
+inline void RunBatch(const CellKernelInput& in, const Gathered<V>& g, const Batch<V>& batch, RunSums<V>* sums) {
   using D = typename V::D;
   using M = typename V::M;
   const D* ax = g.ax;
@@ -394,12 +419,11 @@ inline void RunBatch(const CellKernelInput& in, const Gathered<V>& g, const Batc
     }
     xp = x, yp = y, dp = d;
   }
-  AddBatch<V, kGradient, kWeighted>(in, g, batch, c, total_abs, total_area, moment);
+  AddBatch<V, kGradient, kWeighted>(in, g, batch, c, sums);
 }
 
 template <class V, bool kGradient, bool kWeighted, int kSlots>
-void Flush(const CellKernelInput& in, Batch<V>* batch, typename V::D* total_abs,
-           typename V::D* total_area, Moment* moment) {
+void Flush(const CellKernelInput& in, Batch<V>* batch, RunSums<V>* sums) {
   if (batch->size > 0) {
     // Idle lanes (the last batch only) repeat lane 0, masked out of the sums.
     for (int l = batch->size; l < V::kLanes; ++l) {
@@ -415,7 +439,7 @@ void Flush(const CellKernelInput& in, Batch<V>* batch, typename V::D* total_abs,
     }
     Gathered<V> g;
     GatherBatch<V>(in, *batch, &g);
-    RunBatch<V, kGradient, kWeighted, kSlots>(in, g, *batch, total_abs, total_area, moment);
+    RunBatch<V, kGradient, kWeighted, kSlots>(in, g, *batch, sums);
   }
   batch->size = 0;
   batch->max_n = 0;
@@ -424,19 +448,18 @@ void Flush(const CellKernelInput& in, Batch<V>* batch, typename V::D* total_abs,
 // Cells in batches of one corner count (3, 4, 5; 6 to 8 padded): the corner
 // counts vary, and a mixed batch would run every lane to the largest.
 template <class V, bool kGradient, bool kWeighted>
-void Run(const CellKernelInput& in, int32_t lo, int32_t hi, Moment* moment,
-         CellKernelOutput* out) {
+void Run(const CellKernelInput& in, int32_t lo, int32_t hi, CellKernelOutput* out) {
   constexpr int kLanes = V::kLanes;
   Batch<V> batches[4];
-  typename V::D total_abs = V::Zero(), total_area = V::Zero();
-  typename V::D* abs = &total_abs;
-  typename V::D* area = &total_area;
+  RunSums<V> sums;
+  sums.abs = sums.area = sums.w = sums.w_gx = sums.w_gy = V::Zero();
+  for (double& r : sums.rotation) r = 0.0;
   auto flush = [&](int bucket) {
     switch (bucket) {
-      case 0: Flush<V, kGradient, kWeighted, 3>(in, &batches[0], abs, area, moment); break;
-      case 1: Flush<V, kGradient, kWeighted, 4>(in, &batches[1], abs, area, moment); break;
-      case 2: Flush<V, kGradient, kWeighted, 5>(in, &batches[2], abs, area, moment); break;
-      default: Flush<V, kGradient, kWeighted, 0>(in, &batches[3], abs, area, moment); break;
+      case 0: Flush<V, kGradient, kWeighted, 3>(in, &batches[0], &sums); break;
+      case 1: Flush<V, kGradient, kWeighted, 4>(in, &batches[1], &sums); break;
+      case 2: Flush<V, kGradient, kWeighted, 5>(in, &batches[2], &sums); break;
+      default: Flush<V, kGradient, kWeighted, 0>(in, &batches[3], &sums); break;
     }
   };
   // Lanes filled per bucket, 8 bits each, in a register: through memory,
@@ -461,7 +484,7 @@ void Run(const CellKernelInput& in, int32_t lo, int32_t hi, Moment* moment,
       // Fetched now, used when the batch is full.
       __builtin_prefetch(in.record_b + tb);
       __builtin_prefetch(in.extra_b + tb);
-      if (kGradient) __builtin_prefetch(moment + tb, 1);
+      if (kGradient) __builtin_prefetch(in.interior_b + tb);
       uint64_t code;
       static_assert(sizeof(tc.corner) == sizeof(code), "8 corner codes");
       __builtin_memcpy(&code, &tc.corner, sizeof(code));
@@ -500,24 +523,30 @@ void Run(const CellKernelInput& in, int32_t lo, int32_t hi, Moment* moment,
     batches[bucket].size = (sizes >> (8 * bucket)) & 0xff;
     flush(bucket);
   }
-  out->abs = V::ReduceAdd(total_abs);
-  out->area = V::ReduceAdd(total_area);
+  out->abs = V::ReduceAdd(sums.abs);
+  out->area = V::ReduceAdd(sums.area);
   out->cells = cells;
+  if (kGradient) {
+    for (int k = 0; k < 3; ++k) out->interior.rotation[k] = sums.rotation[k];
+    out->interior.translation[0] = -V::ReduceAdd(sums.w_gx);
+    out->interior.translation[1] = -V::ReduceAdd(sums.w_gy);
+    out->interior.translation[2] = V::ReduceAdd(sums.w);
+  }
 }
 
 // IntegrateCellsSimd's work on lane type V.
 template <class V>
 void IntegrateCells(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
-                    Moment* moment, CellKernelOutput* out) {
+                    CellKernelOutput* out) {
   const bool weighted = in.weight_a != nullptr;
   if (gradient && weighted) {
-    Run<V, true, true>(in, lo, hi, moment, out);
+    Run<V, true, true>(in, lo, hi, out);
   } else if (gradient) {
-    Run<V, true, false>(in, lo, hi, moment, out);
+    Run<V, true, false>(in, lo, hi, out);
   } else if (weighted) {
-    Run<V, false, true>(in, lo, hi, moment, out);
+    Run<V, false, true>(in, lo, hi, out);
   } else {
-    Run<V, false, false>(in, lo, hi, moment, out);
+    Run<V, false, false>(in, lo, hi, out);
   }
 }
 

@@ -72,13 +72,13 @@ const char* CellKernelName(CellKernel kernel) {
 }
 
 void IntegrateCellsSimd(CellKernel kernel, const CellKernelInput& in, int32_t lo, int32_t hi,
-                        bool gradient, Moment* moment, CellKernelOutput* out) {
+                        bool gradient, CellKernelOutput* out) {
 #if defined(SURFREG_X86_CELL_KERNELS) && defined(__x86_64__)
   if (CpuRuns(kernel)) {  // as ResolveCellKernel made sure; cheap
     if (kernel == CellKernel::kAvx512) {
-      return IntegrateCellsAvx512(in, lo, hi, gradient, moment, out);
+      return IntegrateCellsAvx512(in, lo, hi, gradient, out);
     }
-    if (kernel == CellKernel::kAvx2) return IntegrateCellsAvx2(in, lo, hi, gradient, moment, out);
+    if (kernel == CellKernel::kAvx2) return IntegrateCellsAvx2(in, lo, hi, gradient, out);
   }
 #endif
   LOG(FATAL) << "IntegrateCellsSimd: no " << CellKernelName(kernel) << " vector kernel here";

@@ -53,12 +53,30 @@ struct WeightPlane {
   double m0 = 0, gx = 0, gy = 0;
 };
 
-// What a B triangle's cells add up for the interior gradient: Σ s∫_P μ and
-// Σ s∫_P μ(x − p0) over their sign parts P (s the sign of d on P, p0 T_B's
-// corner 0; μ ≡ 1 without weights). A plain struct: the vector kernels use
-// no inline functions of other headers (volume_kernel_body.h says why).
-struct Moment {
-  double w, x, y;
+// What the interior gradient needs of a moved B triangle. Its cells' sign
+// parts P (s the sign of d on P, μ ≡ 1 without weights) add to the gradient
+// n × Σ s∫_P μ q and Σ s∫_P μ n, with n = (−∇F̂_B', 1) and q affine on T_B
+// (q0 at corner 0 p0, ∂q/∂x = v, ∂q/∂y = z); with W = Σ s∫_P μ and
+// (X, Y) = Σ s∫_P μ(x − p0) the first is W (n×q0) + X (n×v) + Y (n×z). So
+// each cell adds its own share at once, and no per-triangle sum is kept: the
+// cells of any range of A's triangles add up on their own. A plain struct:
+// the vector kernels use no inline functions of other headers
+// (volume_kernel_body.h says why).
+struct InteriorRow {
+  double q0[3], v[3], z[3];  // n×q0, n×v, n×z
+};
+
+// Some cells' interior sums: n × Σ s∫μq (before the motion's −Mᵀ) and Σ s∫μ n.
+struct InteriorSums {
+  double rotation[3] = {0, 0, 0}, translation[3] = {0, 0, 0};
+};
+
+// Per bin (GradientBins), a chunk's interior sums (6 doubles each, as
+// InteriorSums) and whether it got any.
+struct InteriorBins {
+  const int32_t* bin_of_b = nullptr;  // per moved B triangle
+  double* sums = nullptr;
+  uint8_t* used = nullptr;
 };
 
 // The topology as plain arrays (OverlayTopology::cells, begins, counts),
@@ -72,6 +90,8 @@ struct CellKernelInput {
   const WeightPlane* weight_a = nullptr;     // per A triangle; null: μ ≡ 1
   const TriangleRecord* record_b = nullptr;  // per moved B triangle
   const TriangleExtra* extra_b = nullptr;
+  const InteriorRow* interior_b = nullptr;  // per moved B triangle (`gradient` only)
+  InteriorBins bins;                        // sums == nullptr: no bins
   // Called for every cell of a hull B triangle (with `gradient` only), for
   // the scalar boundary term.
   void (*on_hull)(void* context, int32_t ta, int32_t tb, int num_corners) = nullptr;
@@ -81,6 +101,7 @@ struct CellKernelInput {
 struct CellKernelOutput {
   double abs = 0, area = 0;
   int64_t cells = 0;
+  InteriorSums interior;  // `gradient` only
 };
 
 enum class CellKernel { kScalar, kAvx2, kAvx512 };
@@ -92,18 +113,18 @@ CellKernel ResolveCellKernel(CellKernelChoice choice);
 const char* CellKernelName(CellKernel kernel);
 
 // ∫μ|d| and ∫μ over the cells of A's triangles [lo, hi), and, with
-// `gradient`, each cell's Moment added to moment[T_B] (as the scalar kernel;
-// μ ≡ 1 without in.weight_a), by the vector kernel `kernel` (not kScalar;
-// one ResolveCellKernel may return).
+// `gradient`, their interior sums (and, with in.bins, each bin's), as the
+// scalar kernel (μ ≡ 1 without in.weight_a), by the vector kernel `kernel`
+// (not kScalar; one ResolveCellKernel may return).
 void IntegrateCellsSimd(CellKernel kernel, const CellKernelInput& in, int32_t lo, int32_t hi,
-                        bool gradient, Moment* moment, CellKernelOutput* out);
+                        bool gradient, CellKernelOutput* out);
 
 // IntegrateCellsSimd per instruction set, compiled for it: only through
 // IntegrateCellsSimd, which calls them after the CPU check.
 void IntegrateCellsAvx512(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
-                          Moment* moment, CellKernelOutput* out);
+                          CellKernelOutput* out);
 void IntegrateCellsAvx2(const CellKernelInput& in, int32_t lo, int32_t hi, bool gradient,
-                        Moment* moment, CellKernelOutput* out);
+                        CellKernelOutput* out);
 
 }  // namespace volume_internal
 }  // namespace surfreg
