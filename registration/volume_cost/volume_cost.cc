@@ -233,15 +233,14 @@ bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, const Execution& 
   return true;
 }
 
-// ∇F̂_B' and the hull bit on each moved B triangle (and its bin), and with
-// `gradient` its InteriorRow; `chunks` bins' shares with bins.
-void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execution& execution, bool gradient,
-                                                 int chunks, const GradientBins* bins) {
+// ∇F̂_B' and the hull bit on each moved B triangle (and its bin); with
+// bins, `chunks` chunks' shares of them.
+void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execution& execution, int chunks,
+                                                 const GradientBins* bins) {
   const Triangulation& mesh_b = s.moving_mesh();
   const int32_t nb = mesh_b.num_triangles();
   record_b.resize(nb);
   extra_b.resize(nb);
-  if (gradient) interior_b.resize(nb);
   if (binning) {
     bin_of_b.resize(nb);
     part_bins.resize(static_cast<std::size_t>(chunks));
@@ -249,7 +248,6 @@ void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execu
   }
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
-  const auto& q = s.moved_q();
   // Each triangle's record on its own: any chunks.
   ForEachChunk(execution, nb, ChunksFor(nb, 1 << 14), [&](int, int64_t lo, int64_t hi) {
     for (int32_t t = static_cast<int32_t>(lo); t < hi; ++t) {
@@ -263,20 +261,6 @@ void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execu
         bin_of_b[t] = bins->Index((xy[v[0]].x + xy[v[1]].x + xy[v[2]].x) / 3,
                                   (xy[v[0]].y + xy[v[1]].y + xy[v[2]].y) / 3);
       }
-      if (!gradient) continue;
-      // q = q0 + v x' + z y' on T_B ((x', y') from its corner 0): from the
-      // inverse of its edge matrix. A flat triangle has no cells of area.
-      const double ax = xy[v[1]].x - xy[v[0]].x, ay = xy[v[1]].y - xy[v[0]].y;
-      const double bx = xy[v[2]].x - xy[v[0]].x, by = xy[v[2]].y - xy[v[0]].y;
-      const double det = ax * by - ay * bx;
-      const Eigen::Vector3d q1 = q[v[1]] - q[v[0]], q2 = q[v[2]] - q[v[0]];
-      const Eigen::Vector3d dx = det != 0 ? Eigen::Vector3d((by * q1 - ay * q2) / det) : Eigen::Vector3d::Zero();
-      const Eigen::Vector3d dy = det != 0 ? Eigen::Vector3d((ax * q2 - bx * q1) / det) : Eigen::Vector3d::Zero();
-      const Eigen::Vector3d normal(-g.gx, -g.gy, 1.0);
-      InteriorRow& row = interior_b[t];
-      Eigen::Map<Eigen::Vector3d>(row.q0) = normal.cross(q[v[0]]);
-      Eigen::Map<Eigen::Vector3d>(row.v) = normal.cross(dx);
-      Eigen::Map<Eigen::Vector3d>(row.z) = normal.cross(dy);
     }
   });
 }
@@ -345,16 +329,19 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, con
   const CellKernel kernel = m.cell_kernel;  // a vector kernel where the CPU has one (weighted or not)
   // Weights added or dropped since Bind: their planes again.
   if (m.weight_a.size() != (weighted ? static_cast<std::size_t>(na) : 0u)) m.BindWeights();
-  m.RecordMovedTriangles(s, execution, gradient, chunks, bins);
+  m.RecordMovedTriangles(s, execution, chunks, bins);
+  // As MovePoints: T(p) = q + offset.
+  const Eigen::Vector3d offset =
+      s.moving().centroid + Eigen::Vector3d(s.theta()[3], s.theta()[4], s.theta()[5]);
   ForEachChunk(execution, na, chunks, [&](int part, int64_t begin, int64_t end) {
     const int32_t lo = static_cast<int32_t>(begin), hi = static_cast<int32_t>(end);
     ChunkValue* out = &m.chunk_values[part];
     if (kernel != CellKernel::kScalar) {
-      m.IntegrateSimd(kernel, s, gradient, lo, hi, part, out);
+      m.IntegrateSimd(kernel, s, gradient, offset, lo, hi, part, out);
     } else if (weighted) {
-      m.Integrate<true>(s, gradient, lo, hi, part, out);
+      m.Integrate<true>(s, gradient, offset, lo, hi, part, out);
     } else {
-      m.Integrate<false>(s, gradient, lo, hi, part, out);
+      m.Integrate<false>(s, gradient, offset, lo, hi, part, out);
     }
   });
   volume_internal::InteriorSums interior;

@@ -48,11 +48,15 @@ struct PartBins {
   }
 };
 
-// One cell's interior share (InteriorRow) into 6 sums (as InteriorSums): its
-// sign parts' W = Σ s∫μ, (X, Y) = Σ s∫μ(x − p0), on a B triangle with ∇F̂ g.
-inline void AddInteriorShare(const InteriorRow& row, double gx, double gy, double w, double x, double y,
+// One cell's interior share (volume_kernel_simd.h) into 6 sums (as
+// InteriorSums): its W, X, Y; its B triangle's ∇F̂ (gx, gy) and corner 0
+// less the motion's offset (qx, qy, qz). The vector kernels' AddShare.
+inline void AddInteriorShare(double w, double x, double y, double gx, double gy, double qx, double qy, double qz,
                              double* rotation, double* translation) {
-  for (int k = 0; k < 3; ++k) rotation[k] += (w * row.q0[k] + x * row.v[k]) + y * row.z[k];
+  const double gxy = gx * gy;
+  rotation[0] += (w * ((0.0 - gy * qz) - qy) - x * gxy) - y * (gy * gy + 1.0);
+  rotation[1] += (w * (qx + gx * qz) + x * (gx * gx + 1.0)) + y * gxy;
+  rotation[2] += (w * (gy * qx - gx * qy) + x * gy) - y * gx;
   translation[0] -= w * gx;
   translation[1] -= w * gy;
   translation[2] += w;
@@ -172,9 +176,6 @@ struct VolumeCostCache::Impl {
   std::vector<uint8_t> mark;
   std::vector<int32_t> dirty, changed_a, changed_b;  // changed: MarkDirty's vertices that moved
   std::vector<std::pair<int32_t, int32_t>> seeds;
-  // Per moved B triangle, what its cells' interior gradient shares are made
-  // of (InteriorRow: ∂_θF̂_B' is affine on T_B); with `gradient` only.
-  std::vector<volume_internal::InteriorRow> interior_b;
   // The integration's per chunk of A's triangles, added in chunk order.
   std::vector<volume_internal::ChunkValue> chunk_values;
   volume_internal::CellKernel cell_kernel = volume_internal::CellKernel::kScalar;
@@ -190,17 +191,19 @@ struct VolumeCostCache::Impl {
   void BindWeights();
   void MarkDirty(const PairState& s, const Execution& execution);
   bool UpdateTopology(const PairState& s, const Execution& execution);
-  void RecordMovedTriangles(const PairState& s, const Execution& execution, bool gradient, int chunks,
-                            const GradientBins* bins);
+  void RecordMovedTriangles(const PairState& s, const Execution& execution, int chunks, const GradientBins* bins);
   void MergeBins(const Eigen::Matrix3d& mt, GradientBins* bins) const;
   // Calls visit(const PosedCell&) for every cell of A's triangles [lo, hi).
   template <bool kWeighted, class Visit>
   void ForEachPosedCell(const PairState& s, int32_t lo, int32_t hi, Visit&& visit) const;
+  // The cells of A's triangles [lo, hi) into `out` (the chunk `part`'s);
+  // q = moved point − offset (pair_state.h).
   template <bool kWeighted>
-  void Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi, int part,
-                 volume_internal::ChunkValue* out);
-  void IntegrateSimd(volume_internal::CellKernel kernel, const PairState& s, bool gradient, int32_t lo, int32_t hi,
-                     int part, volume_internal::ChunkValue* out);
+  void Integrate(const PairState& s, bool gradient, const Eigen::Vector3d& offset, int32_t lo, int32_t hi,
+                 int part, volume_internal::ChunkValue* out);
+  void IntegrateSimd(volume_internal::CellKernel kernel, const PairState& s, bool gradient,
+                     const Eigen::Vector3d& offset, int32_t lo, int32_t hi, int part,
+                     volume_internal::ChunkValue* out);
   void Generic(const PairState& s, bool gradient, const MaskRegion* mask,
                int32_t lo, int32_t hi, VolumeCostValue* out);
   template <bool kWeighted>
@@ -272,7 +275,6 @@ using volume_internal::ForEachCellOfState;
 using volume_internal::StateChunks;
 using volume_internal::Gradient2;
 using volume_internal::ChunkValue;
-using volume_internal::InteriorRow;
 using volume_internal::TriangleExtra;
 using volume_internal::TriangleRecord;
 

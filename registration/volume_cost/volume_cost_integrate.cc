@@ -77,13 +77,13 @@ inline void AddCell(const double* x, const double* y, const double* d, const dou
 
 // The unmasked cost over the cells of A's triangles [lo, hi): as
 // VolumeAccumulator, but the interior gradient as InteriorSums (each cell's
-// share from its B triangle's InteriorRow).
+// share from its own sums and its B triangle, volume_kernel_simd.h).
 // d = F̂_B' − F_A is linear on a cell, and so is μ (fixed with A's triangle);
 // most cells lie on one side of d = 0, so that case takes one pass over the
 // corners; only the cells d = 0 crosses are split into their two sign parts.
 template <bool kWeighted>
-void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t lo, int32_t hi,
-                                      int part, ChunkValue* out) {
+void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, const Eigen::Vector3d& offset,
+                                      int32_t lo, int32_t hi, int part, ChunkValue* out) {
   const TriangleExtra* extras_b = extra_b.data();
   VolumeAccumulator boundary(s, gradient, nullptr);
   HullSink sink = SinkFor(&boundary, part);
@@ -97,14 +97,14 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
     CellMoment moment;
     AddCell<kWeighted>(c.x, c.y, c.d, c.m, c.n, c.d_lo, c.d_hi, gradient, &abs, &area_sum, &moment);
     if (!gradient) return;
-    const InteriorRow& row = interior_b[c.tb];
-    const double gx = record_b[c.tb].gx, gy = record_b[c.tb].gy;
-    volume_internal::AddInteriorShare(row, gx, gy, moment.w, moment.x, moment.y, interior.rotation,
+    const TriangleRecord& rb = record_b[c.tb];
+    const double qx = rb.x[0] - offset.x(), qy = rb.y[0] - offset.y(), qz = extras_b[c.tb].z0 - offset.z();
+    volume_internal::AddInteriorShare(moment.w, moment.x, moment.y, rb.gx, rb.gy, qx, qy, qz, interior.rotation,
                                       interior.translation);
     if (bins != nullptr) {
       const int32_t b = bin_of_b[c.tb];
       double* sums = &bins->interior[6 * static_cast<std::size_t>(b)];
-      volume_internal::AddInteriorShare(row, gx, gy, moment.w, moment.x, moment.y, sums, sums + 3);
+      volume_internal::AddInteriorShare(moment.w, moment.x, moment.y, rb.gx, rb.gy, qx, qy, qz, sums, sums + 3);
       bins->used[b] = 1;
     }
     if ((extras_b[c.tb].bits & volume_internal::kHullBit) != 0) {
@@ -125,7 +125,8 @@ void VolumeCostCache::Impl::Integrate(const PairState& s, bool gradient, int32_t
 // As Integrate<kWeighted>, vectorized across cells by `kernel`
 // (volume_kernel_simd.h); the hull cells' boundary term stays scalar.
 void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s, bool gradient,
-                                          int32_t lo, int32_t hi, int part, ChunkValue* out) {
+                                          const Eigen::Vector3d& offset, int32_t lo, int32_t hi, int part,
+                                          ChunkValue* out) {
   VolumeAccumulator boundary(s, gradient, nullptr);
   HullSink sink = SinkFor(&boundary, part);
   volume_internal::CellKernelInput in;
@@ -135,7 +136,7 @@ void VolumeCostCache::Impl::IntegrateSimd(CellKernel kernel, const PairState& s,
   in.record_a = record_a.data(), in.extra_a = extra_a.data();
   in.weight_a = weight_a.empty() ? nullptr : weight_a.data();
   in.record_b = record_b.data(), in.extra_b = extra_b.data();
-  in.interior_b = interior_b.data();
+  for (int k = 0; k < 3; ++k) in.offset[k] = offset[k];
   if (binning) {
     volume_internal::PartBins& bins = part_bins[part];
     in.bins = {bin_of_b.data(), bins.interior.data(), bins.used.data()};
@@ -190,9 +191,9 @@ void VolumeCostCache::Impl::Generic(const PairState& s, bool gradient,
   *out = accumulate.value;
 }
 
-template void VolumeCostCache::Impl::Integrate<true>(const PairState&, bool, int32_t, int32_t, int,
-                                                     ChunkValue*);
-template void VolumeCostCache::Impl::Integrate<false>(const PairState&, bool, int32_t, int32_t, int,
-                                                      ChunkValue*);
+template void VolumeCostCache::Impl::Integrate<true>(const PairState&, bool, const Eigen::Vector3d&, int32_t,
+                                                     int32_t, int, ChunkValue*);
+template void VolumeCostCache::Impl::Integrate<false>(const PairState&, bool, const Eigen::Vector3d&, int32_t,
+                                                      int32_t, int, ChunkValue*);
 
 }  // namespace surfreg

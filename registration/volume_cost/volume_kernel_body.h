@@ -297,16 +297,29 @@ inline void Crossing(const BatchEdges<V>& e, typename V::M i1, typename V::M i2,
   *cy = ry + t * (sy - ry);
 }
 
-// Run's sums over its batches: ∫μ|d| and ∫μ per lane, and the interior
-// sums (InteriorSums): Σw, Σw∇F̂_B' per lane, the rotation's in lane order.
+// Run's sums over its batches, per lane: ∫μ|d| and ∫μ, and the interior
+// sums (InteriorSums) before their reduction.
 template <class V>
 struct RunSums {
-  typename V::D abs, area, w, w_gx, w_gy;
-  double rotation[3];
+  typename V::D abs, area;
+  typename V::D rotation[3], translation[3];
 };
 
-// A batch's sums into Run's and its cells' interior shares (InteriorRow)
-// into the rotation's sum (and their bins'); the hull cells' boundary term.
+// A cell's interior share (volume_kernel_simd.h) into r[0..2], t[0..2]: its
+// W, X, Y; its B triangle's ∇F̂ (gx, gy) and corner 0 less the offset (q0).
+template <class T>
+inline void AddShare(T w, T x, T y, T gx, T gy, T qx, T qy, T qz, T* r, T* t) {
+  const T gxy = gx * gy;
+  r[0] = r[0] + ((w * ((T{} - gy * qz) - qy) - x * gxy) - y * (gy * gy + 1.0));
+  r[1] = r[1] + ((w * (qx + gx * qz) + x * (gx * gx + 1.0)) + y * gxy);
+  r[2] = r[2] + ((w * (gy * qx - gx * qy) + x * gy) - y * gx);
+  t[0] = t[0] - w * gx;
+  t[1] = t[1] - w * gy;
+  t[2] = t[2] + w;
+}
+
+// A batch's sums into Run's, with its cells' interior shares (and their
+// bins'); the hull cells' boundary term.
 template <class V, bool kGradient, bool kWeighted>
 inline void AddBatch(const CellKernelInput& in, const Gathered<V>& g, const Batch<V>& batch, const CellSums<V>& c,
                      RunSums<V>* sums) {
@@ -320,32 +333,19 @@ inline void AddBatch(const CellKernelInput& in, const Gathered<V>& g, const Batc
   sums->abs = V::Blend(valid, sums->abs, sums->abs + V::Max(c.abs, zero));
   sums->area = V::Blend(active, sums->area, sums->area + (kWeighted ? c.mu : c.twice * half));
   if (kGradient) {
-    const D w = V::MaskZ(valid, c.w);
-    sums->w = sums->w + w;
-    sums->w_gx = sums->w_gx + w * g.fb_x;
-    sums->w_gy = sums->w_gy + w * g.fb_y;
-    alignas(64) double wl[V::kLanes], mx[V::kLanes], my[V::kLanes];
-    V::Store(wl, w);
-    V::Store(mx, V::MaskZ(valid, c.mx));
-    V::Store(my, V::MaskZ(valid, c.my));
-    for (int l = 0; l < batch.size; ++l) {
-      const InteriorRow& row = in.interior_b[batch.tb[l]];
-      for (int k = 0; k < 3; ++k) {
-        sums->rotation[k] += (wl[l] * row.q0[k] + mx[l] * row.v[k]) + my[l] * row.z[k];
-      }
-    }
+    const D w = V::MaskZ(valid, c.w), x = V::MaskZ(valid, c.mx), y = V::MaskZ(valid, c.my);
+    const D qx = g.bx[0] - V::Set(in.offset[0]), qy = g.by[0] - V::Set(in.offset[1]);
+    const D qz = g.zb0 - V::Set(in.offset[2]);
+    AddShare<D>(w, x, y, g.fb_x, g.fb_y, qx, qy, qz, sums->rotation, sums->translation);
     if (in.bins.sums != nullptr) {  // rare: the sandwich's σ
-      alignas(64) double gx[V::kLanes], gy[V::kLanes];
-      V::Store(gx, g.fb_x);
-      V::Store(gy, g.fb_y);
+      alignas(64) double lane[8][V::kLanes];
+      const D values[8] = {w, x, y, g.fb_x, g.fb_y, qx, qy, qz};
+      for (int k = 0; k < 8; ++k) V::Store(lane[k], values[k]);
       for (int l = 0; l < batch.size; ++l) {
-        const InteriorRow& row = in.interior_b[batch.tb[l]];
         const int32_t b = in.bins.bin_of_b[batch.tb[l]];
         double* bin = in.bins.sums + 6 * static_cast<int64_t>(b);
-        for (int k = 0; k < 3; ++k) bin[k] += (wl[l] * row.q0[k] + mx[l] * row.v[k]) + my[l] * row.z[k];
-        bin[3] -= wl[l] * gx[l];
-        bin[4] -= wl[l] * gy[l];
-        bin[5] += wl[l];
+        AddShare<double>(lane[0][l], lane[1][l], lane[2][l], lane[3][l], lane[4][l], lane[5][l], lane[6][l],
+                         lane[7][l], bin, bin + 3);
         in.bins.used[b] = 1;
       }
     }
@@ -452,8 +452,8 @@ void Run(const CellKernelInput& in, int32_t lo, int32_t hi, CellKernelOutput* ou
   constexpr int kLanes = V::kLanes;
   Batch<V> batches[4];
   RunSums<V> sums;
-  sums.abs = sums.area = sums.w = sums.w_gx = sums.w_gy = V::Zero();
-  for (double& r : sums.rotation) r = 0.0;
+  sums.abs = sums.area = V::Zero();
+  for (int k = 0; k < 3; ++k) sums.rotation[k] = sums.translation[k] = V::Zero();
   auto flush = [&](int bucket) {
     switch (bucket) {
       case 0: Flush<V, kGradient, kWeighted, 3>(in, &batches[0], &sums); break;
@@ -484,7 +484,6 @@ void Run(const CellKernelInput& in, int32_t lo, int32_t hi, CellKernelOutput* ou
       // Fetched now, used when the batch is full.
       __builtin_prefetch(in.record_b + tb);
       __builtin_prefetch(in.extra_b + tb);
-      if (kGradient) __builtin_prefetch(in.interior_b + tb);
       uint64_t code;
       static_assert(sizeof(tc.corner) == sizeof(code), "8 corner codes");
       __builtin_memcpy(&code, &tc.corner, sizeof(code));
@@ -527,10 +526,10 @@ void Run(const CellKernelInput& in, int32_t lo, int32_t hi, CellKernelOutput* ou
   out->area = V::ReduceAdd(sums.area);
   out->cells = cells;
   if (kGradient) {
-    for (int k = 0; k < 3; ++k) out->interior.rotation[k] = sums.rotation[k];
-    out->interior.translation[0] = -V::ReduceAdd(sums.w_gx);
-    out->interior.translation[1] = -V::ReduceAdd(sums.w_gy);
-    out->interior.translation[2] = V::ReduceAdd(sums.w);
+    for (int k = 0; k < 3; ++k) {
+      out->interior.rotation[k] = V::ReduceAdd(sums.rotation[k]);
+      out->interior.translation[k] = V::ReduceAdd(sums.translation[k]);
+    }
   }
 }
 

@@ -53,19 +53,14 @@ struct WeightPlane {
   double m0 = 0, gx = 0, gy = 0;
 };
 
-// What the interior gradient needs of a moved B triangle. Its cells' sign
-// parts P (s the sign of d on P, μ ≡ 1 without weights) add to the gradient
-// n × Σ s∫_P μ q and Σ s∫_P μ n, with n = (−∇F̂_B', 1) and q affine on T_B
-// (q0 at corner 0 p0, ∂q/∂x = v, ∂q/∂y = z); with W = Σ s∫_P μ and
-// (X, Y) = Σ s∫_P μ(x − p0) the first is W (n×q0) + X (n×v) + Y (n×z). So
-// each cell adds its own share at once, and no per-triangle sum is kept: the
-// cells of any range of A's triangles add up on their own. A plain struct:
-// the vector kernels use no inline functions of other headers
-// (volume_kernel_body.h says why).
-struct InteriorRow {
-  double q0[3], v[3], z[3];  // n×q0, n×v, n×z
-};
-
+// The interior gradient per cell. A cell's sign parts P (s the sign of d on
+// P, μ ≡ 1 without weights) add n × Σ s∫_P μ q to the rotation's sum and
+// Σ s∫_P μ n to the translation's, with n = (−∇F̂_B', 1) and q the moved
+// point less the motion's offset (pair_state.h): affine on T_B, q0 at its
+// corner 0 and ∂q/∂x = (1, 0, gx), ∂q/∂y = (0, 1, gy) there. With
+// W = Σ s∫_P μ and (X, Y) = Σ s∫_P μ(x − p0), the first is
+// n × (W q0 + X ∂q/∂x + Y ∂q/∂y): from the B triangle's record and the cell's
+// own sums, so the cells of any range of A's triangles add up on their own.
 // Some cells' interior sums: n × Σ s∫μq (before the motion's −Mᵀ) and Σ s∫μ n.
 struct InteriorSums {
   double rotation[3] = {0, 0, 0}, translation[3] = {0, 0, 0};
@@ -90,8 +85,8 @@ struct CellKernelInput {
   const WeightPlane* weight_a = nullptr;     // per A triangle; null: μ ≡ 1
   const TriangleRecord* record_b = nullptr;  // per moved B triangle
   const TriangleExtra* extra_b = nullptr;
-  const InteriorRow* interior_b = nullptr;  // per moved B triangle (`gradient` only)
-  InteriorBins bins;                        // sums == nullptr: no bins
+  double offset[3] = {0, 0, 0};  // the motion's: q = moved point − offset
+  InteriorBins bins;             // sums == nullptr: no bins
   // Called for every cell of a hull B triangle (with `gradient` only), for
   // the scalar boundary term.
   void (*on_hull)(void* context, int32_t ta, int32_t tb, int num_corners) = nullptr;
