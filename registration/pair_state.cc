@@ -238,7 +238,7 @@ void MovePoints(const MovingSide& moving, const Eigen::Matrix3d& rotation, const
                 const Execution& execution, Point2* xy, double* z, Eigen::Vector3d* q) {
   const Eigen::Vector3d offset = moving.centroid + Eigen::Vector3d(theta[3], theta[4], theta[5]);
   const int64_t n = static_cast<int64_t>(moving.points.size());
-  ForEachChunk(execution, n, ChunksFor(n, 1 << 14), [&](int, int64_t begin, int64_t end) {
+  ForEachChunk(execution, n, ChunksFor(n, kItemChunk), [&](int, int64_t begin, int64_t end) {
     for (int64_t j = begin; j < end; ++j) {
       const Eigen::Vector3d moved = rotation * (moving.points[j] - moving.centroid);
       if (q != nullptr) q[j] = moved;
@@ -450,7 +450,7 @@ void PairState::IndexKept() {
 void PairState::SetActiveFlags() {
   const int32_t count = mesh_.num_triangles();
   active_.resize(static_cast<std::size_t>(count));
-  ForEachChunk(execution_, count, ChunksFor(count, 1 << 14), [&](int, int64_t begin, int64_t end) {
+  ForEachChunk(execution_, count, ChunksFor(count, kItemChunk), [&](int, int64_t begin, int64_t end) {
     for (int64_t t = begin; t < end; ++t) {
       std::array<int32_t, 3> v = {mesh_.triangles[3 * t], mesh_.triangles[3 * t + 1],
                                   mesh_.triangles[3 * t + 2]};
@@ -478,7 +478,7 @@ int PairState::FixSurface(double max_slope_deg) {
   const Triangulation& own = moving_.mesh;
   std::vector<uint8_t> near_steep(moved_xy_.size(), 0);
   std::vector<uint8_t> steep(own.num_triangles(), 0);
-  ForEachChunk(execution_, own.num_triangles(), ChunksFor(own.num_triangles(), 1 << 14),
+  ForEachChunk(execution_, own.num_triangles(), ChunksFor(own.num_triangles(), kItemChunk),
                [&](int, int64_t begin, int64_t end) {
                  for (int64_t t = begin; t < end; ++t) {
                    if (!moving_.domain[t]) continue;

@@ -224,7 +224,7 @@ bool VolumeCostCache::Impl::UpdateTopology(const PairState& s, const Execution& 
   const auto pack_all = [&](const auto& locations, std::vector<PackedLocation>* packed) {
     const int64_t n = static_cast<int64_t>(locations.size());
     packed->resize(locations.size());
-    ForEachChunk(execution, n, ChunksFor(n, 1 << 14), [&](int, int64_t begin, int64_t end) {
+    ForEachChunk(execution, n, ChunksFor(n, kItemChunk), [&](int, int64_t begin, int64_t end) {
       for (int64_t k = begin; k < end; ++k) (*packed)[k] = Pack(locations[k]);
     });
   };
@@ -249,7 +249,7 @@ void VolumeCostCache::Impl::RecordMovedTriangles(const PairState& s, const Execu
   const auto& xy = s.moved_xy();
   const auto& z = s.moved_z();
   // Each triangle's record on its own: any chunks.
-  ForEachChunk(execution, nb, ChunksFor(nb, 1 << 14), [&](int, int64_t lo, int64_t hi) {
+  ForEachChunk(execution, nb, ChunksFor(nb, kItemChunk), [&](int, int64_t lo, int64_t hi) {
     for (int32_t t = static_cast<int32_t>(lo); t < hi; ++t) {
       const int32_t* v = &mesh_b.triangles[3 * t];
       const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
