@@ -23,10 +23,9 @@ Execution ExecutionFor(int requested);
 constexpr int kMaxChunks = 64;
 int ChunksFor(int64_t n, int64_t min_items);
 
-// Items per chunk for cheap loops whose items are independent (each writes
-// its own output, so any chunking gives the same bits): a face scan's 3e4
-// triangles still spread over several threads, and a chunk's few µs of
-// overhead stay well under its work.
+// Items per chunk for cheap per-item loops: a face scan's 3e4 triangles
+// still spread over several threads, and a chunk's few µs of overhead stay
+// well under its work (as any ChunksFor, a function of n only).
 constexpr int64_t kItemChunk = 4096;
 
 // Chunk c's half-open range of [0, n) cut into `chunks` near-equal parts.

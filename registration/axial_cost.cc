@@ -253,7 +253,7 @@ void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings
   // Each node writes only its own entries: chunks of nodes side by side.
   const int64_t n_a = settings.reference_nodes ? static_cast<int64_t>(na) : 0;
   const int64_t n_b = settings.moving_nodes ? static_cast<int64_t>(nb) : 0;
-  const int chunks = ChunksFor(n_a + n_b, 8192);
+  const int chunks = ChunksFor(n_a + n_b, 2048);
   std::vector<int64_t> overlap(chunks, 0);
   // (Counted in a local: the chunks' slots share cache lines.)
   ForEachChunk(state.execution(), n_a + n_b, chunks, [&](int c, int64_t begin, int64_t end) {

@@ -257,7 +257,7 @@ struct MeshFolds {
 // thread count.
 MeshFolds CountMeshFolds(const Triangulation& mesh, const std::vector<Point2>& xy, const std::vector<uint8_t>& active,
                          const std::vector<Eigen::Vector3d>& points, const Execution& execution) {
-  const int chunks = ChunksFor(mesh.num_triangles(), 16384);
+  const int chunks = ChunksFor(mesh.num_triangles(), kItemChunk);
   std::vector<MeshFolds> parts(chunks);
   ForEachChunk(execution, mesh.num_triangles(), chunks, [&](int c, int64_t begin, int64_t end) {
     MeshFolds part;
@@ -425,7 +425,7 @@ void PairState::IndexKept() {
   // Each triangle's corners sorted, and the key (per chunk's hash, chained
   // in chunk order), by chunks; then indexed by the least corner.
   std::vector<std::array<int32_t, 3>> sorted(static_cast<std::size_t>(count));
-  const int chunks = ChunksFor(count, 1 << 14);
+  const int chunks = ChunksFor(count, kItemChunk);
   std::vector<uint64_t> part_key(chunks);
   ForEachChunk(execution_, count, chunks, [&](int c, int64_t begin, int64_t end) {
     uint64_t key = static_cast<uint64_t>(end - begin);
