@@ -100,7 +100,7 @@ void VolumeCostCache::Impl::MarkDirty(const PairState& s, const Execution& execu
   // The vertices whose location changed, found by chunks (most did not),
   // in order; then marked around, one after another.
   const auto changed = [&](int64_t n, const auto& moved, std::vector<int32_t>* out) {
-    BucketSlots slots(ChunksFor(n, 1 << 14), 1);
+    BucketSlots slots(ChunksFor(n, kItemChunk), 1);
     const auto bucket = [&](int64_t v) { return moved(v) ? 0 : -1; };
     CountIntoBuckets(execution, n, slots, bucket);
     out->resize(static_cast<std::size_t>(slots.start[1]));
