@@ -61,6 +61,7 @@ struct WeightPlane {
 // W = Σ s∫_P μ and (X, Y) = Σ s∫_P μ(x − p0), the first is
 // n × (W q0 + X ∂q/∂x + Y ∂q/∂y): from the B triangle's record and the cell's
 // own sums, so the cells of any range of A's triangles add up on their own.
+//
 // Some cells' interior sums: n × Σ s∫μq (before the motion's −Mᵀ) and Σ s∫μ n.
 struct InteriorSums {
   double rotation[3] = {0, 0, 0}, translation[3] = {0, 0, 0};
