@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "registration/series_internal.h"
+#include "registration/solvers.h"
 
 namespace surfreg::series_internal {
 namespace {
@@ -308,7 +309,7 @@ JointSolution SolveJoint(const std::vector<Edge>& edges, const Eigen::MatrixXd& 
   options.function_tolerance = 1e-15;
   options.gradient_tolerance = 1e-15;
   options.parameter_tolerance = 1e-14;
-  options.num_threads = std::max(1, threads);
+  options.num_threads = CeresThreads(threads);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   solution.iterations = static_cast<int>(summary.iterations.size());

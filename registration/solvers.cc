@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -17,6 +18,12 @@
 #include "registration/volume_cost/volume_cost.h"
 
 namespace surfreg {
+
+int CeresThreads(int requested) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return std::min(ExecutionFor(requested).threads, cores);
+}
+
 namespace {
 
 // A trust-region step may not leave less than this share of the starting
@@ -274,7 +281,7 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
     solver.function_tolerance = std::max(solver.function_tolerance, kPrealignTolerance);
     solver.parameter_tolerance = kPrealignTolerance;
   }
-  solver.num_threads = ExecutionFor(options.num_threads).threads;
+  solver.num_threads = CeresThreads(options.num_threads);
   LogCallback log(context);
   solver.callbacks.push_back(&log);
   // B's surface is fixed as in SolveVolume: a trust region compares the

@@ -23,6 +23,11 @@
 
 namespace surfreg {
 
+// Threads for a Ceres solve: `requested` as ExecutionFor reads it (0: every
+// core), at most the cores (Ceres bounds more itself, with a warning per
+// solve; the results are the same on any number).
+int CeresThreads(int requested);
+
 struct SolveContext {
   const AlignOptions* options = nullptr;
   // What the alignment solves, resolved once from the options and the data

@@ -197,5 +197,11 @@ if [[ $rc -ne 2 ]] || ! grep -q "flag '--cell_kernel' expects one of best, scala
   fail "--cell_kernel=bogus: expected exit 2 naming the flag"
 fi
 
+# More threads than cores: run on them, without Ceres's warning per solve.
+run align configs/data/face_a.xyz configs/data/face_b_moved.xyz --json --threads=64
+if [[ $rc -ne 0 ]] || grep -q "exceeds maximum available" "$tmp/err"; then
+  fail "--threads=64: expected exit 0 and no warning from Ceres"
+fi
+
 echo "$((checks - failures)) of $checks checks passed"
 [[ $failures -eq 0 ]]
