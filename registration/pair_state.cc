@@ -236,7 +236,7 @@ namespace {
 // only where wanted.
 void MovePoints(const MovingSide& moving, const Eigen::Matrix3d& rotation, const std::array<double, 6>& theta,
                 const Execution& execution, Point2* xy, double* z, Eigen::Vector3d* q) {
-  const Eigen::Vector3d offset = moving.centroid + Eigen::Vector3d(theta[3], theta[4], theta[5]);
+  const Eigen::Vector3d offset = MotionOffset(moving, theta);
   const int64_t n = static_cast<int64_t>(moving.points.size());
   ForEachChunk(execution, n, ChunksFor(n, kItemChunk), [&](int, int64_t begin, int64_t end) {
     for (int64_t j = begin; j < end; ++j) {

@@ -87,6 +87,11 @@ MovingSide PrepareMoving(const Surface& surface, const std::array<double, 3>& sh
                          double keep_fraction = 1.0, const DomainRule& rule = DomainRule(),
                          const Execution& execution = Execution());
 
+// c + t of the motion θ about B's centroid: T(p) = R(ω)(p − c) + offset.
+inline Eigen::Vector3d MotionOffset(const MovingSide& side, const std::array<double, 6>& theta) {
+  return side.centroid + Eigen::Vector3d(theta[3], theta[4], theta[5]);
+}
+
 // The root-mean-square distance of the moving points from their centroid:
 // the lever that turns a rotation into a length (rotations × it weigh
 // alike with translations).
@@ -140,6 +145,8 @@ class PairState {
   const std::vector<Point2>& moved_xy() const { return moved_xy_; }
   const std::vector<double>& moved_z() const { return moved_z_; }
   const std::vector<Eigen::Vector3d>& moved_q() const { return moved_q_; }
+  // MotionOffset at the current θ.
+  Eigen::Vector3d motion_offset() const { return MotionOffset(moving_, theta_); }
   const std::vector<Location>& a_in_b() const { return a_in_b_; }
   const std::vector<Location>& b_in_a() const { return b_in_a_; }
   // Fixes B's surface for a solve: its active triangles become B's own

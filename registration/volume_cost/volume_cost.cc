@@ -330,9 +330,7 @@ VolumeCostValue VolumeCostCache::Evaluate(const PairState& s, bool gradient, con
   // Weights added or dropped since Bind: their planes again.
   if (m.weight_a.size() != (weighted ? static_cast<std::size_t>(na) : 0u)) m.BindWeights();
   m.RecordMovedTriangles(s, execution, chunks, bins);
-  // As MovePoints: T(p) = q + offset.
-  const Eigen::Vector3d offset =
-      s.moving().centroid + Eigen::Vector3d(s.theta()[3], s.theta()[4], s.theta()[5]);
+  const Eigen::Vector3d offset = s.motion_offset();  // T(p) = q + offset
   ForEachChunk(execution, na, chunks, [&](int part, int64_t begin, int64_t end) {
     const int32_t lo = static_cast<int32_t>(begin), hi = static_cast<int32_t>(end);
     ChunkValue* out = &m.chunk_values[part];
