@@ -25,14 +25,15 @@ inline int EdgesOfCorner(uint8_t code) {
   }
 }
 
-// The moved B triangle's material point q, affine in xy relative to its
-// corner 0, and the rows of g and w before the rotation rows' Mᵀ (applied
-// once to the sum: H = T K Tᵀ, T = diag(Mᵀ, I)).
+// The moved B triangle's material point q (the point less the motion's
+// offset) at (x, y) relative to its corner 0: on T_B's plane, so q = q0 +
+// (x, y, gx x + gy y) with ∇F̂_B' = (gx, gy) (as the gradient's interior
+// share, volume_cost_cache.h); the rows of g and w before the rotation
+// rows' Mᵀ (applied once to the sum: H = T K Tᵀ, T = diag(Mᵀ, I)).
 struct MovedFrame {
-  double inv[4];
-  Eigen::Vector3d q0, dq1, dq2, normal;
+  Eigen::Vector3d q0, normal;  // normal = (−gx, −gy, 1)
   Eigen::Vector3d Q(double x, double y) const {
-    return q0 + (inv[0] * x + inv[1] * y) * dq1 + (inv[2] * x + inv[3] * y) * dq2;
+    return Eigen::Vector3d(q0.x() + x, q0.y() + y, q0.z() - normal.x() * x - normal.y() * y);
   }
   // g = ∂_θF̂_B' (rows: −n × q, n).
   Vector6 G(double x, double y) const {
@@ -119,13 +120,7 @@ void VolumeCostCache::Impl::Curvature(const PairState& s, int32_t lo, int32_t hi
     auto set_frame = [&] {
       if (frame_set) return;
       frame_set = true;
-      const double ax = cx6[4] - c.bx, ay = cy6[4] - c.by, ex = cx6[5] - c.bx, ey = cy6[5] - c.by;
-      const double det = ax * ey - ay * ex;
-      frame_b.inv[0] = ey / det, frame_b.inv[1] = -ex / det;
-      frame_b.inv[2] = -ay / det, frame_b.inv[3] = ax / det;
       frame_b.q0 = q[c.ib[0]];
-      frame_b.dq1 = q[c.ib[1]] - q[c.ib[0]];
-      frame_b.dq2 = q[c.ib[2]] - q[c.ib[0]];
       frame_b.normal = Eigen::Vector3d(-fb.gx, -fb.gy, 1.0);
     };
     if (zero_line) {
