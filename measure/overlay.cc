@@ -99,8 +99,8 @@ class OverlayBuilder {
  public:
   OverlayBuilder(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                  const std::vector<Point2>& points_b, const Triangulation& mesh_b,
-                 std::vector<char>& done)
-      : pa_(points_a), ma_(mesh_a), pb_(points_b), mb_(mesh_b),
+                 std::vector<char>& done, bool labelled)
+      : pa_(points_a), ma_(mesh_a), pb_(points_b), mb_(mesh_b), labelled_(labelled),
         seed_(mesh_a.num_triangles(), -1), done_(done),
         b_stamp_(mesh_b.num_triangles(), -1), sides_(points_b.size()) {}
 
@@ -200,6 +200,7 @@ class OverlayBuilder {
   const Triangulation& ma_;
   const std::vector<Point2>& pb_;
   const Triangulation& mb_;
+  const bool labelled_;
   std::vector<int32_t> seed_;   // per A triangle: a B triangle meeting it, or -1
   std::vector<char>& done_;     // per A triangle, shared
   int32_t begin_ = 0, end_ = 0;
@@ -254,10 +255,12 @@ bool OverlayBuilder::Clip(const Point2 b[3], const int8_t* s[3], OverlayCell& ce
   overlay_internal::ClipPolygon scratch[2];
   const overlay_internal::ClipPolygon* polygon = nullptr;
   double twice_area = 0.0;
-  const int n = overlay_internal::ClipTriangleInto<false>(a_, b, s, scratch, &polygon, &twice_area);
+  const int n = labelled_ ? overlay_internal::ClipTriangleInto<true>(a_, b, s, scratch, &polygon, &twice_area)
+                         : overlay_internal::ClipTriangleInto<false>(a_, b, s, scratch, &polygon, &twice_area);
   if (n < 3) return false;
   cell.num_vertices = n;
   for (int k = 0; k < n; ++k) cell.vertices[k] = {polygon->corner[k].x, polygon->corner[k].y};
+  if (labelled_) std::copy(polygon->label, polygon->label + n, cell.labels.begin());
   cell.area = 0.5 * twice_area;
   return true;
 }
@@ -286,7 +289,7 @@ OverlayStats ForEachOverlayCellInChunks(const std::vector<Point2>& points_a, con
                                         const std::vector<Point2>& points_b, const Triangulation& mesh_b,
                                         const std::vector<Location>& b_in_a, int chunks,
                                         const std::function<void(int, const OverlayCell&)>& visit,
-                                        const Execution& execution) {
+                                        const Execution& execution, bool labelled) {
   const int32_t n = mesh_a.num_triangles();
   chunks = std::max(1, chunks);
   const auto chunk_of = [&](int32_t ta) {
@@ -339,7 +342,7 @@ OverlayStats ForEachOverlayCellInChunks(const std::vector<Point2>& points_a, con
   std::vector<std::unique_ptr<OverlayBuilder>> pool;
   const auto take = [&] {
     std::lock_guard<std::mutex> lock(pool_mutex);
-    if (pool.empty()) return std::make_unique<OverlayBuilder>(points_a, mesh_a, points_b, mesh_b, done);
+    if (pool.empty()) return std::make_unique<OverlayBuilder>(points_a, mesh_a, points_b, mesh_b, done, labelled);
     std::unique_ptr<OverlayBuilder> b = std::move(pool.back());
     pool.pop_back();
     return b;

@@ -29,6 +29,10 @@ struct OverlayCell {
   int num_vertices = 0;                // 3 to 6: a triangle clipped by a triangle
   std::array<Point2, 8> vertices;      // convex, counter-clockwise
   double area = 0.0;                   // > 0
+  // Only when asked for (ForEachOverlayCellInChunks' `labelled`): what each
+  // corner is, a vertex of T_A or T_B or the crossing of two of their edges
+  // (measure/overlay_clip.h's codes).
+  std::array<uint8_t, 8> labels{};
 };
 
 struct OverlayStats {
@@ -52,12 +56,13 @@ OverlayStats ForEachOverlayCell(const std::vector<Point2>& points_a, const Trian
 // thread count, so sums made per chunk and added in chunk order are the same
 // bits on any number of threads. Calls for one chunk come from one thread
 // at a time, so a visitor per chunk may accumulate without locks.
+// `labelled`: the cells' corner labels too (the kept overlay's).
 OverlayStats ForEachOverlayCellInChunks(const std::vector<Point2>& points_a, const Triangulation& mesh_a,
                                         const std::vector<Location>& a_in_b,
                                         const std::vector<Point2>& points_b, const Triangulation& mesh_b,
                                         const std::vector<Location>& b_in_a, int chunks,
                                         const std::function<void(int chunk, const OverlayCell&)>& visit,
-                                        const Execution& execution);
+                                        const Execution& execution, bool labelled = false);
 
 // The chunk count for A's mesh: a function of its size only.
 int OverlayChunks(const Triangulation& mesh_a);

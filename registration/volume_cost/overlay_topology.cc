@@ -150,62 +150,43 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
                                      const std::vector<Location>& b_in_a, const Execution& execution,
                                      const uint8_t* keep_a, const uint8_t* keep_b) {
   const int32_t na = mesh_a.num_triangles();
-  // The pairs that make cells, from the full overlay, by T_A.
-  // The same lists on any number of threads (overlay.h): the cells' order,
-  // and so every sum over them, does not depend on the thread count.
-  std::vector<std::vector<std::pair<int32_t, int32_t>>> pairs(OverlayChunks(mesh_a));
+  // The full overlay's cells with their labels (the same clip: the same
+  // cells), by chunk, then by T_A: a search visits one T_A's cells in a
+  // row, so a chunk's are runs (T_A, count). The same lists on any number of
+  // threads (overlay.h): the cells' order, and so every sum over them, does
+  // not depend on the thread count.
+  std::vector<std::vector<TopologyCell>> found(OverlayChunks(mesh_a));
+  std::vector<std::vector<std::pair<int32_t, int32_t>>> runs(found.size());
   const OverlayStats overlay = ForEachOverlayCellInChunks(
-      points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, static_cast<int>(pairs.size()),
-      [&](int c, const OverlayCell& cell) { pairs[c].push_back({cell.triangle_a, cell.triangle_b}); }, execution);
+      points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, static_cast<int>(found.size()),
+      [&](int c, const OverlayCell& cell) {
+        if ((keep_a != nullptr && !keep_a[cell.triangle_a]) || (keep_b != nullptr && !keep_b[cell.triangle_b])) return;
+        TopologyCell kept;
+        kept.triangle_b = cell.triangle_b;
+        kept.num_corners = static_cast<uint8_t>(cell.num_vertices);
+        std::copy(cell.labels.begin(), cell.labels.begin() + cell.num_vertices, kept.corner.begin());
+        found[c].push_back(kept);
+        if (runs[c].empty() || runs[c].back().first != cell.triangle_a) runs[c].push_back({cell.triangle_a, 0});
+        ++runs[c].back().second;
+      },
+      execution, /*labelled=*/true);
   begin_.assign(na + 1, 0);
   count_.assign(na, 0);
-  for (const auto& list : pairs) {
-    for (const auto& p : list) ++begin_[p.first + 1];
+  for (const auto& list : runs) {
+    for (const auto& [ta, count] : list) begin_[ta + 1] += count;
   }
   for (int32_t t = 0; t < na; ++t) begin_[t + 1] += begin_[t];
   // Room for the repairs' appends until the first compaction (Compact).
   cells_.reserve(static_cast<std::size_t>(begin_[na] * 5 / 2 + 8192));
-  // Only triangle_b is read before labelling writes each kept cell whole:
-  // no need to clear what a previous build left.
   cells_.resize(static_cast<std::size_t>(begin_[na]));
-  for (const auto& list : pairs) {
-    for (const auto& p : list) cells_[begin_[p.first] + count_[p.first]++].triangle_b = p.second;
+  for (std::size_t c = 0; c < found.size(); ++c) {
+    const TopologyCell* next = found[c].data();
+    for (const auto& [ta, count] : runs[c]) {
+      std::copy(next, next + count, cells_.begin() + begin_[ta] + count_[ta]);
+      count_[ta] += count, next += count;
+    }
   }
   begin_.pop_back();
-  // Label each pair's cell (the same clip: the same cells).
-  auto label = [&](Searcher& s, int32_t lo, int32_t hi) {
-    s.pb = &points_b;
-    s.mb = &mesh_b;
-    for (int32_t ta = lo; ta < hi; ++ta) {
-      const int32_t* va = &mesh_a.triangles[3 * ta];
-      const Point2 a[3] = {points_a[va[0]], points_a[va[1]], points_a[va[2]]};
-      s.Begin(a);
-      TopologyCell* cells = cells_.data() + begin_[ta];
-      int32_t kept = 0;
-      if (keep_a != nullptr && !keep_a[ta]) {
-        count_[ta] = 0;
-        continue;
-      }
-      for (int32_t k = 0; k < count_[ta]; ++k) {
-        const int32_t tb = cells[k].triangle_b;
-        if (keep_b != nullptr && !keep_b[tb]) continue;
-        const int32_t* vb = &mesh_b.triangles[3 * tb];
-        int8_t signs[3][3];
-        for (int c = 0; c < 3; ++c) std::copy(s.Sides(vb[c]), s.Sides(vb[c]) + 3, signs[c]);
-        const Point2 b[3] = {points_b[vb[0]], points_b[vb[1]], points_b[vb[2]]};
-        TopologyCell cell;
-        cell.triangle_b = tb;
-        cell.num_corners = static_cast<uint8_t>(ClipLabeled(a, b, signs, cell.corner.data()));
-        if (cell.num_corners >= 3) cells[kept++] = cell;
-      }
-      count_[ta] = kept;
-    }
-  };
-  ForEachChunk(execution, na, Chunks(na), [&](int, int64_t lo, int64_t hi) {
-    std::unique_ptr<Searcher> searcher = Lend(mesh_b.num_triangles(), static_cast<int64_t>(points_b.size()));
-    label(*searcher, static_cast<int32_t>(lo), static_cast<int32_t>(hi));
-    Return(std::move(searcher));
-  });
   live_ = 0;
   for (int32_t t = 0; t < na; ++t) live_ += count_[t];
   TopologyStats stats;
