@@ -155,8 +155,18 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
   // row, so a chunk's are runs (T_A, count). The same lists on any number of
   // threads (overlay.h): the cells' order, and so every sum over them, does
   // not depend on the thread count.
-  std::vector<std::vector<TopologyCell>> found(OverlayChunks(mesh_a));
-  std::vector<std::vector<std::pair<int32_t, int32_t>>> runs(found.size());
+  const int chunks = OverlayChunks(mesh_a);
+  std::vector<std::vector<TopologyCell>> found(chunks);
+  std::vector<std::vector<std::pair<int32_t, int32_t>>> runs(chunks);
+  // Room for about three times the cells an overlay has (fewer than both
+  // meshes' triangles together, doubled), shared by the chunks as their A
+  // triangles: reserved pages cost nothing until written, while a vector
+  // grown by doubling keeps up to twice its cells at once.
+  const int64_t expected = 6 * (static_cast<int64_t>(na) + mesh_b.num_triangles());
+  for (int c = 0; c < chunks; ++c) {
+    const int64_t share = ChunkBegin(na, chunks, c + 1) - ChunkBegin(na, chunks, c);
+    found[c].reserve(static_cast<std::size_t>(expected * share / std::max<int32_t>(na, 1) + 256));
+  }
   const OverlayStats overlay = ForEachOverlayCellInChunks(
       points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, static_cast<int>(found.size()),
       [&](int c, const OverlayCell& cell) {
@@ -185,6 +195,7 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
       std::copy(next, next + count, cells_.begin() + begin_[ta] + count_[ta]);
       count_[ta] += count, next += count;
     }
+    std::vector<TopologyCell>().swap(found[c]);  // its pages back as the cells fill theirs
   }
   begin_.pop_back();
   live_ = 0;
