@@ -84,6 +84,18 @@ double MeasureOfCost(CostKind cost, const MeasureSummary& s) {
 
 }  // namespace
 
+// A wrong minimum: the solver failed or did not improve, or the surfaces
+// still lie apart by far more than two samplings of one surface do at the
+// right pose (AlignResult::sampling_gap). A start already at the minimum
+// (a previous run's result) does not improve either, but its surfaces lie
+// as close as samplings do: nothing to search for.
+bool WideSearchWanted(const AlignResult& result, CostKind cost) {
+  const bool close = result.sampling_gap > 0 && MeasureOfCost(cost, result.after) <= kWideSearchGapFactor * result.sampling_gap;
+  const bool poor = result.verdict == Verdict::kFailed || (result.verdict == Verdict::kConvergedNotImproved && !close);
+  const bool apart = result.verdict == Verdict::kConvergedImproved && result.sampling_gap > 0 && !close;
+  return poor || apart;
+}
+
 namespace {
 
 // The information at the state's motion and, by default, the sandwich
@@ -341,17 +353,8 @@ namespace {
 // Align, and the wide search when the verdict asks for it.
 AlignResult AlignWithSearch(const Surface& reference, const Surface& moving, const AlignOptions& options) {
   AlignResult result = AlignFrom(reference, moving, options);
-  // A wrong minimum: the solver failed or did not improve, or the surfaces
-  // still lie apart by far more than two samplings of one surface do at the
-  // right pose (AlignResult::sampling_gap). A start already at the minimum
-  // (a previous run's result) does not improve either, but its surfaces lie
-  // as close as samplings do: nothing to search for.
-  const bool close = result.sampling_gap > 0 &&
-                     MeasureOfCost(options.cost, result.after) <= kWideSearchGapFactor * result.sampling_gap;
-  const bool poor = result.verdict == Verdict::kFailed ||
-                    (result.verdict == Verdict::kConvergedNotImproved && !close);
-  const bool apart = result.verdict == Verdict::kConvergedImproved && result.sampling_gap > 0 && !close;
-  if (options.wide_search != AlignOptions::WideSearch::kAuto || !(poor || apart)) return result;
+  if (options.wide_search != AlignOptions::WideSearch::kAuto || !WideSearchWanted(result, options.cost)) return result;
+  const bool poor = result.verdict == Verdict::kFailed || result.verdict == Verdict::kConvergedNotImproved;
   if (options.on_stage) {
     options.on_stage(poor ? "wide search (the first solve did not improve): solving again from many starts"
                           : "wide search (the surfaces are still apart): solving again from many starts",

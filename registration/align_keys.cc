@@ -216,7 +216,8 @@ const std::vector<AlignOptionEntry>& AlignOptionKeys() {
       {{"wide_search", "one of auto, always, never",
         "try 50 starts (12° and 24° about 12 axes, and the centroids matched) on a coarse "
         "subsample and solve from the best: always, or (auto) when the alignment from the initial "
-        "motion fails or does not improve"},
+        "motion fails, does not improve, or leaves the surfaces apart (with stable auto: apart on "
+        "the stable terrain)"},
        [](const Value& v, AlignOptions* o) { o->wide_search = Choice(v, kWideSearches); },
        [](const AlignOptions& o) { return NameOf(o.wide_search, kWideSearches); }},
       {{"initial_rotation_deg", "a list of 3 numbers [rx, ry, rz]",

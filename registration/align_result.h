@@ -112,4 +112,10 @@ struct AlignResult {
   std::string FullReport(const std::string& units = "units") const;
 };
 
+// Whether `result` asks wide_search auto to search: the solve failed, did
+// not improve the measure of surfaces that lay apart, or left them apart
+// (the measure `cost` is judged by above the sampling gap). A real change
+// between the surveys also leaves them apart.
+bool WideSearchWanted(const AlignResult& result, CostKind cost);
+
 }  // namespace surfreg

@@ -174,12 +174,13 @@ int64_t Reclassified(const StableTerrain& a, const StableTerrain& b) {
   return n;
 }
 
-}  // namespace
-
-AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving, const AlignOptions& options) {
+// The rounds and the final solve (align_stable.h), the wide search as
+// `options` say. *first_wanted: the first fit (on all of the overlap) asks
+// for the wide search (WideSearchWanted); *first_poor: because it failed or
+// did not improve (rather than leaving the surfaces apart).
+AlignResult FitOnStableTerrain(const Surface& reference, const Surface& moving, const AlignOptions& options,
+                               bool* first_wanted, bool* first_poor) {
   const Clock::time_point start = Clock::now();
-  std::string error;
-  if (!options.IsValid(&error)) throw InputError("align options: " + error);
   AlignOptions first = options;
   first.stable.mode = StableOptions::Mode::kAll;
   // Under uniform weights the first fit's measure after it is the gaps'
@@ -192,6 +193,8 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
       std::async(ExecutionFor(options.num_threads).parallel() ? std::launch::async : std::launch::deferred,
                  [&reference, &options] { return MakeSampleAdjacency(reference, ExecutionFor(options.num_threads)); });
   AlignResult result = Align(reference, moving, first);
+  *first_wanted = WideSearchWanted(result, options.cost);
+  *first_poor = *first_wanted && result.verdict != Verdict::kConvergedImproved;
   // Nothing to classify on:
   if (result.verdict == Verdict::kFailed) {
     if (!options.keep_node_gaps) DropNodeGaps(&result.before), DropNodeGaps(&result.after);
@@ -292,6 +295,38 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
   result.stable = std::move(stable);
   result.seconds = SecondsSince(start);
   return result;
+}
+
+}  // namespace
+
+AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving, const AlignOptions& options) {
+  std::string error;
+  if (!options.IsValid(&error)) throw InputError("align options: " + error);
+  bool first_wanted = false, first_poor = false;
+  if (options.wide_search != AlignOptions::WideSearch::kAuto) {
+    return FitOnStableTerrain(reference, moving, options, &first_wanted, &first_poor);
+  }
+  // A real change leaves the surfaces apart as a wrong minimum does, and
+  // wide_search auto's search (1-3 s) then finds the same minimum again. So
+  // first without it. Kept: a fit whose own first fit asked for nothing
+  // and whose final one asks for nothing either (the search would not have
+  // run); or one whose first fit left the surfaces apart but whose fit on
+  // the stable terrain lies close on it, with that terrain found without a
+  // warning (most of the overlap, settled). Otherwise all again, searching.
+  AlignOptions quick = options;
+  quick.wide_search = AlignOptions::WideSearch::kNever;
+  AlignResult result = FitOnStableTerrain(reference, moving, quick, &first_wanted, &first_poor);
+  const bool close = !WideSearchWanted(result, options.cost);
+  if (close && (!first_wanted || (!first_poor && result.stable.warning.empty()))) return result;
+  if (options.on_stage) {
+    options.on_stage(first_poor ? "the first fit did not improve: aligning again with the wide search"
+                     : close    ? "the stable terrain is small or did not settle: aligning again with the wide search"
+                                : "the surfaces are still apart: aligning again with the wide search",
+                     result.seconds);
+  }
+  AlignResult searched = FitOnStableTerrain(reference, moving, options, &first_wanted, &first_poor);
+  searched.seconds += result.seconds;
+  return searched;
 }
 
 }  // namespace surfreg

@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -307,6 +309,28 @@ TEST(AlignStable, OneSidedChangedBlockIsFoundAndLeftOut) {
   const double sigma_rotation_deg =
       std::sqrt(found.covariance.topLeftCorner<3, 3>().trace()) * 180 / M_PI;
   EXPECT_LT(e_found.rotation_deg, 4 * sigma_rotation_deg);
+}
+
+// Real change leaves the surfaces apart after a fit on all of the overlap,
+// as a wrong minimum does: wide_search auto searches there (1-3 s, for the
+// same minimum). With the stable terrain found first, the fit on it lies
+// close and nothing is searched: the same motion as never searching.
+TEST(AlignStable, ChangeThatLeavesTheSurfacesApartRunsNoWideSearch) {
+  const Pair pair = MakePair(testing::SmoothTerrain, [](double x, double y) {
+    return testing::SmoothTerrain(x, y) + (InBlock(x, y) ? 3.0 + 0.05 * (x - 60) : 0.0);
+  }, 0.05);
+  const AlignResult all = Align(pair.reference, pair.moving, WithStable(StableOptions::Mode::kAll));
+  ASSERT_TRUE(all.wide_search_ran) << "the fit on all left the surfaces close: the test lost its point";
+  AlignOptions options = WithStable(StableOptions::Mode::kAuto);
+  std::vector<std::string> stages;
+  options.on_stage = [&stages](const char* stage, double) { stages.emplace_back(stage); };
+  const AlignResult found = Align(pair.reference, pair.moving, options);
+  ASSERT_EQ(found.verdict, Verdict::kConvergedImproved) << found.verdict_reason;
+  EXPECT_FALSE(found.wide_search_ran);
+  for (const std::string& stage : stages) EXPECT_EQ(stage.find("wide search"), std::string::npos) << stage;
+  options.wide_search = AlignOptions::WideSearch::kNever;
+  EXPECT_EQ(Align(pair.reference, pair.moving, options).matrix, found.matrix);
+  EXPECT_LT(Error(pair, found).rotation_deg, 0.03);
 }
 
 // Nothing changed: nothing is left out, and the result is the fit on all.
