@@ -229,5 +229,36 @@ TEST(AlignApiTest, ReportsNameEveryItem) {
   EXPECT_NE(brief.find("mean |dz|"), std::string::npos) << brief;
 }
 
+// wide_search auto's rule (align_result.h), case by case against its
+// definition: failed, not improved while apart, or improved but apart;
+// without a sampling gap there is nothing to call apart.
+TEST(AlignApiTest, WideSearchWantedFollowsTheVerdictAndTheSamplingGap) {
+  const auto result = [](Verdict verdict, double gap, double mean_abs_dz, double rho_d_axial) {
+    AlignResult r;
+    r.verdict = verdict;
+    r.sampling_gap = gap;
+    r.after.mean_abs_dz = mean_abs_dz;
+    r.after.rho_d_axial = rho_d_axial;
+    return r;
+  };
+  const CostKind volume = CostKind::kVolume, axial = CostKind::kAxial;
+  EXPECT_TRUE(WideSearchWanted(result(Verdict::kFailed, 1.0, 0.1, 0.1), volume));
+  EXPECT_FALSE(WideSearchWanted(result(Verdict::kConvergedImproved, 1.0, 0.5, 5.0), volume));
+  EXPECT_FALSE(WideSearchWanted(result(Verdict::kConvergedImproved, 1.0, 1.0, 5.0), volume));  // at the gap: close
+  EXPECT_TRUE(WideSearchWanted(result(Verdict::kConvergedImproved, 1.0, 1.5, 0.5), volume));
+  // An axial cost is judged by ρ'd.
+  EXPECT_TRUE(WideSearchWanted(result(Verdict::kConvergedImproved, 1.0, 0.5, 1.5), axial));
+  EXPECT_FALSE(WideSearchWanted(result(Verdict::kConvergedImproved, 1.0, 1.5, 0.5), axial));
+  // A start at the minimum does not improve, but lies close: nothing to find.
+  EXPECT_FALSE(WideSearchWanted(result(Verdict::kConvergedNotImproved, 1.0, 0.5, 0.5), volume));
+  EXPECT_TRUE(WideSearchWanted(result(Verdict::kConvergedNotImproved, 1.0, 1.5, 1.5), volume));
+  // No sampling gap known (e.g. a plane): never apart, so only a result
+  // that did not improve asks.
+  EXPECT_FALSE(WideSearchWanted(result(Verdict::kConvergedImproved, 0.0, 1.5, 1.5), volume));
+  EXPECT_TRUE(WideSearchWanted(result(Verdict::kConvergedNotImproved, 0.0, 1.5, 1.5), volume));
+  // Ill-conditioned: the solve improved; what it left undetermined is not a wrong minimum.
+  EXPECT_FALSE(WideSearchWanted(result(Verdict::kIllConditioned, 1.0, 1.5, 1.5), volume));
+}
+
 }  // namespace
 }  // namespace surfreg
