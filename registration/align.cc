@@ -76,13 +76,11 @@ MeasureOptions MeasureOptionsFor(const AlignOptions& options) {
   return m;
 }
 
-// The measure the user's cost choice is judged by: the volume's unless an
-// axial cost was chosen.
+}  // namespace
+
 double MeasureOfCost(CostKind cost, const MeasureSummary& s) {
   return cost == CostKind::kAxial || cost == CostKind::kAxialSparser ? s.rho_d_axial : s.mean_abs_dz;
 }
-
-}  // namespace
 
 // A wrong minimum: the solver failed or did not improve, or the surfaces
 // still lie apart by far more than two samplings of one surface do at the

@@ -112,6 +112,10 @@ struct AlignResult {
   std::string FullReport(const std::string& units = "units") const;
 };
 
+// The measure an alignment with cost `cost` is judged by: the mean gap
+// (ρd over the overlap) unless an axial cost was chosen (ρ'd).
+double MeasureOfCost(CostKind cost, const MeasureSummary& summary);
+
 // Whether `result` asks wide_search auto to search: the solve failed, did
 // not improve the measure of surfaces that lay apart, or left them apart
 // (the measure `cost` is judged by above the sampling gap). A real change

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <future>
 #include <memory>
+#include <utility>
 #include <cstdio>
 
 #include "measure/input_error.h"
@@ -174,27 +175,41 @@ int64_t Reclassified(const StableTerrain& a, const StableTerrain& b) {
   return n;
 }
 
-// The rounds and the final solve (align_stable.h), the wide search as
-// `options` say. *first_wanted: the first fit (on all of the overlap) asks
-// for the wide search (WideSearchWanted); *first_poor: because it failed or
-// did not improve (rather than leaving the surfaces apart).
-AlignResult FitOnStableTerrain(const Surface& reference, const Surface& moving, const AlignOptions& options,
-                               bool* first_wanted, bool* first_poor) {
-  const Clock::time_point start = Clock::now();
+// What the first fit (on all of the overlap) was: whether it asks for the
+// wide search (WideSearchWanted), because it failed or did not improve
+// (rather than leaving the surfaces apart), and its measure.
+struct FirstFit {
+  bool wanted = false, poor = false;
+  double measure = 0;
+};
+
+// The first fit's options: on all of the overlap. Under uniform weights
+// its measure after it is the gaps' measure (GapMeasureOptions) at its
+// motion: kept, not measured again.
+AlignOptions FirstFitOptions(const AlignOptions& options) {
   AlignOptions first = options;
   first.stable.mode = StableOptions::Mode::kAll;
-  // Under uniform weights the first fit's measure after it is the gaps'
-  // measure (GapMeasureOptions) at its motion: kept, not measured again.
+  first.keep_node_gaps = options.keep_node_gaps || options.weight == WeightMode::kUniform;
+  return first;
+}
+
+// The rounds and the final solve (align_stable.h), the wide search as
+// `options` say; from `given_first` as the first fit if not null (made with
+// FirstFitOptions).
+AlignResult FitOnStableTerrain(const Surface& reference, const Surface& moving, const AlignOptions& options,
+                               FirstFit* first_fit, AlignResult* given_first = nullptr) {
+  const Clock::time_point start = Clock::now();
+  const AlignOptions first = FirstFitOptions(options);
   const bool gaps_from_first = options.weight == WeightMode::kUniform;
-  first.keep_node_gaps = options.keep_node_gaps || gaps_from_first;
   // The reference's neighbours and curvature do not depend on the motion:
   // built beside the first fit.
   std::future<SampleAdjacency> adjacency_later =
       std::async(ExecutionFor(options.num_threads).parallel() ? std::launch::async : std::launch::deferred,
                  [&reference, &options] { return MakeSampleAdjacency(reference, ExecutionFor(options.num_threads)); });
-  AlignResult result = Align(reference, moving, first);
-  *first_wanted = WideSearchWanted(result, options.cost);
-  *first_poor = *first_wanted && result.verdict != Verdict::kConvergedImproved;
+  AlignResult result = given_first != nullptr ? std::move(*given_first) : Align(reference, moving, first);
+  first_fit->wanted = WideSearchWanted(result, options.cost);
+  first_fit->poor = first_fit->wanted && result.verdict != Verdict::kConvergedImproved;
+  first_fit->measure = MeasureOfCost(options.cost, result.after);
   // Nothing to classify on:
   if (result.verdict == Verdict::kFailed) {
     if (!options.keep_node_gaps) DropNodeGaps(&result.before), DropNodeGaps(&result.after);
@@ -302,31 +317,60 @@ AlignResult FitOnStableTerrain(const Surface& reference, const Surface& moving, 
 AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving, const AlignOptions& options) {
   std::string error;
   if (!options.IsValid(&error)) throw InputError("align options: " + error);
-  bool first_wanted = false, first_poor = false;
-  if (options.wide_search != AlignOptions::WideSearch::kAuto) {
-    return FitOnStableTerrain(reference, moving, options, &first_wanted, &first_poor);
-  }
+  FirstFit first;
+  if (options.wide_search != AlignOptions::WideSearch::kAuto) return FitOnStableTerrain(reference, moving, options, &first);
   // A real change leaves the surfaces apart as a wrong minimum does, and
   // wide_search auto's search (1-3 s) then finds the same minimum again. So
   // first without it. Kept: a fit whose own first fit asked for nothing
   // and whose final one asks for nothing either (the search would not have
   // run); or one whose first fit left the surfaces apart but whose fit on
   // the stable terrain lies close on it, with that terrain found without a
-  // warning (most of the overlap, settled). Otherwise all again, searching.
+  // warning (most of the overlap, settled).
   AlignOptions quick = options;
   quick.wide_search = AlignOptions::WideSearch::kNever;
-  AlignResult result = FitOnStableTerrain(reference, moving, quick, &first_wanted, &first_poor);
+  AlignResult result = FitOnStableTerrain(reference, moving, quick, &first);
   const bool close = !WideSearchWanted(result, options.cost);
-  if (close && (!first_wanted || (!first_poor && result.stable.warning.empty()))) return result;
+  if (close && (!first.wanted || (!first.poor && result.stable.warning.empty()))) return result;
+  if (close && first.wanted && !first.poor) {
+    // Only the warning asks for more: the search the first fit would have
+    // run, alone. If it finds nothing better, searching first would have
+    // kept that first fit, and from it came this very result.
+    if (options.on_stage) {
+      options.on_stage("the stable terrain is small or did not settle: the wide search from the start",
+                       result.seconds);
+    }
+    AlignOptions wide = FirstFitOptions(options);
+    wide.wide_search = AlignOptions::WideSearch::kAlways;
+    wide.on_stage = nullptr;
+    wide.on_iteration = nullptr;
+    if (wide.stddev_subsamples > 0) {  // as Align's first fit under them (its motion, not its σ)
+      wide.stddev_subsamples = 0;
+      wide.stddev_method = AlignOptions::StddevMethod::kInformation;
+    }
+    AlignResult searched = Align(reference, moving, wide);
+    result.seconds += searched.seconds;
+    result.wide_search_ran = true;
+    const bool better = searched.verdict == Verdict::kConvergedImproved &&
+                        MeasureOfCost(options.cost, searched.after) < first.measure;
+    if (!better) return result;
+    // As searching first would have gone on: from the search's fit.
+    if (options.on_stage) options.on_stage("the wide search found a lower minimum: on from it", result.seconds);
+    searched.wide_search_ran = true;
+    const double seconds = result.seconds;
+    result = FitOnStableTerrain(reference, moving, options, &first, &searched);
+    result.seconds += seconds;
+    return result;
+  }
+  // Otherwise all again, searching.
   if (options.on_stage) {
-    options.on_stage(first_poor ? "the first fit did not improve: aligning again with the wide search"
-                     : close    ? "the stable terrain is small or did not settle: aligning again with the wide search"
+    options.on_stage(first.poor ? "the first fit did not improve: aligning again with the wide search"
                                 : "the surfaces are still apart: aligning again with the wide search",
                      result.seconds);
   }
-  AlignResult searched = FitOnStableTerrain(reference, moving, options, &first_wanted, &first_poor);
-  searched.seconds += result.seconds;
-  return searched;
+  const double seconds = result.seconds;
+  result = FitOnStableTerrain(reference, moving, options, &first);
+  result.seconds += seconds;
+  return result;
 }
 
 }  // namespace surfreg

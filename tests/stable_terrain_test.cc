@@ -382,9 +382,22 @@ TEST(AlignStable, ASmallStablePartWarns) {
   }, 0.05);
   AlignOptions options = WithStable(StableOptions::Mode::kAuto);
   options.stable.warn_share = 0.9;  // the block leaves 85%
+  std::vector<std::string> stages;
+  options.on_stage = [&stages](const char* stage, double) { stages.emplace_back(stage); };
   const AlignResult found = Align(pair.reference, pair.moving, options);
   EXPECT_NE(found.stable.warning.find("of the overlap is stable terrain"), std::string::npos)
       << found.stable.warning;
+  // The first fit on all leaves the surfaces apart (the change), so the
+  // warning asks for the wide search the first fit would have run: it runs
+  // alone, finds the same minimum, and the result is the fit without it.
+  EXPECT_TRUE(found.wide_search_ran);
+  EXPECT_EQ(std::count(stages.begin(), stages.end(),
+                       "the stable terrain is small or did not settle: the wide search from the start"),
+            1);
+  options.on_stage = nullptr;
+  options.wide_search = AlignOptions::WideSearch::kNever;
+  EXPECT_EQ(Align(pair.reference, pair.moving, options).matrix, found.matrix);
+  options.wide_search = AlignOptions::WideSearch::kAuto;
   options.stable.warn_share = 0.4;
   EXPECT_TRUE(Align(pair.reference, pair.moving, options).stable.warning.empty());
 }
