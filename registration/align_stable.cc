@@ -343,7 +343,10 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
     wide.wide_search = AlignOptions::WideSearch::kAlways;
     wide.on_stage = nullptr;
     wide.on_iteration = nullptr;
-    if (wide.stddev_subsamples > 0) {  // as Align's first fit under them (its motion, not its σ)
+    // Its motion is what counts here: under block half-samples, their σ
+    // only if it goes on from this fit (below).
+    const bool own_stddev = wide.stddev_subsamples == 0;
+    if (!own_stddev) {
       wide.stddev_subsamples = 0;
       wide.stddev_method = AlignOptions::StddevMethod::kInformation;
     }
@@ -357,7 +360,7 @@ AlignResult AlignOnStableTerrain(const Surface& reference, const Surface& moving
     if (options.on_stage) options.on_stage("the wide search found a lower minimum: on from it", result.seconds);
     searched.wide_search_ran = true;
     const double seconds = result.seconds;
-    result = FitOnStableTerrain(reference, moving, options, &first, &searched);
+    result = FitOnStableTerrain(reference, moving, options, &first, own_stddev ? &searched : nullptr);
     result.seconds += seconds;
     return result;
   }
