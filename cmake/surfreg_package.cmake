@@ -31,7 +31,8 @@ set(SURFREG_PUBLIC_MEASURE_HEADERS
 set(SURFREG_PUBLIC_REGISTRATION_HEADERS
   align.h align_keys.h align_options.h align_result.h holdout.h rigid_motion.h series.h stable_terrain.h)
 set(SURFREG_PUBLIC_FACES_HEADERS asymmetry_cohort.h asymmetry_index.h face_frame.h helical_axis.h jaw.h jaw_split.h symmetry.h)
-set(SURFREG_PUBLIC_TERRAIN_HEADERS change_budget.h change_uncertainty.h dod_error.h geo_frame.h spatial_budget.h terrain.h
+set(SURFREG_PUBLIC_TERRAIN_HEADERS change_budget.h change_uncertainty.h dod_error.h geo_frame.h series_epochs.h
+  spatial_budget.h terrain.h
   terrain_keys.h terrain_measure.h terrain_request.h tiled_error.h tiled_measure.h tiled_motion.h tiled_partial.h
   variogram.h)
 set(SURFREG_PUBLIC_IO_HEADERS

@@ -98,6 +98,10 @@ struct SeriesResult {
   int iterations = 0;                        // of the joint solve
   std::string termination;                   // its message
   double seconds = 0, pairwise_seconds = 0;  // all, and the pairwise alignments within it
+  // The coordinates the epochs were solved in (and the matrices map), as
+  // their reader describes them (terrain/series_epochs.h: e.g. "UTM zone 33N
+  // (WGS 84; EPSG:32633)" for lon/lat epochs); AlignSeries leaves it "".
+  std::string frame;
 };
 
 // The overlap of every pair of epochs (symmetric N × N, the diagonal 1):

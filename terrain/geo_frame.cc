@@ -97,16 +97,20 @@ Box LonLatBox(const Surface& s, double prime_meridian_deg) {
   return box;
 }
 
-// Centre of the overlap of two boxes, or of their union if they are disjoint.
-void CentreOf(const Box& a, const Box& b, double* lat, double* lon) {
-  Box overlap{std::max(a.lon_lo, b.lon_lo), std::min(a.lon_hi, b.lon_hi),
-              std::max(a.lat_lo, b.lat_lo), std::min(a.lat_hi, b.lat_hi)};
-  if (overlap.lon_lo > overlap.lon_hi || overlap.lat_lo > overlap.lat_hi) {
-    overlap = {std::min(a.lon_lo, b.lon_lo), std::max(a.lon_hi, b.lon_hi),
-               std::min(a.lat_lo, b.lat_lo), std::max(a.lat_hi, b.lat_hi)};
+// Centre of the part all boxes share, or of their union if they share none.
+void CentreOf(const std::vector<Box>& boxes, double* lat, double* lon) {
+  Box common, all;
+  common.lon_lo = common.lat_lo = -HUGE_VAL;
+  common.lon_hi = common.lat_hi = HUGE_VAL;
+  for (const Box& b : boxes) {
+    common = {std::max(common.lon_lo, b.lon_lo), std::min(common.lon_hi, b.lon_hi),
+              std::max(common.lat_lo, b.lat_lo), std::min(common.lat_hi, b.lat_hi)};
+    all = {std::min(all.lon_lo, b.lon_lo), std::max(all.lon_hi, b.lon_hi),
+           std::min(all.lat_lo, b.lat_lo), std::max(all.lat_hi, b.lat_hi)};
   }
-  *lat = overlap.lat_centre();
-  *lon = Math::AngNormalize(overlap.lon_centre());
+  const Box& centred = common.lon_lo > common.lon_hi || common.lat_lo > common.lat_hi ? all : common;
+  *lat = centred.lat_centre();
+  *lon = Math::AngNormalize(centred.lon_centre());
 }
 
 int Zone(double lat, double lon) {
@@ -190,31 +194,40 @@ const char* KindName(CrsKind kind) {
   return "?";
 }
 
-GeoFrame GeographicFrame(Surface* reference, Surface* moving, const Datum& datum,
-                         FrameChoice choice) {
-  const Box ref = LonLatBox(*reference, datum.prime_meridian_deg);
-  Box mov = LonLatBox(*moving, datum.prime_meridian_deg);
-  // The same place may be written 360 degrees apart (0..360 vs -180..180).
-  const double shift = 360.0 * std::round((mov.lon_centre() - ref.lon_centre()) / 360.0);
-  mov.lon_lo -= shift, mov.lon_hi -= shift;
-
+// The frame of surfaces[0] and the others (all geographic on `datum`),
+// each converted into it.
+GeoFrame GeographicFrame(const std::vector<Surface*>& surfaces, const Datum& datum, FrameChoice choice) {
+  std::vector<Box> boxes;
+  for (const Surface* s : surfaces) {
+    boxes.push_back(LonLatBox(*s, datum.prime_meridian_deg));
+    // The same place may be written 360 degrees apart (0..360 vs -180..180).
+    Box& box = boxes.back();
+    const double shift = 360.0 * std::round((box.lon_centre() - boxes[0].lon_centre()) / 360.0);
+    box.lon_lo -= shift, box.lon_hi -= shift;
+  }
   GeoFrame frame;
   frame.datum = datum.name;
   double lat = 0, lon = 0;
-  CentreOf(ref, mov, &lat, &lon);
-  const int ref_zone = Zone(ref.lat_centre(), ref.lon_centre());
+  CentreOf(boxes, &lat, &lon);
+  const int first_zone = Zone(boxes[0].lat_centre(), boxes[0].lon_centre());
   const int centre_zone = Zone(lat, lon);
   if (choice == FrameChoice::kUtm && centre_zone == GeographicLib::UTMUPS::UPS) {
     char what[128];
     std::snprintf(what, sizeof(what), "UTM is not defined at latitude %.4f (polar); use frame enu",
                   lat);
-    throw InputError(reference->source + " and " + moving->source + ": " + what);
+    std::string names;
+    for (std::size_t k = 0; k < surfaces.size(); ++k) {
+      names += (k == 0 ? "" : k + 1 == surfaces.size() ? " and " : ", ") + surfaces[k]->source;
+    }
+    throw InputError(names + ": " + what);
   }
-  const bool same_zone = ref_zone != GeographicLib::UTMUPS::UPS &&
-                         ref_zone == Zone(mov.lat_centre(), mov.lon_centre());
+  const bool same_zone =
+      first_zone != GeographicLib::UTMUPS::UPS &&
+      std::all_of(boxes.begin(), boxes.end(),
+                  [&](const Box& b) { return Zone(b.lat_centre(), b.lon_centre()) == first_zone; });
   if (choice == FrameChoice::kUtm || (choice == FrameChoice::kAuto && same_zone)) {
     frame.kind = GeoFrame::kUtm;
-    frame.zone = choice == FrameChoice::kUtm ? centre_zone : ref_zone;
+    frame.zone = choice == FrameChoice::kUtm ? centre_zone : first_zone;
     frame.northp = lat >= 0;
   } else {
     frame.kind = GeoFrame::kEnu;
@@ -222,12 +235,15 @@ GeoFrame GeographicFrame(Surface* reference, Surface* moving, const Datum& datum
     frame.definition = EnuDefinition(frame, datum);
   }
   const FrameMap map(frame, datum);
-  Convert(map, datum.prime_meridian_deg, reference);
-  Convert(map, datum.prime_meridian_deg, moving);
+  for (Surface* s : surfaces) Convert(map, datum.prime_meridian_deg, s);
   return frame;
 }
 
 }  // namespace
+
+FrameChoice FrameChoiceOf(const std::string& frame) {
+  return frame == "enu" ? FrameChoice::kEnu : frame == "utm" ? FrameChoice::kUtm : FrameChoice::kAuto;
+}
 
 Crs ParseCrs(const std::string& text, const std::string& label) {
   const std::string trimmed = Trim(text);
@@ -332,10 +348,54 @@ GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surfa
   if (same == 0) {
     mismatch("different geographic datums; transform one onto the other's datum");
   }
-  frame = GeographicFrame(reference, moving, DatumOf(reference_crs), choice);
+  frame = GeographicFrame({reference, moving}, DatumOf(reference_crs), choice);
   if (frame.kind == GeoFrame::kUtm) {
     frame.definition = gdal.identify_utm(reference_crs.wkt, frame.zone, frame.northp);
   }
+  return frame;
+}
+
+GeoFrame ToSeriesMetricFrame(const std::vector<Surface*>& surfaces, const std::vector<Crs>& crs,
+                             const std::vector<std::string>& labels, FrameChoice choice) {
+  int first = -1, geographic = -1;  // the first epoch with a CRS, the first geographic one
+  for (std::size_t k = 0; k < crs.size(); ++k) {
+    if (crs[k].kind != CrsKind::kNone && first < 0) first = static_cast<int>(k);
+    if (crs[k].kind == CrsKind::kGeographic && geographic < 0) geographic = static_cast<int>(k);
+  }
+  GeoFrame frame;
+  if (first < 0) {
+    frame.datum = "no CRS";
+    return frame;
+  }
+  const GdalModule& gdal = Gdal(labels[first]);
+  for (std::size_t k = 0; k < crs.size(); ++k) {
+    const auto refuse = [&](const std::string& why) {
+      const int other = geographic >= 0 ? geographic : first;
+      throw InputError(labels[k] + " (CRS " + crs[k].name + ") and " + labels[other] + " (CRS " +
+                       crs[other].name + "): " + why);
+    };
+    if (geographic >= 0 && crs[k].kind == CrsKind::kNone) {
+      refuse("one has no CRS and the other is in longitude and latitude; give the epochs' CRS (key "
+             "'crs')");
+    }
+    if (geographic >= 0 && crs[k].kind == CrsKind::kProjected) {
+      refuse("one is projected, the other geographic; give every epoch in one CRS (reproject)");
+    }
+    if (crs[k].kind == CrsKind::kNone || static_cast<int>(k) == first) continue;
+    const int same = gdal.same_crs(crs[first].wkt, crs[k].wkt, geographic >= 0);
+    if (same < 0) refuse("a CRS is unreadable");
+    if (same == 0) {
+      refuse(geographic >= 0 ? "different geographic datums; transform them onto one datum"
+                             : "different CRSs; give every epoch in one CRS (reproject)");
+    }
+  }
+  if (geographic < 0) {
+    frame.datum = crs[first].name;
+    frame.definition = gdal.identify_crs(crs[first].wkt);
+    return frame;
+  }
+  frame = GeographicFrame(surfaces, DatumOf(crs[0]), choice);
+  if (frame.kind == GeoFrame::kUtm) frame.definition = gdal.identify_utm(crs[0].wkt, frame.zone, frame.northp);
   return frame;
 }
 

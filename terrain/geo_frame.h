@@ -45,6 +45,9 @@ enum class FrameChoice {
   kUtm,   // geographic pairs: UTM zone of the centre of the data
 };
 
+// The choice a `frame` key's value names: "enu", "utm", else kAuto.
+FrameChoice FrameChoiceOf(const std::string& frame);
+
 struct GeoFrame {
   enum Kind {
     kAsGiven,  // input coordinates kept (no CRS, or one projected CRS)
@@ -96,6 +99,20 @@ void ReprojectSurface(Surface* surface, const Crs& from, const Crs& to);
 // geographic). kUtm near the poles (where UTM is undefined) is an error.
 GeoFrame ToCommonMetricFrame(Surface* reference, const Crs& reference_crs, Surface* moving,
                              const Crs& moving_crs, FrameChoice choice);
+
+// The same for the epochs of a series, in place, surfaces[k] in crs[k]
+// (labels[k] names it in errors, e.g. "epoch 2 (c.tif)"); surfaces[0] takes
+// the reference's part above:
+//   no CRS or projected -> kAsGiven: every projected epoch in one CRS (epochs
+//       without a CRS are taken as in it);
+//   geographic -> every epoch geographic on one datum: kUtm if `choice` is
+//       kUtm, or kAuto and every bounding-box centre is in one UTM zone, else
+//       kEnu about the centre of the part all bounding boxes share (of their
+//       union if they share none), h0 = 0.
+// An epoch without a CRS among geographic ones, or projected beside them, is
+// an InputError naming both epochs.
+GeoFrame ToSeriesMetricFrame(const std::vector<Surface*>& surfaces, const std::vector<Crs>& crs,
+                             const std::vector<std::string>& labels, FrameChoice choice);
 
 // Points of `crs` (input coordinates: lon, lat, h for geographic) into
 // `frame`, in place, as ToCommonMetricFrame moves surfaces; kAsGiven

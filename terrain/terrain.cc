@@ -314,9 +314,7 @@ TerrainInputs ReadTerrainInputs(const TerrainRequest& config, const Surface* giv
   }
   in.moving_centroid_input = CentroidInput(moving.surface);
   const std::string& frame = config.terrain.frame;
-  const FrameChoice choice = frame == "enu"   ? FrameChoice::kEnu
-                             : frame == "utm" ? FrameChoice::kUtm
-                                              : FrameChoice::kAuto;
+  const FrameChoice choice = FrameChoiceOf(frame);
   in.frame = ToCommonMetricFrame(&reference.surface, reference.crs, &moving.surface,
                                  moving_crs_now, choice);
   in.reference = std::move(reference.surface);

@@ -85,8 +85,8 @@ const std::vector<TerrainSettingEntry>& TerrainSettingKeys() {
        [](const Value& v, TerrainSettings* t) { t->moving_crs = Path(v, false); },
        [](const TerrainSettings& t) { return t.moving_crs; }},
       {{"frame", "one of auto, enu, utm",
-        "metric frame for geographic (lon/lat) inputs: UTM if both share a zone (auto), or local "
-        "east-north-up about the overlap's centre"},
+        "metric frame for geographic (lon/lat) inputs: UTM if they share a zone (auto), or local "
+        "east-north-up about the centre of their overlap"},
        [](const Value& v, TerrainSettings* t) {
          const std::string text = Scalar(v);
          if (std::find(std::begin(kFrames), std::end(kFrames), text) == std::end(kFrames)) Reject(v);

@@ -104,9 +104,7 @@ bool ReadCompactRasters(const TerrainRequest& config, const Execution& execution
   // are read for kAsGiven).
   Surface named_reference, named_moving;
   named_reference.source = grids[0].source, named_moving.source = grids[1].source;
-  const FrameChoice choice = t.frame == "enu"   ? FrameChoice::kEnu
-                             : t.frame == "utm" ? FrameChoice::kUtm
-                                                : FrameChoice::kAuto;
+  const FrameChoice choice = FrameChoiceOf(t.frame);
   in.frame = ToCommonMetricFrame(&named_reference, crs[0], &named_moving, crs[1], choice);
   in.reference_crs = crs[0];
   in.moving_crs = crs[1];

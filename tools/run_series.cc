@@ -17,7 +17,7 @@
 
 // The series' own keys as flags (strings, so tools/series_config.cc parses
 // flags and files alike; "" = not given). The keys it shares with `align`
-// (reference, output, progress, classes, columns and the alignment keys)
+// (reference, output, progress, classes, columns, frame and the alignment keys)
 // use align's flags of the same names, looked up by name.
 DECLARE_bool(quiet);     // tools/run_measure.cc
 DECLARE_string(config);  // tools/run_align.cc
@@ -27,6 +27,7 @@ DEFINE_string(min_overlap, "",
               "series: the smaller footprint's share two epochs must share to be a pair [0.3]");
 DEFINE_string(aligned_dir, "", "series: a folder for the epochs moved into the reference's frame");
 DEFINE_string(dod_dir, "", "series: a folder for the DoD of each consecutive pair of raster epochs");
+DEFINE_string(crs, "", "series: the epochs' CRS where their files do not say, e.g. EPSG:4326 (lon/lat)");
 DEFINE_string(dates, "", "series: each surface's date, YYYY-MM-DD, e.g. 2020-05-01,2021-05-01 (change per year)");
 
 namespace surfreg {

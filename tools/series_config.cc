@@ -14,6 +14,7 @@
 #include "io/surface_writer.h"
 #include "measure/input_error.h"
 #include "registration/align_keys.h"
+#include "terrain/terrain_keys.h"
 #include "tools/align_config_values.h"
 #include "tools/config_table.h"
 
@@ -53,6 +54,20 @@ std::pair<int, int> PairOf(const Value& v, const std::string& item) {
   };
   if (dash == std::string::npos) index("");
   return {index(item.substr(0, dash)), index(item.substr(dash + 1))};
+}
+
+// A terrain key (terrain/terrain_keys.h) as a key of the series, kept in
+// `field`.
+Entry Terrain(const char* name, std::string C::*field) {
+  const TerrainSettingEntry* entry = FindTerrainSetting(name);
+  CHECK(entry != nullptr) << "no terrain key " << name;
+  return {entry->key,
+          [entry, field](const Value& v, C* c) {
+            TerrainSettings settings;
+            entry->set(v, &settings);
+            c->*field = entry->get(settings);
+          },
+          [field](const C& c) { return c.*field; }};
 }
 
 // Align's option keys that do not apply to a series: each pair starts from
@@ -109,6 +124,12 @@ const config_table::Table<SeriesConfig>& Table() {
         "text clouds: the columns of x, y, z and optionally the weight"},
        [](const Value& v, C* c) { c->columns = cv::Columns(v); },
        [](const C& c) { return cv::ListText(c.columns); }},
+      {{"crs", "a CRS (EPSG:4326, EPSG:32760, WKT, lonlat), or nothing",
+        "the epochs' coordinate system where their files do not say (rasters and LAS files carry their "
+        "own)"},
+       [](const Value& v, C* c) { c->crs = cv::Path(v, false); },
+       [](const C& c) { return c.crs; }},
+      Terrain("frame", &C::frame),
       {{"output", "a file name, or nothing", "the series JSON"},
        [](const Value& v, C* c) { c->output = cv::Path(v, false); },
        [](const C& c) { return c.output; }},

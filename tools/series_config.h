@@ -14,6 +14,8 @@
 //   dates         each surface's date, YYYY-MM-DD, in the order of surfaces:
 //                 the change between consecutive epochs also per year [none]
 //   classes, columns   how point files are read, as for align
+//   crs           the epochs' CRS where their files do not say   [none]
+//   frame         lon/lat epochs: the metric frame, auto, utm or enu [auto]
 //   output        the series JSON                            [none]
 //   aligned_dir   a folder: each epoch moved into the reference's frame,
 //                 named as its file (.ply unless .xyz/.txt/.ply) [none]
@@ -45,6 +47,8 @@ struct SeriesConfig {
   SeriesOptions options;  // options.reference set by FinishSeriesConfig
   std::vector<int> classes;
   std::vector<std::string> columns;
+  std::string crs;             // the epochs' CRS where their files carry none ("" = none)
+  std::string frame = "auto";  // terrain key `frame` (terrain/terrain_keys.h)
   std::string output, aligned_dir, dod_dir;
   bool progress = false;
   std::string config_file;

@@ -15,50 +15,13 @@
 #include "measure/tasks.h"
 #include "registration/align.h"
 #include "terrain/geo_frame.h"
+#include "terrain/series_epochs.h"
 #include "tools/json_writer.h"
 #include "tools/transform_file.h"
 #include "tools/transform_json.h"
 
 namespace surfreg {
 namespace {
-
-// Every epoch read as `align` reads a point file or raster; their CRSs must
-// be one projected CRS (or none): the series is solved in the files' own
-// coordinates.
-// `grids`: each raster epoch's grid (values empty), for its DoD.
-std::vector<Surface> ReadEpochs(const SeriesConfig& config, std::string* units, std::vector<Raster>* grids) {
-  ReadOptions read;
-  read.classes = config.classes;
-  read.columns = config.columns;
-  read.threads = config.options.align.num_threads;
-  std::vector<Surface> epochs;
-  grids->assign(config.surfaces.size(), Raster());
-  std::string first_crs_name;
-  int first_crs = -1;
-  for (std::size_t k = 0; k < config.surfaces.size(); ++k) {
-    const std::string& path = config.surfaces[k];
-    std::string crs_text;
-    epochs.push_back(ReadSurface(path, read, &crs_text, &(*grids)[k]));
-    const Crs crs = ParseCrs(crs_text, path);
-    if (crs.kind == CrsKind::kGeographic) {
-      throw InputError(path + ": coordinates in longitude and latitude (" + crs.name +
-                       "); series works in a projected CRS: reproject the epochs first (e.g. "
-                       "gdalwarp -t_srs to UTM)");
-    }
-    if (crs.kind == CrsKind::kNone) continue;
-    *units = crs.metres_per_unit == 1                         ? "m"
-             : std::fabs(crs.metres_per_unit - 0.3048) < 1e-6 ? "ft"
-                                                              : "units";
-    if (first_crs < 0) {
-      first_crs = static_cast<int>(k);
-      first_crs_name = crs.wkt;
-    } else if (crs.wkt != first_crs_name) {
-      throw InputError(path + ": its CRS (" + crs.name + ") is not that of " +
-                       config.surfaces[first_crs] + "; give every epoch in one CRS");
-    }
-  }
-  return epochs;
-}
 
 // The DoD of epochs k, k + 1 on epoch k's grid: dz (later − earlier) at
 // its valid cells, which are its samples (Surface::raster_cell), nodata
@@ -181,6 +144,7 @@ std::string SeriesJson(const SeriesRun& run) {
   }
   JsonObject json;
   json.Int("reference", r.reference)
+      .String("frame", r.frame)
       .Number("pair_correlation", r.pair_correlation)
       .Raw("epochs", JsonArray(epochs))
       .Raw("pairs", JsonArray(pairs))
@@ -204,10 +168,24 @@ SeriesRun AlignSeriesFiles(SeriesConfig config, std::optional<std::vector<Surfac
                      ": the DoDs are drawn on the epochs' raster files; give the files, not surfaces");
   }
   std::vector<Raster> grids(run.config.surfaces.size());  // none for surfaces given (no DoDs then)
-  run.epochs = epochs ? std::move(*epochs) : ReadEpochs(run.config, &run.units, &grids);
+  if (epochs) {
+    run.epochs = std::move(*epochs);
+  } else {
+    ReadOptions read;
+    read.classes = run.config.classes;
+    read.columns = run.config.columns;
+    read.threads = run.config.options.align.num_threads;
+    SeriesEpochs read_epochs =
+        ReadSeriesEpochs(run.config.surfaces, read, run.config.crs, run.config.Where("crs"), run.config.frame);
+    run.epochs = std::move(read_epochs.surfaces);
+    grids = std::move(read_epochs.grids);
+    run.frame = read_epochs.frame;
+    run.units = read_epochs.units;
+  }
   SeriesOptions options = run.config.options;
   options.on_stage = on_stage;
   run.result = AlignSeries(run.epochs, options);
+  run.result.frame = run.frame.Describe();
   if (on_stage) on_stage("measuring consecutive epochs");
   run.consecutive = Consecutive(run.config, run.epochs, grids, run.result);
   for (std::size_t k = 0; k < run.epochs.size(); ++k) {
@@ -216,7 +194,9 @@ SeriesRun AlignSeriesFiles(SeriesConfig config, std::optional<std::vector<Surfac
     WriteSurface(path, TransformSurface(run.epochs[k], run.result.epochs[k].matrix),
                  run.config.Where("aligned_dir"),
                  {"surfreg series: " + run.config.surfaces[k] + " in the frame of " +
-                  run.config.surfaces[run.result.reference]});
+                      run.config.surfaces[run.result.reference],
+                  "coordinates: " + (run.frame.kind == GeoFrame::kAsGiven ? std::string("as the inputs'")
+                                                                          : run.frame.Describe())});
   }
   run.json = SeriesJson(run);
   if (!run.config.output.empty())
@@ -231,6 +211,7 @@ std::string SeriesSummary(const SeriesRun& run) {
   std::snprintf(line, sizeof line, "reference:   epoch %d (%s)\n", r.reference,
                 run.config.surfaces[r.reference].c_str());
   text += line;
+  if (run.frame.kind != GeoFrame::kAsGiven) text += "frame:       " + run.frame.Describe() + "\n";
   for (std::size_t k = 0; k < r.epochs.size(); ++k) {
     const SeriesEpoch& e = r.epochs[k];
     const double angle = Eigen::AngleAxisd(e.matrix.topLeftCorner<3, 3>()).angle() * 180 / M_PI;

@@ -12,6 +12,7 @@
 #include "measure/dz_statistics.h"
 #include "measure/measures.h"
 #include "registration/series.h"
+#include "terrain/geo_frame.h"
 #include "tools/series_config.h"
 
 namespace surfreg {
@@ -28,7 +29,8 @@ struct ConsecutiveChange {
 
 struct SeriesRun {
   SeriesConfig config;
-  std::vector<Surface> epochs;  // as read (input coordinates)
+  std::vector<Surface> epochs;  // as read, in `frame`
+  GeoFrame frame;               // where the series is solved: input coordinates, or UTM / ENU for lon/lat
   SeriesResult result;
   std::vector<ConsecutiveChange> consecutive;
   std::string json;             // the series JSON, newline-terminated

@@ -299,6 +299,27 @@ def test_series_recovers_each_epochs_motion_and_equals_the_cli_json(tmp_path):
         surfreg.series([epochs[0], epochs[1], far])
 
 
+def test_series_of_lonlat_files_is_solved_in_utm_as_the_cli_solves_it(tmp_path):
+    """Two epochs written in degrees (a small patch near 40.6 N, 15 E):
+    read as files with crs=, both are solved in UTM zone 33N, as `surfreg
+    series --crs` does, to the same numbers; crs= is refused beside arrays."""
+    epochs = []
+    for k in range(2):
+        points = sample(1500, 0.0, 60.0, 30 + k)
+        if k:
+            points = points @ rotation([0.2, 0.1, 1.0], 0.4).T + np.array([0.5, -0.3, 0.1])
+        # ~1 m per 1e-5 degree: a patch about 50 m across
+        epochs.append(np.column_stack([15.0 + points[:, 0] * 1.2e-5, 40.6 + points[:, 1] * 0.9e-5, points[:, 2]]))
+    files = [write_xyz(tmp_path / ("g%d.xyz" % k), e) for k, e in enumerate(epochs)]
+    got = surfreg.series(files, crs="EPSG:4326")
+    expected = cli_json("series", *files, "--crs=EPSG:4326")
+    assert got.frame.startswith("UTM zone 33N") and expected["frame"] == got.frame
+    for epoch, want in zip(got.epochs, expected["epochs"]):
+        np.testing.assert_array_equal(epoch.matrix, np.array(want["matrix"]))
+    with pytest.raises(surfreg.InputError, match="every surface is a file"):
+        surfreg.series([files[0], epochs[1]], crs="EPSG:4326")
+
+
 def test_terrain_change_equals_the_cli_measure_json(tmp_path):
     data = pathlib.Path(__file__).resolve().parents[2] / "configs" / "data"
     a, b = str(data / "volcano_dem.tif"), str(data / "volcano_dem_moved.tif")

@@ -24,6 +24,7 @@
 #include "registration/align.h"
 #include "registration/align_keys.h"
 #include "registration/series.h"
+#include "terrain/series_epochs.h"
 #include "terrain/terrain_keys.h"
 #include "terrain/terrain_measure.h"
 #include "tools/python/python_values.h"
@@ -133,16 +134,47 @@ SeriesResult SeriesPy(const py::sequence& surfaces, int reference, const py::obj
   options.reference = reference;
   options.min_overlap = min_overlap;
   if (!pairs.is_none()) options.pairs = pairs.cast<std::vector<std::pair<int, int>>>();
+  // crs and frame: how files are brought into one metric frame, as the CLI's
+  // keys (terrain/series_epochs.h); every other keyword is an align option.
+  std::string crs, crs_where = "keyword 'crs'", frame = "auto";
   for (const auto& [name, value] : kwargs) {
-    SetAlignOption(py::str(name).cast<std::string>(), ValueOf(value, Keyword(name)),
-                   &options.align);
+    const std::string key = py::str(name).cast<std::string>();
+    config_value::Value v = ValueOf(value, Keyword(name));
+    if (key == "crs") {
+      crs = config_value::Path(v, false);
+      crs_where = v.where;
+    } else if (key == "frame") {
+      TerrainSettings settings;
+      const TerrainSettingEntry* entry = FindTerrainSetting("frame");
+      v.expected = entry->key.type;
+      entry->set(v, &settings);
+      frame = settings.frame;
+    } else {
+      SetAlignOption(key, std::move(v), &options.align);
+    }
   }
+  std::vector<std::string> paths;
+  for (const py::handle item : surfaces) {
+    if (IsPath(item)) paths.push_back(PathText(item));
+  }
+  if (paths.size() == surfaces.size()) {  // files: read as `surfreg series` reads them
+    py::gil_scoped_release release;
+    ReadOptions read;
+    read.threads = options.align.num_threads;
+    SeriesEpochs epochs = ReadSeriesEpochs(paths, read, crs, crs_where, frame);
+    SeriesResult result = AlignSeries(epochs.surfaces, options);
+    result.frame = epochs.frame.Describe();
+    return result;
+  }
+  if (!crs.empty()) throw InputError(crs_where + ": applies when every surface is a file");
   std::vector<Surface> epochs;
   for (std::size_t k = 0; k < surfaces.size(); ++k) {
     epochs.push_back(SurfaceOf(surfaces[k], "epoch " + std::to_string(k)));
   }
   py::gil_scoped_release release;
-  return AlignSeries(epochs, options);
+  SeriesResult result = AlignSeries(epochs, options);
+  result.frame = GeoFrame().Describe();
+  return result;
 }
 
 py::dict Stddev(const std::array<double, 6>& values) {
@@ -247,6 +279,8 @@ void BindResults(py::module_& m) {
       .def_readonly("termination", &SeriesResult::termination)
       .def_readonly("seconds", &SeriesResult::seconds)
       .def_readonly("pairwise_seconds", &SeriesResult::pairwise_seconds)
+      .def_readonly("frame", &SeriesResult::frame,
+                    "the coordinates the matrices map: UTM or ENU for lon/lat files; '' as given")
       .def("__repr__", [](const SeriesResult& r) {
         return "<surfreg.Series " + std::to_string(r.epochs.size()) + " epochs, " +
                std::to_string(r.pairs.size()) + " pairs>";
@@ -355,8 +389,9 @@ PYBIND11_MODULE(surfreg, m) {
         "series(surfaces, reference=0, pairs=None, min_overlap=0.3, **options) -> Series\n\n"
         "A series of surveys aligned jointly: one motion per epoch into the reference epoch's\n"
         "frame, over every pair that overlaps by min_overlap (or the (i, j) pairs given).\n"
-        "Surfaces: Surface objects, file paths or (N, 3) arrays. Options: align's option\n"
-        "keys, applied to each pair (docs/series.md).");
+        "Surfaces: Surface objects, file paths or (N, 3) arrays. Files in lon/lat are solved\n"
+        "in metres (frame= auto, utm or enu; crs= for files that do not carry one). Options:\n"
+        "align's option keys, applied to each pair (docs/series.md).");
   m.def("terrain_change", &TerrainChangePy, py::arg("reference"), py::arg("moving"),
         "terrain_change(reference, moving, **keys) -> TerrainChange\n\n"
         "Two DEMs or clouds (files or arrays) in one metric frame, differenced as they lie:\n"
