@@ -311,7 +311,12 @@ def test_series_of_lonlat_files_is_solved_in_utm_as_the_cli_solves_it(tmp_path):
         # ~1 m per 1e-5 degree: a patch about 50 m across
         epochs.append(np.column_stack([15.0 + points[:, 0] * 1.2e-5, 40.6 + points[:, 1] * 0.9e-5, points[:, 2]]))
     files = [write_xyz(tmp_path / ("g%d.xyz" % k), e) for k, e in enumerate(epochs)]
-    got = surfreg.series(files, crs="EPSG:4326")
+    try:
+        got = surfreg.series(files, crs="EPSG:4326")
+    except ValueError as e:  # surfreg.InputError
+        if "built without GDAL" in str(e):
+            pytest.skip("this surfreg was built without GDAL")
+        raise
     expected = cli_json("series", *files, "--crs=EPSG:4326")
     assert got.frame.startswith("UTM zone 33N") and expected["frame"] == got.frame
     for epoch, want in zip(got.epochs, expected["epochs"]):
