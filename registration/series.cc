@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <queue>
 #include <sstream>
 #include <string>
@@ -188,6 +190,21 @@ std::vector<Rigid3d> ChainedStart(int n, int reference, const std::vector<Series
   return motion;
 }
 
+// How many pairs align at once on `threads` threads: one pair per thread
+// when each epoch has at most kConcurrentPairPoints samples (at most
+// kMaxConcurrentPairs, which bounds the memory of the alignments side by
+// side), else one at a time on every thread (a large pair's alignment
+// spreads over them itself). Small pairs gain more from a thread each than
+// from all threads on one: their alignment's parallel stages are short.
+constexpr std::size_t kConcurrentPairPoints = 100000;
+constexpr int kMaxConcurrentPairs = 8;
+int ConcurrentPairs(const std::vector<Surface>& epochs, const std::vector<SeriesPair>& pairs, int threads) {
+  for (const SeriesPair& p : pairs) {
+    if (epochs[p.reference].size() > kConcurrentPairPoints || epochs[p.moving].size() > kConcurrentPairPoints) return 1;
+  }
+  return std::clamp(std::min(threads, static_cast<int>(pairs.size())), 1, kMaxConcurrentPairs);
+}
+
 }  // namespace
 
 SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions& options) {
@@ -202,13 +219,37 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
   const series_internal::Footprints footprints = series_internal::EpochFootprints(epochs);
   result.pairs = Edges(epochs, options, footprints);
 
-  // 2. Each pair on its own.
+  // 2. Each pair on its own. Small pairs run several at a time, each on one
+  // thread (an alignment's result does not depend on its thread count, so
+  // neither do these): a 6000-point pair keeps two cores far less busy than
+  // two such pairs do. One thread each, not a share: a pair's own threads
+  // would wait for slots that the pairs beside it hold.
   const Clock::time_point pairwise_start = Clock::now();
-  for (std::size_t k = 0; k < result.pairs.size(); ++k) {
+  const int pair_count = static_cast<int>(result.pairs.size());
+  const int threads = ExecutionFor(options.align.num_threads).threads;
+  const int at_once = ConcurrentPairs(epochs, result.pairs, threads);
+  AlignOptions pair_options = options.align;
+  pair_options.num_threads = at_once > 1 ? 1 : threads;
+  std::mutex stage_mutex;
+  std::vector<std::exception_ptr> errors(pair_count);
+  ForEachChunk(ExecutionFor(at_once), pair_count, std::max(1, pair_count), [&](int k, int64_t begin, int64_t end) {
+    if (begin == end) return;
     SeriesPair& p = result.pairs[k];
-    stage("aligning pair " + std::to_string(p.reference) + "-" + std::to_string(p.moving) + " (" +
-          std::to_string(k + 1) + "/" + std::to_string(result.pairs.size()) + ")");
-    p.pairwise = Align(epochs[p.reference], epochs[p.moving], options.align);
+    try {
+      {
+        std::lock_guard<std::mutex> lock(stage_mutex);
+        stage("aligning pair " + std::to_string(p.reference) + "-" + std::to_string(p.moving) + " (" +
+              std::to_string(k + 1) + "/" + std::to_string(pair_count) + ")");
+      }
+      p.pairwise = Align(epochs[p.reference], epochs[p.moving], pair_options);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors) {  // the first pair's, whatever the order they ran in
+    if (error) std::rethrow_exception(error);
+  }
+  for (SeriesPair& p : result.pairs) {
     Matrix6d unused;
     if (p.pairwise.verdict != Verdict::kConvergedImproved &&
         p.pairwise.verdict != Verdict::kConvergedNotImproved) {

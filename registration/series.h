@@ -50,6 +50,9 @@ struct SeriesOptions {
   std::vector<std::pair<int, int>> pairs;
   double min_overlap = 0.3;
   // Called as each stage begins ("aligning pair 2-3 (4/9)", "joint solve").
+  // Pairs of small epochs align several at a time (one thread each, up to
+  // align.num_threads; the results are those of one at a time): their
+  // stages are called from the threads that run them, one call at a time.
   std::function<void(const std::string& stage)> on_stage;
 };
 

@@ -5,8 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <mutex>
 #include <random>
 #include <string>
 #include <vector>
@@ -241,6 +244,49 @@ TEST(AlignSeriesTest, UsesOnlyTheGivenPairs) {
   for (const SeriesPair& pair : result.pairs) EXPECT_LT(pair.misclosure_chi2, 1e-12);
 }
 
+bool SameBits(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * a.size()) == 0;
+}
+
+// Small pairs align several at a time (on 2 and 8 threads here), each on a
+// share of the threads: every number is the one of one pair at a time, and
+// each pair's stage is announced once.
+TEST(AlignSeriesTest, ResultsAreTheSameWhateverThePairsAtOnce) {
+  const Series series = MakeStrips(5);
+  std::vector<SeriesResult> results;
+  for (const int threads : {1, 2, 8}) {
+    SeriesOptions options;
+    options.align.num_threads = threads;
+    std::mutex mutex;
+    std::vector<std::string> stages;
+    options.on_stage = [&](const std::string& stage) {
+      std::lock_guard<std::mutex> lock(mutex);
+      stages.push_back(stage);
+    };
+    results.push_back(AlignSeries(series.epochs, options));
+    const auto pair_stages = std::count_if(stages.begin(), stages.end(), [](const std::string& stage) {
+      return stage.rfind("aligning pair ", 0) == 0;
+    });
+    EXPECT_EQ(pair_stages, static_cast<long>(results.back().pairs.size())) << threads << " threads";
+  }
+  ASSERT_EQ(results[0].pairs.size(), 7u);
+  for (std::size_t r = 1; r < results.size(); ++r) {
+    SCOPED_TRACE(r == 1 ? "2 threads" : "8 threads");
+    for (std::size_t k = 0; k < results[0].epochs.size(); ++k) {
+      EXPECT_TRUE(SameBits(results[r].epochs[k].matrix, results[0].epochs[k].matrix)) << "epoch " << k;
+      EXPECT_TRUE(SameBits(results[r].epochs[k].covariance, results[0].epochs[k].covariance)) << "epoch " << k;
+    }
+    for (std::size_t k = 0; k < results[0].pairs.size(); ++k) {
+      const AlignResult& a = results[r].pairs[k].pairwise;
+      const AlignResult& b = results[0].pairs[k].pairwise;
+      EXPECT_TRUE(SameBits(a.matrix, b.matrix)) << "pair " << k;
+      EXPECT_TRUE(SameBits(a.covariance, b.covariance)) << "pair " << k;
+      EXPECT_EQ(a.iterations, b.iterations) << "pair " << k;
+    }
+  }
+}
+
 std::string MessageOf(const std::vector<Surface>& epochs, const SeriesOptions& options) {
   try {
     AlignSeries(epochs, options);
@@ -262,6 +308,21 @@ TEST(AlignSeriesTest, RefusesSeriesThatFallApart) {
   EXPECT_EQ(MessageOf(epochs, given).rfind("the series falls apart into {0, 2}, {1} and {3}", 0),
             0u)
       << MessageOf(epochs, given);
+}
+
+// Given pairs that cannot align: the first pair's error, however many run
+// at once and whichever ends first.
+TEST(AlignSeriesTest, ReportsTheFirstFailingPairsError) {
+  const Series near = MakeStrips(2), far = MakeStrips(1, 500);
+  std::vector<Surface> epochs = {near.epochs[0], near.epochs[1], far.epochs[0]};
+  epochs[0].source = "a", epochs[1].source = "b", epochs[2].source = "c";
+  for (const int threads : {1, 8}) {
+    SeriesOptions options;
+    options.align.num_threads = threads;
+    options.pairs = {{0, 1}, {1, 2}, {0, 2}};
+    const std::string message = MessageOf(epochs, options);
+    EXPECT_EQ(message.rfind("b and c do not overlap", 0), 0u) << threads << " threads: " << message;
+  }
 }
 
 TEST(AlignSeriesTest, NamesAnEpochThatOverlapsNoOther) {
