@@ -190,22 +190,16 @@ std::vector<Rigid3d> ChainedStart(int n, int reference, const std::vector<Series
   return motion;
 }
 
-// How many pairs align at once on `threads` threads: one pair per thread
-// when each epoch has at most kConcurrentPairPoints samples (at most
-// kMaxConcurrentPairs, which bounds the memory of the alignments side by
-// side), else one at a time on every thread (a large pair's alignment
-// spreads over them itself). Small pairs gain more from a thread each than
-// from all threads on one: their alignment's parallel stages are short.
-constexpr std::size_t kConcurrentPairPoints = 100000;
-constexpr int kMaxConcurrentPairs = 8;
-int ConcurrentPairs(const std::vector<Surface>& epochs, const std::vector<SeriesPair>& pairs, int threads) {
-  for (const SeriesPair& p : pairs) {
-    if (epochs[p.reference].size() > kConcurrentPairPoints || epochs[p.moving].size() > kConcurrentPairPoints) return 1;
-  }
-  return std::clamp(std::min(threads, static_cast<int>(pairs.size())), 1, kMaxConcurrentPairs);
-}
-
 }  // namespace
+
+int SeriesPairsAtOnce(const std::vector<Surface>& epochs, int pairs, int threads) {
+  constexpr std::size_t kConcurrentPoints = 100000;
+  constexpr int kMaxAtOnce = 8;  // bounds the memory of the alignments side by side
+  for (const Surface& epoch : epochs) {
+    if (epoch.size() > kConcurrentPoints) return 1;
+  }
+  return std::clamp(std::min(threads, pairs), 1, kMaxAtOnce);
+}
 
 SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions& options) {
   const Clock::time_point start = Clock::now();
@@ -227,7 +221,7 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
   const Clock::time_point pairwise_start = Clock::now();
   const int pair_count = static_cast<int>(result.pairs.size());
   const int threads = ExecutionFor(options.align.num_threads).threads;
-  const int at_once = ConcurrentPairs(epochs, result.pairs, threads);
+  const int at_once = SeriesPairsAtOnce(epochs, pair_count, threads);
   AlignOptions pair_options = options.align;
   pair_options.num_threads = at_once > 1 ? 1 : threads;
   std::mutex stage_mutex;
@@ -353,16 +347,33 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
     epoch.covariance = covariance[e];
     for (int k = 0; k < 6; ++k) epoch.stddev[k] = std::sqrt(covariance[e](k, k));
   }
+  // The pairs' measures side by side as their alignments ran (one thread
+  // each when several), their misclosures after.
   MeasureOptions measure;
   measure.domain = options.align.domain;
-  measure.threads = options.align.num_threads;
+  measure.threads = at_once > 1 ? 1 : threads;
   measure.allow_empty_overlap = true;
+  ForEachChunk(ExecutionFor(at_once), pair_count, std::max(1, pair_count), [&](int k, int64_t begin, int64_t end) {
+    if (begin == end) return;
+    SeriesPair& p = result.pairs[k];
+    try {
+      {
+        std::lock_guard<std::mutex> lock(stage_mutex);
+        stage("measuring pair " + std::to_string(p.reference) + "-" + std::to_string(p.moving));
+      }
+      const MeasureReference reference(epochs[p.reference], measure);
+      p.before = Measure(reference, epochs[p.moving], measure);
+      const Rigid3d joint = motion[p.reference].Inverse() * motion[p.moving];
+      p.after = Measure(reference, TransformSurface(epochs[p.moving], joint.ToMatrix()), measure);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
   for (SeriesPair& p : result.pairs) {
-    stage("measuring pair " + std::to_string(p.reference) + "-" + std::to_string(p.moving));
-    const MeasureReference reference(epochs[p.reference], measure);
-    p.before = Measure(reference, epochs[p.moving], measure);
     const Rigid3d joint = motion[p.reference].Inverse() * motion[p.moving];
-    p.after = Measure(reference, TransformSurface(epochs[p.moving], joint.ToMatrix()), measure);
     const Rigid3d& own = p.pairwise.reference_from_moving;
     const Eigen::Vector3d c(p.pairwise.centre[0], p.pairwise.centre[1], p.pairwise.centre[2]);
     p.misclosure_deg = (own.Inverse() * joint).RotationVector().norm() * 180 / M_PI;

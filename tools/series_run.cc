@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -44,26 +45,45 @@ void WriteDod(const SeriesConfig& config, const Surface& earlier, Raster grid, c
 // epoch's samples, in its frame, so that its DoD lies on its own grid.
 std::vector<ConsecutiveChange> Consecutive(const SeriesConfig& config, const std::vector<Surface>& epochs,
                                            const std::vector<Raster>& grids, const SeriesResult& result) {
-  std::vector<ConsecutiveChange> changes;
   const SeriesOptions& options = config.options;
+  const int count = static_cast<int>(epochs.size()) - 1;
+  const int threads = ExecutionFor(options.align.num_threads).threads;
+  const int at_once = SeriesPairsAtOnce(epochs, count, threads);  // one thread each when several
   MeasureOptions measure;
   measure.domain = options.align.domain;
-  measure.threads = options.align.num_threads;
+  measure.threads = at_once > 1 ? 1 : threads;
   measure.allow_empty_overlap = true;
   measure.keep_node_gaps = true;
-  for (std::size_t k = 0; k + 1 < epochs.size(); ++k) {
-    ConsecutiveChange change;
-    change.from = static_cast<int>(k);
-    change.to = static_cast<int>(k + 1);
-    const Eigen::Matrix4d onto_from = result.epochs[k].matrix.inverse() * result.epochs[k + 1].matrix;
-    change.measure = Measure(epochs[k], TransformSurface(epochs[k + 1], onto_from), measure);
-    change.dz = ComputeDzStatistics(change.measure.dz_a, {}, ExecutionFor(measure.threads));
-    change.dod = DodPath(config, static_cast<int>(k));
-    if (!change.dod.empty()) WriteDod(config, epochs[k], grids[k], change.measure.dz_a, change.dod);
-    change.measure.dz_a.clear();
-    change.measure.dz_b.clear();
-    change.measure.node_area_a.clear();
-    changes.push_back(std::move(change));
+  std::vector<ConsecutiveChange> changes(std::max(0, count));
+  std::vector<std::vector<double>> dz(changes.size());  // side by side: the DoDs are written in turn after
+  std::vector<std::exception_ptr> errors(changes.size());
+  ForEachChunk(ExecutionFor(at_once), count, std::max(1, count), [&](int k, int64_t begin, int64_t end) {
+    if (begin == end) return;
+    try {
+      ConsecutiveChange& change = changes[k];
+      change.from = k;
+      change.to = k + 1;
+      const Eigen::Matrix4d onto_from = result.epochs[k].matrix.inverse() * result.epochs[k + 1].matrix;
+      change.measure = Measure(epochs[k], TransformSurface(epochs[k + 1], onto_from), measure);
+      change.dz = ComputeDzStatistics(change.measure.dz_a, {}, ExecutionFor(measure.threads));
+      change.dod = DodPath(config, k);
+      if (at_once == 1 && !change.dod.empty()) {  // one at a time: written now, none kept
+        WriteDod(config, epochs[k], grids[k], change.measure.dz_a, change.dod);
+      } else {
+        dz[k] = std::move(change.measure.dz_a);
+      }
+      change.measure.dz_a.clear();
+      change.measure.dz_b.clear();
+      change.measure.node_area_a.clear();
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+  for (int k = 0; at_once > 1 && k < count; ++k) {
+    if (!changes[k].dod.empty()) WriteDod(config, epochs[k], grids[k], dz[k], changes[k].dod);
   }
   return changes;
 }
