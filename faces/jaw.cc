@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <exception>
 #include <limits>
 
 #include <Eigen/Geometry>
@@ -409,6 +410,12 @@ JawSummary TrackJaw(int count, const std::function<Surface(int)>& load, const Ja
                                     .reference_from_frame;
     return Eigen::Matrix4d(m1 * m2.inverse() * m1);
   };
+  // The two parts of a frame are registered side by side, one thread each
+  // (a part's few thousand points keep one thread busy; the numbers do not
+  // depend on the threads).
+  const bool side_by_side = ExecutionFor(options.num_threads).parallel();
+  JawOptions part_options = options;
+  if (side_by_side) part_options.num_threads = 1;
   auto track = [&](int k, int neighbour) {
     const Clock::time_point frame_start = Clock::now();
     const Surface frame = load(k);
@@ -422,8 +429,24 @@ JawSummary TrackJaw(int count, const std::function<Surface(int)>& load, const Ja
     f.dropped = split.dropped;
     const Surface upper_part = PartSurface(split.upper, frame.source + " (upper part)", options.min_part_points);
     const Surface lower_part = PartSurface(split.lower, frame.source + " (lower part)", options.min_part_points);
-    f.upper = RegisterPart(upper, upper_part, warm_upper, options);
-    f.lower = RegisterPart(lower, lower_part, warm_lower, options);
+    std::exception_ptr upper_error, lower_error;  // the upper part's first, whichever ends first
+    RunBoth(ExecutionFor(side_by_side ? 2 : 1),
+            [&] {
+              try {
+                f.upper = RegisterPart(upper, upper_part, warm_upper, part_options);
+              } catch (...) {
+                upper_error = std::current_exception();
+              }
+            },
+            [&] {
+              try {
+                f.lower = RegisterPart(lower, lower_part, warm_lower, part_options);
+              } catch (...) {
+                lower_error = std::current_exception();
+              }
+            });
+    if (upper_error) std::rethrow_exception(upper_error);
+    if (lower_error) std::rethrow_exception(lower_error);
     f.jaw = f.upper.reference_from_frame * f.lower.reference_from_frame.inverse();
     Describe(&f);
     PropagateFrameCovariance(p0, &f);

@@ -88,6 +88,32 @@ TEST(JawTrack, RecoversTheChewingMotionOnEveryFrame) {
   std::printf("%s", summary.BriefReport().c_str());
 }
 
+// The two parts of each frame register side by side when threads allow
+// (one thread each): every number is the one of the parts in turn on one
+// thread, for both costs.
+TEST(JawTrack, IsTheSameOnOneAndTwoThreads) {
+  ChewingOptions chewing;
+  chewing.frames = 4;
+  chewing.upper_points = chewing.lower_points = 2000;
+  const std::vector<Surface> frames = FrameSurfaces(MakeChewingSequence(DenseFace(), chewing));
+  for (const JawCost cost : {JawCost::kAxial, JawCost::kVolume}) {
+    std::vector<JawSummary> runs;
+    for (const int threads : {1, 2}) {
+      JawOptions options;
+      options.boundary.y_level = chewing.boundary_y;
+      options.cost = cost;
+      options.num_threads = threads;
+      runs.push_back(TrackJaw(frames, options));
+    }
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+      EXPECT_EQ(runs[1].frames[k].upper.reference_from_frame, runs[0].frames[k].upper.reference_from_frame) << k;
+      EXPECT_EQ(runs[1].frames[k].lower.reference_from_frame, runs[0].frames[k].lower.reference_from_frame) << k;
+      EXPECT_EQ(runs[1].frames[k].lower.covariance, runs[0].frames[k].lower.covariance) << k;
+      EXPECT_EQ(runs[1].frames[k].upper.iterations, runs[0].frames[k].upper.iterations) << k;
+    }
+  }
+}
+
 // The reference frame against a frame that is a rigid copy of it moved by a
 // known head motion only (same samples): J = identity, U = G⁻¹.
 TEST(JawTrack, HeadMotionAloneGivesIdentityJaw) {
