@@ -184,6 +184,21 @@ void ForEachChunk(const Execution& execution, int64_t n, int chunks,
 #endif
 }
 
+void ForEachItem(const Execution& execution, int n, const std::function<void(int k)>& body) {
+  if (n <= 0) return;
+  std::vector<std::exception_ptr> errors(n);
+  ForEachChunk(execution, n, n, [&](int k, int64_t, int64_t) {  // one item per chunk
+    try {
+      body(k);
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+}
+
 void RunOnTwoThreads(bool concurrent, const std::function<void()>& first,
                      const std::function<void()>& second) {
   RegionTimer timer(2);

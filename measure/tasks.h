@@ -37,6 +37,13 @@ inline int64_t ChunkBegin(int64_t n, int chunks, int c) { return n * c / chunks;
 void ForEachChunk(const Execution& execution, int64_t n, int chunks,
                   const std::function<void(int chunk, int64_t begin, int64_t end)>& body);
 
+// body(k) for every k in [0, n), up to `execution.threads` items at once,
+// for independent jobs (pairs of a series, rows of a batch). Every item runs
+// even when another throws; then the exception of the lowest k that threw
+// is rethrown, so the error a user sees does not depend on the order the
+// items ran in.
+void ForEachItem(const Execution& execution, int n, const std::function<void(int k)>& body);
+
 // first() and second(), side by side when parallel. They must not wait on
 // each other: a task library may run both on one thread, one after the other.
 void RunBoth(const Execution& execution, const std::function<void()>& first,

@@ -14,6 +14,7 @@
 // data, standard deviations, and a verdict that is never "improved" when
 // the measure got worse.
 #include <array>
+#include <cstddef>
 
 #include <Eigen/Core>
 
@@ -29,6 +30,14 @@ namespace surfreg {
 // motion that folds the moving surface.
 AlignResult Align(const Surface& reference, const Surface& moving,
                   const AlignOptions& options = AlignOptions());
+
+// How many independent alignments (a series' pairs, a batch's rows) to run
+// side by side on `threads` threads, one thread each: min(threads, pairs, 8)
+// when the largest of their surfaces has at most 1e5 samples, else 1 (a
+// large pair spreads over the threads itself). Small pairs gain more from a
+// thread each than from all threads on one: their parallel stages are
+// short. An alignment's numbers do not depend on its threads.
+int AlignmentsAtOnce(std::size_t largest_samples, int pairs, int threads);
 
 // `surface` with every sample moved by `matrix` (input coordinates), e.g. the
 // aligned moving surface.

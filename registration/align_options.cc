@@ -157,4 +157,11 @@ Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix) 
   return moved;
 }
 
+int AlignmentsAtOnce(std::size_t largest_samples, int pairs, int threads) {
+  constexpr std::size_t kConcurrentSamples = 100000;
+  constexpr int kMaxAtOnce = 8;  // bounds the memory of the alignments side by side
+  if (largest_samples > kConcurrentSamples) return 1;
+  return std::clamp(std::min(threads, pairs), 1, kMaxAtOnce);
+}
+
 }  // namespace surfreg

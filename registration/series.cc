@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -193,12 +192,9 @@ std::vector<Rigid3d> ChainedStart(int n, int reference, const std::vector<Series
 }  // namespace
 
 int SeriesPairsAtOnce(const std::vector<Surface>& epochs, int pairs, int threads) {
-  constexpr std::size_t kConcurrentPoints = 100000;
-  constexpr int kMaxAtOnce = 8;  // bounds the memory of the alignments side by side
-  for (const Surface& epoch : epochs) {
-    if (epoch.size() > kConcurrentPoints) return 1;
-  }
-  return std::clamp(std::min(threads, pairs), 1, kMaxAtOnce);
+  std::size_t largest = 0;
+  for (const Surface& epoch : epochs) largest = std::max(largest, epoch.size());
+  return AlignmentsAtOnce(largest, pairs, threads);
 }
 
 SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions& options) {
@@ -225,24 +221,15 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
   AlignOptions pair_options = options.align;
   pair_options.num_threads = at_once > 1 ? 1 : threads;
   std::mutex stage_mutex;
-  std::vector<std::exception_ptr> errors(pair_count);
-  ForEachChunk(ExecutionFor(at_once), pair_count, std::max(1, pair_count), [&](int k, int64_t begin, int64_t end) {
-    if (begin == end) return;
+  ForEachItem(ExecutionFor(at_once), pair_count, [&](int k) {  // the first failing pair's error, whatever the order
     SeriesPair& p = result.pairs[k];
-    try {
-      {
-        std::lock_guard<std::mutex> lock(stage_mutex);
-        stage("aligning pair " + std::to_string(p.reference) + "-" + std::to_string(p.moving) + " (" +
-              std::to_string(k + 1) + "/" + std::to_string(pair_count) + ")");
-      }
-      p.pairwise = Align(epochs[p.reference], epochs[p.moving], pair_options);
-    } catch (...) {
-      errors[k] = std::current_exception();
+    {
+      std::lock_guard<std::mutex> lock(stage_mutex);
+      stage("aligning pair " + std::to_string(p.reference) + "-" + std::to_string(p.moving) + " (" +
+            std::to_string(k + 1) + "/" + std::to_string(pair_count) + ")");
     }
+    p.pairwise = Align(epochs[p.reference], epochs[p.moving], pair_options);
   });
-  for (const std::exception_ptr& error : errors) {  // the first pair's, whatever the order they ran in
-    if (error) std::rethrow_exception(error);
-  }
   for (SeriesPair& p : result.pairs) {
     Matrix6d unused;
     if (p.pairwise.verdict != Verdict::kConvergedImproved &&
@@ -353,25 +340,17 @@ SeriesResult AlignSeries(const std::vector<Surface>& epochs, const SeriesOptions
   measure.domain = options.align.domain;
   measure.threads = at_once > 1 ? 1 : threads;
   measure.allow_empty_overlap = true;
-  ForEachChunk(ExecutionFor(at_once), pair_count, std::max(1, pair_count), [&](int k, int64_t begin, int64_t end) {
-    if (begin == end) return;
+  ForEachItem(ExecutionFor(at_once), pair_count, [&](int k) {
     SeriesPair& p = result.pairs[k];
-    try {
-      {
-        std::lock_guard<std::mutex> lock(stage_mutex);
-        stage("measuring pair " + std::to_string(p.reference) + "-" + std::to_string(p.moving));
-      }
-      const MeasureReference reference(epochs[p.reference], measure);
-      p.before = Measure(reference, epochs[p.moving], measure);
-      const Rigid3d joint = motion[p.reference].Inverse() * motion[p.moving];
-      p.after = Measure(reference, TransformSurface(epochs[p.moving], joint.ToMatrix()), measure);
-    } catch (...) {
-      errors[k] = std::current_exception();
+    {
+      std::lock_guard<std::mutex> lock(stage_mutex);
+      stage("measuring pair " + std::to_string(p.reference) + "-" + std::to_string(p.moving));
     }
+    const MeasureReference reference(epochs[p.reference], measure);
+    p.before = Measure(reference, epochs[p.moving], measure);
+    const Rigid3d joint = motion[p.reference].Inverse() * motion[p.moving];
+    p.after = Measure(reference, TransformSurface(epochs[p.moving], joint.ToMatrix()), measure);
   });
-  for (const std::exception_ptr& error : errors) {
-    if (error) std::rethrow_exception(error);
-  }
   for (SeriesPair& p : result.pairs) {
     const Rigid3d joint = motion[p.reference].Inverse() * motion[p.moving];
     const Rigid3d& own = p.pairwise.reference_from_moving;

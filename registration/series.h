@@ -108,11 +108,8 @@ struct SeriesResult {
 };
 
 // How many of `pairs` pairs of `epochs` align (or are measured) at once on
-// `threads` threads, one thread each: up to every thread (at most 8, which
-// bounds the memory of alignments side by side) when every epoch has at
-// most 1e5 samples; else 1, one after another on every thread (a large
-// pair's alignment spreads over them itself). Small pairs gain more from a
-// thread each than from all threads on one: their parallel stages are short.
+// `threads` threads: AlignmentsAtOnce (registration/align.h) of the largest
+// epoch.
 int SeriesPairsAtOnce(const std::vector<Surface>& epochs, int pairs, int threads);
 
 // The overlap of every pair of epochs (symmetric N × N, the diagonal 1):

@@ -164,6 +164,23 @@ for k in 1 2; do
 done
 run merge "$tmp/batch_merged.csv" "$tmp/batch1.csv" "$tmp/batch2.csv"
 same_rows "$tmp/batch_merged.csv" "$tmp/batch.csv"
+# Small pairs align side by side, one thread each: the same rows (times
+# aside) on 1 and 4 threads; a row that fails in the middle is reported and
+# the others go on.
+printf '1 2 3\nnot a point\n' >"$tmp/bad.xyz"
+printf 'reference,moving,output\n%s,%s,%s\n%s,%s,%s\n%s,%s,%s\n%s,%s,%s\n' \
+  "$tmp/grid.xyz" "$tmp/moved.xyz" "$tmp/m0.json" "$tmp/grid.xyz" "$tmp/bad.xyz" "$tmp/m1.json" \
+  "$tmp/grid.xyz" "$tmp/resampled.xyz" "$tmp/m2.json" "$tmp/resampled.xyz" "$tmp/moved.xyz" "$tmp/m3.json" \
+  >"$tmp/mixed.csv"
+for t in 1 4; do
+  expect_error "1 of 4 pairs failed" align --manifest="$tmp/mixed.csv" --cost=axial --covariance=false \
+    --threads=$t --output="$tmp/mixed$t.csv"
+  grep -qF "pair 2/4 (row 1): error: $tmp/mixed.csv:3: column 'moving': $tmp/bad.xyz:2" "$tmp/stderr" || fail "manifest on $t threads: row 1's error"
+done
+same_rows "$tmp/mixed1.csv" "$tmp/mixed4.csv"
+checks=$((checks + 1))
+[[ $(grep -c ',converged' "$tmp/mixed4.csv") -eq 3 && -s "$tmp/m3.json" && ! -e "$tmp/m1.json" ]] ||
+  fail "manifest on 4 threads: not 3 pairs aligned and 1 failed"
 printf 'reference,moving,output\n%s,%s,%s\n' "$tmp/grid.xyz" "$tmp/moved.xyz" "$tmp/t0.json" >"$tmp/dup.csv"
 printf '%s,%s,%s\n' "$tmp/grid.xyz" "$tmp/moved.xyz" "$tmp/t0.json" >>"$tmp/dup.csv"
 expect_error "dup.csv:3: column 'output'" align --manifest="$tmp/dup.csv"

@@ -1,9 +1,11 @@
 // The task primitives (measure/tasks.h): fixed chunks whatever the thread
-// count, every item once, exceptions carried back, and the two-thread runner
+// count, every item once, exceptions carried back (for independent items the
+// lowest failing one's), and the two-thread runner
 // for tasks that wait on each other.
 #include "measure/tasks.h"
 
 #include <atomic>
+#include <chrono>
 #include <future>
 #include <numeric>
 #include <stdexcept>
@@ -66,6 +68,32 @@ TEST(Tasks, ExceptionComesBackAfterTheOthersStop) {
     EXPECT_THROW(RunBoth(Execution{threads}, [] { throw std::invalid_argument("first"); }, [] {}),
                  std::invalid_argument);
   }
+}
+
+TEST(Tasks, EveryItemRunsAndTheLowestFailingItemsErrorComesBack) {
+  for (const int threads : {1, 2, 8}) {
+    for (int repeat = 0; repeat < 20; ++repeat) {
+      std::vector<std::atomic<int>> ran(12);
+      try {
+        ForEachItem(Execution{threads}, 12, [&](int k) {
+          ++ran[k];
+          if (k == 9) throw std::runtime_error("item 9");
+          if (k == 4) {  // the lowest failing item, made to finish last
+            std::this_thread::sleep_for(std::chrono::milliseconds(repeat % 3));
+            throw std::runtime_error("item 4");
+          }
+          if (k == 7) throw std::invalid_argument("item 7");
+        });
+        ADD_FAILURE() << "no exception";
+      } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(), "item 4") << threads << " threads";
+      }
+      for (int k = 0; k < 12; ++k) EXPECT_EQ(ran[k].load(), 1) << "item " << k;
+    }
+  }
+  int calls = 0;
+  ForEachItem(Execution{4}, 0, [&](int) { ++calls; });
+  EXPECT_EQ(calls, 0);
 }
 
 TEST(Tasks, TwoThreadsLetOneTaskWaitForTheOther) {

@@ -7,19 +7,27 @@
 // i (0-based, after the header) is run i: `--shard K/N` aligns the rows with
 // i % N == K − 1, and `surfreg merge` joins the shards' summaries.
 //
+// Rows whose surfaces have at most 1e5 samples align side by side, one
+// thread each (AlignmentsAtOnce, registration/align.h); a larger pair alone
+// on every thread. An alignment's numbers do not depend on its threads, so
+// the summary is the same (but its times) whatever runs beside what.
+//
 // Every row is checked before the first alignment (files to write,
 // settings). A pair that fails later (a surface file that does not parse,
 // surfaces that do not overlap) gets verdict "error" in the summary and the
 // batch goes on; the command then exits 2 saying how many failed.
 #include <gflags/gflags.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "measure/input_error.h"
+#include "measure/tasks.h"
 #include "registration/align.h"
 #include "tools/align_config.h"
 #include "tools/align_run.h"
@@ -170,6 +178,69 @@ std::vector<std::string> SummaryRow(const Row& row, const AlignResult* r,
   return fields;
 }
 
+// One row's surfaces, then its result or its InputError's text.
+struct Job {
+  TerrainInputs inputs;
+  bool terrain = false;
+  bool read = false;
+  std::string error;
+  std::vector<std::string> summary;  // its summary row, once done
+  std::string verdict;
+  double seconds = 0.0;
+};
+
+// Reads a row's surfaces as a single align reads them: rasters and CRSs
+// too, lon/lat DEMs in one metric frame (which the JSON then names).
+void ReadJob(const AlignConfig& c, Job* job) {
+  try {
+    job->terrain = c.terrain.Active(c.reference, c.moving);
+    if (job->terrain) {
+      job->inputs = ReadTerrainInputs(c);
+    } else {
+      job->inputs.reference = ReadInput(c, "reference");
+      job->inputs.moving = ReadInput(c, "moving");
+    }
+    job->read = true;
+  } catch (const InputError& e) {
+    job->error = e.what();
+  }
+}
+
+// Aligns a row read on `threads` threads, writes its files and fills its
+// summary row; frees its surfaces.
+void AlignJob(const Row& row, int threads, Job* job) {
+  const AlignConfig& c = row.config;
+  if (job->read) {
+    try {
+      AlignOptions options = c.options;
+      options.num_threads = threads;
+      ApplyInitialTransform(c, &options);  // one start for every pair
+      options.on_iteration = [](const AlignOptions::Iteration&) { ThrowIfInterrupted(); };
+      const AlignResult result = Align(job->inputs.reference, job->inputs.moving, options);
+      std::string frame;
+      if (job->terrain) {
+        JsonObject member;
+        member.String("frame", job->inputs.frame.Describe())
+            .String("reference_crs", job->inputs.reference_crs.name)
+            .String("moving_crs", job->inputs.moving_crs.name);
+        frame = "\"terrain\": " + member.str();
+      }
+      WriteFileAtomically(c.output, TransformJson(c, result, frame), c.Where("output"));
+      if (!c.aligned.empty()) {
+        WriteSurface(c.aligned, TransformSurface(job->inputs.moving, result.matrix), c.Where("aligned"),
+                     {"aligned: " + c.moving + " moved onto " + c.reference + " by surfreg align --manifest"});
+      }
+      job->summary = SummaryRow(row, &result, "");
+      job->verdict = VerdictName(result.verdict);
+      job->seconds = result.seconds;
+    } catch (const InputError& e) {
+      job->error = e.what();
+    }
+  }
+  if (!job->error.empty()) job->summary = SummaryRow(row, nullptr, job->error);
+  job->inputs = TerrainInputs();
+}
+
 }  // namespace
 
 int RunAlignManifest(const std::vector<std::string>& args) {
@@ -196,52 +267,50 @@ int RunAlignManifest(const std::vector<std::string>& args) {
                     "iterations",
                     "seconds",
                     "message"};
+  // Rows read in turn (each on every thread); small pairs wait in a window
+  // and align side by side, a large one alone.
+  const int threads = ExecutionFor(rows.empty() ? 1 : rows.front().config.options.num_threads).threads;
+  const int count = static_cast<int>(rows.size());
+  const int window_size = AlignmentsAtOnce(0, count, threads);
+  std::vector<Job> jobs(rows.size());
+  std::vector<int> window;
+  std::mutex progress_mutex;
   int failed = 0;
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    const Row& row = rows[k];
-    const AlignConfig& c = row.config;
-    try {
-      // Rasters and CRSs as a single align reads them: lon/lat DEMs are
-      // aligned in the same metric frame, which the JSON then names.
-      const bool terrain = c.terrain.Active(c.reference, c.moving);
-      TerrainInputs inputs;
-      if (terrain) {
-        inputs = ReadTerrainInputs(c);
-      } else {
-        inputs.reference = ReadInput(c, "reference");
-        inputs.moving = ReadInput(c, "moving");
-      }
-      const Surface& reference = inputs.reference;
-      const Surface& moving = inputs.moving;
-      AlignOptions options = c.options;
-      ApplyInitialTransform(c, &options);  // one start for every pair
-      options.on_iteration = [](const AlignOptions::Iteration&) { ThrowIfInterrupted(); };
-      const AlignResult result = Align(reference, moving, options);
-      std::string frame;
-      if (terrain) {
-        JsonObject member;
-        member.String("frame", inputs.frame.Describe())
-            .String("reference_crs", inputs.reference_crs.name)
-            .String("moving_crs", inputs.moving_crs.name);
-        frame = "\"terrain\": " + member.str();
-      }
-      WriteFileAtomically(c.output, TransformJson(c, result, frame), c.Where("output"));
-      if (!c.aligned.empty()) {
-        WriteSurface(c.aligned, TransformSurface(moving, result.matrix), c.Where("aligned"),
-                     {"aligned: " + c.moving + " moved onto " + c.reference +
-                      " by surfreg align --manifest"});
-      }
-      summary.rows.push_back(SummaryRow(row, &result, ""));
-      if (!FLAGS_quiet) {
-        std::fprintf(stderr, "align: pair %zu/%zu (row %lld): %s, %.2f s\n", k + 1, rows.size(),
-                     static_cast<long long>(row.id), VerdictName(result.verdict), result.seconds);
-      }
-    } catch (const InputError& e) {
-      ++failed;
-      summary.rows.push_back(SummaryRow(row, nullptr, e.what()));
-      std::fprintf(stderr, "align: pair %zu/%zu (row %lld): error: %s\n", k + 1, rows.size(),
-                   static_cast<long long>(row.id), e.what());
+  const auto report = [&](int k) {  // progress as each pair ends, whatever order they end in
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    const Job& job = jobs[k];
+    if (!job.error.empty()) {
+      std::fprintf(stderr, "align: pair %d/%d (row %lld): error: %s\n", k + 1, count,
+                   static_cast<long long>(rows[k].id), job.error.c_str());
+    } else if (!FLAGS_quiet) {
+      std::fprintf(stderr, "align: pair %d/%d (row %lld): %s, %.2f s\n", k + 1, count,
+                   static_cast<long long>(rows[k].id), job.verdict.c_str(), job.seconds);
     }
+  };
+  const auto align_window = [&] {
+    const int at_once = static_cast<int>(window.size());
+    ForEachItem(ExecutionFor(at_once), at_once, [&](int i) {
+      AlignJob(rows[window[i]], at_once > 1 ? 1 : threads, &jobs[window[i]]);
+      report(window[i]);
+    });
+    window.clear();
+  };
+  for (int k = 0; k < count; ++k) {
+    ReadJob(rows[k].config, &jobs[k]);
+    const std::size_t largest = std::max(jobs[k].inputs.reference.size(), jobs[k].inputs.moving.size());
+    if (AlignmentsAtOnce(largest, count, threads) == 1) {
+      align_window();  // the small pairs before it first
+      window.push_back(k);
+      align_window();
+      continue;
+    }
+    window.push_back(k);
+    if (static_cast<int>(window.size()) == window_size) align_window();
+  }
+  align_window();
+  for (Job& job : jobs) {
+    if (!job.error.empty()) ++failed;
+    summary.rows.push_back(std::move(job.summary));
   }
   const std::string text = FormatCsv(summary);
   if (KeyFlag("output").empty()) {

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <string>
 #include <vector>
 
@@ -56,32 +55,23 @@ std::vector<ConsecutiveChange> Consecutive(const SeriesConfig& config, const std
   measure.keep_node_gaps = true;
   std::vector<ConsecutiveChange> changes(std::max(0, count));
   std::vector<std::vector<double>> dz(changes.size());  // side by side: the DoDs are written in turn after
-  std::vector<std::exception_ptr> errors(changes.size());
-  ForEachChunk(ExecutionFor(at_once), count, std::max(1, count), [&](int k, int64_t begin, int64_t end) {
-    if (begin == end) return;
-    try {
-      ConsecutiveChange& change = changes[k];
-      change.from = k;
-      change.to = k + 1;
-      const Eigen::Matrix4d onto_from = result.epochs[k].matrix.inverse() * result.epochs[k + 1].matrix;
-      change.measure = Measure(epochs[k], TransformSurface(epochs[k + 1], onto_from), measure);
-      change.dz = ComputeDzStatistics(change.measure.dz_a, {}, ExecutionFor(measure.threads));
-      change.dod = DodPath(config, k);
-      if (at_once == 1 && !change.dod.empty()) {  // one at a time: written now, none kept
-        WriteDod(config, epochs[k], grids[k], change.measure.dz_a, change.dod);
-      } else {
-        dz[k] = std::move(change.measure.dz_a);
-      }
-      change.measure.dz_a.clear();
-      change.measure.dz_b.clear();
-      change.measure.node_area_a.clear();
-    } catch (...) {
-      errors[k] = std::current_exception();
+  ForEachItem(ExecutionFor(at_once), count, [&](int k) {
+    ConsecutiveChange& change = changes[k];
+    change.from = k;
+    change.to = k + 1;
+    const Eigen::Matrix4d onto_from = result.epochs[k].matrix.inverse() * result.epochs[k + 1].matrix;
+    change.measure = Measure(epochs[k], TransformSurface(epochs[k + 1], onto_from), measure);
+    change.dz = ComputeDzStatistics(change.measure.dz_a, {}, ExecutionFor(measure.threads));
+    change.dod = DodPath(config, k);
+    if (at_once == 1 && !change.dod.empty()) {  // one at a time: written now, none kept
+      WriteDod(config, epochs[k], grids[k], change.measure.dz_a, change.dod);
+    } else {
+      dz[k] = std::move(change.measure.dz_a);
     }
+    change.measure.dz_a.clear();
+    change.measure.dz_b.clear();
+    change.measure.node_area_a.clear();
   });
-  for (const std::exception_ptr& error : errors) {
-    if (error) std::rethrow_exception(error);
-  }
   for (int k = 0; at_once > 1 && k < count; ++k) {
     if (!changes[k].dod.empty()) WriteDod(config, epochs[k], grids[k], dz[k], changes[k].dod);
   }
