@@ -281,7 +281,12 @@ SolveResult SolveAxial(PairState& state, const SolveContext& context,
     solver.function_tolerance = std::max(solver.function_tolerance, kPrealignTolerance);
     solver.parameter_tolerance = kPrealignTolerance;
   }
-  solver.num_threads = CeresThreads(options.num_threads);
+  // One Ceres thread: the evaluation callback does the work, on every
+  // thread; the blocks only copy it out. Ceres on several threads sums the
+  // blocks' costs and gradients per thread, in an order that depends on the
+  // thread count: the cost differed in its last bits from the one-thread
+  // run's, and sometimes then the iterations (a face pair's rotation by 1e-12°).
+  solver.num_threads = 1;
   LogCallback log(context);
   solver.callbacks.push_back(&log);
   // B's surface is fixed as in SolveVolume: a trust region compares the

@@ -25,7 +25,8 @@ namespace surfreg {
 
 // Threads for a Ceres solve: `requested` as ExecutionFor reads it (0: every
 // core), at most the cores (Ceres bounds more itself, with a warning per
-// solve; the results are the same on any number).
+// solve). For problems of one residual block only: Ceres adds several
+// blocks' costs per thread, so the sum's last bits depend on the count.
 int CeresThreads(int requested);
 
 struct SolveContext {

@@ -8,8 +8,8 @@
 // i % N == K − 1, and `surfreg merge` joins the shards' summaries.
 //
 // Rows whose surfaces have at most 1e5 samples align side by side, one
-// thread each (AlignmentsAtOnce, registration/align.h); a larger pair alone
-// on every thread. An alignment's numbers do not depend on its threads, so
+// thread each (AlignmentsAtOnce, registration/align.h); larger pairs after
+// them, one at a time on every thread. An alignment's numbers do not depend on its threads, so
 // the summary is the same (but its times) whatever runs beside what.
 //
 // Every row is checked before the first alignment (files to write,
@@ -19,6 +19,7 @@
 #include <gflags/gflags.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -267,15 +268,16 @@ int RunAlignManifest(const std::vector<std::string>& args) {
                     "iterations",
                     "seconds",
                     "message"};
-  // Rows read in turn (each on every thread); small pairs wait in a window
-  // and align side by side, a large one alone.
+  // Several workers take the rows in turn, each reading and aligning its
+  // row on one thread; a pair found larger is left for afterwards, read
+  // again and aligned alone on every thread (reading costs little beside
+  // aligning a large pair, and no large surfaces wait in memory).
   const int threads = ExecutionFor(rows.empty() ? 1 : rows.front().config.options.num_threads).threads;
   const int count = static_cast<int>(rows.size());
-  const int window_size = AlignmentsAtOnce(0, count, threads);
+  const int at_once = AlignmentsAtOnce(0, count, threads);
   std::vector<Job> jobs(rows.size());
-  std::vector<int> window;
+  std::vector<char> alone(rows.size(), at_once == 1);
   std::mutex progress_mutex;
-  int failed = 0;
   const auto report = [&](int k) {  // progress as each pair ends, whatever order they end in
     std::lock_guard<std::mutex> lock(progress_mutex);
     const Job& job = jobs[k];
@@ -287,27 +289,31 @@ int RunAlignManifest(const std::vector<std::string>& args) {
                    static_cast<long long>(rows[k].id), job.verdict.c_str(), job.seconds);
     }
   };
-  const auto align_window = [&] {
-    const int at_once = static_cast<int>(window.size());
-    ForEachItem(ExecutionFor(at_once), at_once, [&](int i) {
-      AlignJob(rows[window[i]], at_once > 1 ? 1 : threads, &jobs[window[i]]);
-      report(window[i]);
+  if (at_once > 1) {
+    std::atomic<int> next{0};
+    ForEachItem(ExecutionFor(at_once), at_once, [&](int) {
+      for (int k = next++; k < count; k = next++) {
+        AlignConfig one_thread = rows[k].config;
+        one_thread.options.num_threads = 1;
+        ReadJob(one_thread, &jobs[k]);
+        const std::size_t largest = std::max(jobs[k].inputs.reference.size(), jobs[k].inputs.moving.size());
+        if (AlignmentsAtOnce(largest, count, threads) == 1) {
+          jobs[k] = Job();
+          alone[k] = 1;
+          continue;
+        }
+        AlignJob(rows[k], 1, &jobs[k]);
+        report(k);
+      }
     });
-    window.clear();
-  };
-  for (int k = 0; k < count; ++k) {
-    ReadJob(rows[k].config, &jobs[k]);
-    const std::size_t largest = std::max(jobs[k].inputs.reference.size(), jobs[k].inputs.moving.size());
-    if (AlignmentsAtOnce(largest, count, threads) == 1) {
-      align_window();  // the small pairs before it first
-      window.push_back(k);
-      align_window();
-      continue;
-    }
-    window.push_back(k);
-    if (static_cast<int>(window.size()) == window_size) align_window();
   }
-  align_window();
+  for (int k = 0; k < count; ++k) {
+    if (!alone[k]) continue;
+    ReadJob(rows[k].config, &jobs[k]);
+    AlignJob(rows[k], threads, &jobs[k]);
+    report(k);
+  }
+  int failed = 0;
   for (Job& job : jobs) {
     if (!job.error.empty()) ++failed;
     summary.rows.push_back(std::move(job.summary));
