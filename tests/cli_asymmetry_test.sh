@@ -141,6 +141,18 @@ run asymmetry "$cohort" --csv="$good/cohort.csv"
 [[ $(grep -c "^asymmetry: face" "$tmp/stderr") -eq 3 ]] || fail "asymmetry FOLDER: expected a progress line per face"
 run asymmetry "$cohort" --csv="$good/cohort_quiet.csv" --quiet
 [[ $rc -eq 0 && ! -s $tmp/stderr ]] || fail "asymmetry FOLDER --quiet: stderr not empty"
+# The faces side by side (one thread each) or one after another on one
+# thread: the same table and printout.
+cp "$tmp/stdout" "$tmp/cohort_stdout"
+run asymmetry "$cohort" --csv="$good/cohort_one.csv" --quiet --threads=1
+[[ $rc -eq 0 ]] && cmp -s "$good/cohort_one.csv" "$good/cohort_quiet.csv" &&
+  cmp -s <(grep -v written "$tmp/stdout") <(grep -v written "$tmp/cohort_stdout") ||
+  fail "asymmetry FOLDER: another table or printout on one thread"
+# A face that cannot be read among others: its error, nothing written.
+cp -r "$cohort" "$tmp/cohort_bad"
+printf '1 2 3\n4 5 x\n' >"$tmp/cohort_bad/scan1b.xyz"
+expect_error "scan1b.xyz:2" 1 asymmetry "$tmp/cohort_bad" --csv="$out/bad_cohort.csv" --quiet
+[[ ! -e "$out/bad_cohort.csv" ]] || fail "asymmetry FOLDER with a bad face: a table was written"
 run asymmetry configs/data/face_a.xyz --json --regions=cheek:"$tmp/cheek.txt" --norms="$good/cohort.csv" \
   --points="$good/points.csv" --units=mm
 if [[ $rc -ne 0 ]]; then

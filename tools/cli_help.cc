@@ -42,6 +42,7 @@ constexpr Override kOverrides[] = {
     {"series", "config", "the series YAML file (keys above; configs/series_volcano.yaml)"},
     {"normalize", "output", "write the face's height field here (.xyz, .ply, .txt)"},
     {"asymmetry", "output", "write the asymmetry JSON here"},
+    {"asymmetry", "threads", "threads (all: every core); a folder's faces and two scans run side by side, one thread each"},
     {"transform", "output", "the moved surface (.xyz, .txt, .ply, .las; or .tif, resampled onto a grid)"},
     {"transform", "band", "the band of a raster INPUT"},
     {"transform", "window", "column,row,columns,rows of a raster INPUT read (0 = to the edge; the default output grid)"},

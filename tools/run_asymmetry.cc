@@ -1,11 +1,12 @@
 // surfreg asymmetry FACE | FOLDER | SCAN1 SCAN2 [--orientation=auto|as_is|RX,RY,RZ]
 // [--depth_limit=D] [--regions=NAME:FILE,...] [--map=MAP.png] [--points=D.csv|.ply]
-// [--csv=TABLE.csv] [--norms=COHORT.csv] [--units=mm] [--json] [--output=ASYMMETRY.json]
-// [--quiet]: facial asymmetry (faces/symmetry.h, faces/asymmetry_index.h): the face in
+// [--csv=TABLE.csv] [--norms=COHORT.csv] [--units=mm] [--threads=N|all] [--json]
+// [--output=ASYMMETRY.json] [--quiet]: facial asymmetry (faces/symmetry.h, faces/asymmetry_index.h): the face in
 // the standard frame against its mirror image about x = 0, then about the
 // optimized symmetry plane, and the indices by region about that plane. A
 // folder is a cohort (one table row per face); two scans of one face give
-// the indices' differences (test-retest).
+// the indices' differences (test-retest). A cohort's faces (and the two
+// scans) are analysed side by side, one thread each.
 //
 // Orientation: without --orientation, a mesh (a file with triangles) is
 // oriented automatically (principal axes and the nose heuristics) and a point
@@ -21,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -32,6 +34,8 @@
 #include "io/mesh_reader.h"
 #include "io/plot.h"
 #include "measure/input_error.h"
+#include "measure/option_keys.h"
+#include "measure/tasks.h"
 #include "tools/asymmetry_report.h"
 #include "tools/commands.h"
 #include "tools/face_orientation.h"
@@ -62,6 +66,7 @@ std::string Format(const char* format, double value) {
 }
 
 struct Request {
+  int threads = 0;  // 0: every core
   FaceFrameOptions frame_options;
   bool orientation_given = false;
   AsymmetryIndexOptions index_options;
@@ -80,6 +85,13 @@ Request CheckFlags(bool single_face) {
     throw InputError("flag '--depth_limit': expected a number >= 0, got " + Format("%g", FLAGS_depth_limit));
   }
   request.frame_options.depth_limit = FLAGS_depth_limit;
+  if (!KeyFlag("threads").empty()) {
+    config_value::Value value;
+    value.where = "flag '--threads'";
+    value.expected = config_value::kThreadsType;
+    value.text = KeyFlag("threads");
+    request.threads = config_value::ThreadCount(value);
+  }
   for (const auto& [path, flag] : {std::pair{FLAGS_map, "--map"}, std::pair{FLAGS_points, "--points"}}) {
     if (!path.empty() && !single_face) {
       throw InputError(std::string("flag '") + flag + "': one face at a time (not a folder or two scans)");
@@ -111,7 +123,10 @@ Request CheckFlags(bool single_face) {
   return request;
 }
 
-FaceAsymmetry Analyze(const std::string& file, const Request& request) {
+// One face on `threads` threads (0: every core). EstimateSymmetry's line
+// search ends at |d|'s kink with a warning the termination message reports:
+// the callers keep glog quiet around this.
+FaceAsymmetry Analyze(const std::string& file, const Request& request, int threads) {
   FaceAsymmetry a;
   a.file = file;
   a.frame_options = request.frame_options;
@@ -119,19 +134,9 @@ FaceAsymmetry Analyze(const std::string& file, const Request& request) {
   if (!request.orientation_given && mesh.triangles.empty()) a.frame_options.orientation = FaceOrientation::kAsIs;
   a.frame = NormalizeFace(mesh, a.frame_options);
   a.face = FaceSurface(a.frame, file);
-  {
-    // At the optimum |d| has a kink, where the line search ends with a
-    // warning; the termination message reports it, so keep stderr quiet.
-    const int level = FLAGS_minloglevel;
-    FLAGS_minloglevel = google::GLOG_ERROR;
-    try {
-      a.symmetry = EstimateSymmetry(a.face);
-    } catch (...) {
-      FLAGS_minloglevel = level;
-      throw;
-    }
-    FLAGS_minloglevel = level;
-  }
+  SymmetryOptions symmetry;
+  symmetry.threads = threads;
+  a.symmetry = EstimateSymmetry(a.face, symmetry);
   a.indices = ComputeAsymmetryIndices(a.face, a.symmetry.refined.plane, request.index_options);
   if (request.has_norms) a.z_scores = ZScores(request.norms, IndexValues(a.indices));
   return a;
@@ -219,8 +224,32 @@ void PrintWritten() {
   }
 }
 
+// glog kept to errors while faces are analysed (Analyze); one switch for
+// the faces analysed side by side, since the level is the process's.
+class QuietLineSearch {
+ public:
+  QuietLineSearch() : level_(FLAGS_minloglevel) { FLAGS_minloglevel = google::GLOG_ERROR; }
+  ~QuietLineSearch() { FLAGS_minloglevel = level_; }
+  QuietLineSearch(const QuietLineSearch&) = delete;
+  QuietLineSearch& operator=(const QuietLineSearch&) = delete;
+
+ private:
+  int level_;
+};
+
+// Faces of a cohort analysed at once, one thread each: a face keeps about
+// one core busy (its stages are short), and each holds its scan in memory.
+constexpr int kMaxFacesAtOnce = 8;
+
+int FacesAtOnce(const Request& request, int faces) {
+  return std::clamp(std::min(ExecutionFor(request.threads).threads, faces), 1, kMaxFacesAtOnce);
+}
+
 int RunOne(const std::string& file, const Request& request) {
-  const FaceAsymmetry a = Analyze(file, request);
+  const FaceAsymmetry a = [&] {
+    QuietLineSearch quiet;
+    return Analyze(file, request, request.threads);
+  }();
   if (!FLAGS_map.empty()) WriteMap(a, request.index_options.regions);
   if (!FLAGS_points.empty()) WritePointDifferences(a, FLAGS_points, "flag '--points'");
   Finish(FaceAsymmetryJson(a, FLAGS_map).str(), TableHeader(a) + TableRow(a));
@@ -233,29 +262,53 @@ int RunOne(const std::string& file, const Request& request) {
 
 int RunCohort(const std::string& folder, const Request& request) {
   const std::vector<std::string> files = FolderFaces(folder);
-  std::vector<std::string> faces;
-  std::string table;
-  if (!FLAGS_json) std::printf("%-40s %10s %12s %12s %12s %8s\n", "face", "angle_deg", "face_rms", "lower_rms", "left_mean", "z(rms)");
-  for (std::size_t k = 0; k < files.size(); ++k) {
-    if (!FLAGS_quiet) std::fprintf(stderr, "asymmetry: face %zu/%zu %s\n", k + 1, files.size(), files[k].c_str());
-    const FaceAsymmetry a = Analyze(files[k], request);
-    if (k == 0) {
-      table = TableHeader(a);
-    } else if (TableHeader(a) != table.substr(0, table.find('\n') + 1)) {
-      throw InputError(files[k] + ": its indices differ from the first face's (regions off the face?)");
-    }
-    table += TableRow(a);
-    faces.push_back(FaceAsymmetryJson(a, "").str());
-    if (!FLAGS_json) {
+  const int count = static_cast<int>(files.size());
+  // Each face's outputs only (its scan is let go): a table row, its JSON,
+  // its printed line.
+  struct Face {
+    std::string header, row, json, line;
+  };
+  std::vector<Face> results(files.size());
+  {
+    const int at_once = FacesAtOnce(request, count);
+    QuietLineSearch quiet;
+    std::mutex progress;
+    ForEachItem(ExecutionFor(at_once), count, [&](int k) {  // the first failing face's error
+      if (!FLAGS_quiet) {
+        std::lock_guard<std::mutex> lock(progress);
+        std::fprintf(stderr, "asymmetry: face %d/%d %s\n", k + 1, count, files[k].c_str());
+      }
+      const FaceAsymmetry a = Analyze(files[k], request, at_once > 1 ? 1 : request.threads);
+      Face& face = results[k];
+      face.header = TableHeader(a);
+      face.row = TableRow(a);
+      face.json = FaceAsymmetryJson(a, "").str();
       const RegionIndex* lower = a.indices.Find("lower_third");
       const RegionIndex* left = a.indices.Find("left");
       std::string z = "-";
       for (const ZScore& s : a.z_scores) {
         if (s.name == "face_rms") z = Format("%+.2f", s.z);
       }
-      std::printf("%-40s %10.4f %12.5g %12.5g %12.5g %8s\n", files[k].c_str(), a.symmetry.angle_deg, a.indices.whole.rms,
-                  lower != nullptr ? lower->rms : 0.0, left != nullptr ? left->mean : 0.0, z.c_str());
+      char line[512];
+      std::snprintf(line, sizeof line, "%-40s %10.4f %12.5g %12.5g %12.5g %8s\n", files[k].c_str(),
+                    a.symmetry.angle_deg, a.indices.whole.rms, lower != nullptr ? lower->rms : 0.0,
+                    left != nullptr ? left->mean : 0.0, z.c_str());
+      face.line = line;
+    });
+  }
+  std::vector<std::string> faces;
+  const std::string header = results.front().header;
+  std::string table = header;
+  for (int k = 0; k < count; ++k) {
+    if (results[k].header != header) {
+      throw InputError(files[k] + ": its indices differ from the first face's (regions off the face?)");
     }
+    table += results[k].row;
+    faces.push_back(std::move(results[k].json));
+  }
+  if (!FLAGS_json) {
+    std::printf("%-40s %10s %12s %12s %12s %8s\n", "face", "angle_deg", "face_rms", "lower_rms", "left_mean", "z(rms)");
+    for (const Face& face : results) std::fputs(face.line.c_str(), stdout);
   }
   JsonObject json;
   json.String("folder", folder).Int("faces", static_cast<int64_t>(files.size())).Raw("results", JsonArray(faces));
@@ -265,7 +318,16 @@ int RunCohort(const std::string& folder, const Request& request) {
 }
 
 int RunRetest(const std::string& first, const std::string& second, const Request& request) {
-  const FaceAsymmetry a = Analyze(first, request), b = Analyze(second, request);
+  FaceAsymmetry scans[2];
+  {
+    const int at_once = FacesAtOnce(request, 2);
+    QuietLineSearch quiet;
+    ForEachItem(ExecutionFor(at_once), 2, [&](int k) {
+      scans[k] = Analyze(k == 0 ? first : second, request, at_once > 1 ? 1 : request.threads);
+    });
+  }
+  const FaceAsymmetry& a = scans[0];
+  const FaceAsymmetry& b = scans[1];
   const std::vector<IndexValue> va = IndexValues(a.indices), vb = IndexValues(b.indices);
   const std::vector<IndexValue> diff = IndexDifferences(va, vb);
   JsonObject differences;

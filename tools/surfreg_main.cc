@@ -107,10 +107,10 @@ const Command kCommands[] = {
     {"asymmetry", RunAsymmetry,
      "FACE | FOLDER | SCAN1 SCAN2 [--orientation=auto|as_is|RX,RY,RZ] [--depth_limit=D] "
      "[--regions=NAME:FILE,...] [--map=MAP.png] [--points=D.csv|.ply] [--csv=TABLE.csv] [--norms=COHORT.csv] "
-     "[--units=mm] [--json] [--output=ASYMMETRY.json] [--quiet]",
+     "[--units=mm] [--threads=N|all] [--json] [--output=ASYMMETRY.json] [--quiet]",
      "facial asymmetry: the face against its mirror image about the optimized plane; indices by region "
      "(thirds, halves, yours) with sigma; a folder is a cohort (a table row per face), two scans a test-retest",
-     "orientation depth_limit regions map points csv norms units output json quiet", nullptr},
+     "orientation depth_limit regions map points csv norms units threads output json quiet", nullptr},
     {"jaw", RunJaw, "--config JAW.yaml [--KEY=VALUE ...] [--quiet]",
      "jaw motion over a 3D sequence: the lower part relative to the upper part, per frame",
      "config quiet", IsJawKey},
