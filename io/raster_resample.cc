@@ -11,6 +11,7 @@
 #include "measure/domain.h"
 #include "measure/grid_mesh.h"
 #include "measure/locator.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 namespace {
@@ -33,16 +34,22 @@ std::vector<double> MergedHeights(const Surface& s, const Triangulation& mesh) {
   return z;
 }
 
+DelaunayOptions On(const Execution& execution) {
+  DelaunayOptions options;
+  options.execution = execution;
+  return options;
+}
+
 // The surface's piecewise-linear interpolant on its data domain.
 struct Sampler {
-  explicit Sampler(const Surface& s) : surface(s), mesh(Triangulate(s.xy)) {
+  Sampler(const Surface& s, const Execution& execution) : surface(s), mesh(Triangulate(s.xy, On(execution))) {
     DomainRule rule;
     std::vector<uint8_t> in_grid;
     if (s.raster_grid()) {
       rule.grid = true;
       in_grid = EnforceGrid(s.xy, GridCellTriangles(s.raster_cell, s.source), &mesh);
     }
-    domain = MakeMeshDomain(s.xy, mesh, rule, rule.grid ? &in_grid : nullptr);
+    domain = MakeMeshDomain(s.xy, mesh, rule, rule.grid ? &in_grid : nullptr, execution);
     z = MergedHeights(s, mesh);
   }
   // The height at (x, y) (the surface's input coordinates), NaN outside its
@@ -60,6 +67,11 @@ struct Sampler {
   std::vector<double> z;
 };
 
+// Cells per chunk of the grid's cells: each chunk walks from triangle 0 to
+// its first cell, then from cell to neighbouring cell. The chunks depend on
+// the grid's size only, so the heights do not depend on the threads.
+constexpr int64_t kChunkCells = 1 << 16;
+
 Raster EmptyLike(const Raster& grid_template, const std::string& source) {
   Raster out;
   out.columns = grid_template.columns;
@@ -74,22 +86,24 @@ Raster EmptyLike(const Raster& grid_template, const std::string& source) {
 
 }  // namespace
 
-Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template) {
-  const Sampler sampler(moved);
+Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const Execution& execution) {
+  const Sampler sampler(moved, execution);
   Raster out = EmptyLike(grid_template, moved.source);
   // Row-major cells are neighbours: each walk starts where the last ended.
-  int32_t start = 0;
-  for (int row = 0; row < out.rows; ++row) {
-    for (int column = 0; column < out.columns; ++column) {
-      const Point2 centre = out.CellCentre(column, row);
-      out.values[static_cast<std::size_t>(row) * out.columns + column] = sampler.At(centre.x, centre.y, &start);
+  const int64_t n = static_cast<int64_t>(out.values.size());
+  ForEachChunk(execution, n, ChunksFor(n, kChunkCells), [&](int, int64_t begin, int64_t end) {
+    int32_t start = 0;
+    for (int64_t i = begin; i < end; ++i) {
+      const Point2 centre = out.CellCentre(static_cast<int>(i % out.columns), static_cast<int>(i / out.columns));
+      out.values[i] = sampler.At(centre.x, centre.y, &start);
     }
-  }
+  });
   return out;
 }
 
-Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const GridToSurface& to_surface) {
-  const Sampler sampler(moved);
+Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const GridToSurface& to_surface,
+                        const Execution& execution) {
+  const Sampler sampler(moved, execution);
   Raster out = EmptyLike(grid_template, moved.source);
   const std::size_t n = out.values.size();
   std::vector<double> h(n, 0.0);
@@ -101,20 +115,23 @@ Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const
       points[i] = {centre.x, centre.y, h[i]};
     }
     to_surface(&points);
-    bool moved_any = false;
-    int32_t start = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!live[i]) continue;
-      const double z = sampler.At(points[i][0], points[i][1], &start);
-      if (!std::isfinite(z)) {
-        live[i] = 0;  // outside the data domain: nodata
-        continue;
+    const int chunks = ChunksFor(static_cast<int64_t>(n), kChunkCells);
+    std::vector<uint8_t> moved_in(chunks, 0);
+    ForEachChunk(execution, static_cast<int64_t>(n), chunks, [&](int c, int64_t begin, int64_t end) {
+      int32_t start = 0;
+      for (int64_t i = begin; i < end; ++i) {
+        if (!live[i]) continue;
+        const double z = sampler.At(points[i][0], points[i][1], &start);
+        if (!std::isfinite(z)) {
+          live[i] = 0;  // outside the data domain: nodata
+          continue;
+        }
+        const double step = z - points[i][2];
+        h[i] += step;
+        if (std::fabs(step) > 1e-9 * (1 + std::fabs(h[i]))) moved_in[c] = 1;
       }
-      const double step = z - points[i][2];
-      h[i] += step;
-      moved_any |= std::fabs(step) > 1e-9 * (1 + std::fabs(h[i]));
-    }
-    if (!moved_any) break;
+    });
+    if (std::find(moved_in.begin(), moved_in.end(), 1) == moved_in.end()) break;
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (live[i]) out.values[i] = h[i];

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "measure/surface.h"
+#include "measure/tasks.h"
 #include "io/raster_io.h"
 
 namespace surfreg {
@@ -24,7 +25,9 @@ namespace surfreg {
 // `grid_template`: its size, geotransform and crs_wkt are copied (its
 // values are not used). `moved` must hold at least 3 points not on a line
 // (InputError otherwise, from the triangulation).
-Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template);
+// On `execution`'s threads (the heights the same on any number).
+Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template,
+                        const Execution& execution = Execution{1});
 
 // Moves points (x, y, h) in place from the grid's coordinates (h a height)
 // into the surface's (e.g. lon, lat, h into a metric frame).
@@ -35,7 +38,9 @@ using GridToSurface = std::function<void(std::vector<std::array<double, 3>>*)>;
 // varying) meets the surface, found by h ← h + (z_surface − z) over the
 // mapped points (one step when the map keeps heights, as UTM does; a few
 // when it tilts them, as a tangent plane does; at most 4, to 1e-9 of h).
-Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const GridToSurface& to_surface);
+// `to_surface` is called on the calling thread.
+Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const GridToSurface& to_surface,
+                        const Execution& execution = Execution{1});
 
 // True if `path` ends in .tif or .tiff (any case): what WriteGeoTiff writes.
 bool IsGeoTiffPath(const std::string& path);

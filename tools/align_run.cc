@@ -273,10 +273,12 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     const auto to_frame = [&inputs](std::vector<std::array<double, 3>>* points) {
       PointsToFrame(inputs.frame, inputs.reference_crs, points);
     };
+    const Execution execution = ExecutionFor(config.options.num_threads);
     WriteGeoTiff(config.aligned,
-                 inputs.frame.kind == GeoFrame::kAsGiven ? ResampleOntoGrid(aligned, inputs.reference_grid)
-                                                         : ResampleOntoGrid(aligned, inputs.reference_grid, to_frame),
-                 config.Where("aligned"));
+                 inputs.frame.kind == GeoFrame::kAsGiven
+                     ? ResampleOntoGrid(aligned, inputs.reference_grid, execution)
+                     : ResampleOntoGrid(aligned, inputs.reference_grid, to_frame, execution),
+                 config.Where("aligned"), execution.threads);
   } else if (IsLasPath(config.aligned) && IsLasPath(config.moving) && inputs.frame.kind == GeoFrame::kAsGiven) {
     // The moving file's own records moved: every class and attribute kept.
     WriteMovedLas(config.moving, RowMajor(result.matrix), config.aligned, config.Where("aligned"));

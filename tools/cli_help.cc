@@ -45,6 +45,7 @@ constexpr Override kOverrides[] = {
     {"asymmetry", "threads", "threads (all: every core); a folder's faces and two scans run side by side, one thread each"},
     {"transform", "output", "the moved surface (.xyz, .txt, .ply, .las; or .tif, resampled onto a grid)"},
     {"transform", "band", "the band of a raster INPUT"},
+    {"transform", "threads", "threads (all: every core) for reading, the mesh and the resampling; the same output on any number"},
     {"transform", "window", "column,row,columns,rows of a raster INPUT read (0 = to the edge; the default output grid)"},
     {"measure", "shard", "K/N (with --tile or --max_memory and --partial): measure only the K-th of N bands of tile rows"},
     {"measure", "resume", "continue a tiled measure that was interrupted, from its finished tile rows"},

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "measure/measure_keys.h"
+#include "measure/option_keys.h"
 #include "tools/align_config.h"
 
 namespace surfreg {
@@ -75,6 +76,16 @@ const std::string& KeyFlag(const char* name) {
   const auto it = Storage().by_name.find(name);
   CHECK(it != Storage().by_name.end()) << "no string flag made for key " << name;
   return *it->second;
+}
+
+int ThreadsFlag() {
+  const std::string& text = KeyFlag("threads");
+  if (text.empty()) return 0;
+  config_value::Value value;
+  value.where = "flag '--threads'";
+  value.expected = config_value::kThreadsType;
+  value.text = text;
+  return config_value::ThreadCount(value);
 }
 
 }  // namespace surfreg

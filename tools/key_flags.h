@@ -19,6 +19,11 @@ void RegisterKeyFlags();
 // The text of a string flag that RegisterKeyFlags made ("" when not given).
 const std::string& KeyFlag(const char* name);
 
+// `--threads` for a command without a config (asymmetry, transform): 0
+// (every core) when not given; a bad value refused as the key's table
+// refuses it ("flag '--threads' expects an integer >= 1, or all, got 'x'").
+int ThreadsFlag();
+
 }  // namespace surfreg
 
 #endif  // SURFREG_TOOLS_KEY_FLAGS_H_

@@ -34,7 +34,6 @@
 #include "io/mesh_reader.h"
 #include "io/plot.h"
 #include "measure/input_error.h"
-#include "measure/option_keys.h"
 #include "measure/tasks.h"
 #include "tools/asymmetry_report.h"
 #include "tools/commands.h"
@@ -85,13 +84,7 @@ Request CheckFlags(bool single_face) {
     throw InputError("flag '--depth_limit': expected a number >= 0, got " + Format("%g", FLAGS_depth_limit));
   }
   request.frame_options.depth_limit = FLAGS_depth_limit;
-  if (!KeyFlag("threads").empty()) {
-    config_value::Value value;
-    value.where = "flag '--threads'";
-    value.expected = config_value::kThreadsType;
-    value.text = KeyFlag("threads");
-    request.threads = config_value::ThreadCount(value);
-  }
+  request.threads = ThreadsFlag();
   for (const auto& [path, flag] : {std::pair{FLAGS_map, "--map"}, std::pair{FLAGS_points, "--points"}}) {
     if (!path.empty() && !single_face) {
       throw InputError(std::string("flag '") + flag + "': one face at a time (not a folder or two scans)");

@@ -1,9 +1,10 @@
 // surfreg transform INPUT --transform=T --output=OUT [--inverse] [--grid=REF]
-// [--classes=C,...] [--columns=X,Y,Z]:
+// [--classes=C,...] [--columns=X,Y,Z] [--threads=N|all]:
 // applies a rigid transform file (tools/transform_file.h) to every point of
 // a cloud or raster and writes the result as a cloud (.xyz .txt .ply) or,
 // resampled onto a grid (the input raster's own, or REF's), as a GeoTIFF
-// (io/raster_resample.h).
+// (io/raster_resample.h), on every core unless --threads says otherwise
+// (the same bytes on any number).
 #include <gflags/gflags.h>
 
 #include <Eigen/LU>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "measure/input_error.h"
+#include "measure/tasks.h"
 #include "registration/align.h"
 #include "tools/align_config.h"
 #include "io/atomic_file.h"
@@ -103,8 +105,11 @@ int RunTransform(const std::vector<std::string>& args) {
   const bool raster_in = IsRasterPath(input);
   const bool raster_out = IsGeoTiffPath(KeyFlag("output"));
   CheckFlags(input, raster_out, raster_in);
-  const ReadOptions read_options = CloudReadOptions(raster_in);
-  const RasterReadOptions raster_options = RasterOptions(raster_in);
+  const Execution execution = ExecutionFor(ThreadsFlag());
+  ReadOptions read_options = CloudReadOptions(raster_in);
+  read_options.threads = execution.threads;
+  RasterReadOptions raster_options = RasterOptions(raster_in);
+  raster_options.threads = execution.threads;
   Eigen::Matrix4d m = ReadTransformFile(FLAGS_transform, "flag '--transform'");
   if (FLAGS_inverse) m = m.inverse().eval();
 
@@ -126,7 +131,7 @@ int RunTransform(const std::vector<std::string>& args) {
                  raster_out ? " (resampled onto the grid)" : "");
   }
   if (raster_out) {
-    WriteGeoTiff(KeyFlag("output"), ResampleOntoGrid(moved, grid), "flag '--output'");
+    WriteGeoTiff(KeyFlag("output"), ResampleOntoGrid(moved, grid, execution), "flag '--output'", execution.threads);
   } else if (IsLasPath(input) && IsLasPath(KeyFlag("output"))) {
     // The file's own records moved: every class and attribute kept.
     WriteMovedLas(input, RowMajor(m), KeyFlag("output"), "flag '--output'");

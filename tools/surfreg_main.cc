@@ -116,10 +116,10 @@ const Command kCommands[] = {
      "config quiet", IsJawKey},
     {"transform", RunTransform,
      "INPUT --transform=T.json|T.txt --output=OUT [--inverse] [--grid=REF.tif] [--classes=C,...] "
-     "[--columns=X,Y,Z] [--band=N] [--window=C,R,W,H] [--quiet]",
+     "[--columns=X,Y,Z] [--band=N] [--window=C,R,W,H] [--threads=N|all] [--quiet]",
      "apply a rigid transform (align's JSON or a 4x4 text matrix) to a cloud or raster; write "
      "a cloud, or a GeoTIFF on the input's grid or REF's",
-     "transform output inverse grid classes columns band window quiet", nullptr},
+     "transform output inverse grid classes columns band window threads quiet", nullptr},
     {"merge", RunMerge, "OUT.csv IN.csv [IN.csv ...] | OUT.json PART.json [PART.json ...] [--dod=DOD.tif] [--json]",
      "join the CSVs of sweep or align --manifest shards, sorted by run_id; or the partial "
      "results of a tiled measure's shards into its report (and DoD)", "dod json", nullptr},
