@@ -91,6 +91,29 @@ assert all(r["timings"][k] >= 0 for k in ("read", "triangulate", "total")), r
   fail "triangulate --json: not the expected JSON object"
 fi
 
+# --threads: the same mesh and data domain on 1 and 2 threads (2.5e5
+# points: the triangulation in slabs, stitched).
+python3 -c '
+import random
+r = random.Random(5)
+for _ in range(250000):
+    x, y = r.uniform(0, 1000), r.uniform(0, 1000)
+    print("%.4f %.4f %.4f" % (x, y, 0.01 * x + 0.02 * y + r.uniform(0, 1)))
+' >"$tmp/big.xyz"
+run triangulate "$tmp/big.xyz" --json --threads=1
+cp "$tmp/out" "$tmp/one_thread.json"
+run triangulate "$tmp/big.xyz" --json --threads=2
+if [[ $rc -ne 0 ]] || ! python3 -c '
+import json, sys
+one, two = (json.load(open(f)) for f in sys.argv[1:])
+for r in (one, two):
+    del r["timings"], r["points_per_second"]
+assert one == two and one["n_points"] == 250000, (one, two)
+' "$tmp/one_thread.json" "$tmp/out"; then
+  fail "triangulate --threads=1 and --threads=2: not the same mesh and domain"
+fi
+expect_input_error "flag '--threads' expects an integer >= 1, or all, got '0'" triangulate configs/data/volcano.xyz --threads=0
+
 run --json triangulate "$data/square.off"  # flags may come first
 if [[ $rc -ne 0 ]] || ! python3 -c '
 import json, sys

@@ -44,6 +44,7 @@ constexpr Override kOverrides[] = {
     {"asymmetry", "output", "write the asymmetry JSON here"},
     {"asymmetry", "threads", "threads (all: every core); a folder's faces and two scans run side by side, one thread each"},
     {"transform", "output", "the moved surface (.xyz, .txt, .ply, .las; or .tif, resampled onto a grid)"},
+    {"triangulate", "threads", "threads (all: every core) for reading, the triangulation and the domain; the same mesh on any number"},
     {"transform", "band", "the band of a raster INPUT"},
     {"transform", "threads", "threads (all: every core) for reading, the mesh and the resampling; the same output on any number"},
     {"transform", "window", "column,row,columns,rows of a raster INPUT read (0 = to the edge; the default output grid)"},

@@ -1,4 +1,4 @@
-// surfreg triangulate FILE [--domain=data|hull] [--json]: read + Delaunay
+// surfreg triangulate FILE [--domain=data|hull] [--threads=N|all] [--json]: read + Delaunay
 // (a raster: with its cells forced in, measure/grid_mesh.h), with counts, the data domain (measure/domain.h) and timings.
 #include <gflags/gflags.h>
 #include <glog/logging.h>
@@ -14,6 +14,7 @@
 #include "measure/delaunay.h"
 #include "measure/domain.h"
 #include "measure/grid_mesh.h"
+#include "measure/tasks.h"
 #include "tools/align_config.h"
 #include "tools/commands.h"
 #include "io/surface_reader.h"
@@ -114,17 +115,22 @@ int RunTriangulate(const std::vector<std::string>& args) {
   const Clock::time_point start = Clock::now();
   DomainRule rule = DomainRuleFromFlags(KeyFlag("domain"), KeyFlag("domain_max_edge_spacings"),
                                         KeyFlag("domain_min_thinness"));
-  const Surface surface = ReadSurface(args[0]);
+  const Execution execution = ExecutionFor(ThreadsFlag());
+  ReadOptions read_options;
+  read_options.threads = execution.threads;
+  const Surface surface = ReadSurface(args[0], read_options);
   rule.grid = surface.raster_grid();
   const Clock::time_point read = Clock::now();
-  Triangulation triangulation = Triangulate(surface.xy);
+  DelaunayOptions delaunay;
+  delaunay.execution = execution;
+  Triangulation triangulation = Triangulate(surface.xy, delaunay);
   std::vector<uint8_t> in_grid;  // a raster: its cells forced in (measure/grid_mesh.h)
   if (rule.grid) {
     in_grid = EnforceGrid(surface.xy, GridCellTriangles(surface.raster_cell, surface.source),
                           &triangulation);
   }
   const Clock::time_point triangulated = Clock::now();
-  const std::vector<uint8_t> in_domain = DataDomain(surface.xy, triangulation, rule, &in_grid);
+  const std::vector<uint8_t> in_domain = DataDomain(surface.xy, triangulation, rule, &in_grid, execution);
   const Clock::time_point done = Clock::now();
 
   TriangulateReport report;

@@ -71,9 +71,9 @@ bool IsSeriesKey(const std::string& name) {
 }
 
 const Command kCommands[] = {
-    {"triangulate", RunTriangulate, "FILE [--domain=data|hull] [--json]",
+    {"triangulate", RunTriangulate, "FILE [--domain=data|hull] [--threads=N|all] [--json]",
      "read a surface, Delaunay-triangulate it, print counts, its data domain and timings",
-     "json domain domain_max_edge_spacings domain_min_thinness", nullptr},
+     "json domain domain_max_edge_spacings domain_min_thinness threads", nullptr},
     {"measure", RunMeasure,
      "A B [--volume=overlay|union] [--weights=uniform|per_point|mask:FILE] "
      "[--mask_mode=include|exclude] [--mask_layer=NAME] [--domain=data|hull] [--min_overlap_fraction=F] [--lod=L] "
