@@ -74,7 +74,8 @@ TEST(ResampleOntoGrid, MovedPlaneHasThePlanesHeightsInsideItsFootprintAndNodataO
       // Where the cell's centre came from: the motion undone in xy.
       const Eigen::Vector3d from = rotation.transpose() * (Eigen::Vector3d(c.x, c.y, 0) - centre - shift) + centre;
       const double u = (from.x() - kX0) / kCell, v = (kY0 - from.y()) / kCell;  // in cells
-      const double margin = std::min({u - 0.5, kColumns - 0.5 - u, v - 0.5, kRows - 0.5 - v});  // from the centres' hull
+      // How far inside the hull of the cells' centres (in cells).
+      const double margin = std::min({u - 0.5, kColumns - 0.5 - u, v - 0.5, kRows - 0.5 - v});
       if (margin > 0.01) {
         ++inside;
         ASSERT_TRUE(std::isfinite(value)) << column << "," << row;

@@ -9,8 +9,9 @@
 //
 // Rows whose surfaces have at most 1e5 samples align side by side, one
 // thread each (AlignmentsAtOnce, registration/align.h); larger pairs after
-// them, one at a time on every thread. An alignment's numbers do not depend on its threads, so
-// the summary is the same (but its times) whatever runs beside what.
+// them, one at a time on every thread. An alignment's numbers do not
+// depend on its threads, so the summary is the same (but its times)
+// whatever runs beside what.
 //
 // Every row is checked before the first alignment (files to write,
 // settings). A pair that fails later (a surface file that does not parse,
