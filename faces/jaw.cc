@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <exception>
 #include <limits>
 
 #include <Eigen/Geometry>
@@ -429,24 +428,14 @@ JawSummary TrackJaw(int count, const std::function<Surface(int)>& load, const Ja
     f.dropped = split.dropped;
     const Surface upper_part = PartSurface(split.upper, frame.source + " (upper part)", options.min_part_points);
     const Surface lower_part = PartSurface(split.lower, frame.source + " (lower part)", options.min_part_points);
-    std::exception_ptr upper_error, lower_error;  // the upper part's first, whichever ends first
-    RunBoth(ExecutionFor(side_by_side ? 2 : 1),
-            [&] {
-              try {
-                f.upper = RegisterPart(upper, upper_part, warm_upper, part_options);
-              } catch (...) {
-                upper_error = std::current_exception();
-              }
-            },
-            [&] {
-              try {
-                f.lower = RegisterPart(lower, lower_part, warm_lower, part_options);
-              } catch (...) {
-                lower_error = std::current_exception();
-              }
-            });
-    if (upper_error) std::rethrow_exception(upper_error);
-    if (lower_error) std::rethrow_exception(lower_error);
+    // Both parts run to their end; then the upper part's error first.
+    ForEachItem(ExecutionFor(side_by_side ? 2 : 1), 2, [&](int part) {
+      if (part == 0) {
+        f.upper = RegisterPart(upper, upper_part, warm_upper, part_options);
+      } else {
+        f.lower = RegisterPart(lower, lower_part, warm_lower, part_options);
+      }
+    });
     f.jaw = f.upper.reference_from_frame * f.lower.reference_from_frame.inverse();
     Describe(&f);
     PropagateFrameCovariance(p0, &f);
