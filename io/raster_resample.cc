@@ -1,16 +1,20 @@
 #include "io/raster_resample.h"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "measure/delaunay.h"
 #include "measure/domain.h"
 #include "measure/grid_mesh.h"
 #include "measure/locator.h"
+#include "measure/predicates.h"
 #include "measure/tasks.h"
 
 namespace surfreg {
@@ -84,11 +88,129 @@ Raster EmptyLike(const Raster& grid_template, const std::string& source) {
   return out;
 }
 
+bool Same(const Point2& p, const Point2& q) { return p.x == q.x && p.y == q.y; }
+
+// A raster's samples anywhere (moved rigidly, onto another grid): the grid
+// mesh is its cells split by the rule (grid_mesh.h), so no Delaunay, no
+// forced edges and no walks are needed. Each cell triangle finds the grid's
+// cell centres in its box, each decided by exact orientation tests; a
+// centre on edges of several triangles goes to the one listed first, so
+// the heights do not depend on the order the triangles ran in. False (the
+// general path then) if a triangle folds over or is flat, if two triangles
+// overlap at a centre, or if the grid is not north-up.
+bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* out) {
+  const std::array<double, 6>& gt = out->geotransform;
+  if (!s.raster_grid() || gt[2] != 0.0 || gt[4] != 0.0 || !(gt[1] != 0.0 && gt[5] != 0.0)) return false;
+  const std::vector<int32_t> corners = GridCellTriangles(s.raster_cell, s.source);
+  const int64_t triangles = static_cast<int64_t>(corners.size() / 3);
+  if (triangles == 0) return true;  // no complete cell: all nodata, as the domain has no triangle
+  const int64_t columns = out->columns, rows = out->rows;
+  const std::size_t cells = out->values.size();
+  // Per grid cell: 2 t + 1 for triangle t holding its centre on an edge,
+  // 2 t strictly inside; the least such code kept (kNone: no triangle).
+  constexpr int64_t kNone = std::numeric_limits<int64_t>::max();
+  std::unique_ptr<std::atomic<int64_t>[]> owner(new std::atomic<int64_t>[cells]);
+  ForEachChunk(execution, static_cast<int64_t>(cells), ChunksFor(static_cast<int64_t>(cells), 1 << 16),
+               [&](int, int64_t begin, int64_t end) {
+                 for (int64_t i = begin; i < end; ++i) owner[i].store(kNone, std::memory_order_relaxed);
+               });
+  // The orientation all triangles must share: the first one's.
+  const double sign = Orient2D(s.xy[corners[0]], s.xy[corners[1]], s.xy[corners[2]]) > 0.0 ? 1.0 : -1.0;
+  std::atomic<bool> general{false};
+  // A centre's relative position, as the general path forms it.
+  const auto centre = [&](int64_t c, int64_t r) {
+    const Point2 p = out->CellCentre(static_cast<int>(c), static_cast<int>(r));
+    return Point2{p.x - s.origin[0], p.y - s.origin[1]};
+  };
+  // Index-space bounds of a coordinate range along one axis (widened past
+  // rounding; the exact tests decide).
+  const auto index_range = [](double lo, double hi, double origin, double step, int64_t count, int64_t* first,
+                              int64_t* last) {
+    double a = (lo - origin) / step - 0.5, b = (hi - origin) / step - 0.5;
+    if (a > b) std::swap(a, b);
+    constexpr double kWiden = 1e-6;
+    *first = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(a - kWiden)));
+    *last = std::min<int64_t>(count - 1, static_cast<int64_t>(std::floor(b + kWiden)));
+  };
+  ForEachChunk(execution, triangles, ChunksFor(triangles, 1 << 15), [&](int, int64_t begin, int64_t end) {
+    for (int64_t t = begin; t < end && !general.load(std::memory_order_relaxed); ++t) {
+      const Point2& a = s.xy[corners[3 * t]];
+      const Point2& b = s.xy[corners[3 * t + 1]];
+      const Point2& c = s.xy[corners[3 * t + 2]];
+      if (!(Orient2D(a, b, c) * sign > 0.0)) {
+        general.store(true, std::memory_order_relaxed);
+        return;
+      }
+      int64_t c_first, c_last, r_first, r_last;
+      index_range(std::min({a.x, b.x, c.x}) + s.origin[0], std::max({a.x, b.x, c.x}) + s.origin[0], gt[0], gt[1],
+                  columns, &c_first, &c_last);
+      index_range(std::min({a.y, b.y, c.y}) + s.origin[1], std::max({a.y, b.y, c.y}) + s.origin[1], gt[3], gt[5],
+                  rows, &r_first, &r_last);
+      for (int64_t r = r_first; r <= r_last; ++r) {
+        for (int64_t col = c_first; col <= c_last; ++col) {
+          const Point2 p = centre(col, r);
+          // At a corner (a grid onto itself: every centre), without the
+          // exact stage the zero determinants would take.
+          bool on_edge = Same(p, a) || Same(p, b) || Same(p, c);
+          if (!on_edge) {
+            const double o0 = Orient2D(b, c, p) * sign;
+            if (o0 < 0.0) continue;
+            const double o1 = Orient2D(c, a, p) * sign;
+            if (o1 < 0.0) continue;
+            const double o2 = Orient2D(a, b, p) * sign;
+            if (o2 < 0.0) continue;
+            on_edge = o0 == 0.0 || o1 == 0.0 || o2 == 0.0;
+          }
+          const int64_t code = 2 * t + (on_edge ? 1 : 0);
+          std::atomic<int64_t>& slot = owner[r * columns + col];
+          int64_t seen = slot.load(std::memory_order_relaxed);
+          for (;;) {
+            // Inside one triangle and in another's closure: they overlap.
+            if (seen != kNone && (!on_edge || seen % 2 == 0)) {
+              general.store(true, std::memory_order_relaxed);
+              return;
+            }
+            if (code >= seen || slot.compare_exchange_weak(seen, code, std::memory_order_relaxed)) break;
+          }
+        }
+      }
+    }
+  });
+  if (general.load()) return false;
+  // Each centre's height from its triangle, as LocatePoint's barycentric
+  // coordinates give it (exact zeros on the edges that hold it).
+  ForEachChunk(execution, static_cast<int64_t>(cells), ChunksFor(static_cast<int64_t>(cells), 1 << 16),
+               [&](int, int64_t begin, int64_t end) {
+                 for (int64_t i = begin; i < end; ++i) {
+                   const int64_t code = owner[i].load(std::memory_order_relaxed);
+                   if (code == kNone) continue;
+                   const int32_t* v = &corners[3 * (code / 2)];
+                   const Point2 p = centre(i % columns, i / columns);
+                   const Point2& a = s.xy[v[0]];
+                   const Point2& b = s.xy[v[1]];
+                   const Point2& c = s.xy[v[2]];
+                   const int corner = Same(p, a) ? 0 : Same(p, b) ? 1 : Same(p, c) ? 2 : -1;
+                   if (corner >= 0) {  // barycentric (1, 0, 0) in some order: that corner's height
+                     out->values[i] = s.z[v[corner]] + s.origin[2];
+                     continue;
+                   }
+                   double w[3] = {Orient2DAccurate(b, c, p) * sign, Orient2DAccurate(c, a, p) * sign,
+                                  Orient2DAccurate(a, b, p) * sign};
+                   for (double& x : w) x = std::max(x, 0.0);
+                   const double sum = w[0] + w[1] + w[2];
+                   out->values[i] =
+                       (w[0] / sum) * s.z[v[0]] + (w[1] / sum) * s.z[v[1]] + (w[2] / sum) * s.z[v[2]] + s.origin[2];
+                 }
+               });
+  return true;
+}
+
 }  // namespace
 
 Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const Execution& execution) {
-  const Sampler sampler(moved, execution);
   Raster out = EmptyLike(grid_template, moved.source);
+  if (ResampleRasterCells(moved, execution, &out)) return out;
+  const Sampler sampler(moved, execution);
   // Row-major cells are neighbours: each walk starts where the last ended.
   const int64_t n = static_cast<int64_t>(out.values.size());
   ForEachChunk(execution, n, ChunksFor(n, kChunkCells), [&](int, int64_t begin, int64_t end) {

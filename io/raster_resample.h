@@ -11,6 +11,13 @@
 // (measure/domain.h: not in the triangles that bridge voids, nodata holes
 // or concave outlines), NaN (nodata) elsewhere. The surface and the grid
 // must be in the same coordinates (no reprojection here).
+//
+// A raster moved rigidly (its samples keep Surface::raster_cell) needs no
+// mesh: its cells split by the rule are its mesh, so each cell triangle
+// finds the grid's centres in its box by exact orientation tests (a centre
+// on shared edges goes to the triangle listed first). The same heights as
+// through the mesh; a raster that folds over or overlaps itself after the
+// motion takes the mesh's path (which leaves those cells out).
 #include <array>
 #include <functional>
 #include <string>

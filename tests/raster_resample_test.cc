@@ -7,12 +7,15 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <random>
 #include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "io/raster_io.h"
+#include "measure/predicates.h"
 
 namespace surfreg {
 namespace {
@@ -89,6 +92,162 @@ TEST(ResampleOntoGrid, MovedPlaneHasThePlanesHeightsInsideItsFootprintAndNodataO
   }
   EXPECT_GT(inside, 80000);
   EXPECT_GT(outside, 3000);
+}
+
+// A small bumpy raster with nodata holes (and an isolated valid sample).
+Raster BumpyRaster() {
+  Raster r;
+  r.columns = 24;
+  r.rows = 20;
+  r.geotransform = {kX0, kCell, 0.0, kY0, 0.0, -kCell};
+  r.source = "bumpy";
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> noise(-1.0, 1.0);
+  r.values.resize(static_cast<std::size_t>(r.columns) * r.rows);
+  for (int row = 0; row < r.rows; ++row) {
+    for (int column = 0; column < r.columns; ++column) {
+      const bool hole = (row >= 6 && row <= 8 && column >= 9 && column <= 12) || (row == 14 && column == 4) ||
+                        (row == 2 && (column == 17 || column == 19)) || (row == 3 && column == 18) ||
+                        (row == 1 && column == 18);
+      r.values[static_cast<std::size_t>(row) * r.columns + column] =
+          hole ? std::nan("") : 100 + 5 * std::sin(column / 3.0) * std::cos(row / 4.0) + noise(random);
+    }
+  }
+  return r;
+}
+
+// By brute force: every rule triangle of every complete cell (grid_mesh.h)
+// tested against every cell centre of the grid, exactly; the height by
+// barycentric coordinates; NaN where no triangle holds the centre.
+std::vector<double> BruteForce(const Raster& source, const Surface& moved, const Raster& grid) {
+  // The moved samples by (column, row).
+  std::vector<int> sample(static_cast<std::size_t>(source.columns) * source.rows, -1);
+  for (std::size_t i = 0; i < moved.raster_cell.size(); ++i) {
+    sample[static_cast<std::size_t>(moved.raster_cell[i].row) * source.columns + moved.raster_cell[i].column] =
+        static_cast<int>(i);
+  }
+  std::vector<std::array<int, 3>> triangles;
+  for (int r = 0; r + 1 < source.rows; ++r) {
+    for (int c = 0; c + 1 < source.columns; ++c) {
+      const int k00 = sample[r * source.columns + c], k10 = sample[r * source.columns + c + 1];
+      const int k01 = sample[(r + 1) * source.columns + c], k11 = sample[(r + 1) * source.columns + c + 1];
+      if (k00 < 0 || k10 < 0 || k01 < 0 || k11 < 0) continue;
+      triangles.push_back({k00, k10, k11});
+      triangles.push_back({k00, k11, k01});
+    }
+  }
+  std::vector<double> out(static_cast<std::size_t>(grid.columns) * grid.rows, std::nan(""));
+  for (int row = 0; row < grid.rows; ++row) {
+    for (int column = 0; column < grid.columns; ++column) {
+      const Point2 centre = grid.CellCentre(column, row);
+      const Point2 p{centre.x - moved.origin[0], centre.y - moved.origin[1]};
+      for (const auto& t : triangles) {
+        const Point2 &a = moved.xy[t[0]], &b = moved.xy[t[1]], &c = moved.xy[t[2]];
+        const double sign = Orient2D(a, b, c) > 0 ? 1.0 : -1.0;
+        const double w[3] = {Orient2D(b, c, p) * sign, Orient2D(c, a, p) * sign, Orient2D(a, b, p) * sign};
+        if (w[0] < 0 || w[1] < 0 || w[2] < 0) continue;
+        const double sum = w[0] + w[1] + w[2];
+        out[static_cast<std::size_t>(row) * grid.columns + column] =
+            (w[0] * moved.z[t[0]] + w[1] * moved.z[t[1]] + w[2] * moved.z[t[2]]) / sum + moved.origin[2];
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+// Equal NaN sets and heights within 1e-9; the number of heights found.
+int ExpectSameHeights(const std::vector<double>& expected, const std::vector<double>& actual,
+                      const std::string& label) {
+  EXPECT_EQ(expected.size(), actual.size()) << label;
+  int found = 0;
+  for (std::size_t i = 0; i < expected.size() && i < actual.size(); ++i) {
+    EXPECT_EQ(std::isnan(expected[i]), std::isnan(actual[i])) << label << " cell " << i;
+    if (std::isnan(expected[i]) || std::isnan(actual[i])) continue;
+    EXPECT_NEAR(actual[i], expected[i], 1e-9) << label << " cell " << i;
+    ++found;
+  }
+  return found;
+}
+
+TEST(ResampleOntoGrid, MovedRasterWithHolesMatchesBruteForceOnItsOwnAndOtherGrids) {
+  const Raster source = BumpyRaster();
+  const Surface surface = RasterToSurface(source, nullptr);
+  const Eigen::Matrix3d rotation = (Eigen::AngleAxisd(17 * M_PI / 180, Eigen::Vector3d::UnitZ()) *
+                                    Eigen::AngleAxisd(1.0 * M_PI / 180, Eigen::Vector3d::UnitY()))
+                                       .toRotationMatrix();
+  const Surface moved = Moved(surface, rotation, Eigen::Vector3d(kX0 + 24, kY0 - 20, 100), {3.1, -1.7, 0.4});
+  Raster finer = source;  // another spacing and offset
+  finer.columns = 40, finer.rows = 37;
+  finer.geotransform = {kX0 - 3.3, 1.4, 0.0, kY0 + 4.1, 0.0, -1.4};
+  Raster upward = source;  // rows going up (a mirrored geotransform)
+  upward.geotransform = {kX0 - 2.0, kCell, 0.0, kY0 - 42.0, 0.0, kCell};
+  for (const Raster* grid : {&source, static_cast<const Raster*>(&finer), static_cast<const Raster*>(&upward)}) {
+    const std::vector<double> expected = BruteForce(source, moved, *grid);
+    for (const int threads : {1, 3}) {
+      const Raster out = ResampleOntoGrid(moved, *grid, Execution{threads});
+      const int found = ExpectSameHeights(expected, out.values, "grid " + std::to_string(grid->columns));
+      EXPECT_GT(found, grid->columns * grid->rows / 3);
+    }
+  }
+}
+
+TEST(ResampleOntoGrid, ARasterOntoItsOwnGridUnmovedKeepsItsHeightsAndDropsCellsOutsideCompleteOnes) {
+  const Raster source = BumpyRaster();
+  const Surface surface = RasterToSurface(source, nullptr);
+  const Raster out = ResampleOntoGrid(surface, source, Execution{2});
+  const std::vector<double> expected = BruteForce(source, surface, source);
+  ExpectSameHeights(expected, out.values, "unmoved");
+  int kept = 0;
+  for (std::size_t i = 0; i < out.values.size(); ++i) {
+    if (std::isnan(out.values[i])) continue;
+    ++kept;
+    EXPECT_EQ(out.values[i], source.values[i]) << i;  // a centre at a sample: its height, to the bit
+  }
+  // Kept: the samples that are a corner of a complete cell; so not the
+  // isolated one at column 18, row 2.
+  const auto valid = [&](int c, int r) {
+    return c >= 0 && r >= 0 && c < source.columns && r < source.rows &&
+           !std::isnan(source.values[static_cast<std::size_t>(r) * source.columns + c]);
+  };
+  int corners = 0;
+  for (int r = 0; r < source.rows; ++r) {
+    for (int c = 0; c < source.columns; ++c) {
+      bool corner = false;
+      for (int dr = -1; dr <= 0; ++dr) {
+        for (int dc = -1; dc <= 0; ++dc) {
+          corner |= valid(c + dc, r + dr) && valid(c + dc + 1, r + dr) && valid(c + dc, r + dr + 1) &&
+                    valid(c + dc + 1, r + dr + 1);
+        }
+      }
+      corners += corner;
+    }
+  }
+  EXPECT_TRUE(std::isnan(out.values[2 * 24 + 18]));
+  EXPECT_EQ(kept, corners);
+  EXPECT_GT(kept, 24 * 20 - 25);
+}
+
+TEST(ResampleOntoGrid, AFoldedRasterStillGetsItsHeightsAwayFromTheFold) {
+  const Raster grid = PlaneRaster();
+  Surface surface = RasterToSurface(grid, nullptr);
+  // One sample pushed across its neighbour: its cells fold over (the
+  // general path, which leaves them and those around them out).
+  const std::size_t folded = 150 * kColumns + 160;
+  surface.xy[folded].x += 2.5 * kCell;
+  const Raster out = ResampleOntoGrid(surface, grid, Execution{2});
+  int checked = 0;
+  for (int row = 0; row < kRows; ++row) {
+    for (int column = 0; column < kColumns; ++column) {
+      if (std::abs(row - 150) <= 4 && std::abs(column - 160) <= 5) continue;
+      if (row == 0 || column == 0 || row == kRows - 1 || column == kColumns - 1) continue;
+      const Point2 c = out.CellCentre(column, row);
+      ASSERT_NEAR(out.values[static_cast<std::size_t>(row) * kColumns + column], PlaneHeight(c.x, c.y), 1e-9)
+          << column << "," << row;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 90000);
 }
 
 TEST(ResampleOntoGrid, IsTheSameOnOneTwoAndEightThreads) {
