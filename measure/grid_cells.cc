@@ -20,22 +20,56 @@ constexpr int64_t kMaxBoxPerSample = 16;
 
 }  // namespace
 
-bool BuildIndex(const std::vector<RasterCell>& cells, GridIndex* index) {
-  int64_t c_lo = cells[0].column, c_hi = c_lo, r_lo = cells[0].row, r_hi = r_lo;
-  for (const RasterCell& cell : cells) {
-    c_lo = std::min<int64_t>(c_lo, cell.column), c_hi = std::max<int64_t>(c_hi, cell.column);
-    r_lo = std::min<int64_t>(r_lo, cell.row), r_hi = std::max<int64_t>(r_hi, cell.row);
+bool BuildIndex(const std::vector<RasterCell>& cells, GridIndex* index, const Execution& execution) {
+  if (cells.empty()) return false;
+  // The box, and whether the cells run in strictly increasing row-major
+  // order (as the raster reader makes them: then no two share a cell), by
+  // chunks.
+  const int64_t n = static_cast<int64_t>(cells.size());
+  const int chunks = ChunksFor(n, int64_t{1} << 16);
+  struct Box {
+    int64_t c_lo, c_hi, r_lo, r_hi;
+    bool ordered;
+  };
+  const auto before = [](const RasterCell& p, const RasterCell& q) {
+    return p.row < q.row || (p.row == q.row && p.column < q.column);
+  };
+  std::vector<Box> parts(static_cast<std::size_t>(chunks));
+  ForEachChunk(execution, n, chunks, [&](int h, int64_t first, int64_t last) {
+    Box box{cells[first].column, cells[first].column, cells[first].row, cells[first].row,
+            first == 0 || before(cells[first - 1], cells[first])};
+    for (int64_t i = first; i < last; ++i) {
+      const RasterCell& cell = cells[i];
+      box.c_lo = std::min<int64_t>(box.c_lo, cell.column), box.c_hi = std::max<int64_t>(box.c_hi, cell.column);
+      box.r_lo = std::min<int64_t>(box.r_lo, cell.row), box.r_hi = std::max<int64_t>(box.r_hi, cell.row);
+      if (i > first && !before(cells[i - 1], cell)) box.ordered = false;
+    }
+    parts[h] = box;
+  });
+  Box box = parts[0];
+  for (const Box& part : parts) {
+    box.c_lo = std::min(box.c_lo, part.c_lo), box.c_hi = std::max(box.c_hi, part.c_hi);
+    box.r_lo = std::min(box.r_lo, part.r_lo), box.r_hi = std::max(box.r_hi, part.r_hi);
+    box.ordered = box.ordered && part.ordered;
   }
-  index->c0 = c_lo, index->r0 = r_lo;
-  index->columns = c_hi - c_lo + 1, index->rows = r_hi - r_lo + 1;
-  const int64_t most = kMaxBoxPerSample * static_cast<int64_t>(cells.size()) + 4096;
+  index->c0 = box.c_lo, index->r0 = box.r_lo;
+  index->columns = box.c_hi - box.c_lo + 1, index->rows = box.r_hi - box.r_lo + 1;
+  const int64_t most = kMaxBoxPerSample * n + 4096;
   if (index->columns > most || index->rows > most || index->rows > most / index->columns) {
     return false;
   }
-  index->sample.assign(static_cast<std::size_t>(index->rows * index->columns), -1);
+  AssignInChunks(execution, static_cast<std::size_t>(index->rows * index->columns), int32_t{-1}, &index->sample);
+  const auto slot_of = [&](const RasterCell& cell) {
+    return static_cast<std::size_t>((cell.row - index->r0) * index->columns + (cell.column - index->c0));
+  };
+  if (box.ordered) {  // every cell its own slot
+    ForEachChunk(execution, n, chunks, [&](int, int64_t first, int64_t last) {
+      for (int64_t i = first; i < last; ++i) index->sample[slot_of(cells[i])] = static_cast<int32_t>(i);
+    });
+    return true;
+  }
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    int32_t& slot = index->sample[static_cast<std::size_t>((cells[i].row - index->r0) * index->columns +
-                                                            (cells[i].column - index->c0))];
+    int32_t& slot = index->sample[slot_of(cells[i])];
     if (slot >= 0) return false;
     slot = static_cast<int32_t>(i);
   }
@@ -393,11 +427,12 @@ std::vector<double> NodeAreas(const GridSide& side_a, const Surface& a, const st
   return node_area;
 }
 
-bool IndexSides(const Surface& a, const Surface& b, GridSide* side_a, GridSide* side_b) {
+bool IndexSides(const Surface& a, const Surface& b, const Execution& execution, GridSide* side_a,
+                GridSide* side_b) {
   side_a->surface = &a, side_b->surface = &b;
   side_b->shift = {b.origin[0] - a.origin[0], b.origin[1] - a.origin[1]};
   side_b->z_shift = b.origin[2] - a.origin[2];
-  return BuildIndex(a.raster_cell, &side_a->index) && BuildIndex(b.raster_cell, &side_b->index);
+  return BuildIndex(a.raster_cell, &side_a->index, execution) && BuildIndex(b.raster_cell, &side_b->index, execution);
 }
 
 ChunkSums SumChunks(const std::vector<ChunkSums>& parts) {

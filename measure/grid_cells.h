@@ -11,6 +11,7 @@
 #include "measure/grid_pair.h"
 #include "measure/surface.h"
 #include "measure/tasks.h"
+#include "measure/uninitialized_vector.h"
 
 namespace surfreg {
 namespace grid_cells {
@@ -19,7 +20,7 @@ namespace grid_cells {
 // box of its cells.
 struct GridIndex {
   int64_t c0 = 0, r0 = 0, columns = 0, rows = 0;
-  std::vector<int32_t> sample;  // -1: no sample
+  UninitializedVector<int32_t> sample;  // -1: no sample (filled by chunks)
 
   int32_t At(int64_t c, int64_t r) const {
     c -= c0, r -= r0;
@@ -29,7 +30,8 @@ struct GridIndex {
 };
 
 // False for a repeated cell or a box too sparse for a dense index.
-bool BuildIndex(const std::vector<RasterCell>& cells, GridIndex* index);
+bool BuildIndex(const std::vector<RasterCell>& cells, GridIndex* index,
+                const Execution& execution = Execution{1});
 
 // Positions as an affine function of the cell: origin at cell (c0, r0), u
 // per column, v per row.
@@ -145,7 +147,8 @@ ChunkSums SumChunks(const std::vector<ChunkSums>& parts);
 
 // Both sides of a pair (B's positions and heights shifted into A's frame),
 // indexed; false as BuildIndex.
-bool IndexSides(const Surface& a, const Surface& b, GridSide* side_a, GridSide* side_b);
+bool IndexSides(const Surface& a, const Surface& b, const Execution& execution, GridSide* side_a,
+                GridSide* side_b);
 
 // The chunks' sums in order (the volume, ρ'd and Ω's nodes), both hulls'
 // areas and, with `keep`, A's node areas (NodeAreas) into `result`.

@@ -224,8 +224,8 @@ bool MeasureOnMovedGrid(const Surface& a, const Surface& b, const MeasureOptions
     return false;
   }
   GridSide sa, sb;
-  if (!IndexSides(a, b, &sa, &sb)) return false;
   const Execution execution = ExecutionFor(options.threads);
+  if (!IndexSides(a, b, execution, &sa, &sb)) return false;
   const double magnitude = std::max(Magnitude(a, execution), Magnitude(b, execution));
   GridAffine ga;
   double tolerance = 0;

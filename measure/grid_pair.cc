@@ -18,10 +18,10 @@ bool MeasureOnSameGrid(const Surface& a, const Surface& b, const MeasureOptions&
     return false;
   }
   GridSide sa, sb;
-  if (!IndexSides(a, b, &sa, &sb)) return false;
+  const Execution execution = ExecutionFor(options.threads);
+  if (!IndexSides(a, b, execution, &sa, &sb)) return false;
   GridAffine grid;
   double tolerance = 0.0;
-  const Execution execution = ExecutionFor(options.threads);
   if (!FitAffine(a, std::max(Magnitude(a, execution), Magnitude(b, execution)), &grid, &tolerance, execution)) {
     return false;
   }

@@ -27,8 +27,8 @@ bool MeasureOnOffsetGrids(const Surface& a, const Surface& b, const MeasureOptio
     return false;
   }
   GridSide sa, sb;
-  if (!IndexSides(a, b, &sa, &sb)) return false;
   const Execution execution = ExecutionFor(options.threads);
+  if (!IndexSides(a, b, execution, &sa, &sb)) return false;
   const double magnitude = std::max(Magnitude(a, execution), Magnitude(b, execution));
   GridAffine ga, gb;
   double tolerance_a = 0, tolerance_b = 0;

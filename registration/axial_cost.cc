@@ -41,7 +41,7 @@ struct NodeContext {
         mask(settings.mask.get()), normal(settings.normal_distance), mu(a.weight), weighted(!mu.empty()),
         inner_a(s.reference_interior()), inner_b(s.moving_interior()), a_cosine(s.reference_cosine()),
         b_normal(s.moving_normal()), rotation(s.derivative().rotation), jacobians(with_jacobians),
-        out(residuals) {}
+        out(residuals), node_weight(residuals->node_weight), d_weight(residuals->d_weight) {}
   const PairState& state;
   const ReferenceSide& a;
   const Triangulation& mesh_b;
@@ -61,9 +61,10 @@ struct NodeContext {
   const Eigen::Matrix3d& rotation;
   const bool jacobians;
   AxialResiduals* out;
-  // Each node's share of the normalization, μ τ², and its derivative.
-  std::vector<double> node_weight;
-  std::vector<std::array<double, 6>> d_weight;
+  // Each node's share of the normalization, μ τ², and its derivative (the
+  // residuals' scratch).
+  UninitializedVector<double>& node_weight;
+  UninitializedVector<std::array<double, 6>>& d_weight;
 
   void ReferenceNode(std::size_t i);  // node i of A in Ω: its residual (and Jacobian, weight share)
   void MovingNode(std::size_t j);     // node j of B in Ω: likewise
@@ -212,8 +213,8 @@ void Trim(const AxialSettings& settings, bool jacobians, AxialResiduals* out) {
 // Jacobian by the scale's derivative too).
 void Normalize(const AxialSettings& settings, const NodeContext& ctx, AxialResiduals* out) {
   const bool jacobians = ctx.jacobians;
-  const std::vector<double>& node_weight = ctx.node_weight;
-  const std::vector<std::array<double, 6>>& d_weight = ctx.d_weight;
+  const auto& node_weight = ctx.node_weight;
+  const auto& d_weight = ctx.d_weight;
   // Σ μ τ² over the active nodes, and its derivative.
   double total = 0.0;
   Eigen::Matrix<double, 6, 1> d_total = Eigen::Matrix<double, 6, 1>::Zero();
@@ -244,12 +245,13 @@ void Normalize(const AxialSettings& settings, const NodeContext& ctx, AxialResid
 void ComputeAxialResiduals(const PairState& state, const AxialSettings& settings, bool jacobians,
                            AxialResiduals* out) {
   const std::size_t na = state.reference().xy.size(), nb = state.moving().points.size();
-  out->r.assign(na + nb, 0.0);
-  out->active.assign(na + nb, 0);
-  if (jacobians) out->jacobian.assign(na + nb, std::array<double, 6>{});
+  const Execution& execution = state.execution();
+  AssignInChunks(execution, na + nb, 0.0, &out->r);
+  AssignInChunks(execution, na + nb, uint8_t{0}, &out->active);
+  if (jacobians) AssignInChunks(execution, na + nb, std::array<double, 6>{}, &out->jacobian);
   NodeContext ctx(state, settings, jacobians, out);
-  ctx.node_weight.assign(na + nb, 0.0);
-  ctx.d_weight.assign(jacobians ? na + nb : 0, std::array<double, 6>{});
+  AssignInChunks(execution, na + nb, 0.0, &ctx.node_weight);
+  AssignInChunks(execution, jacobians ? na + nb : 0, std::array<double, 6>{}, &ctx.d_weight);
   // Each node writes only its own entries: chunks of nodes side by side.
   const int64_t n_a = settings.reference_nodes ? static_cast<int64_t>(na) : 0;
   const int64_t n_b = settings.moving_nodes ? static_cast<int64_t>(nb) : 0;

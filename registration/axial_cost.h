@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "measure/mask_region.h"
+#include "measure/uninitialized_vector.h"
 #include "registration/pair_state.h"
 
 namespace surfreg {
@@ -43,13 +44,19 @@ struct AxialResiduals {
   // Indexed by node: A's nodes first, then B's. Inactive nodes (outside the
   // overlap, outside the mask, μ = 0, or trimmed) have r = 0 and a zero
   // Jacobian. With weights, r and the Jacobian are the weighted ones.
-  std::vector<double> r;
-  std::vector<std::array<double, 6>> jacobian;  // d r / d(rx, ry, rz, tx, ty, tz)
-  std::vector<uint8_t> active;
+  // (Set by chunks on the evaluation's threads.)
+  UninitializedVector<double> r;
+  UninitializedVector<std::array<double, 6>> jacobian;  // d r / d(rx, ry, rz, tx, ty, tz)
+  UninitializedVector<uint8_t> active;
   int64_t active_count = 0;
   double active_weight = 0;   // Σ μ over the active nodes (= active_count without weights)
   int64_t overlap_count = 0;  // nodes inside the overlap (before trimming and mask)
   double trim_threshold = 0;  // |r| above which nodes were trimmed (0: none)
+  // The evaluation's scratch (each node's share of the normalization, μ τ²,
+  // and its derivative), kept here so that the next evaluation reuses its
+  // memory: fresh pages for two 2000² DEMs' 8e6 nodes cost 0.1 s each time.
+  UninitializedVector<double> node_weight;
+  UninitializedVector<std::array<double, 6>> d_weight;
 };
 
 struct AxialSettings {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "measure/bucket_scatter.h"
 #include "measure/grid_mesh.h"
 #include "measure/input_error.h"
 #include "measure/predicates.h"
@@ -121,6 +122,21 @@ ReferenceSide PrepareReference(const Surface& surface, double keep_fraction, con
 
 namespace {
 
+// The corners of the triangles t of `mesh` with keep(t), in mesh order,
+// found and copied by chunks.
+template <typename Keep>
+std::vector<int32_t> TrianglesWhere(const Triangulation& mesh, const Execution& execution, const Keep& keep) {
+  const int64_t n = mesh.num_triangles();
+  BucketSlots slots(ChunksFor(n, kItemChunk), 1);
+  const auto bucket = [&keep](int64_t t) { return keep(t) ? 0 : -1; };
+  CountIntoBuckets(execution, n, slots, bucket);
+  std::vector<int32_t> corners(static_cast<std::size_t>(3 * slots.start[1]));
+  ScatterIntoBuckets(execution, n, slots, bucket, [&](int64_t t, int64_t at) {
+    std::copy(&mesh.triangles[3 * t], &mesh.triangles[3 * t + 3], corners.begin() + 3 * at);
+  });
+  return corners;
+}
+
 // Per vertex: the unit sum of its domain triangles' normals, each as long as
 // twice the triangle's area (upward: both meshes are counter-clockwise in xy).
 std::vector<Eigen::Vector3d> VertexNormals(const std::vector<Eigen::Vector3d>& p, const Triangulation& mesh,
@@ -224,9 +240,7 @@ PairState::PairState(const ReferenceSide& reference, const MovingSide& moving,
     reference_cosine_.resize(normal.size());
     for (std::size_t i = 0; i < normal.size(); ++i) reference_cosine_[i] = normal[i].z();
   }
-  for (int32_t t = 0; t < mesh_.num_triangles(); ++t) {
-    if (active_[t]) kept_triangles_.insert(kept_triangles_.end(), &mesh_.triangles[3 * t], &mesh_.triangles[3 * t + 3]);
-  }
+  kept_triangles_ = TrianglesWhere(mesh_, execution_, [this](int64_t t) { return active_[t] != 0; });
   IndexKept();
 }
 
@@ -498,11 +512,10 @@ int PairState::FixSurface(double max_slope_deg) {
   }
   std::vector<int32_t> previous;
   previous.swap(kept_triangles_);
-  for (int32_t t = 0; t < own.num_triangles(); ++t) {
+  kept_triangles_ = TrianglesWhere(own, execution_, [&](int64_t t) {
     const int32_t* v = &own.triangles[3 * t];
-    if (!moving_.domain[t] || near_steep[v[0]] || near_steep[v[1]] || near_steep[v[2]]) continue;
-    kept_triangles_.insert(kept_triangles_.end(), v, v + 3);
-  }
+    return moving_.domain[t] && !near_steep[v[0]] && !near_steep[v[1]] && !near_steep[v[2]];
+  });
   const int steep_count = num_steep;
   // Fixed again on the same triangles, all active in the current mesh: the
   // same surface (an overlay cache of it stays valid).

@@ -403,6 +403,49 @@ TEST(GridPairTest, AMovedRastersHullFromItsRimEqualsTheHullOfAllSamples) {
   EXPECT_EQ(grid_cells::HullCandidates(jittered, index).size(), jittered.size());
 }
 
+TEST(GridPairTest, TheGridIndexHoldsEverySampleInAnyOrderAndRefusesTwoInOneCell) {
+  // 300 x 250 cells with every seventh missing: more than one chunk.
+  std::vector<RasterCell> cells;
+  for (int r = 0; r < 250; ++r) {
+    for (int c = 0; c < 300; ++c) {
+      if ((r * 300 + c) % 7 != 3) cells.push_back({c + 11, r - 5});
+    }
+  }
+  const auto check = [](const std::vector<RasterCell>& given, int threads) {
+    grid_cells::GridIndex index;
+    ASSERT_TRUE(grid_cells::BuildIndex(given, &index, Execution{threads}));
+    EXPECT_EQ(index.c0, 11);
+    EXPECT_EQ(index.r0, -5);
+    EXPECT_EQ(index.columns, 300);
+    EXPECT_EQ(index.rows, 250);
+    int64_t held = 0;
+    for (int64_t r = 0; r < index.rows; ++r) {
+      for (int64_t c = 0; c < index.columns; ++c) {
+        const int32_t i = index.At(c + index.c0, r + index.r0);
+        if (i < 0) continue;
+        ++held;
+        EXPECT_EQ(given[i].column, c + index.c0);
+        EXPECT_EQ(given[i].row, r + index.r0);
+      }
+    }
+    EXPECT_EQ(held, static_cast<int64_t>(given.size()));
+  };
+  for (const int threads : {1, 4}) {
+    check(cells, threads);  // row-major: filled by chunks
+    std::vector<RasterCell> reversed(cells.rbegin(), cells.rend());
+    check(reversed, threads);  // any other order: one after another
+    std::vector<RasterCell> twice = cells;
+    twice.push_back(cells[1234]);
+    grid_cells::GridIndex index;
+    EXPECT_FALSE(grid_cells::BuildIndex(twice, &index, Execution{threads}));
+    std::vector<RasterCell> repeated = cells;  // in order but for a repeat
+    repeated.insert(repeated.begin() + 5000, cells[5000]);
+    EXPECT_FALSE(grid_cells::BuildIndex(repeated, &index, Execution{threads}));
+  }
+  grid_cells::GridIndex index;
+  EXPECT_FALSE(grid_cells::BuildIndex({}, &index));
+}
+
 TEST(GridPairTest, OneAndTwoThreadsGiveTheSameBits) {
   const Lattice g;
   const Surface a = Window(g, 0, 0, 40, 31, Rough, HoleA);

@@ -106,7 +106,7 @@ struct OverlayTopology::Searcher {
       int8_t signs[3][3];
       for (int k = 0; k < 3; ++k) std::copy(s[k], s[k] + 3, signs[k]);
       const Point2 b[3] = {(*pb)[v[0]], (*pb)[v[1]], (*pb)[v[2]]};
-      TopologyCell cell;
+      TopologyCell cell{};
       cell.triangle_b = tb;
       cell.num_corners = static_cast<uint8_t>(ClipLabeled(a, b, signs, cell.corner.data()));
       if (cell.num_corners >= 3 && (keep_b == nullptr || keep_b[tb])) out->push_back(cell);
@@ -171,7 +171,7 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
       points_a, mesh_a, a_in_b, points_b, mesh_b, b_in_a, static_cast<int>(found.size()),
       [&](int c, const OverlayCell& cell) {
         if ((keep_a != nullptr && !keep_a[cell.triangle_a]) || (keep_b != nullptr && !keep_b[cell.triangle_b])) return;
-        TopologyCell kept;
+        TopologyCell kept{};
         kept.triangle_b = cell.triangle_b;
         kept.num_corners = static_cast<uint8_t>(cell.num_vertices);
         std::copy(cell.labels.begin(), cell.labels.begin() + cell.num_vertices, kept.corner.begin());
@@ -188,15 +188,19 @@ TopologyStats OverlayTopology::Build(const std::vector<Point2>& points_a, const 
   for (int32_t t = 0; t < na; ++t) begin_[t + 1] += begin_[t];
   // Room for the repairs' appends until the first compaction (Compact).
   cells_.reserve(static_cast<std::size_t>(begin_[na] * 5 / 2 + 8192));
-  cells_.resize(static_cast<std::size_t>(begin_[na]));
-  for (std::size_t c = 0; c < found.size(); ++c) {
-    const TopologyCell* next = found[c].data();
-    for (const auto& [ta, count] : runs[c]) {
-      std::copy(next, next + count, cells_.begin() + begin_[ta] + count_[ta]);
-      count_[ta] += count, next += count;
+  cells_.resize(static_cast<std::size_t>(begin_[na]));  // not written: filled below
+  // A chunk's runs are its own A triangles, so their places in cells_ are
+  // its own: the chunks copy side by side (each first touching its pages).
+  ForEachChunk(execution, chunks, chunks, [&](int, int64_t first, int64_t last) {
+    for (int64_t c = first; c < last; ++c) {
+      const TopologyCell* next = found[c].data();
+      for (const auto& [ta, count] : runs[c]) {
+        std::copy(next, next + count, cells_.begin() + begin_[ta] + count_[ta]);
+        count_[ta] += count, next += count;
+      }
+      std::vector<TopologyCell>().swap(found[c]);  // its pages back as the cells fill theirs
     }
-    std::vector<TopologyCell>().swap(found[c]);  // its pages back as the cells fill theirs
-  }
+  });
   begin_.pop_back();
   live_ = 0;
   for (int32_t t = 0; t < na; ++t) live_ += count_[t];
@@ -293,7 +297,7 @@ TopologyStats OverlayTopology::Repair(const std::vector<Point2>& points_a,
 void OverlayTopology::Compact() {
   // Into the spare buffer and swapped: the two buffers keep their room, so
   // a long solve stops allocating (fresh pages fault in, one by one).
-  std::vector<TopologyCell>& packed = spare_;
+  UninitializedVector<TopologyCell>& packed = spare_;
   packed.clear();
   // Room for the appends until the next compaction (at 2 live + 4096 and
   // one repair's cells more): no reallocation, and so no copy, between.

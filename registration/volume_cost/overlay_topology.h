@@ -28,6 +28,7 @@
 #include "measure/locator.h"
 #include "measure/overlay_clip.h"
 #include "measure/surface.h"
+#include "measure/uninitialized_vector.h"
 
 namespace surfreg {
 
@@ -41,10 +42,12 @@ using overlay_internal::kCornerA;
 using overlay_internal::kCornerB;
 using overlay_internal::kCornerCross;
 
+// Trivial (no initializers), so that the topology's large array is filled
+// by chunks without a zeroing pass first; TopologyCell{} is all zero.
 struct TopologyCell {
-  int32_t triangle_b = -1;
-  uint8_t num_corners = 0;          // 3 to 6 (up to 8 in floating-point corner cases)
-  std::array<uint8_t, 8> corner{};  // counter-clockwise
+  int32_t triangle_b;
+  uint8_t num_corners;            // 3 to 6 (up to 8 in floating-point corner cases)
+  std::array<uint8_t, 8> corner;  // counter-clockwise
 };
 
 // The corners of `cell` at the current points: `a` and `b` the corners of
@@ -139,8 +142,8 @@ class OverlayTopology {
   std::mutex pool_mutex_;
   std::vector<std::unique_ptr<Searcher>> pool_;  // searchers not lent
   std::vector<Fresh> fresh_;                     // per chunk of Repair
-  std::vector<TopologyCell> cells_;
-  std::vector<TopologyCell> spare_;  // Compact's target: its room kept between calls
+  UninitializedVector<TopologyCell> cells_;
+  UninitializedVector<TopologyCell> spare_;  // Compact's target: its room kept between calls
   std::vector<int64_t> begin_;  // per A triangle
   std::vector<int32_t> count_;  // per A triangle
   int64_t live_ = 0;

@@ -57,13 +57,15 @@ void VolumeCostCache::Impl::Bind(const PairState& s) {
   // Each A triangle's corners and ∇F_A, read by both cell kernels.
   record_a.resize(nt);
   extra_a.resize(nt);
-  for (int32_t t = 0; t < nt; ++t) {
-    const int32_t* v = &mesh.triangles[3 * t];
+  ForEachChunk(s.execution(), nt, ChunksFor(nt, 4096), [&](int, int64_t first, int64_t last) {
     const auto& xy = reference->xy;
     const auto& z = reference->z;
-    const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
-    volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, false, &record_a[t], &extra_a[t]);
-  }
+    for (int64_t t = first; t < last; ++t) {
+      const int32_t* v = &mesh.triangles[3 * t];
+      const Gradient2 g = GradientOf(xy[v[0]], xy[v[1]], xy[v[2]], z[v[0]], z[v[1]], z[v[2]]);
+      volume_internal::MakeRecord(xy.data(), z.data(), v, g.gx, g.gy, false, &record_a[t], &extra_a[t]);
+    }
+  });
   BindWeights();
   built = false;
 }
@@ -76,12 +78,15 @@ void VolumeCostCache::Impl::BindWeights() {
   const Triangulation& mesh = reference->mesh;
   const auto& w = reference->weight;
   const auto& xy = reference->xy;
-  weight_a.resize(mesh.num_triangles());
-  for (int32_t t = 0; t < mesh.num_triangles(); ++t) {
-    const int32_t* v = &mesh.triangles[3 * t];
-    const Plane mu = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
-    weight_a[t] = {mu.z0, mu.gx, mu.gy};
-  }
+  const int32_t nt = mesh.num_triangles();
+  weight_a.resize(nt);
+  ForEachChunk(state->execution(), nt, ChunksFor(nt, 4096), [&](int, int64_t first, int64_t last) {
+    for (int64_t t = first; t < last; ++t) {
+      const int32_t* v = &mesh.triangles[3 * t];
+      const Plane mu = PlaneThrough(xy[v[0]], xy[v[1]], xy[v[2]], w[v[0]], w[v[1]], w[v[2]]);
+      weight_a[t] = {mu.z0, mu.gx, mu.gy};
+    }
+  });
 }
 
 // The A triangles whose cells may have changed since the last evaluation:

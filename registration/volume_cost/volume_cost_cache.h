@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "measure/locator.h"
+#include "measure/uninitialized_vector.h"
 #include "registration/volume_cost/overlay_topology.h"
 #include "registration/volume_cost/volume_accumulator.h"
 #include "registration/volume_cost/volume_cost.h"
@@ -170,9 +171,10 @@ struct VolumeCostCache::Impl {
   std::vector<int32_t> star_begin, star;
   // Triangle records (volume_kernel_simd.h): A's fixed, B's per
   // evaluation; both kernels and the gradient read ∇F and the hull bit there.
-  std::vector<volume_internal::TriangleRecord> record_a, record_b;
-  std::vector<volume_internal::TriangleExtra> extra_a, extra_b;
-  std::vector<volume_internal::WeightPlane> weight_a;  // μ per A triangle; empty: no weights
+  // (Filled by chunks, so not zeroed first.)
+  UninitializedVector<volume_internal::TriangleRecord> record_a, record_b;
+  UninitializedVector<volume_internal::TriangleExtra> extra_a, extra_b;
+  UninitializedVector<volume_internal::WeightPlane> weight_a;  // μ per A triangle; empty: no weights
   std::vector<uint8_t> mark;
   std::vector<int32_t> dirty, changed_a, changed_b;  // changed: MarkDirty's vertices that moved
   std::vector<std::pair<int32_t, int32_t>> seeds;

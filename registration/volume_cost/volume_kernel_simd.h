@@ -49,8 +49,8 @@ inline void MakeRecord(const Point2* xy, const double* z, const int32_t* v, doub
 
 // The weight μ on an A triangle (linear there, fixed with the reference):
 // μ at its corner 0 and ∇μ.
-struct WeightPlane {
-  double m0 = 0, gx = 0, gy = 0;
+struct WeightPlane {  // trivial: its per-triangle array is filled by chunks, unzeroed
+  double m0, gx, gy;
 };
 
 // The interior gradient per cell. A cell's sign parts P (s the sign of d on
