@@ -104,24 +104,6 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
   const std::vector<int32_t> corners = GridCellTriangles(s.raster_cell, s.source);
   const int64_t triangles = static_cast<int64_t>(corners.size() / 3);
   if (triangles == 0) return true;  // no complete cell: all nodata, as the domain has no triangle
-  const int64_t columns = out->columns, rows = out->rows;
-  const std::size_t cells = out->values.size();
-  // Per grid cell: 2 t + 1 for triangle t holding its centre on an edge,
-  // 2 t strictly inside; the least such code kept (kNone: no triangle).
-  constexpr int64_t kNone = std::numeric_limits<int64_t>::max();
-  std::unique_ptr<std::atomic<int64_t>[]> owner(new std::atomic<int64_t>[cells]);
-  ForEachChunk(execution, static_cast<int64_t>(cells), ChunksFor(static_cast<int64_t>(cells), 1 << 16),
-               [&](int, int64_t begin, int64_t end) {
-                 for (int64_t i = begin; i < end; ++i) owner[i].store(kNone, std::memory_order_relaxed);
-               });
-  // The orientation all triangles must share: the first one's.
-  const double sign = Orient2D(s.xy[corners[0]], s.xy[corners[1]], s.xy[corners[2]]) > 0.0 ? 1.0 : -1.0;
-  std::atomic<bool> general{false};
-  // A centre's relative position, as the general path forms it.
-  const auto centre = [&](int64_t c, int64_t r) {
-    const Point2 p = out->CellCentre(static_cast<int>(c), static_cast<int>(r));
-    return Point2{p.x - s.origin[0], p.y - s.origin[1]};
-  };
   // Index-space bounds of a coordinate range along one axis (widened past
   // rounding; the exact tests decide).
   const auto index_range = [](double lo, double hi, double origin, double step, int64_t count, int64_t* first,
@@ -131,6 +113,34 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
     constexpr double kWiden = 1e-6;
     *first = std::max<int64_t>(0, static_cast<int64_t>(std::ceil(a - kWiden)));
     *last = std::min<int64_t>(count - 1, static_cast<int64_t>(std::floor(b + kWiden)));
+  };
+  // The window of the grid the samples' box covers (a large grid under a
+  // small surface needs no state per cell outside it).
+  Point2 lo = s.xy[0], hi = s.xy[0];
+  for (const Point2& p : s.xy) {
+    lo.x = std::min(lo.x, p.x), lo.y = std::min(lo.y, p.y);
+    hi.x = std::max(hi.x, p.x), hi.y = std::max(hi.y, p.y);
+  }
+  int64_t window_c0, window_c1, window_r0, window_r1;
+  index_range(lo.x + s.origin[0], hi.x + s.origin[0], gt[0], gt[1], out->columns, &window_c0, &window_c1);
+  index_range(lo.y + s.origin[1], hi.y + s.origin[1], gt[3], gt[5], out->rows, &window_r0, &window_r1);
+  if (window_c0 > window_c1 || window_r0 > window_r1) return true;  // off the grid: all nodata
+  const int64_t columns = window_c1 - window_c0 + 1, rows = window_r1 - window_r0 + 1;
+  const int64_t cells = columns * rows;
+  // Per window cell: 2 t + 1 for triangle t holding its centre on an edge,
+  // 2 t strictly inside; the least such code kept (kNone: no triangle).
+  constexpr int64_t kNone = std::numeric_limits<int64_t>::max();
+  std::unique_ptr<std::atomic<int64_t>[]> owner(new std::atomic<int64_t>[static_cast<std::size_t>(cells)]);
+  ForEachChunk(execution, cells, ChunksFor(cells, 1 << 16), [&](int, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) owner[i].store(kNone, std::memory_order_relaxed);
+  });
+  // The orientation all triangles must share: the first one's.
+  const double sign = Orient2D(s.xy[corners[0]], s.xy[corners[1]], s.xy[corners[2]]) > 0.0 ? 1.0 : -1.0;
+  std::atomic<bool> general{false};
+  // A centre's relative position, as the general path forms it.
+  const auto centre = [&](int64_t c, int64_t r) {
+    const Point2 p = out->CellCentre(static_cast<int>(c), static_cast<int>(r));
+    return Point2{p.x - s.origin[0], p.y - s.origin[1]};
   };
   ForEachChunk(execution, triangles, ChunksFor(triangles, 1 << 15), [&](int, int64_t begin, int64_t end) {
     for (int64_t t = begin; t < end && !general.load(std::memory_order_relaxed); ++t) {
@@ -143,9 +153,11 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
       }
       int64_t c_first, c_last, r_first, r_last;
       index_range(std::min({a.x, b.x, c.x}) + s.origin[0], std::max({a.x, b.x, c.x}) + s.origin[0], gt[0], gt[1],
-                  columns, &c_first, &c_last);
+                  out->columns, &c_first, &c_last);
       index_range(std::min({a.y, b.y, c.y}) + s.origin[1], std::max({a.y, b.y, c.y}) + s.origin[1], gt[3], gt[5],
-                  rows, &r_first, &r_last);
+                  out->rows, &r_first, &r_last);
+      c_first = std::max(c_first, window_c0), c_last = std::min(c_last, window_c1);
+      r_first = std::max(r_first, window_r0), r_last = std::min(r_last, window_r1);
       for (int64_t r = r_first; r <= r_last; ++r) {
         for (int64_t col = c_first; col <= c_last; ++col) {
           const Point2 p = centre(col, r);
@@ -162,7 +174,7 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
             on_edge = o0 == 0.0 || o1 == 0.0 || o2 == 0.0;
           }
           const int64_t code = 2 * t + (on_edge ? 1 : 0);
-          std::atomic<int64_t>& slot = owner[r * columns + col];
+          std::atomic<int64_t>& slot = owner[(r - window_r0) * columns + (col - window_c0)];
           int64_t seen = slot.load(std::memory_order_relaxed);
           for (;;) {
             // Inside one triangle and in another's closure: they overlap.
@@ -179,13 +191,14 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
   if (general.load()) return false;
   // Each centre's height from its triangle, as LocatePoint's barycentric
   // coordinates give it (exact zeros on the edges that hold it).
-  ForEachChunk(execution, static_cast<int64_t>(cells), ChunksFor(static_cast<int64_t>(cells), 1 << 16),
-               [&](int, int64_t begin, int64_t end) {
-                 for (int64_t i = begin; i < end; ++i) {
-                   const int64_t code = owner[i].load(std::memory_order_relaxed);
+  ForEachChunk(execution, cells, ChunksFor(cells, 1 << 16), [&](int, int64_t begin, int64_t end) {
+                 for (int64_t k = begin; k < end; ++k) {
+                   const int64_t code = owner[k].load(std::memory_order_relaxed);
                    if (code == kNone) continue;
                    const int32_t* v = &corners[3 * (code / 2)];
-                   const Point2 p = centre(i % columns, i / columns);
+                   const int64_t col = window_c0 + k % columns, r = window_r0 + k / columns;
+                   const int64_t i = r * out->columns + col;
+                   const Point2 p = centre(col, r);
                    const Point2& a = s.xy[v[0]];
                    const Point2& b = s.xy[v[1]];
                    const Point2& c = s.xy[v[2]];

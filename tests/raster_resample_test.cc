@@ -192,6 +192,19 @@ TEST(ResampleOntoGrid, MovedRasterWithHolesMatchesBruteForceOnItsOwnAndOtherGrid
   }
 }
 
+TEST(ResampleOntoGrid, AGridFarLargerThanTheRasterOrBesideItGetsNodataAroundIt) {
+  const Raster source = BumpyRaster();
+  const Surface surface = RasterToSurface(source, nullptr);
+  Raster large = source;  // the raster in a corner of a grid 40 times its size
+  large.columns = 24 * 8, large.rows = 20 * 5;
+  large.geotransform[0] -= 10 * kCell, large.geotransform[3] += 7 * kCell;
+  const std::vector<double> expected = BruteForce(source, surface, large);
+  EXPECT_GT(ExpectSameHeights(expected, ResampleOntoGrid(surface, large, Execution{2}).values, "large"), 400);
+  Raster beside = source;  // no cell under the raster
+  beside.geotransform[0] += 100 * kCell;
+  for (const double value : ResampleOntoGrid(surface, beside, Execution{2}).values) EXPECT_TRUE(std::isnan(value));
+}
+
 TEST(ResampleOntoGrid, ARasterOntoItsOwnGridUnmovedKeepsItsHeightsAndDropsCellsOutsideCompleteOnes) {
   const Raster source = BumpyRaster();
   const Surface surface = RasterToSurface(source, nullptr);

@@ -10,7 +10,8 @@
 #   measure of two 1e6-point clouds (.xyz, uniform random),
 #   align of two 2e5-point clouds (B turned by 0.8 degrees and shifted),
 #   measure --dod of two 2000 x 2000 Float32 rasters on one grid and with B
-#   offset by (0.37, -0.61) cells.
+#   offset by (0.37, -0.61) cells, and align of the offset pair (a minute
+#   on one thread).
 # Prints a Markdown table: the serial share of the one-thread run, the
 # Amdahl projection on 2, 8, 16 and 64 cores (each region over min(cores,
 # its chunks), never below its longest chunk), and the measured 2-thread
@@ -100,3 +101,4 @@ row "measure, 1e6 + 1e6 points" measure m_a.xyz m_b.xyz --json
 row "align, 2e5 + 2e5 points" align al_a.xyz al_b.xyz --json
 row "measure --dod, 2000², one grid" measure r_a.tif r_b.tif --dod=d.tif --json
 row "measure --dod, 2000², offset grid" measure r_a.tif r_c.tif --dod=d.tif --json
+row "align, 2000² rasters, offset grid" align r_a.tif r_c.tif --json
