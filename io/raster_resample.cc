@@ -103,7 +103,7 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
   if (!s.raster_grid() || gt[2] != 0.0 || gt[4] != 0.0 || !(gt[1] != 0.0 && gt[5] != 0.0)) return false;
   const std::vector<int32_t> corners = GridCellTriangles(s.raster_cell, s.source);
   const int64_t triangles = static_cast<int64_t>(corners.size() / 3);
-  if (triangles == 0) return true;  // no complete cell: all nodata, as the domain has no triangle
+  if (triangles == 0) return false;  // no complete cell: the mesh's path (and its errors, for < 3 samples)
   // Index-space bounds of a coordinate range along one axis (widened past
   // rounding; the exact tests decide).
   const auto index_range = [](double lo, double hi, double origin, double step, int64_t count, int64_t* first,
