@@ -192,29 +192,29 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
   // Each centre's height from its triangle, as LocatePoint's barycentric
   // coordinates give it (exact zeros on the edges that hold it).
   ForEachChunk(execution, cells, ChunksFor(cells, 1 << 16), [&](int, int64_t begin, int64_t end) {
-                 for (int64_t k = begin; k < end; ++k) {
-                   const int64_t code = owner[k].load(std::memory_order_relaxed);
-                   if (code == kNone) continue;
-                   const int32_t* v = &corners[3 * (code / 2)];
-                   const int64_t col = window_c0 + k % columns, r = window_r0 + k / columns;
-                   const int64_t i = r * out->columns + col;
-                   const Point2 p = centre(col, r);
-                   const Point2& a = s.xy[v[0]];
-                   const Point2& b = s.xy[v[1]];
-                   const Point2& c = s.xy[v[2]];
-                   const int corner = Same(p, a) ? 0 : Same(p, b) ? 1 : Same(p, c) ? 2 : -1;
-                   if (corner >= 0) {  // barycentric (1, 0, 0) in some order: that corner's height
-                     out->values[i] = s.z[v[corner]] + s.origin[2];
-                     continue;
-                   }
-                   double w[3] = {Orient2DAccurate(b, c, p) * sign, Orient2DAccurate(c, a, p) * sign,
-                                  Orient2DAccurate(a, b, p) * sign};
-                   for (double& x : w) x = std::max(x, 0.0);
-                   const double sum = w[0] + w[1] + w[2];
-                   out->values[i] =
-                       (w[0] / sum) * s.z[v[0]] + (w[1] / sum) * s.z[v[1]] + (w[2] / sum) * s.z[v[2]] + s.origin[2];
-                 }
-               });
+    for (int64_t k = begin; k < end; ++k) {
+      const int64_t code = owner[k].load(std::memory_order_relaxed);
+      if (code == kNone) continue;
+      const int32_t* v = &corners[3 * (code / 2)];
+      const int64_t col = window_c0 + k % columns, r = window_r0 + k / columns;
+      const int64_t i = r * out->columns + col;
+      const Point2 p = centre(col, r);
+      const Point2& a = s.xy[v[0]];
+      const Point2& b = s.xy[v[1]];
+      const Point2& c = s.xy[v[2]];
+      const int corner = Same(p, a) ? 0 : Same(p, b) ? 1 : Same(p, c) ? 2 : -1;
+      if (corner >= 0) {  // barycentric (1, 0, 0) in some order: that corner's height
+        out->values[i] = s.z[v[corner]] + s.origin[2];
+        continue;
+      }
+      double w[3] = {Orient2DAccurate(b, c, p) * sign, Orient2DAccurate(c, a, p) * sign,
+                     Orient2DAccurate(a, b, p) * sign};
+      for (double& x : w) x = std::max(x, 0.0);
+      const double sum = w[0] + w[1] + w[2];
+      out->values[i] =
+          (w[0] / sum) * s.z[v[0]] + (w[1] / sum) * s.z[v[1]] + (w[2] / sum) * s.z[v[2]] + s.origin[2];
+    }
+  });
   return true;
 }
 
