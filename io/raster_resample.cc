@@ -88,8 +88,6 @@ Raster EmptyLike(const Raster& grid_template, const std::string& source) {
   return out;
 }
 
-bool Same(const Point2& p, const Point2& q) { return p.x == q.x && p.y == q.y; }
-
 // A raster's samples anywhere (moved rigidly, onto another grid): the grid
 // mesh is its cells split by the rule (grid_mesh.h), so no Delaunay, no
 // forced edges and no walks are needed. Each cell triangle finds the grid's
@@ -163,7 +161,7 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
           const Point2 p = centre(col, r);
           // At a corner (a grid onto itself: every centre), without the
           // exact stage the zero determinants would take.
-          bool on_edge = Same(p, a) || Same(p, b) || Same(p, c);
+          bool on_edge = SamePoint(p, a) || SamePoint(p, b) || SamePoint(p, c);
           if (!on_edge) {
             const double o0 = Orient2D(b, c, p) * sign;
             if (o0 < 0.0) continue;
@@ -202,7 +200,7 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
       const Point2& a = s.xy[v[0]];
       const Point2& b = s.xy[v[1]];
       const Point2& c = s.xy[v[2]];
-      const int corner = Same(p, a) ? 0 : Same(p, b) ? 1 : Same(p, c) ? 2 : -1;
+      const int corner = SamePoint(p, a) ? 0 : SamePoint(p, b) ? 1 : SamePoint(p, c) ? 2 : -1;
       if (corner >= 0) {  // barycentric (1, 0, 0) in some order: that corner's height
         out->values[i] = s.z[v[corner]] + s.origin[2];
         continue;

@@ -16,7 +16,6 @@ inline int Prev(int i) { return i == 0 ? 2 : i - 1; }
 inline int EdgeTowards(const Triangulation& mesh, int32_t t, int32_t from) {
   return mesh.neighbors[3 * t] == from ? 0 : (mesh.neighbors[3 * t + 1] == from ? 1 : 2);
 }
-inline bool Same(const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; }
 
 // For q on the line through a and b (q != a): does q lie on a's ray towards b?
 inline bool OnRay(const Point2& a, const Point2& b, const Point2& q) {
@@ -134,7 +133,7 @@ Location Walker::Classify(int32_t t, int zero_edge_a, int zero_edge_b) const {
 Location Walker::Run(int32_t t, int k) {
   while (!exhausted()) {
     const Point2& W = At(t, k);
-    if (Same(W, p_)) return Classify(t, Next(k), Prev(k));
+    if (SamePoint(W, p_)) return Classify(t, Next(k), Prev(k));
     const Pivot pivot = TurnAround(t, k);
     if (pivot.turn == Turn::kOffHull) {
       Location outside;
@@ -145,7 +144,7 @@ Location Walker::Run(int32_t t, int k) {
     if (pivot.turn == Turn::kAlongEdge) {
       const Point2& X = At(pivot.triangle, pivot.index);
       const int w_local = LocalOf(pivot.triangle, mesh_.triangles[3 * t + k]);
-      if (Same(X, p_)) return Classify(pivot.triangle, Next(pivot.index), Prev(pivot.index));
+      if (SamePoint(X, p_)) return Classify(pivot.triangle, Next(pivot.index), Prev(pivot.index));
       if (!Beyond(W, X, p_)) return Classify(pivot.triangle, 3 - w_local - pivot.index, -1);
       t = pivot.triangle;  // continue from the far end of the edge
       k = pivot.index;

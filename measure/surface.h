@@ -17,6 +17,9 @@ struct Point2 {
   double y = 0.0;
 };
 
+// The same position, bit for bit (a walk's or a lattice's exact tie).
+inline bool SamePoint(const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; }
+
 // Twice the signed area of triangle abc, in floating point (positive
 // counter-clockwise): for areas and integrals; decisions of topology take
 // the exact sign, Orient2D (predicates.h).
