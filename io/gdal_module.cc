@@ -35,26 +35,6 @@ bool ReadRasterRowsEntry(const std::string& path, const RasterReadOptions& optio
 
 namespace {
 
-// True if some finite value, rounded to Float32, equals `candidate`.
-bool IsUsed(const std::vector<double>& values, float candidate) {
-  constexpr double kMax = std::numeric_limits<float>::max();
-  for (double v : values) {
-    if (std::isfinite(v) && std::fabs(v) <= kMax && static_cast<float>(v) == candidate) return true;
-  }
-  return false;
-}
-
-float ChooseNodata(const std::vector<double>& values) {
-  const float preferred[] = {-9999.0f, -99999.0f, -32768.0f, std::numeric_limits<float>::lowest()};
-  for (float candidate : preferred) {
-    if (!IsUsed(values, candidate)) return candidate;
-  }
-  // Every usual value is data: step down from -9999 (at most size + 1 tries).
-  for (float candidate = -10000.0f;; candidate -= 1.0f) {
-    if (!IsUsed(values, candidate)) return candidate;
-  }
-}
-
 // Sets a GDAL configuration option on this thread for the object's lifetime.
 class ScopedConfigOption {
  public:
@@ -73,57 +53,6 @@ class ScopedConfigOption {
   bool had_old_ = false;
   std::string old_;
 };
-
-// Creates and fills the GeoTIFF at `temporary` (closed on return).
-void WriteGeoTiffFile(const std::string& temporary, const Raster& raster, const std::string& where,
-                      int threads) {
-  QuietGdal quiet;
-  GDALDriverH driver = GDALGetDriverByName("GTiff");
-  if (driver == nullptr) Fail(where, "GDAL has no GTiff driver");
-  const bool tiled = raster.columns > 512 || raster.rows > 512;
-  // GDAL's worker threads compress the blocks (the same bytes as one thread).
-  const std::string num_threads = "NUM_THREADS=" + std::to_string(std::max(threads, 1));
-  // The floating-point predictor and the fastest level: a smaller file than
-  // level 6 without it, in about half the compression time.
-  const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=3", "ZLEVEL=1", "BIGTIFF=IF_SAFER", num_threads.c_str(),
-                           tiled ? "TILED=YES" : nullptr, "BLOCKXSIZE=256", "BLOCKYSIZE=256", nullptr};
-  Dataset dataset(GDALCreate(driver, temporary.c_str(), raster.columns, raster.rows, 1, GDT_Float32,
-                             const_cast<char**>(options)));
-  if (!dataset) Fail(where, "cannot create" + quiet.Detail());
-  GDALDatasetH ds = dataset.get();
-  double gt[6];
-  for (int k = 0; k < 6; ++k) gt[k] = raster.geotransform[k];
-  if (GDALSetGeoTransform(ds, gt) != CE_None)
-    Fail(where, "cannot set the geotransform" + quiet.Detail());
-  if (!raster.crs_wkt.empty() && GDALSetProjection(ds, raster.crs_wkt.c_str()) != CE_None) {
-    Fail(where, "unreadable CRS" + quiet.Detail());
-  }
-  GDALRasterBandH band = GDALGetRasterBand(ds, 1);
-  const float nodata = ChooseNodata(raster.values);
-  if (GDALSetRasterNoDataValue(band, nodata) != CE_None) {
-    Fail(where, "cannot set the nodata value" + quiet.Detail());
-  }
-  constexpr double kMax = std::numeric_limits<float>::max();
-  std::vector<float> line(static_cast<std::size_t>(raster.columns));
-  for (int row = 0; row < raster.rows; ++row) {
-    const double* in = raster.values.data() + static_cast<std::size_t>(row) * raster.columns;
-    for (int column = 0; column < raster.columns; ++column) {
-      const double v = in[column];
-      if (std::isfinite(v) && std::fabs(v) > kMax) {
-        Fail(where, "value " + Number(v) + " at column " + std::to_string(column) + ", row " +
-                        std::to_string(row) + " does not fit Float32");
-      }
-      line[static_cast<std::size_t>(column)] = std::isfinite(v) ? static_cast<float>(v) : nodata;
-    }
-    if (GDALRasterIO(band, GF_Write, 0, row, raster.columns, 1, line.data(), raster.columns, 1,
-                     GDT_Float32, 0, 0) != CE_None) {
-      Fail(where, "cannot write" + quiet.Detail());
-    }
-  }
-  dataset.reset();  // flushes and compresses the last blocks
-  if (quiet.failed()) Fail(where, "cannot write" + quiet.Detail());
-}
-
 
 // --- CRSs ---------------------------------------------------------------
 
@@ -323,39 +252,34 @@ bool TransformPoints(const std::string& from_wkt, const std::string& to_wkt,
 
 // --- the entry points ---------------------------------------------------
 
-bool WriteGeoTiffEntry(const std::string& file, const Raster& raster, const std::string& where, int threads,
-                       std::string* error) {
-  return Guarded(error, where, [&] {
-    RegisterGdalOnce();
-    // No .aux.xml side file: what GeoTIFF tags cannot hold is not kept.
-    const ScopedConfigOption no_side_file("GDAL_PAM_ENABLED", "NO");
-    WriteGeoTiffFile(file, raster, where, threads);
-  });
-}
-
 // A GeoTIFF being written window by window (GdalModule::open_geotiff).
 struct GeoTiffStream {
   Dataset dataset;
   GDALRasterBandH band = nullptr;
   std::string where;
+  float nodata = 0.0f;
   std::vector<float> buffer;
 };
 
-constexpr float kStreamNodata = -9999.0f;
-
 void* OpenGeoTiffEntry(const std::string& file, int columns, int rows,
                        const std::array<double, 6>& geotransform, const std::string& crs_wkt,
-                       const std::string& where, std::string* error) {
+                       const GeoTiffLayout& layout, const std::string& where, std::string* error) {
   auto stream = std::make_unique<GeoTiffStream>();
   stream->where = where;
+  stream->nodata = layout.nodata;
   const bool ok = Guarded(error, where, [&] {
     RegisterGdalOnce();
     const ScopedConfigOption no_side_file("GDAL_PAM_ENABLED", "NO");
     QuietGdal quiet;
     GDALDriverH driver = GDALGetDriverByName("GTiff");
     if (driver == nullptr) Fail(where, "GDAL has no GTiff driver");
-    const char* options[] = {"COMPRESS=DEFLATE", "PREDICTOR=3", "ZLEVEL=1", "BIGTIFF=IF_SAFER", "TILED=YES",
-                             "BLOCKXSIZE=256",   "BLOCKYSIZE=256",   nullptr};
+    // GDAL's worker threads compress the blocks (the same bytes as one
+    // thread). The floating-point predictor and the fastest level: a smaller
+    // file than level 6 without it, in about half the compression time.
+    const std::string num_threads = "NUM_THREADS=" + std::to_string(std::max(layout.threads, 1));
+    const char* options[] = {"COMPRESS=DEFLATE",  "PREDICTOR=3",    "ZLEVEL=1",
+                             "BIGTIFF=IF_SAFER",  num_threads.c_str(),
+                             layout.tiled ? "TILED=YES" : nullptr, "BLOCKXSIZE=256", "BLOCKYSIZE=256", nullptr};
     stream->dataset.reset(GDALCreate(driver, file.c_str(), columns, rows, 1, GDT_Float32,
                                      const_cast<char**>(options)));
     if (!stream->dataset) Fail(where, "cannot create" + quiet.Detail());
@@ -367,7 +291,7 @@ void* OpenGeoTiffEntry(const std::string& file, int columns, int rows,
       Fail(where, "unreadable CRS" + quiet.Detail());
     }
     stream->band = GDALGetRasterBand(ds, 1);
-    if (GDALSetRasterNoDataValue(stream->band, kStreamNodata) != CE_None) {
+    if (GDALSetRasterNoDataValue(stream->band, layout.nodata) != CE_None) {
       Fail(where, "cannot set the nodata value" + quiet.Detail());
     }
   });
@@ -383,15 +307,27 @@ bool WriteGeoTiffWindowEntry(void* writer, int column, int row, int columns, int
     stream->buffer.resize(static_cast<std::size_t>(columns) * rows);
     for (std::size_t i = 0; i < stream->buffer.size(); ++i) {
       const double v = values[i];
-      if (std::isfinite(v) && (std::fabs(v) > kMax || static_cast<float>(v) == kStreamNodata)) {
+      if (std::isfinite(v) && (std::fabs(v) > kMax || static_cast<float>(v) == stream->nodata)) {
         Fail(stream->where, "value " + Number(v) + " near column " + std::to_string(column) +
                                 ", row " + std::to_string(row) +
                                 (std::fabs(v) > kMax ? " does not fit Float32" : " is the nodata value"));
       }
-      stream->buffer[i] = std::isfinite(v) ? static_cast<float>(v) : kStreamNodata;
+      stream->buffer[i] = std::isfinite(v) ? static_cast<float>(v) : stream->nodata;
     }
     if (GDALRasterIO(stream->band, GF_Write, column, row, columns, rows, stream->buffer.data(),
                      columns, rows, GDT_Float32, 0, 0) != CE_None) {
+      Fail(stream->where, "cannot write" + quiet.Detail());
+    }
+  });
+}
+
+bool WriteGeoTiffFloatsEntry(void* writer, int column, int row, int columns, int rows, const float* values,
+                             std::string* error) {
+  auto* stream = static_cast<GeoTiffStream*>(writer);
+  return Guarded(error, stream->where, [&] {
+    QuietGdal quiet;
+    if (GDALRasterIO(stream->band, GF_Write, column, row, columns, rows, const_cast<float*>(values), columns,
+                     rows, GDT_Float32, 0, 0) != CE_None) {
       Fail(stream->where, "cannot write" + quiet.Detail());
     }
   });
@@ -407,10 +343,10 @@ bool CloseGeoTiffEntry(void* writer, std::string* error) {
 }
 
 const GdalModule kModule = {kGdalModuleVersion,    &ReadRasterEntry,    &ReadRasterHeaderEntry,
-                            &ReadRasterRowsEntry,  &WriteGeoTiffEntry,  &ParseCrs,
+                            &ReadRasterRowsEntry,  &ParseCrs,
                             &IdentifyCrs,          &IdentifyUtm,        &DatumOf,
                             &SameCrs,              &ProjectedToLonLat,  &TransformPoints,
-                            &ReadVectorRings,      &OpenGeoTiffEntry,   &WriteGeoTiffWindowEntry,
+                            &ReadVectorRings,      &OpenGeoTiffEntry,   &WriteGeoTiffWindowEntry, &WriteGeoTiffFloatsEntry,
                             &CloseGeoTiffEntry};
 
 }  // namespace

@@ -42,6 +42,13 @@ struct VectorRings {
   std::string crs_wkt;             // the layer's CRS as WKT2_2019; "" if it has none
 };
 
+// How open_geotiff lays out its file.
+struct GeoTiffLayout {
+  float nodata = -9999.0f;
+  bool tiled = true;
+  int threads = 1;  // GDAL's threads compressing the blocks
+};
+
 struct GdalModule {
   // Equal to kGdalModuleVersion in both the module and its loader: a module
   // from another build is refused rather than called with other layouts.
@@ -58,11 +65,6 @@ struct GdalModule {
   // handle of the call's own: calls may run on several threads at once.
   bool (*read_raster_rows)(const std::string& path, const RasterReadOptions& options, int first_row,
                            int rows, double* values, int64_t* non_finite_cells, std::string* error);
-  // Creates and fills the GeoTIFF `file` (no side file), compressing on
-  // `threads` threads; `where` starts the error. The caller chose `file` (a
-  // temporary name) and renames it.
-  bool (*write_geotiff)(const std::string& file, const Raster& raster, const std::string& where, int threads,
-                        std::string* error);
   // A CRS from user text (EPSG:n, WKT, PROJ string, "lonlat"); the error
   // follows "<label>: " and names the problem (unreadable, geocentric,
   // neither projected nor geographic, angular unit not the degree).
@@ -91,20 +93,26 @@ struct GdalModule {
   // polygon features (saying what the layer holds).
   bool (*read_vector_rings)(const std::string& path, const std::string& layer, VectorRings* out,
                             std::string* error);
-  // A one-band Float32 GeoTIFF written window by window, never held whole
-  // (tiled 256 x 256, DEFLATE; nodata -9999, NaN written as nodata): open
-  // it (null on failure), write windows of row-major values, then close it
-  // (which frees the writer whether or not it succeeds). `where` starts the
+  // A one-band Float32 GeoTIFF (no side file; DEFLATE with the
+  // floating-point predictor, tiled 256 x 256 when `layout.tiled`, its blocks
+  // compressed on `layout.threads` of GDAL's threads, the same bytes on any
+  // number): open it (null on failure), write windows of row-major values,
+  // then close it (which compresses what is left and frees the writer
+  // whether or not it succeeds). Windows of doubles have NaN written as
+  // `layout.nodata` (a finite value equal to it, or outside Float32, is an
+  // error); windows of floats are written as they are. `where` starts the
   // errors; the caller chose `file` (a temporary name) and renames it.
   void* (*open_geotiff)(const std::string& file, int columns, int rows,
                         const std::array<double, 6>& geotransform, const std::string& crs_wkt,
-                        const std::string& where, std::string* error);
+                        const GeoTiffLayout& layout, const std::string& where, std::string* error);
   bool (*write_geotiff_window)(void* writer, int column, int row, int columns, int rows,
                                const double* values, std::string* error);
+  bool (*write_geotiff_floats)(void* writer, int column, int row, int columns, int rows,
+                               const float* values, std::string* error);
   bool (*close_geotiff)(void* writer, std::string* error);
 };
 
-constexpr int kGdalModuleVersion = 6;
+constexpr int kGdalModuleVersion = 7;
 
 // The loaded module. The first call looks for libsurfreg_gdal.so in: the
 // file named by the environment variable SURFREG_GDAL_MODULE; next to the

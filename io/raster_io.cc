@@ -21,6 +21,7 @@
 
 #include "measure/input_error.h"
 #include "measure/tasks.h"
+#include "measure/uninitialized_vector.h"
 #include "io/atomic_file.h"
 #include "io/interrupt.h"
 #include "io/gdal_module.h"
@@ -113,6 +114,57 @@ std::string TemporaryName(const std::string& path) {
   return path + ".tmp-" + std::to_string(getpid()) + "-" + std::to_string(counter++);
 }
 
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.17g", value);
+  return text;
+}
+
+// The nodata value (raster_io.h) for a raster's values as Float32, after
+// checking that every finite one fits: a scan by chunks.
+float ChooseFloat32Nodata(const Raster& raster, const std::string& where, const Execution& execution) {
+  const float preferred[] = {-9999.0f, -99999.0f, -32768.0f, std::numeric_limits<float>::lowest()};
+  constexpr int kPreferred = 4;
+  constexpr double kMax = std::numeric_limits<float>::max();
+  const int64_t n = static_cast<int64_t>(raster.values.size());
+  const int chunks = ChunksFor(n, int64_t{1} << 16);
+  struct ChunkScan {
+    int64_t too_large = -1;  // the chunk's first value outside Float32
+    bool used[kPreferred] = {false, false, false, false};
+  };
+  std::vector<ChunkScan> scans(chunks);
+  ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
+    ChunkScan& scan = scans[c];
+    for (int64_t i = begin; i < end; ++i) {
+      const double v = raster.values[i];
+      if (!(std::fabs(v) <= kMax)) {  // NaN, infinite or too large
+        if (std::isfinite(v) && scan.too_large < 0) scan.too_large = i;
+        continue;
+      }
+      const float f = static_cast<float>(v);
+      for (int k = 0; k < kPreferred; ++k) scan.used[k] = scan.used[k] || f == preferred[k];
+    }
+  });
+  for (const ChunkScan& scan : scans) {  // the first in row-major order
+    if (scan.too_large < 0) continue;
+    const int64_t i = scan.too_large;
+    Fail(where, "value " + Number(raster.values[i]) + " at column " + std::to_string(i % raster.columns) +
+                    ", row " + std::to_string(i / raster.columns) + " does not fit Float32");
+  }
+  for (int k = 0; k < kPreferred; ++k) {
+    if (std::none_of(scans.begin(), scans.end(), [&](const ChunkScan& s) { return s.used[k]; })) {
+      return preferred[k];
+    }
+  }
+  // Every usual value is data: step down from -9999 (at most size + 1 tries).
+  for (float candidate = -10000.0f;; candidate -= 1.0f) {
+    const bool used = std::any_of(raster.values.begin(), raster.values.end(), [&](double v) {
+      return std::isfinite(v) && static_cast<float>(v) == candidate;
+    });
+    if (!used) return candidate;
+  }
+}
+
 }  // namespace
 
 void WriteGeoTiff(const std::string& path, const Raster& raster, const std::string& label, int threads) {
@@ -126,11 +178,44 @@ void WriteGeoTiff(const std::string& path, const Raster& raster, const std::stri
   }
   CheckOutputPath(path, label);
   const GdalModule& gdal = Gdal(where);
+  const Execution execution = ExecutionFor(threads);
+  GeoTiffLayout layout;
+  layout.nodata = ChooseFloat32Nodata(raster, where, execution);
+  layout.tiled = raster.columns > 512 || raster.rows > 512;
+  layout.threads = execution.threads;
   const std::string temporary = TemporaryName(path);
   const int slot = RegisterTemporary(temporary);  // an interrupted run removes it
   try {
     std::string error;
-    if (!gdal.write_geotiff(temporary, raster, where, threads, &error)) throw InputError(error);
+    void* writer = gdal.open_geotiff(temporary, raster.columns, raster.rows, raster.geotransform,
+                                     raster.crs_wkt, layout, where, &error);
+    if (writer == nullptr) throw InputError(error);
+    // Bands of 256 rows (a row of blocks), converted by chunks: GDAL's cache
+    // holds the blocks until closing, so no whole Float32 copy beside it.
+    const int band_rows = std::min(raster.rows, 256);
+    UninitializedVector<float> band(static_cast<std::size_t>(band_rows) * raster.columns);
+    bool written = true;
+    for (int row = 0; row < raster.rows && written; row += band_rows) {
+      const int rows = std::min(band_rows, raster.rows - row);
+      const int64_t n = static_cast<int64_t>(rows) * raster.columns;
+      const double* in = raster.values.data() + static_cast<std::size_t>(row) * raster.columns;
+      ForEachChunk(execution, n, ChunksFor(n, int64_t{1} << 16), [&](int, int64_t begin, int64_t end) {
+        for (int64_t i = begin; i < end; ++i) {
+          band[i] = std::isfinite(in[i]) ? static_cast<float>(in[i]) : layout.nodata;
+        }
+      });
+      written = gdal.write_geotiff_floats(writer, 0, row, raster.columns, rows, band.data(), &error);
+    }
+    // Closing compresses the blocks on GDAL's threads: for the serial-fraction
+    // measurement a region as wide as the tiles (one for a small striped file).
+    const int64_t tiles =
+        layout.tiled ? ((int64_t{raster.columns} + 255) / 256) * ((int64_t{raster.rows} + 255) / 256) : 1;
+    bool closed = false;
+    std::string close_error;
+    RunSpreadByLibrary(static_cast<int>(std::min<int64_t>(tiles, kMaxChunks)),
+                       [&] { closed = gdal.close_geotiff(writer, &close_error); });
+    if (!written) throw InputError(error);
+    if (!closed) throw InputError(close_error);
     if (std::rename(temporary.c_str(), path.c_str()) != 0) {
       Fail(where, std::string("cannot rename the temporary file: ") + std::strerror(errno));
     }
@@ -154,7 +239,7 @@ GeoTiffStreamWriter::GeoTiffStreamWriter(const std::string& path, int columns, i
   temporary_ = TemporaryName(path);
   slot_ = RegisterTemporary(temporary_);  // an interrupted run removes it
   std::string error;
-  writer_ = gdal.open_geotiff(temporary_, columns, rows, geotransform, crs_wkt, where_, &error);
+  writer_ = gdal.open_geotiff(temporary_, columns, rows, geotransform, crs_wkt, GeoTiffLayout{}, where_, &error);
   if (writer_ == nullptr) {
     std::remove(temporary_.c_str());
     UnregisterTemporary(slot_);

@@ -199,6 +199,11 @@ void ForEachItem(const Execution& execution, int n, const std::function<void(int
   }
 }
 
+void RunSpreadByLibrary(int parts, const std::function<void()>& body) {
+  RegionTimer timer(std::max(parts, 1));  // no tasks of its own: wall time over the parts
+  body();
+}
+
 void RunOnTwoThreads(bool concurrent, const std::function<void()>& first,
                      const std::function<void()>& second) {
   RegionTimer timer(2);

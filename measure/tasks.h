@@ -55,6 +55,11 @@ void RunBoth(const Execution& execution, const std::function<void()>& first,
 void RunOnTwoThreads(bool concurrent, const std::function<void()>& first,
                      const std::function<void()>& second);
 
+// body() on this thread, where a library spreads its work over `parts`
+// independent parts on threads of its own (GDAL compressing a GeoTIFF's
+// blocks: NUM_THREADS): timed as a region of that width.
+void RunSpreadByLibrary(int parts, const std::function<void()>& body);
+
 // Time spent inside ForEachChunk, RunBoth and RunOnTwoThreads regions, for
 // the serial-fraction measurement (docs/speed.md, Threads): enabled by
 // SetRegionTiming(true), read and reset by TakeRegionTiming. Meant for

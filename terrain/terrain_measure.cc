@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "io/interrupt.h"
 #include "io/raster_io.h"
@@ -12,6 +15,33 @@
 #include "terrain/terrain.h"
 
 namespace surfreg {
+namespace {
+
+// Each finite value of `cells` replaced by the next of `values` in order,
+// every other by NaN (A's samples are its valid cells in row-major order):
+// by chunks, each starting at the count of valid cells before it.
+void FillValidCells(const std::vector<double>& values, const Execution& execution, std::vector<double>* cells) {
+  std::vector<double>& c = *cells;
+  const int64_t n = static_cast<int64_t>(c.size());
+  const int chunks = ChunksFor(n, kItemChunk * 16);
+  std::vector<int64_t> first(chunks + 1, 0);
+  ForEachChunk(execution, n, chunks, [&](int k, int64_t begin, int64_t end) {
+    int64_t valid = 0;
+    for (int64_t i = begin; i < end; ++i) valid += std::isfinite(c[i]) ? 1 : 0;
+    first[k + 1] = valid;
+  });
+  for (int k = 0; k < chunks; ++k) first[k + 1] += first[k];
+  if (first[chunks] != static_cast<int64_t>(values.size())) {
+    throw std::logic_error("FillValidCells: " + std::to_string(first[chunks]) + " valid cells for " +
+                           std::to_string(values.size()) + " values");
+  }
+  ForEachChunk(execution, n, chunks, [&](int k, int64_t begin, int64_t end) {
+    int64_t next = first[k];
+    for (int64_t i = begin; i < end; ++i) c[i] = std::isfinite(c[i]) ? values[next++] : std::nan("");
+  });
+}
+
+}  // namespace
 
 TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions options,
                               const std::string& mask_crs_wkt, const std::string& mask_where,
@@ -68,8 +98,7 @@ TerrainMeasure MeasureTerrain(const TerrainRequest& request, MeasureOptions opti
         Raster dod;
         if (inputs.compact) {
           dod = std::move(inputs.reference_grid);
-          std::size_t k = 0;
-          for (double& value : dod.values) value = std::isfinite(value) ? m.summary.dz_a[k++] : std::nan("");
+          FillValidCells(m.summary.dz_a, execution, &dod.values);
         } else {
           dod = inputs.reference_grid;
           dod.values.assign(static_cast<std::size_t>(dod.columns) * dod.rows, std::nan(""));

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <functional>
 #include <iterator>
 #include <set>
@@ -221,6 +222,58 @@ TEST_F(RasterIoTest, LargeRastersAreTiled) {
   EXPECT_EQ(bx, 256);
   EXPECT_EQ(by, 256);
   EXPECT_EQ(ReadRaster(Path("big.tif")).crs_wkt, "");  // no CRS given, none written
+}
+
+// Rasters of several chunks (the values converted and scanned by chunks of
+// rows): the nodata value avoids what any chunk holds, the first value
+// outside Float32 in row-major order is the one named, and the file's bytes
+// do not depend on the threads.
+TEST_F(RasterIoTest, LargeRasterWritesTheSameOnAnyThreadCount) {
+  Raster r;
+  r.columns = 700, r.rows = 300;  // 210,000 cells: several chunks
+  r.geotransform = {1000.0, 2.0, 0.0, 5000.0, 0.0, -2.0};
+  r.values.resize(static_cast<std::size_t>(r.columns) * r.rows);
+  for (std::size_t i = 0; i < r.values.size(); ++i) r.values[i] = 0.001 * static_cast<double>(i % 9973);
+  r.values[10] = -99999.0;                    // the first chunk
+  r.values[r.values.size() - 5] = -9999.0;    // the last
+  r.values[r.values.size() / 2] = kNaN;
+  std::string bytes[3];
+  for (int threads : {1, 2, 8}) {
+    const std::string path = Path("t" + std::to_string(threads) + ".tif");
+    WriteGeoTiff(path, r, "test", threads);
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream contents;
+    contents << in.rdbuf();
+    bytes[threads == 1 ? 0 : threads == 2 ? 1 : 2] = contents.str();
+  }
+  EXPECT_EQ(bytes[0], bytes[1]);
+  EXPECT_EQ(bytes[0], bytes[2]);
+  GDALDatasetH ds = GDALOpen(Path("t1.tif").c_str(), GA_ReadOnly);
+  int has = 0;
+  EXPECT_EQ(GDALGetRasterNoDataValue(GDALGetRasterBand(ds, 1), &has), -32768.0);
+  GDALClose(ds);
+  const Raster back = ReadRaster(Path("t2.tif"));
+  ASSERT_EQ(back.values.size(), r.values.size());
+  for (std::size_t i = 0; i < r.values.size(); ++i) {
+    if (std::isnan(r.values[i])) {
+      EXPECT_TRUE(std::isnan(back.values[i])) << i;
+    } else {
+      ASSERT_EQ(back.values[i], static_cast<double>(static_cast<float>(r.values[i]))) << i;
+    }
+  }
+  // Every usual nodata value is data: the first unused step below -9999.
+  r.values[20] = -32768.0, r.values[r.values.size() - 20] = std::numeric_limits<float>::lowest();
+  r.values[30] = -10000.0;
+  WriteGeoTiff(Path("steps.tif"), r, "test", 2);
+  ds = GDALOpen(Path("steps.tif").c_str(), GA_ReadOnly);
+  EXPECT_EQ(GDALGetRasterNoDataValue(GDALGetRasterBand(ds, 1), &has), -10001.0);
+  GDALClose(ds);
+  // Two values beyond Float32 in different chunks: the first is named.
+  r.values[r.values.size() - 3] = -1e40;
+  r.values[250 * 700 + 5] = 1e39;
+  EXPECT_EQ(ErrorOf([&] { WriteGeoTiff(Path("bad.tif"), r, "out", 2); }),
+            "out: '" + Path("bad.tif") + "': value 9.9999999999999994e+38 at column 5, row 250 does not fit Float32");
+  EXPECT_EQ(Entries().count("bad.tif"), 0u);
 }
 
 // --- nodata, masks, NaN on reading -----------------------------------------
@@ -440,7 +493,7 @@ TEST_F(RasterIoTest, WriteIntoMissingDirectoryThrowsAndLeavesNothing) {
 TEST_F(RasterIoTest, FailedWriteLeavesTheExistingFileUnchanged) {
   const std::string path = WriteText("old.tif", "previous contents");
   Raster r = SampleRaster();
-  r.values[12] = 1e300;  // fails half way, after the temporary file exists
+  r.values[12] = 1e300;  // fails before any file is made
   const std::string error = ErrorOf([&] { WriteGeoTiff(path, r, "out"); });
   EXPECT_EQ(error, "out: '" + path +
                        "': value 1.0000000000000001e+300 at column 2, row 2 does "

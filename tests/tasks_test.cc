@@ -164,5 +164,28 @@ TEST(Tasks, RegionTimingCountsOutermostRegionsOnly) {
   EXPECT_EQ(TakeRegionTiming().regions, 0);
 }
 
+// Work a library spreads over its own threads: its wall time over
+// min(cores, parts), alone or as one of two sides.
+TEST(Tasks, RegionTimingSpreadsALibrarysPartsOverTheCores) {
+  TakeRegionTiming();
+  SetRegionTiming(true);
+  RunSpreadByLibrary(8, [] { std::this_thread::sleep_for(std::chrono::milliseconds(16)); });
+  SetRegionTiming(false);
+  RegionTiming t = TakeRegionTiming();
+  EXPECT_EQ(t.regions, 1);
+  EXPECT_GE(t.parallel_seconds, 0.016);
+  EXPECT_DOUBLE_EQ(t.projected_seconds[0], t.parallel_seconds / 2);  // 2 cores
+  EXPECT_DOUBLE_EQ(t.projected_seconds[1], t.parallel_seconds / 8);  // 8 cores
+  EXPECT_DOUBLE_EQ(t.projected_seconds[3], t.parallel_seconds / 8);  // 64 cores, 8 parts
+  SetRegionTiming(true);
+  RunBoth(Execution{1}, [] {}, [] {
+    RunSpreadByLibrary(0, [] { std::this_thread::sleep_for(std::chrono::milliseconds(4)); });  // one part
+  });
+  SetRegionTiming(false);
+  t = TakeRegionTiming();
+  EXPECT_EQ(t.regions, 1);
+  EXPECT_GE(t.projected_seconds[3], 0.004);  // one part is serial on any machine
+}
+
 }  // namespace
 }  // namespace surfreg
