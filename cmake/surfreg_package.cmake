@@ -27,7 +27,8 @@ target_compile_features(surfreg_measure PUBLIC cxx_std_17)
 # each other as "measure/x.h", "io/x.h".
 set(SURFREG_PUBLIC_MEASURE_HEADERS
   convex_hull.h delaunay.h domain.h dz_statistics.h grid_mesh.h
-  input_error.h mask_region.h measure_keys.h measures.h mesh.h option_keys.h surface.h tasks.h volume.h)
+  input_error.h mask_region.h measure_keys.h measures.h mesh.h option_keys.h surface.h tasks.h
+  uninitialized_vector.h volume.h)
 set(SURFREG_PUBLIC_REGISTRATION_HEADERS
   align.h align_keys.h align_options.h align_result.h holdout.h rigid_motion.h series.h stable_terrain.h)
 set(SURFREG_PUBLIC_FACES_HEADERS asymmetry_cohort.h asymmetry_index.h face_frame.h helical_axis.h jaw.h jaw_split.h symmetry.h)

@@ -256,14 +256,14 @@ GeoTiffStreamWriter::~GeoTiffStreamWriter() {
   UnregisterTemporary(slot_);
 }
 
-void GeoTiffStreamWriter::Write(int column, int row, int columns, int rows,
-                                const std::vector<double>& values) {
-  if (values.size() != static_cast<std::size_t>(columns) * rows) {
+void GeoTiffStreamWriter::Write(int column, int row, int columns, int rows, const double* values,
+                                std::size_t count) {
+  if (count != static_cast<std::size_t>(columns) * rows) {
     Fail(where_, "a window of " + std::to_string(columns) + " x " + std::to_string(rows) +
-                     " cells has " + std::to_string(values.size()) + " values");
+                     " cells has " + std::to_string(count) + " values");
   }
   std::string error;
-  if (!Gdal(where_).write_geotiff_window(writer_, column, row, columns, rows, values.data(), &error)) {
+  if (!Gdal(where_).write_geotiff_window(writer_, column, row, columns, rows, values, &error)) {
     throw InputError(error);
   }
 }

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "measure/surface.h"
+#include "measure/uninitialized_vector.h"
 
 namespace surfreg {
 
@@ -48,7 +49,9 @@ struct Raster {
   // own (its top-left corner is the window's outer corner). Units of the CRS.
   std::array<double, 6> geotransform = {0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
   std::string crs_wkt;         // WKT of the CRS; "" if the file has none
-  std::vector<double> values;  // columns * rows, row-major, row 0 at the top; NaN = nodata
+  // columns * rows, row-major, row 0 at the top; NaN = nodata. resize()
+  // leaves new heights unset (their pages first touched where they are read).
+  UninitializedVector<double> values;
   std::string source;          // the path (for messages)
   // Cells read as nodata because they are NaN or infinite, not because they
   // hold the band's nodata value or are masked out (ReadRaster warns).
@@ -106,8 +109,8 @@ class GeoTiffStreamWriter {
   GeoTiffStreamWriter(const GeoTiffStreamWriter&) = delete;
   GeoTiffStreamWriter& operator=(const GeoTiffStreamWriter&) = delete;
 
-  // `values`: columns * rows, row-major, of the window at (column, row).
-  void Write(int column, int row, int columns, int rows, const std::vector<double>& values);
+  // `values`: `count` = columns * rows, row-major, of the window at (column, row).
+  void Write(int column, int row, int columns, int rows, const double* values, std::size_t count);
   void Finish();
 
  private:

@@ -68,7 +68,7 @@ OneInput ReadOne(const TerrainRequest& config, const std::string& key, const Sur
         // RasterToSurface's samples (row-major, nodata skipped) about the
         // shared origin, made in one pass.
         in.surface = RasterBlockToSurface(in.grid.geotransform, {0, 0, in.grid.columns, in.grid.rows},
-                                          in.grid.values, **origin, in.grid.source);
+                                          in.grid.values.data(), in.grid.values.size(), **origin, in.grid.source);
         if (in.surface.xy.empty()) throw InputError(in.grid.source + ": every cell is nodata");
         ValidateSurface(in.surface);
         in.cells.resize(in.surface.size());
@@ -446,7 +446,7 @@ void WriteTerrainOutputs(const TerrainRequest& config, const TerrainInputs& in,
     }
   }
   if (!t.dod_png.empty()) {
-    GridField field = MapFieldOn(dod, dod.values);
+    GridField field = MapFieldOn(dod, {dod.values.begin(), dod.values.end()});
     // With a detection threshold, change within it is drawn as none (white).
     const bool thresholded = u.active || report.lod > 0;
     for (std::size_t i = 0; thresholded && i < in.reference_cells.size(); ++i) {

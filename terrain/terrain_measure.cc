@@ -20,8 +20,8 @@ namespace {
 // Each finite value of `cells` replaced by the next of `values` in order,
 // every other by NaN (A's samples are its valid cells in row-major order):
 // by chunks, each starting at the count of valid cells before it.
-void FillValidCells(const std::vector<double>& values, const Execution& execution, std::vector<double>* cells) {
-  std::vector<double>& c = *cells;
+void FillValidCells(const std::vector<double>& values, const Execution& execution, UninitializedVector<double>* cells) {
+  UninitializedVector<double>& c = *cells;
   const int64_t n = static_cast<int64_t>(c.size());
   const int chunks = ChunksFor(n, kItemChunk * 16);
   std::vector<int64_t> first(chunks + 1, 0);

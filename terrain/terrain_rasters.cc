@@ -127,8 +127,8 @@ void ExpandCompactRasters(const TerrainRequest& config, TerrainInputs* inputs) {
   const auto make = [&](const char* key, Raster* grid, std::vector<int64_t>* cells) {
     Surface s;
     try {
-      s = RasterBlockToSurface(grid->geotransform, {0, 0, grid->columns, grid->rows}, grid->values,
-                               in.raster_origin, grid->source);
+      s = RasterBlockToSurface(grid->geotransform, {0, 0, grid->columns, grid->rows}, grid->values.data(),
+                               grid->values.size(), in.raster_origin, grid->source);
       if (s.xy.empty()) throw InputError(grid->source + ": every cell is nodata");
       ValidateSurface(s);
     } catch (const InputError& e) {

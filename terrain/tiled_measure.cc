@@ -469,22 +469,22 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
 }
 
 Surface RasterBlockToSurface(const std::array<double, 6>& gt, const SampleWindow& window,
-                             const std::vector<double>& values, const std::array<double, 3>& origin,
+                             const double* values, std::size_t count, const std::array<double, 3>& origin,
                              const std::string& source) {
   Surface s;
   s.origin = origin;
   s.source = source;
-  if (values.size() != static_cast<std::size_t>(std::max(window.columns, 0)) *
+  if (count != static_cast<std::size_t>(std::max(window.columns, 0)) *
                            static_cast<std::size_t>(std::max(window.rows, 0))) {
     throw InputError((source.empty() ? std::string("raster") : source) + ": " +
-                     std::to_string(values.size()) + " values for a window of " +
+                     std::to_string(count) + " values for a window of " +
                      std::to_string(window.columns) + " x " + std::to_string(window.rows));
   }
-  const std::size_t count =
-      static_cast<std::size_t>(std::count_if(values.begin(), values.end(), [](double v) { return std::isfinite(v); }));
-  s.xy.reserve(count);
-  s.z.reserve(count);
-  s.raster_cell.reserve(count);
+  const std::size_t valid =
+      static_cast<std::size_t>(std::count_if(values, values + count, [](double v) { return std::isfinite(v); }));
+  s.xy.reserve(valid);
+  s.z.reserve(valid);
+  s.raster_cell.reserve(valid);
   std::size_t k = 0;
   for (int32_t row = window.row; row < window.row + window.rows; ++row) {
     for (int32_t column = window.column; column < window.column + window.columns; ++column, ++k) {

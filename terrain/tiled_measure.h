@@ -140,10 +140,10 @@ TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRas
 // pixel-is-area geotransform: a sample at its cell's centre, as
 // io/raster_io.h), computed as RasterToSurface does so that the
 // coordinates equal an untiled read's bit for bit given the same origin.
-// `values` holds window.columns * window.rows heights, row-major, NaN (or
-// any non-finite value) for nodata.
+// `values` holds `count` = window.columns * window.rows heights, row-major,
+// NaN (or any non-finite value) for nodata.
 Surface RasterBlockToSurface(const std::array<double, 6>& geotransform, const SampleWindow& window,
-                             const std::vector<double>& values, const std::array<double, 3>& origin,
+                             const double* values, std::size_t count, const std::array<double, 3>& origin,
                              const std::string& source = "");
 
 // The origin a tiled measure gives both rasters: the centre of the

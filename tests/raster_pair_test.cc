@@ -49,7 +49,7 @@ struct TestRaster {
     return h;
   }
   Surface Samples(const std::array<double, 3>& origin) const {
-    return RasterBlockToSurface(gt, {0, 0, columns, rows}, z, origin, name);
+    return RasterBlockToSurface(gt, {0, 0, columns, rows}, z.data(), z.size(), origin, name);
   }
 };
 

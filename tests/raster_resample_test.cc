@@ -55,7 +55,7 @@ Surface Moved(const Surface& s, const Eigen::Matrix3d& rotation, const Eigen::Ve
   return moved;
 }
 
-bool SameBits(const std::vector<double>& a, const std::vector<double>& b) {
+bool SameBits(const UninitializedVector<double>& a, const UninitializedVector<double>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
 }
 
@@ -157,7 +157,7 @@ std::vector<double> BruteForce(const Raster& source, const Surface& moved, const
 }
 
 // Equal NaN sets and heights within 1e-9; the number of heights found.
-int ExpectSameHeights(const std::vector<double>& expected, const std::vector<double>& actual,
+int ExpectSameHeights(const std::vector<double>& expected, const UninitializedVector<double>& actual,
                       const std::string& label) {
   EXPECT_EQ(expected.size(), actual.size()) << label;
   int found = 0;

@@ -350,7 +350,8 @@ void JoinDodBands(const std::vector<DodBand>& bands, const std::vector<TiledDodP
         if (patch->row < row0) continue;
         block.values[static_cast<std::size_t>(patch->row - row0) * b.columns + patch->column] = patch->dz;
       }
-      writer.Write(0, row0 - first.first_row, b.columns, options.window.rows, block.values);
+      writer.Write(0, row0 - first.first_row, b.columns, options.window.rows, block.values.data(),
+                   block.values.size());
     }
   }
   writer.Finish();

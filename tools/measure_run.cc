@@ -185,7 +185,8 @@ TiledErrorInputs TiledErrorSetup(const AlignConfig& config, const MeasureOptions
     RasterReadOptions read;
     read.band = band;
     read.window = {column, row, columns, rows};
-    return ReadRaster(path, read).values;
+    const Raster window = ReadRaster(path, read);
+    return std::vector<double>(window.values.begin(), window.values.end());
   };
   inputs.sigma_dod = budget.active ? budget.sigma_dod : std::nan("");
   inputs.confidence = config.terrain.lod_confidence;

@@ -108,7 +108,7 @@ TiledRasterSource RasterTileSource(const std::string& path, int band, const Rast
     const Raster block = ReadRaster(path, options);
     // The whole raster's geotransform, not the window's: every tile then has
     // the coordinates of an untiled read, to the last bit.
-    return RasterBlockToSurface(geotransform, w, block.values, origin, path);
+    return RasterBlockToSurface(geotransform, w, block.values.data(), block.values.size(), origin, path);
   };
   source.cover = AffineGridCover(geotransform, shape.columns, shape.rows);
   return source;
@@ -269,7 +269,7 @@ TiledMeasureRun MeasureRasterTiles(const AlignConfig& config, MeasureOptions opt
                                                     config.Where("dod"));
       }
       row->Write(t.window.column, t.window.row - static_cast<int32_t>(t.tile / nx * tile),
-                 t.window.columns, t.window.rows, t.dz);
+                 t.window.columns, t.window.rows, t.dz.data(), t.dz.size());
     };
   }
   tiled.on_row = [&](const TiledPartial& part) {

@@ -53,7 +53,7 @@ struct Grid {
   std::string name;
 
   Surface Whole() const {
-    return RasterBlockToSurface(gt, {0, 0, columns, rows}, values, origin, name);
+    return RasterBlockToSurface(gt, {0, 0, columns, rows}, values.data(), values.size(), origin, name);
   }
   TiledRasterSource Source() const {
     TiledRasterSource s;
@@ -71,7 +71,7 @@ struct Grid {
           block.push_back(values[static_cast<std::size_t>(r) * columns + c]);
         }
       }
-      return RasterBlockToSurface(gt, w, block, origin, name);
+      return RasterBlockToSurface(gt, w, block.data(), block.size(), origin, name);
     };
     s.cover = AffineGridCover(gt, columns, rows);
     return s;
