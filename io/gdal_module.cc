@@ -32,6 +32,7 @@ bool ReadRasterHeaderEntry(const std::string& path, const RasterReadOptions& opt
                            std::string* error);
 bool ReadRasterRowsEntry(const std::string& path, const RasterReadOptions& options, int first_row,
                          int rows, double* values, int64_t* non_finite_cells, std::string* error);
+bool ReadRasterCrsEntry(const std::string& path, std::string* crs_wkt, std::string* error);
 
 namespace {
 
@@ -336,6 +337,8 @@ bool WriteGeoTiffFloatsEntry(void* writer, int column, int row, int columns, int
 bool CloseGeoTiffEntry(void* writer, std::string* error) {
   std::unique_ptr<GeoTiffStream> stream(static_cast<GeoTiffStream*>(writer));
   return Guarded(error, stream->where, [&] {
+    // As when opened: the file holds every tag, no .aux.xml beside it.
+    const ScopedConfigOption no_side_file("GDAL_PAM_ENABLED", "NO");
     QuietGdal quiet;
     stream->dataset.reset();  // flushes and compresses the last blocks
     if (quiet.failed()) Fail(stream->where, "cannot write" + quiet.Detail());
@@ -343,7 +346,7 @@ bool CloseGeoTiffEntry(void* writer, std::string* error) {
 }
 
 const GdalModule kModule = {kGdalModuleVersion,    &ReadRasterEntry,    &ReadRasterHeaderEntry,
-                            &ReadRasterRowsEntry,  &ParseCrs,
+                            &ReadRasterRowsEntry,  &ReadRasterCrsEntry,   &ParseCrs,
                             &IdentifyCrs,          &IdentifyUtm,        &DatumOf,
                             &SameCrs,              &ProjectedToLonLat,  &TransformPoints,
                             &ReadVectorRings,      &OpenGeoTiffEntry,   &WriteGeoTiffWindowEntry, &WriteGeoTiffFloatsEntry,

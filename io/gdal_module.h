@@ -57,7 +57,9 @@ struct GdalModule {
   // starts with the path.
   bool (*read_raster)(const std::string& path, const RasterReadOptions& options, Raster* raster,
                       std::string* error);
-  // The same without the values: size, geotransform and CRS of the window.
+  // The same without the values and the CRS: size and geotransform of the
+  // window (the CRS's export loads PROJ's database: read_raster_crs, beside
+  // the rows).
   bool (*read_raster_header)(const std::string& path, const RasterReadOptions& options, Raster* raster,
                              std::string* error);
   // Rows [first_row, first_row + rows) of the window into `values`
@@ -65,6 +67,8 @@ struct GdalModule {
   // handle of the call's own: calls may run on several threads at once.
   bool (*read_raster_rows)(const std::string& path, const RasterReadOptions& options, int first_row,
                            int rows, double* values, int64_t* non_finite_cells, std::string* error);
+  // The CRS of `path` as WKT ("" if it has none), as read_raster gives it.
+  bool (*read_raster_crs)(const std::string& path, std::string* crs_wkt, std::string* error);
   // A CRS from user text (EPSG:n, WKT, PROJ string, "lonlat"); the error
   // follows "<label>: " and names the problem (unreadable, geocentric,
   // neither projected nor geographic, angular unit not the degree).
@@ -112,7 +116,7 @@ struct GdalModule {
   bool (*close_geotiff)(void* writer, std::string* error);
 };
 
-constexpr int kGdalModuleVersion = 7;
+constexpr int kGdalModuleVersion = 8;
 
 // The loaded module. The first call looks for libsurfreg_gdal.so in: the
 // file named by the environment variable SURFREG_GDAL_MODULE; next to the

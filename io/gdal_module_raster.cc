@@ -42,9 +42,11 @@ struct OpenBand {
 };
 
 // Opens `path`, checks the band and the window, and fills the raster's
-// header (size, geotransform of the window, CRS; no values).
+// header (size, geotransform of the window, and the CRS if `with_crs`: its
+// first export on a thread costs that thread a PROJ context, ~25 ms; no
+// values).
 OpenBand Open(const std::string& path, const RasterReadOptions& options, const QuietGdal& quiet,
-              Raster* header) {
+              Raster* header, bool with_crs) {
   RegisterGdalOnce();
   OpenBand open;
   open.dataset.reset(GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR,
@@ -78,8 +80,10 @@ OpenBand Open(const std::string& path, const RasterReadOptions& options, const Q
   gt[0] += w.column * gt[1];
   gt[3] += w.row * gt[5];
   for (int k = 0; k < 6; ++k) raster.geotransform[k] = gt[k];
-  const char* wkt = GDALGetProjectionRef(ds);
-  raster.crs_wkt = wkt == nullptr ? "" : wkt;
+  if (with_crs) {
+    const char* wkt = GDALGetProjectionRef(ds);
+    raster.crs_wkt = wkt == nullptr ? "" : wkt;
+  }
   return open;
 }
 
@@ -133,7 +137,7 @@ bool ReadRasterEntry(const std::string& path, const RasterReadOptions& options, 
   return Guarded(error, path, [&] {
     QuietGdal quiet;
     Raster out;
-    const OpenBand open = Open(path, options, quiet, &out);
+    const OpenBand open = Open(path, options, quiet, &out, true);
     out.values.resize(static_cast<std::size_t>(out.columns) * static_cast<std::size_t>(out.rows));
     ReadRows(open, path, options.band, 0, out.rows, out.values.data(), &out.non_finite_cells, quiet);
     *raster = std::move(out);
@@ -145,7 +149,7 @@ bool ReadRasterHeaderEntry(const std::string& path, const RasterReadOptions& opt
   return Guarded(error, path, [&] {
     QuietGdal quiet;
     Raster out;
-    Open(path, options, quiet, &out);
+    Open(path, options, quiet, &out, false);
     *raster = std::move(out);
   });
 }
@@ -155,12 +159,24 @@ bool ReadRasterRowsEntry(const std::string& path, const RasterReadOptions& optio
   return Guarded(error, path, [&] {
     QuietGdal quiet;
     Raster header;
-    const OpenBand open = Open(path, options, quiet, &header);
+    const OpenBand open = Open(path, options, quiet, &header, false);
     if (first_row < 0 || rows < 0 || first_row > header.rows - rows) {
       Fail(path, "rows " + std::to_string(first_row) + " to " + std::to_string(first_row + rows) +
                      " are outside the window of " + std::to_string(header.rows) + " rows");
     }
     ReadRows(open, path, options.band, first_row, rows, values, non_finite_cells, quiet);
+  });
+}
+
+bool ReadRasterCrsEntry(const std::string& path, std::string* crs_wkt, std::string* error) {
+  return Guarded(error, path, [&] {
+    QuietGdal quiet;
+    RegisterGdalOnce();
+    const Dataset dataset(GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR,
+                                     nullptr, nullptr, nullptr));
+    if (!dataset) Fail(path, "cannot open as a raster" + quiet.Detail());
+    const char* wkt = GDALGetProjectionRef(dataset.get());
+    *crs_wkt = wkt == nullptr ? "" : wkt;
   });
 }
 
