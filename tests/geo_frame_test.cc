@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "measure/input_error.h"
+#include "tests/testing/file_checks.h"
 #include "measure/measures.h"
 #include "io/raster_io.h"
 
@@ -26,23 +27,9 @@ constexpr double kDeg = kPi / 180.0;
 constexpr double kA = 6378137.0, kF = 1 / 298.257223563;  // WGS 84
 constexpr double kE2 = kF * (2 - kF);
 
-std::string ErrorOf(const std::function<void()>& f) {
-  ::testing::internal::CaptureStderr();
-  std::string message;
-  try {
-    f();
-  } catch (const InputError& e) {
-    message = e.what();
-  }
-  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
-  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  return message;
-}
-
-::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
+// One-line InputError messages, with nothing on stderr (file_checks.h).
+inline std::string ErrorOf(const std::function<void()>& f) { return testing::SilentErrorOf(f); }
+using testing::Contains;
 
 std::array<double, 3> At(const Surface& s, size_t i) {
   return {s.origin[0] + s.xy[i].x, s.origin[1] + s.xy[i].y, s.origin[2] + s.z[i]};

@@ -67,6 +67,16 @@ std::string ErrorOf(F f) {
   return "";
 }
 
+// The same, and nothing printed to stderr meanwhile (a library's own
+// messages: GDAL's, PROJ's).
+template <typename F>
+std::string SilentErrorOf(F f) {
+  ::testing::internal::CaptureStderr();
+  const std::string message = ErrorOf(f);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  return message;
+}
+
 inline ::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
   const std::string shown = text.size() > 400 ? text.substr(0, 400) + "..." : text;

@@ -25,6 +25,7 @@
 
 #include "io/raster_io.h"
 #include "measure/input_error.h"
+#include "tests/testing/file_checks.h"
 
 namespace surfreg {
 
@@ -61,25 +62,9 @@ class RasterIoTest : public ::testing::Test {
   std::string dir_;
 };
 
-// The InputError message of `f` ("" if it does not throw); checks that it is
-// one line and that GDAL printed nothing to stderr.
-inline std::string ErrorOf(const std::function<void()>& f) {
-  ::testing::internal::CaptureStderr();
-  std::string message;
-  try {
-    f();
-  } catch (const InputError& e) {
-    message = e.what();
-  }
-  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
-  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-  return message;
-}
-
-inline ::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
-}
+// One-line InputError messages, with nothing on stderr (file_checks.h).
+inline std::string ErrorOf(const std::function<void()>& f) { return testing::SilentErrorOf(f); }
+using testing::Contains;
 
 inline std::string Wkt(const char* user_input) {
   OGRSpatialReferenceH srs = OSRNewSpatialReference(nullptr);
