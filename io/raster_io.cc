@@ -96,26 +96,86 @@ Raster ReadRaster(const std::string& path, const RasterReadOptions& options) {
   return raster;
 }
 
-Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_sample,
-                        double origin_step) {
-  std::vector<std::array<double, 3>> points;
-  std::vector<RasterCell> cells;
-  if (cell_of_sample != nullptr) cell_of_sample->clear();
-  for (int row = 0; row < raster.rows; ++row) {
-    for (int column = 0; column < raster.columns; ++column) {
-      const int64_t cell = static_cast<int64_t>(row) * raster.columns + column;
-      const double z = raster.values[static_cast<std::size_t>(cell)];
-      if (!std::isfinite(z)) continue;
-      const Point2 centre = raster.CellCentre(column, row);
-      points.push_back({centre.x, centre.y, z});
-      cells.push_back({column, row});
-      if (cell_of_sample != nullptr) cell_of_sample->push_back(cell);
+Surface GridCellsToSurface(const std::array<double, 6>& gt, int column0, int row0, int columns, int rows,
+                           const double* values, const std::array<double, 3>* origin, double origin_step,
+                           std::vector<int64_t>* cell_of_sample, int threads) {
+  const Execution execution = ExecutionFor(threads);
+  const int64_t width = std::max(columns, 0), height = std::max(rows, 0);
+  // Bands of rows of about 2^16 cells (their number a function of the size only).
+  const int chunks = ChunksFor(height, std::max<int64_t>(1, (int64_t{1} << 16) / std::max<int64_t>(width, 1)));
+  // The centre exactly as Raster::CellCentre (the same doubles as one pass).
+  const auto centre = [&gt](int column, int row) {
+    const double c = column + 0.5, r = row + 0.5;
+    return Point2{gt[0] + c * gt[1] + r * gt[2], gt[3] + c * gt[4] + r * gt[5]};
+  };
+  struct Counted {
+    int64_t valid = 0;
+    std::array<double, 3> lo, hi;  // of the finite coordinates, for the origin
+  };
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<Counted> counted(chunks, Counted{0, {kInf, kInf, kInf}, {-kInf, -kInf, -kInf}});
+  ForEachChunk(execution, height, chunks, [&](int c, int64_t first, int64_t last) {
+    Counted n = counted[c];
+    for (int64_t row = first; row < last; ++row) {
+      const double* z = values + row * width;
+      for (int64_t column = 0; column < width; ++column) {
+        if (!std::isfinite(z[column])) continue;
+        ++n.valid;
+        if (origin != nullptr) continue;
+        const Point2 p = centre(column0 + static_cast<int>(column), row0 + static_cast<int>(row));
+        const double xyz[3] = {p.x, p.y, z[column]};
+        for (int k = 0; k < 3; ++k) {
+          if (!std::isfinite(xyz[k])) continue;
+          n.lo[k] = std::min(n.lo[k], xyz[k]), n.hi[k] = std::max(n.hi[k], xyz[k]);
+        }
+      }
     }
+    counted[c] = n;
+  });
+  std::vector<int64_t> offset(static_cast<std::size_t>(chunks) + 1, 0);
+  std::array<double, 3> lo = counted[0].lo, hi = counted[0].hi;
+  for (int c = 0; c < chunks; ++c) {
+    offset[c + 1] = offset[c] + counted[c].valid;
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], counted[c].lo[k]), hi[k] = std::max(hi[k], counted[c].hi[k]);
   }
-  if (points.empty()) Fail(raster.source, "every cell is nodata");
-  Surface surface = MakeSurface(points, {}, raster.source, origin_step);
-  surface.raster_cell = std::move(cells);  // meshed on its own cells (measure/grid_mesh.h)
-  ValidateSurface(surface);
+  Surface surface;
+  surface.origin = origin != nullptr ? *origin : SurfaceOrigin(lo, hi, origin_step);
+  const std::size_t total = static_cast<std::size_t>(offset[chunks]);
+  surface.xy.resize(total);
+  surface.z.resize(total);
+  surface.raster_cell.resize(total);
+  if (cell_of_sample != nullptr) cell_of_sample->assign(total, 0);
+  const std::array<double, 3> o = surface.origin;
+  ForEachChunk(execution, height, chunks, [&](int c, int64_t first, int64_t last) {
+    std::size_t i = static_cast<std::size_t>(offset[c]);
+    for (int64_t row = first; row < last; ++row) {
+      const double* z = values + row * width;
+      for (int64_t column = 0; column < width; ++column) {
+        if (!std::isfinite(z[column])) continue;
+        const int grid_column = column0 + static_cast<int>(column), grid_row = row0 + static_cast<int>(row);
+        const Point2 p = centre(grid_column, grid_row);
+        surface.xy[i] = {p.x - o[0], p.y - o[1]};
+        surface.z[i] = z[column] - o[2];
+        surface.raster_cell[i] = {grid_column, grid_row};
+        if (cell_of_sample != nullptr) (*cell_of_sample)[i] = row * width + column;
+        ++i;
+      }
+    }
+  });
+  return surface;
+}
+
+Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_sample, double origin_step,
+                        int threads) {
+  if (raster.values.size() != static_cast<std::size_t>(std::max(raster.columns, 0)) * std::max(raster.rows, 0)) {
+    Fail(raster.source, std::to_string(raster.values.size()) + " values for " + std::to_string(raster.columns) +
+                            " x " + std::to_string(raster.rows) + " cells");
+  }
+  Surface surface = GridCellsToSurface(raster.geotransform, 0, 0, raster.columns, raster.rows, raster.values.data(),
+                                       nullptr, origin_step, cell_of_sample, threads);
+  if (surface.xy.empty()) Fail(raster.source, "every cell is nodata");
+  surface.source = raster.source;  // meshed on its own cells (measure/grid_mesh.h)
+  ValidateSurface(surface, ExecutionFor(threads));
   return surface;
 }
 

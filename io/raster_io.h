@@ -78,8 +78,20 @@ Raster ReadRaster(const std::string& path, const RasterReadOptions& options = {}
 // `cell_of_sample` is not null it receives, for sample i, the cell index
 // row * columns + column. The result has passed ValidateSurface. Throws
 // InputError "<source>: every cell is nodata" when no cell is valid.
+// By chunks of rows on `threads`: the same samples on any number.
 Surface RasterToSurface(const Raster& raster, std::vector<int64_t>* cell_of_sample,
-                        double origin_step = 1.0);
+                        double origin_step = 1.0, int threads = 1);
+
+// The core of RasterToSurface for a window of a grid: `values` the
+// window's columns × rows heights (row-major, first cell at column0, row0
+// of the grid whose geotransform is given); its finite cells as samples at
+// their centres, relative to *origin, or when `origin` is null to the origin
+// MakeSurface would choose (`origin_step`); raster_cell in grid columns and
+// rows; *cell_of_sample (if not null) each sample's index in the window. No
+// check, no source; an empty surface if no cell is finite.
+Surface GridCellsToSurface(const std::array<double, 6>& geotransform, int column0, int row0, int columns,
+                           int rows, const double* values, const std::array<double, 3>* origin,
+                           double origin_step, std::vector<int64_t>* cell_of_sample, int threads);
 
 // Writes `raster` as a one-band Float32 GeoTIFF, DEFLATE-compressed with
 // the floating-point predictor (tiled

@@ -238,7 +238,7 @@ Surface ReadSurface(const std::string& path, const ReadOptions& options, std::st
     read.threads = options.threads;
     Raster raster = ReadRaster(path, read);
     if (crs != nullptr) *crs = raster.crs_wkt;
-    Surface surface = RasterToSurface(raster, nullptr, options.origin_step);
+    Surface surface = RasterToSurface(raster, nullptr, options.origin_step, options.threads);
     if (grid != nullptr) {
       raster.values = {};
       *grid = std::move(raster);

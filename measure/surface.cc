@@ -31,7 +31,7 @@ Surface MakeSurface(const std::vector<std::array<double, 3>>& points, std::vecto
     throw InputError(Where(surface) + ": " + std::to_string(weight.size()) + " weights for " +
                      std::to_string(points.size()) + " points");
   }
-  double lo[3], hi[3];
+  std::array<double, 3> lo, hi;
   for (int k = 0; k < 3; ++k) {
     lo[k] = std::numeric_limits<double>::infinity();
     hi[k] = -std::numeric_limits<double>::infinity();
@@ -44,9 +44,7 @@ Surface MakeSurface(const std::vector<std::array<double, 3>>& points, std::vecto
       }
     }
   }
-  for (int k = 0; k < 3; ++k) {
-    surface.origin[k] = lo[k] <= hi[k] ? RoundedCentre(lo[k], hi[k], origin_step) : 0.0;
-  }
+  surface.origin = SurfaceOrigin(lo, hi, origin_step);
   surface.xy.resize(points.size());
   surface.z.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -55,6 +53,13 @@ Surface MakeSurface(const std::vector<std::array<double, 3>>& points, std::vecto
   }
   surface.weight = std::move(weight);
   return surface;
+}
+
+std::array<double, 3> SurfaceOrigin(const std::array<double, 3>& lo, const std::array<double, 3>& hi,
+                                    double origin_step) {
+  std::array<double, 3> origin;
+  for (int k = 0; k < 3; ++k) origin[k] = lo[k] <= hi[k] ? RoundedCentre(lo[k], hi[k], origin_step) : 0.0;
+  return origin;
 }
 
 void ValidateSurface(const Surface& surface, const Execution& execution) {

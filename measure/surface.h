@@ -60,6 +60,11 @@ Surface MakeSurface(const std::vector<std::array<double, 3>>& points,
                     std::vector<double> weight = {}, std::string source = "",
                     double origin_step = 1.0);
 
+// The origin MakeSurface chooses for points whose finite coordinates span
+// [lo[k], hi[k]] on each axis k (0 where an axis has none: lo > hi).
+std::array<double, 3> SurfaceOrigin(const std::array<double, 3>& lo, const std::array<double, 3>& hi,
+                                    double origin_step);
+
 // Checks what every algorithm downstream assumes and throws InputError
 // naming `surface.source` if it does not hold: at least 3 samples, all
 // coordinates finite and of magnitude at most kMaxCoordinate, weights

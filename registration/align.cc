@@ -456,8 +456,8 @@ AlignResult Align(const Surface& reference, const Surface& moving, const AlignOp
                                      result.centre[2] - reference.origin[2]);
   const Eigen::Matrix4d initial =
       RigidOfTheta(InitialTheta(options, centre_local, reference.origin), centre_local, reference.origin).ToMatrix();
-  check.before = ComputeDzStatistics(Measure(reference, TransformSurface(moving, initial), m).dz_a, keep);
-  check.after = ComputeDzStatistics(Measure(reference, TransformSurface(moving, result.matrix), m).dz_a, keep);
+  check.before = ComputeDzStatistics(Measure(reference, TransformSurface(moving, initial, m.threads), m).dz_a, keep);
+  check.after = ComputeDzStatistics(Measure(reference, TransformSurface(moving, result.matrix, m.threads), m).dz_a, keep);
   check.robust_before = RobustRmse(check.before);
   check.robust_after = RobustRmse(check.after);
   check.improved = check.robust_after < check.robust_before;

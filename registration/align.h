@@ -40,8 +40,8 @@ AlignResult Align(const Surface& reference, const Surface& moving,
 int AlignmentsAtOnce(std::size_t largest_samples, int pairs, int threads);
 
 // `surface` with every sample moved by `matrix` (input coordinates), e.g. the
-// aligned moving surface.
-Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix);
+// aligned moving surface. By chunks on `threads`: the same on any number.
+Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix, int threads = 1);
 
 // Euler angles (degrees) rx, ry, rz of a rotation R = Rz · Ry · Rx.
 std::array<double, 3> EulerDegrees(const Eigen::Matrix3d& rotation);

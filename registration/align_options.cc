@@ -3,9 +3,11 @@
 // alignment pipeline in align.cc.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include "measure/tasks.h"
 #include "registration/align.h"
 
 namespace surfreg {
@@ -141,18 +143,50 @@ std::array<double, 3> EulerDegrees(const Eigen::Matrix3d& r) {
           std::atan2(r(1, 0), r(0, 0)) * degrees};
 }
 
-Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix) {
-  std::vector<std::array<double, 3>> points(surface.size());
+Surface TransformSurface(const Surface& surface, const Eigen::Matrix4d& matrix, int threads) {
   // Rotate local coordinates and move the origin separately: no large
   // coordinates are multiplied by the rotation.
   const Eigen::Matrix3d r = matrix.topLeftCorner<3, 3>();
   const Eigen::Vector3d origin(surface.origin[0], surface.origin[1], surface.origin[2]);
   const Eigen::Vector3d moved_origin = r * origin + matrix.topRightCorner<3, 1>();
-  for (std::size_t i = 0; i < surface.size(); ++i) {
+  const auto moved_point = [&](std::size_t i) {
     const Eigen::Vector3d p = r * Eigen::Vector3d(surface.xy[i].x, surface.xy[i].y, surface.z[i]);
-    points[i] = {p.x() + moved_origin.x(), p.y() + moved_origin.y(), p.z() + moved_origin.z()};
+    return std::array<double, 3>{p.x() + moved_origin.x(), p.y() + moved_origin.y(), p.z() + moved_origin.z()};
+  };
+  // Two passes by chunks, as MakeSurface over the moved points: their
+  // finite coordinates' range (the new origin), then the samples about it.
+  const Execution execution = ExecutionFor(threads);
+  const int64_t n = static_cast<int64_t>(surface.size());
+  const int chunks = ChunksFor(n, int64_t{1} << 16);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::vector<std::array<double, 3>> lo(chunks, {kInf, kInf, kInf}), hi(chunks, {-kInf, -kInf, -kInf});
+  ForEachChunk(execution, n, chunks, [&](int c, int64_t begin, int64_t end) {
+    std::array<double, 3> least = lo[c], most = hi[c];
+    for (int64_t i = begin; i < end; ++i) {
+      const std::array<double, 3> p = moved_point(static_cast<std::size_t>(i));
+      for (int k = 0; k < 3; ++k) {
+        if (std::isfinite(p[k])) least[k] = std::min(least[k], p[k]), most[k] = std::max(most[k], p[k]);
+      }
+    }
+    lo[c] = least, hi[c] = most;
+  });
+  std::array<double, 3> least = lo[0], most = hi[0];
+  for (int c = 1; c < chunks; ++c) {
+    for (int k = 0; k < 3; ++k) least[k] = std::min(least[k], lo[c][k]), most[k] = std::max(most[k], hi[c][k]);
   }
-  Surface moved = MakeSurface(points, surface.weight, surface.source);
+  Surface moved;
+  moved.source = surface.source;
+  moved.origin = SurfaceOrigin(least, most, 1.0);
+  moved.xy.resize(surface.size());
+  moved.z.resize(surface.size());
+  ForEachChunk(execution, n, chunks, [&](int, int64_t begin, int64_t end) {
+    for (int64_t i = begin; i < end; ++i) {
+      const std::array<double, 3> p = moved_point(static_cast<std::size_t>(i));
+      moved.xy[i] = {p[0] - moved.origin[0], p[1] - moved.origin[1]};
+      moved.z[i] = p[2] - moved.origin[2];
+    }
+  });
+  moved.weight = surface.weight;
   moved.raster_cell = surface.raster_cell;  // a rigidly moved raster keeps its cells
   return moved;
 }

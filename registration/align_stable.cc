@@ -55,7 +55,7 @@ MeasureOptions GapMeasureOptions(const AlignOptions& options) {
 // GapMeasureOptions (or one equal to it: uniform weights, the node gaps kept).
 GapField GapsOf(const Surface& reference, const Surface& moving, const Eigen::Matrix4d& matrix,
                 MeasureSummary summary, const AlignOptions& options) {
-  const Surface moved = TransformSurface(moving, matrix);
+  const Surface moved = TransformSurface(moving, matrix, options.num_threads);
   GapField gaps;
   gaps.dz = std::move(summary.dz_a);
   gaps.area = std::move(summary.node_area_a);
@@ -129,7 +129,7 @@ GapField GapsOf(const Surface& reference, const Surface& moving, const Eigen::Ma
 // round (MeasureReference: the same summary as measuring it afresh).
 GapField GapsAt(const MeasureReference& prepared, const Surface& moving, const Eigen::Matrix4d& matrix,
                 const AlignOptions& options) {
-  MeasureSummary summary = Measure(prepared, TransformSurface(moving, matrix), GapMeasureOptions(options));
+  MeasureSummary summary = Measure(prepared, TransformSurface(moving, matrix, options.num_threads), GapMeasureOptions(options));
   return GapsOf(prepared.surface(), moving, matrix, std::move(summary), options);
 }
 

@@ -66,18 +66,19 @@ OneInput ReadOne(const TerrainRequest& config, const std::string& key, const Sur
           *origin = RasterOrigin(in.grid.geotransform, in.grid.columns, in.grid.rows);
         }
         // RasterToSurface's samples (row-major, nodata skipped) about the
-        // shared origin, made in one pass.
+        // shared origin.
         in.surface = RasterBlockToSurface(in.grid.geotransform, {0, 0, in.grid.columns, in.grid.rows},
-                                          in.grid.values.data(), in.grid.values.size(), **origin, in.grid.source);
+                                          in.grid.values.data(), in.grid.values.size(), **origin, in.grid.source,
+                                          config.options.num_threads);
         if (in.surface.xy.empty()) throw InputError(in.grid.source + ": every cell is nodata");
-        ValidateSurface(in.surface);
+        ValidateSurface(in.surface, ExecutionFor(config.options.num_threads));
         in.cells.resize(in.surface.size());
         for (std::size_t i = 0; i < in.cells.size(); ++i) {
           const RasterCell& cell = in.surface.raster_cell[i];
           in.cells[i] = static_cast<int64_t>(cell.row) * in.grid.columns + cell.column;
         }
       } else {
-        in.surface = RasterToSurface(in.grid, &in.cells);
+        in.surface = RasterToSurface(in.grid, &in.cells, 1.0, config.options.num_threads);
       }
       if (!in.grid.crs_wkt.empty()) file_crs = ParseCrs(in.grid.crs_wkt, path);
       in.grid.values.clear();
@@ -341,7 +342,7 @@ TerrainReport AnalyseTerrain(const TerrainRequest& config, const TerrainInputs& 
   report.lod = config.terrain.lod;
   report.lod_source = config.Given("lod") ? "lod" : "none";
   options.level_of_detection = report.lod;
-  const Surface moved = TransformSurface(in.moving, result.matrix);  // keeps a raster's cells
+  const Surface moved = TransformSurface(in.moving, result.matrix, options.threads);  // keeps a raster's cells
   report.after = Measure(in.reference, moved, options);
 
   // Stable terrain: the mask of the registration (frame coordinates, with

@@ -128,9 +128,9 @@ void ExpandCompactRasters(const TerrainRequest& config, TerrainInputs* inputs) {
     Surface s;
     try {
       s = RasterBlockToSurface(grid->geotransform, {0, 0, grid->columns, grid->rows}, grid->values.data(),
-                               grid->values.size(), in.raster_origin, grid->source);
+                               grid->values.size(), in.raster_origin, grid->source, config.options.num_threads);
       if (s.xy.empty()) throw InputError(grid->source + ": every cell is nodata");
-      ValidateSurface(s);
+      ValidateSurface(s, ExecutionFor(config.options.num_threads));
     } catch (const InputError& e) {
       throw InputError(config.Where(key) + ": " + e.what());
     }

@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "io/raster_io.h"
 #include "measure/grid_cells.h"
 #include "measure/input_error.h"
 #include "measure/mask_region.h"
@@ -470,34 +471,16 @@ MeasureSummary MeasureTiled(const TiledRasterSource& reference, const TiledRaste
 
 Surface RasterBlockToSurface(const std::array<double, 6>& gt, const SampleWindow& window,
                              const double* values, std::size_t count, const std::array<double, 3>& origin,
-                             const std::string& source) {
-  Surface s;
-  s.origin = origin;
-  s.source = source;
+                             const std::string& source, int threads) {
   if (count != static_cast<std::size_t>(std::max(window.columns, 0)) *
-                           static_cast<std::size_t>(std::max(window.rows, 0))) {
-    throw InputError((source.empty() ? std::string("raster") : source) + ": " +
-                     std::to_string(count) + " values for a window of " +
-                     std::to_string(window.columns) + " x " + std::to_string(window.rows));
+                   static_cast<std::size_t>(std::max(window.rows, 0))) {
+    throw InputError((source.empty() ? std::string("raster") : source) + ": " + std::to_string(count) +
+                     " values for a window of " + std::to_string(window.columns) + " x " +
+                     std::to_string(window.rows));
   }
-  const std::size_t valid =
-      static_cast<std::size_t>(std::count_if(values, values + count, [](double v) { return std::isfinite(v); }));
-  s.xy.reserve(valid);
-  s.z.reserve(valid);
-  s.raster_cell.reserve(valid);
-  std::size_t k = 0;
-  for (int32_t row = window.row; row < window.row + window.rows; ++row) {
-    for (int32_t column = window.column; column < window.column + window.columns; ++column, ++k) {
-      if (!std::isfinite(values[k])) continue;
-      // The cell centre exactly as Raster::CellCentre, then MakeSurface's
-      // subtraction: the same doubles as an untiled read.
-      const double c = column + 0.5, r = row + 0.5;
-      const double x = gt[0] + c * gt[1] + r * gt[2], y = gt[3] + c * gt[4] + r * gt[5];
-      s.xy.push_back({x - origin[0], y - origin[1]});
-      s.z.push_back(values[k] - origin[2]);
-      s.raster_cell.push_back({column, row});
-    }
-  }
+  Surface s = GridCellsToSurface(gt, window.column, window.row, window.columns, window.rows, values, &origin,
+                                 1.0, nullptr, threads);
+  s.source = source;
   return s;
 }
 

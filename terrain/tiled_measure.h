@@ -144,7 +144,7 @@ TiledPartial MeasureTiledPart(const TiledRasterSource& reference, const TiledRas
 // NaN (or any non-finite value) for nodata.
 Surface RasterBlockToSurface(const std::array<double, 6>& geotransform, const SampleWindow& window,
                              const double* values, std::size_t count, const std::array<double, 3>& origin,
-                             const std::string& source = "");
+                             const std::string& source = "", int threads = 1);
 
 // The origin a tiled measure gives both rasters: the centre of the
 // reference's extent (columns x rows samples of pixel-is-area geotransform

@@ -267,7 +267,7 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     WriteFileAtomically(config.matrix_txt, MatrixText(result.matrix), config.Where("matrix_txt"));
   }
   if (IsGeoTiffPath(config.aligned)) {
-    const Surface aligned = TransformSurface(inputs.moving, result.matrix);
+    const Surface aligned = TransformSurface(inputs.moving, result.matrix, config.options.num_threads);
     // A lon/lat grid: its cells' centres (and heights) found in the metric
     // frame align worked in.
     const auto to_frame = [&inputs](std::vector<std::array<double, 3>>* points) {
@@ -283,7 +283,7 @@ AlignRun AlignSurfaces(AlignConfig config, std::optional<Surface> reference,
     // The moving file's own records moved: every class and attribute kept.
     WriteMovedLas(config.moving, RowMajor(result.matrix), config.aligned, config.Where("aligned"));
   } else if (!config.aligned.empty()) {
-    WriteSurface(config.aligned, TransformSurface(inputs.moving, result.matrix),
+    WriteSurface(config.aligned, TransformSurface(inputs.moving, result.matrix, config.options.num_threads),
                  config.Where("aligned"), AlignedComments(config, result, inputs.frame));
   }
   if (!config.stable_map.empty()) WriteStableMap(config, inputs, result);

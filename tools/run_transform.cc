@@ -120,12 +120,12 @@ int RunTransform(const std::vector<std::string>& args) {
   Surface surface;
   if (raster_in) {
     grid = ReadRaster(input, raster_options);
-    surface = RasterToSurface(grid, nullptr);
+    surface = RasterToSurface(grid, nullptr, 1.0, execution.threads);
   } else {
     surface = ReadSurface(input, read_options);
   }
   if (!FLAGS_grid.empty()) grid = ReadRaster(FLAGS_grid);
-  const Surface moved = TransformSurface(surface, m);
+  const Surface moved = TransformSurface(surface, m, execution.threads);
   if (loud) {
     std::fprintf(stderr, "transform: writing %s%s\n", KeyFlag("output").c_str(),
                  raster_out ? " (resampled onto the grid)" : "");
