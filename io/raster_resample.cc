@@ -51,7 +51,7 @@ struct Sampler {
     std::vector<uint8_t> in_grid;
     if (s.raster_grid()) {
       rule.grid = true;
-      in_grid = EnforceGrid(s.xy, GridCellTriangles(s.raster_cell, s.source), &mesh);
+      in_grid = EnforceGrid(s.xy, GridCellTriangles(s.raster_cell, s.source, execution), &mesh);
     }
     domain = MakeMeshDomain(s.xy, mesh, rule, rule.grid ? &in_grid : nullptr, execution);
     z = MergedHeights(s, mesh);
@@ -76,15 +76,16 @@ struct Sampler {
 // the grid's size only, so the heights do not depend on the threads.
 constexpr int64_t kChunkCells = 1 << 16;
 
-Raster EmptyLike(const Raster& grid_template, const std::string& source) {
+Raster EmptyLike(const Raster& grid_template, const std::string& source, const Execution& execution) {
   Raster out;
   out.columns = grid_template.columns;
   out.rows = grid_template.rows;
   out.geotransform = grid_template.geotransform;
   out.crs_wkt = grid_template.crs_wkt;
   out.source = source;
-  out.values.assign(static_cast<std::size_t>(out.columns) * out.rows,
-                    std::numeric_limits<double>::quiet_NaN());
+  // Its pages first touched by the chunks (Raster::values is uninitialized).
+  AssignInChunks(execution, static_cast<std::size_t>(out.columns) * out.rows,
+                 std::numeric_limits<double>::quiet_NaN(), &out.values);
   return out;
 }
 
@@ -99,7 +100,7 @@ Raster EmptyLike(const Raster& grid_template, const std::string& source) {
 bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* out) {
   const std::array<double, 6>& gt = out->geotransform;
   if (!s.raster_grid() || gt[2] != 0.0 || gt[4] != 0.0 || !(gt[1] != 0.0 && gt[5] != 0.0)) return false;
-  const std::vector<int32_t> corners = GridCellTriangles(s.raster_cell, s.source);
+  const std::vector<int32_t> corners = GridCellTriangles(s.raster_cell, s.source, execution);
   const int64_t triangles = static_cast<int64_t>(corners.size() / 3);
   if (triangles == 0) return false;  // no complete cell: the mesh's path (and its errors, for < 3 samples)
   // Index-space bounds of a coordinate range along one axis (widened past
@@ -219,7 +220,7 @@ bool ResampleRasterCells(const Surface& s, const Execution& execution, Raster* o
 }  // namespace
 
 Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const Execution& execution) {
-  Raster out = EmptyLike(grid_template, moved.source);
+  Raster out = EmptyLike(grid_template, moved.source, execution);
   if (ResampleRasterCells(moved, execution, &out)) return out;
   const Sampler sampler(moved, execution);
   // Row-major cells are neighbours: each walk starts where the last ended.
@@ -237,7 +238,7 @@ Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const
 Raster ResampleOntoGrid(const Surface& moved, const Raster& grid_template, const GridToSurface& to_surface,
                         const Execution& execution) {
   const Sampler sampler(moved, execution);
-  Raster out = EmptyLike(grid_template, moved.source);
+  Raster out = EmptyLike(grid_template, moved.source, execution);
   const std::size_t n = out.values.size();
   std::vector<double> h(n, 0.0);
   std::vector<uint8_t> live(n, 1);

@@ -23,8 +23,8 @@ std::array<int32_t, 3> Sorted(const int32_t* v) {
 
 }  // namespace
 
-std::vector<int32_t> GridCellTriangles(const std::vector<RasterCell>& cells,
-                                       const std::string& source) {
+std::vector<int32_t> GridCellTriangles(const std::vector<RasterCell>& cells, const std::string& source,
+                                       const Execution& execution) {
   const std::size_t n = cells.size();
   // Row-major order of the samples: the reader's own order needs no sort.
   std::vector<int32_t> order(n);
@@ -46,24 +46,50 @@ std::vector<int32_t> GridCellTriangles(const std::vector<RasterCell>& cells,
   }
   auto column = [&](std::size_t k) { return static_cast<int64_t>(cells[order[k]].column); };
   auto row = [&](std::size_t k) { return static_cast<int64_t>(cells[order[k]].row); };
-  std::vector<int32_t> triangles;
-  // One row at a time, with a pointer into the next row that only moves on.
-  std::size_t begin = 0;
-  while (begin < n) {
-    std::size_t end = begin;
-    while (end < n && row(end) == row(begin)) ++end;
-    std::size_t next_end = end;
-    while (next_end < n && row(next_end) == row(begin) + 1) ++next_end;
-    std::size_t j = end;
-    for (std::size_t i = begin; end < next_end && i + 1 < end; ++i) {
-      if (column(i + 1) != column(i) + 1) continue;
-      while (j < next_end && column(j) < column(i)) ++j;
-      if (!(j + 1 < next_end && column(j) == column(i) && column(j + 1) == column(i) + 1)) continue;
-      const int32_t p00 = order[i], p10 = order[i + 1], p01 = order[j], p11 = order[j + 1];
-      triangles.insert(triangles.end(), {p00, p10, p11, p00, p11, p01});
+  // The complete cells whose lower row starts in [begin, stop) (a row's
+  // first sample), in order: one row at a time, with a pointer into the
+  // next row that only moves on.
+  const auto each_cell = [&](std::size_t begin, std::size_t stop, auto&& emit) {
+    while (begin < stop) {
+      std::size_t end = begin;
+      while (end < n && row(end) == row(begin)) ++end;
+      std::size_t next_end = end;
+      while (next_end < n && row(next_end) == row(begin) + 1) ++next_end;
+      std::size_t j = end;
+      for (std::size_t i = begin; end < next_end && i + 1 < end; ++i) {
+        if (column(i + 1) != column(i) + 1) continue;
+        while (j < next_end && column(j) < column(i)) ++j;
+        if (!(j + 1 < next_end && column(j) == column(i) && column(j + 1) == column(i) + 1)) continue;
+        emit(order[i], order[i + 1], order[j], order[j + 1]);
+      }
+      begin = end;
     }
-    begin = end;
+  };
+  // Chunks of samples moved on to a row's start (their number a function of
+  // the size only); the cells counted, then written at their offsets.
+  const int chunks = ChunksFor(static_cast<int64_t>(n), int64_t{1} << 16);
+  std::vector<std::size_t> first(static_cast<std::size_t>(chunks) + 1, n);
+  first[0] = 0;
+  for (int c = 1; c < chunks; ++c) {
+    std::size_t k = std::max(first[c - 1], static_cast<std::size_t>(ChunkBegin(static_cast<int64_t>(n), chunks, c)));
+    while (k > 0 && k < n && row(k) == row(k - 1)) ++k;
+    first[c] = k;
   }
+  std::vector<std::size_t> offset(static_cast<std::size_t>(chunks) + 1, 0);
+  ForEachChunk(execution, chunks, chunks, [&](int c, int64_t, int64_t) {
+    std::size_t count = 0;
+    each_cell(first[c], first[c + 1], [&](int32_t, int32_t, int32_t, int32_t) { ++count; });
+    offset[c + 1] = 6 * count;
+  });
+  for (int c = 0; c < chunks; ++c) offset[c + 1] += offset[c];
+  std::vector<int32_t> triangles(offset[chunks]);
+  ForEachChunk(execution, chunks, chunks, [&](int c, int64_t, int64_t) {
+    int32_t* out = triangles.data() + offset[c];
+    each_cell(first[c], first[c + 1], [&](int32_t p00, int32_t p10, int32_t p01, int32_t p11) {
+      const int32_t cell[6] = {p00, p10, p11, p00, p11, p01};
+      out = std::copy(cell, cell + 6, out);
+    });
+  });
   return triangles;
 }
 

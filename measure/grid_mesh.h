@@ -39,6 +39,7 @@
 
 #include "measure/delaunay.h"
 #include "measure/surface.h"
+#include "measure/tasks.h"
 
 namespace surfreg {
 
@@ -47,9 +48,10 @@ namespace surfreg {
 // (c+1, r+1), then (c, r) (c+1, r+1) (c, r+1). Cells in row-major order.
 // Linear when `cells` is in row-major order (as the raster reader makes
 // it), otherwise sorted first. Throws InputError naming `source` if two
-// samples have the same cell.
-std::vector<int32_t> GridCellTriangles(const std::vector<RasterCell>& cells,
-                                       const std::string& source);
+// samples have the same cell. By chunks of rows on `execution`'s threads:
+// the same triangles on any number.
+std::vector<int32_t> GridCellTriangles(const std::vector<RasterCell>& cells, const std::string& source,
+                                       const Execution& execution = Execution{});
 
 // Renumbers the points of `triangles` (six per cell, as GridCellTriangles)
 // by new_index[old] after the points were reordered or some dropped

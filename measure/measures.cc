@@ -49,7 +49,7 @@ void MeshOf(const Surface& s, const std::vector<int32_t>& order, const Execution
   delaunay.execution = execution;
   p.mesh = Triangulate(p.xy, delaunay);
   if (!s.raster_grid()) return;
-  std::vector<int32_t> cells = GridCellTriangles(s.raster_cell, s.source);
+  std::vector<int32_t> cells = GridCellTriangles(s.raster_cell, s.source, execution);
   std::vector<int32_t> sorted_index(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) sorted_index[order[k]] = static_cast<int32_t>(k);
   RemapGridTriangles(sorted_index, &cells);

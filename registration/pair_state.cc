@@ -93,7 +93,7 @@ Cloud PrepareCloud(const Surface& surface, const std::array<double, 3>& shift,
     result = &unique;
   }
   if (grid) {
-    result->grid = GridCellTriangles(surface.raster_cell, surface.source);
+    result->grid = GridCellTriangles(surface.raster_cell, surface.source, execution);
     RemapGridTriangles(index_of, &result->grid);
     result->in_grid = EnforceGrid(result->xy, result->grid, mesh);
   }

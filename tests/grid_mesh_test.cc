@@ -125,6 +125,38 @@ TEST(GridCellTrianglesTest, OnlyCellsWithFourSamplesInAnyOrder) {
   EXPECT_EQ(shuffled.size(), expected.size());
 }
 
+TEST(GridCellTrianglesTest, ByChunksOfRowsTheSameAsEveryCellListedOnAnyThreadCount) {
+  // 500 × 900 samples (several chunks of rows), a scattered tenth missing,
+  // one whole row and a column block too: every complete cell, listed here
+  // from a map of the samples, in row-major order, six indices each.
+  const int columns = 500, rows = 900;
+  std::set<Cell> missing;
+  std::mt19937 rng(11);
+  for (int k = 0; k < columns * rows / 10; ++k) {
+    missing.insert({static_cast<int>(rng() % columns), static_cast<int>(rng() % rows)});
+  }
+  for (int c = 0; c < columns; ++c) missing.insert({c, 400});
+  for (int r = 600; r < 700; ++r) missing.insert({17, r});
+  const Samples s = Lattice(columns, rows, missing, NorthUp);
+  std::vector<int32_t> index(static_cast<std::size_t>(columns) * rows, -1);
+  for (std::size_t i = 0; i < s.cells.size(); ++i) {
+    index[static_cast<std::size_t>(s.cells[i].row) * columns + s.cells[i].column] = static_cast<int32_t>(i);
+  }
+  const auto at = [&](int c, int r) { return index[static_cast<std::size_t>(r) * columns + c]; };
+  std::vector<int32_t> expected;
+  for (int r = 0; r + 1 < rows; ++r) {
+    for (int c = 0; c + 1 < columns; ++c) {
+      const int32_t p00 = at(c, r), p10 = at(c + 1, r), p01 = at(c, r + 1), p11 = at(c + 1, r + 1);
+      if (p00 < 0 || p10 < 0 || p01 < 0 || p11 < 0) continue;
+      expected.insert(expected.end(), {p00, p10, p11, p00, p11, p01});
+    }
+  }
+  ASSERT_GT(expected.size(), 6u * 200000);
+  for (const int threads : {1, 2, 8}) {
+    EXPECT_EQ(GridCellTriangles(s.cells, "grid", Execution{threads}), expected) << threads;
+  }
+}
+
 TEST(GridCellTrianglesTest, TwoSamplesInOneCellAreAnInputError) {
   const std::vector<RasterCell> cells = {{0, 0}, {1, 0}, {0, 1}, {1, 0}};
   try {

@@ -23,9 +23,9 @@ jobs="$(nproc 2>/dev/null || echo 2)"
 targets=(thread_determinism_test overlay_test overlay_topology_test volume_hessian_test pair_state_test
          measures_test grid_pair_test raster_pair_test domain_test stable_terrain_test tasks_test
          delaunay_slabs_test spanning_tree_test locator_test surface_reader_test spatial_sort_test change_test
-         raster_io_test raster_write_test raster_samples_test series_test jaw_test raster_resample_test)
+         raster_io_test raster_write_test raster_samples_test grid_mesh_test series_test jaw_test raster_resample_test)
 # Of long programs, only the tests of their parallel stages.
-declare -A filter=([stable_terrain_test]="SampleAdjacency.*" [delaunay_slabs_test]="*:-*LargeInput*" [spanning_tree_test]="*SameTree*:*CycleProperty*" [locator_test]="*InChunks*" [surface_reader_test]="XyzChunks.*" [spatial_sort_test]="*SameOrder*" [change_test]="DzStatistics.*" [raster_io_test]="*ByBandsOfRows*" [raster_write_test]="*AnyThreadCount*" [series_test]="*AtOnce*:*FirstFailing*" [jaw_test]="*OneAndTwoThreads*" [raster_resample_test]="*Threads*")
+declare -A filter=([stable_terrain_test]="SampleAdjacency.*" [delaunay_slabs_test]="*:-*LargeInput*" [spanning_tree_test]="*SameTree*:*CycleProperty*" [locator_test]="*InChunks*" [surface_reader_test]="XyzChunks.*" [spatial_sort_test]="*SameOrder*" [change_test]="DzStatistics.*" [raster_io_test]="*ByBandsOfRows*" [raster_write_test]="*AnyThreadCount*" [grid_mesh_test]="*ByChunks*" [series_test]="*AtOnce*:*FirstFailing*" [jaw_test]="*OneAndTwoThreads*" [raster_resample_test]="*Threads*")
 sanitize="-fsanitize=thread -fno-omit-frame-pointer"
 echo "== configuring the ThreadSanitizer build (GCC, -O1 -g1) in $build_dir"
 cmake -S . -B "$build_dir" \
